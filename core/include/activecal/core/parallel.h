@@ -1,0 +1,24 @@
+// A minimal static-partition parallel for. Each index is handled by exactly
+// one call, and work is split into contiguous ranges, so results written per
+// index do not depend on the thread count.
+
+#ifndef ACTIVECAL_CORE_PARALLEL_H_
+#define ACTIVECAL_CORE_PARALLEL_H_
+
+#include <cstdint>
+#include <functional>
+
+namespace activecal {
+
+// The number of threads to use for a request: num_threads > 0 is taken as
+// is, anything else means all hardware threads.
+int ResolveNumThreads(int num_threads);
+
+// Calls fn(begin, end, thread_id) over disjoint ranges covering [0, n).
+// Runs inline when one thread is asked for or n is small.
+void ParallelFor(int64_t n, int num_threads,
+                 const std::function<void(int64_t, int64_t, int)>& fn);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CORE_PARALLEL_H_

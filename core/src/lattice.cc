@@ -1,0 +1,86 @@
+#include "activecal/core/lattice.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace activecal {
+
+bool JointLattice::Create(const RobotModel& model,
+                          const std::vector<int>& levels,
+                          JointLattice* lattice, std::string* error) {
+  std::ostringstream msg;
+  if (static_cast<int>(levels.size()) != model.num_joints()) {
+    msg << "lattice: expected " << model.num_joints()
+        << " level counts (one per joint), got " << levels.size();
+  }
+  double size = 1.0;
+  for (size_t j = 0; j < levels.size() && msg.tellp() == 0; ++j) {
+    const Link& l = model.links[j];
+    if (levels[j] < 2) {
+      msg << "lattice: joint " << j + 1 << " needs at least 2 levels (both "
+          << "ends of its range), got " << levels[j];
+    } else if (!std::isfinite(l.joint_min) || !std::isfinite(l.joint_max)) {
+      msg << "lattice: joint " << j + 1 << " (" << model.block_name(j + 1)
+          << ") has no finite range";
+    }
+    size *= levels[j];
+  }
+  if (msg.tellp() == 0 && size > 1e9) {
+    msg << "lattice: " << size << " poses is more than the 1e9 supported";
+  }
+  if (msg.tellp() != 0) {
+    if (error) *error = msg.str();
+    return false;
+  }
+  lattice->levels_ = levels;
+  lattice->min_.clear();
+  lattice->max_.clear();
+  for (const Link& l : model.links) {
+    lattice->min_.push_back(l.joint_min);
+    lattice->max_.push_back(l.joint_max);
+  }
+  lattice->size_ = static_cast<int64_t>(size);
+  return true;
+}
+
+bool JointLattice::Create(const RobotModel& model, int levels,
+                          JointLattice* lattice, std::string* error) {
+  return Create(model, std::vector<int>(model.num_joints(), levels), lattice,
+                error);
+}
+
+std::vector<int> JointLattice::Levels(int64_t index) const {
+  std::vector<int> out(levels_.size());
+  for (int j = num_joints() - 1; j >= 0; --j) {
+    out[j] = static_cast<int>(index % levels_[j]);
+    index /= levels_[j];
+  }
+  return out;
+}
+
+int64_t JointLattice::Index(const std::vector<int>& levels) const {
+  int64_t index = 0;
+  for (int j = 0; j < num_joints(); ++j) index = index * levels_[j] + levels[j];
+  return index;
+}
+
+double JointLattice::Angle(int joint, int level) const {
+  if (level == levels_[joint] - 1) return max_[joint];
+  return min_[joint] +
+         (max_[joint] - min_[joint]) * level / (levels_[joint] - 1);
+}
+
+Eigen::VectorXd JointLattice::JointValues(int64_t index) const {
+  const std::vector<int> lv = Levels(index);
+  Eigen::VectorXd q(num_joints());
+  for (int j = 0; j < num_joints(); ++j) q[j] = Angle(j, lv[j]);
+  return q;
+}
+
+Eigen::MatrixXd JointLattice::AllJointValues() const {
+  Eigen::MatrixXd all(size_, num_joints());
+  for (int64_t i = 0; i < size_; ++i) all.row(i) = JointValues(i).transpose();
+  return all;
+}
+
+}  // namespace activecal

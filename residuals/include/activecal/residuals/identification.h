@@ -1,0 +1,105 @@
+// Identification of the free kinematic parameters from position
+// measurements, by nonlinear least squares (Ceres, Levenberg-Marquardt).
+//
+//   IdentificationOptions options;
+//   IdentificationSummary summary;
+//   if (!Identify(model, measurements, model.nominal, options, &summary)) {
+//     LOG(ERROR) << summary.message;  // e.g. which parameters are not
+//   }                                 // identifiable from these poses
+//   std::cout << summary.BriefReport();
+//
+// Standard deviations come from ceres::Covariance, (J^T J)^-1 at the
+// solution, scaled by the residual variance s^2 = SSR / (m - p), m scalar
+// residuals, p free parameters: the usual estimate when the measurement
+// noise is unknown.
+
+#ifndef ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
+#define ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <ceres/solver.h>
+
+#include "activecal/core/robot_model.h"
+#include "activecal/core/simulation.h"
+
+namespace activecal {
+
+struct IdentificationOptions {
+  int max_num_iterations = 200;
+  double function_tolerance = 1e-15;
+  double gradient_tolerance = 1e-15;
+  double parameter_tolerance = 1e-14;
+  // Threads Ceres may use; the result does not depend on it.
+  int num_threads = 1;
+  // The stacked Jacobian, columns scaled to unit norm, is taken as rank
+  // deficient when sigma_min / sigma_max falls below this.
+  double rank_tolerance = 1e-10;
+
+  bool IsValid(std::string* error) const;
+};
+
+// What the Jacobian says about which parameters the measurements determine.
+struct IdentifiabilityReport {
+  int num_equations = 0;
+  int num_free = 0;
+  int rank = 0;
+  // Singular values of the column-normalised stacked Jacobian, descending.
+  Eigen::VectorXd singular_values;
+  // One line per direction the data cannot see, e.g.
+  // "0.71 * L1.gamma - 0.71 * B.gamma" or "L3.d has no effect".
+  std::vector<std::string> unidentifiable;
+  bool identifiable() const {
+    return num_equations >= num_free && rank == num_free;
+  }
+  std::string Message() const;
+};
+
+// Analyses a stacked (m x num_free) Jacobian whose columns follow
+// model.FreeParameterNames().
+IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
+                                             const Eigen::MatrixXd& jacobian,
+                                             double rank_tolerance = 1e-10);
+
+struct IdentificationSummary {
+  // True when the problem was identifiable, the solver converged and the
+  // covariance was computed. Otherwise `message` says why.
+  bool success = false;
+  std::string message;
+
+  std::vector<std::string> names;           // free parameters, in order
+  Eigen::VectorXd initial;                  // full vector
+  Eigen::VectorXd parameters;               // full vector, identified
+  Eigen::VectorXd estimates;                // free parameters
+  Eigen::VectorXd standard_deviations;      // free parameters
+  Eigen::MatrixXd covariance;               // free x free, scaled by s^2
+  Eigen::VectorXd residuals;                // 3 per measurement (m)
+  int num_measurements = 0;
+  int num_residuals = 0;
+  int num_free = 0;
+  double initial_rms_m = 0.0;  // RMS of the 3D residual distance at start
+  double rms_m = 0.0;          // ... at the estimate
+  double sigma_m = 0.0;        // s = sqrt(SSR / (m - p)), per axis
+  int iterations = 0;
+  bool converged = false;
+  IdentifiabilityReport identifiability;
+  ceres::Solver::Summary solver_summary;
+
+  std::string BriefReport() const;
+};
+
+// Identifies the free parameters of `model` from `measurements`, starting
+// from the full parameter vector `initial` (usually model.nominal).
+// Returns summary->success; on failure summary->message names the problem:
+// bad input, too few equations, unidentifiable parameters, no convergence.
+bool Identify(const RobotModel& model,
+              const std::vector<PositionMeasurement>& measurements,
+              const Eigen::VectorXd& initial,
+              const IdentificationOptions& options,
+              IdentificationSummary* summary);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_RESIDUALS_IDENTIFICATION_H_

@@ -1,0 +1,275 @@
+#include "activecal/residuals/identification.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include <Eigen/SVD>
+#include <ceres/ceres.h>
+#include <ceres/covariance.h>
+#include <ceres/manifold.h>
+
+#include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/position_residual.h"
+
+namespace activecal {
+
+bool IdentificationOptions::IsValid(std::string* error) const {
+  std::ostringstream msg;
+  if (max_num_iterations <= 0) {
+    msg << "max_num_iterations must be > 0, got " << max_num_iterations;
+  } else if (!(function_tolerance >= 0 && gradient_tolerance >= 0 &&
+               parameter_tolerance >= 0)) {
+    msg << "tolerances must be >= 0";
+  } else if (!(rank_tolerance > 0 && rank_tolerance < 1)) {
+    msg << "rank_tolerance must be in (0, 1), got " << rank_tolerance;
+  }
+  if (msg.tellp() == 0) return true;
+  if (error) *error = msg.str();
+  return false;
+}
+
+std::string IdentifiabilityReport::Message() const {
+  std::ostringstream msg;
+  if (num_equations < num_free) {
+    msg << "too few equations: " << num_equations << " measurement rows for "
+        << num_free << " free parameters";
+    return msg.str();
+  }
+  if (rank == num_free) {
+    msg << "all " << num_free << " free parameters are identifiable";
+    return msg.str();
+  }
+  msg << "the Jacobian has rank " << rank << " < " << num_free
+      << " free parameters; not identifiable from these measurements:";
+  for (const std::string& u : unidentifiable) msg << " [" << u << "]";
+  return msg.str();
+}
+
+IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
+                                             const Eigen::MatrixXd& jacobian,
+                                             double rank_tolerance) {
+  IdentifiabilityReport report;
+  report.num_equations = static_cast<int>(jacobian.rows());
+  report.num_free = static_cast<int>(jacobian.cols());
+  const std::vector<std::string> names = model.FreeParameterNames();
+  // Column scaling makes the test independent of units (m against rad).
+  Eigen::VectorXd norms = jacobian.colwise().norm();
+  Eigen::MatrixXd scaled = jacobian;
+  for (int c = 0; c < scaled.cols(); ++c) {
+    if (norms[c] > 0) {
+      scaled.col(c) /= norms[c];
+    } else {
+      report.unidentifiable.push_back(names[c] + " has no effect");
+    }
+  }
+  if (report.num_equations < report.num_free) {
+    report.rank = std::min(report.num_equations, report.num_free);
+    return report;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
+  report.singular_values = svd.singularValues();
+  const double smax = report.singular_values.size() ? report.singular_values[0]
+                                                    : 0.0;
+  report.rank = 0;
+  for (int i = 0; i < report.singular_values.size(); ++i) {
+    if (report.singular_values[i] > rank_tolerance * smax) ++report.rank;
+  }
+  const Eigen::MatrixXd& V = svd.matrixV();
+  for (int k = report.rank; k < report.num_free; ++k) {
+    const Eigen::VectorXd v = V.col(k);
+    // Skip directions already explained by a column with no effect.
+    int top;
+    v.cwiseAbs().maxCoeff(&top);
+    if (norms[top] == 0) continue;
+    std::ostringstream combo;
+    bool first = true;
+    for (int c = 0; c < v.size(); ++c) {
+      if (std::abs(v[c]) < 0.05) continue;
+      combo << (first ? (v[c] < 0 ? "-" : "") : (v[c] < 0 ? " - " : " + "));
+      combo.precision(2);
+      combo << std::fixed << std::abs(v[c]) << " * " << names[c];
+      first = false;
+    }
+    report.unidentifiable.push_back(combo.str());
+  }
+  return report;
+}
+
+namespace {
+
+double Rms3d(const Eigen::VectorXd& residuals) {
+  const int n = static_cast<int>(residuals.size() / 3);
+  return n ? std::sqrt(residuals.squaredNorm() / n) : 0.0;
+}
+
+bool EvaluateResiduals(ceres::Problem* problem, Eigen::VectorXd* out) {
+  std::vector<double> r;
+  double cost;
+  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, &r, nullptr,
+                         nullptr)) {
+    return false;
+  }
+  *out = Eigen::Map<Eigen::VectorXd>(r.data(), r.size());
+  return true;
+}
+
+}  // namespace
+
+bool Identify(const RobotModel& model,
+              const std::vector<PositionMeasurement>& measurements,
+              const Eigen::VectorXd& initial,
+              const IdentificationOptions& options,
+              IdentificationSummary* summary) {
+  *summary = IdentificationSummary();
+  summary->initial = initial;
+  summary->names = model.FreeParameterNames();
+  summary->num_free = model.num_free();
+  summary->num_measurements = static_cast<int>(measurements.size());
+  summary->num_residuals = 3 * summary->num_measurements;
+  std::string error;
+  auto fail = [summary](const std::string& why) {
+    summary->success = false;
+    summary->message = why;
+    return false;
+  };
+  if (!options.IsValid(&error)) return fail("invalid options: " + error);
+  if (!model.Validate(&error)) return fail(error);
+  if (!model.CheckParameters(initial, &error)) {
+    return fail("initial values: " + error);
+  }
+  if (summary->num_free == 0) return fail("no free parameters to identify");
+  const int p = summary->num_free;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const PositionMeasurement& m = measurements[i];
+    if (!model.CheckJointValues(m.joints, &error)) {
+      return fail("measurement " + std::to_string(i) + ": " + error);
+    }
+    if (!m.position.allFinite()) {
+      return fail("measurement " + std::to_string(i) +
+                  ": measured position is not finite");
+    }
+  }
+
+  // Identifiability at the starting point, before any solving.
+  Eigen::MatrixXd stacked(3 * measurements.size(), p);
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    Eigen::MatrixXd J;
+    if (!PositionJacobian(model, initial, measurements[i].joints, &J,
+                          &error)) {
+      return fail("measurement " + std::to_string(i) + ": " + error);
+    }
+    stacked.middleRows(3 * i, 3) = J;
+  }
+  summary->identifiability =
+      AnalyzeIdentifiability(model, stacked, options.rank_tolerance);
+  if (!summary->identifiability.identifiable()) {
+    return fail(summary->identifiability.Message());
+  }
+
+  // One block per group; constant groups fixed, partly free groups through a
+  // SubsetManifold.
+  Eigen::VectorXd x = initial;
+  std::vector<double*> blocks(model.num_blocks());
+  for (int b = 0; b < model.num_blocks(); ++b) {
+    blocks[b] = x.data() + model.block_offset(b);
+  }
+  ceres::Problem problem;
+  auto shared = std::make_shared<const RobotModel>(model);
+  for (const PositionMeasurement& m : measurements) {
+    problem.AddResidualBlock(
+        PositionResidual::Create(shared, m.joints, m.position), nullptr,
+        blocks);
+  }
+  std::vector<const double*> free_blocks;
+  for (int b = 0; b < model.num_blocks(); ++b) {
+    std::vector<int> constant;
+    for (int j = 0; j < model.block_size(b); ++j) {
+      if (!model.IsFree(model.block_offset(b) + j)) constant.push_back(j);
+    }
+    if (static_cast<int>(constant.size()) == model.block_size(b)) {
+      problem.SetParameterBlockConstant(blocks[b]);
+    } else {
+      if (!constant.empty()) {
+        problem.SetManifold(blocks[b], new ceres::SubsetManifold(
+                                           model.block_size(b), constant));
+      }
+      free_blocks.push_back(blocks[b]);
+    }
+  }
+  Eigen::VectorXd r0;
+  EvaluateResiduals(&problem, &r0);
+  summary->initial_rms_m = Rms3d(r0);
+
+  ceres::Solver::Options solver_options;
+  solver_options.minimizer_type = ceres::TRUST_REGION;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_num_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.gradient_tolerance = options.gradient_tolerance;
+  solver_options.parameter_tolerance = options.parameter_tolerance;
+  solver_options.num_threads = std::max(1, options.num_threads);
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solve(solver_options, &problem, &summary->solver_summary);
+  const ceres::Solver::Summary& ss = summary->solver_summary;
+  summary->iterations = static_cast<int>(ss.iterations.size()) - 1;
+  summary->converged = ss.termination_type == ceres::CONVERGENCE;
+  summary->parameters = x;
+  summary->estimates = ExtractFree(model, x);
+  EvaluateResiduals(&problem, &summary->residuals);
+  summary->rms_m = Rms3d(summary->residuals);
+  const int dof = summary->num_residuals - p;
+  summary->sigma_m =
+      dof > 0 ? std::sqrt(summary->residuals.squaredNorm() / dof) : 0.0;
+  if (!summary->converged) {
+    return fail("the solver did not converge: " + ss.message);
+  }
+  if (!summary->parameters.allFinite()) {
+    return fail("the solver produced non-finite estimates");
+  }
+
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  cov_options.null_space_rank = 0;
+  cov_options.num_threads = std::max(1, options.num_threads);
+  ceres::Covariance covariance(cov_options);
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (size_t i = 0; i < free_blocks.size(); ++i) {
+    for (size_t j = i; j < free_blocks.size(); ++j) {
+      pairs.emplace_back(free_blocks[i], free_blocks[j]);
+    }
+  }
+  RowMatrixXd cov(p, p);
+  if (!covariance.Compute(pairs, &problem) ||
+      !covariance.GetCovarianceMatrixInTangentSpace(free_blocks,
+                                                    cov.data())) {
+    return fail(
+        "the covariance could not be computed: the Jacobian at the solution "
+        "is rank deficient (parameters not identifiable from these poses)");
+  }
+  summary->covariance = cov * (summary->sigma_m * summary->sigma_m);
+  summary->standard_deviations = summary->covariance.diagonal().cwiseSqrt();
+  summary->success = true;
+  std::ostringstream msg;
+  msg << "identified " << p << " parameters from "
+      << summary->num_measurements << " measurements in "
+      << summary->iterations << " iterations";
+  summary->message = msg.str();
+  return true;
+}
+
+std::string IdentificationSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "activecal identification: " << (success ? "SUCCESS" : "FAILURE")
+      << "\n  " << message << "\n";
+  out << "  measurements: " << num_measurements << " (" << num_residuals
+      << " equations), free parameters: " << num_free << "\n";
+  out << "  RMS 3D residual: " << initial_rms_m << " m at start -> " << rms_m
+      << " m at the estimate; sigma per axis " << sigma_m << " m\n";
+  out << "  solver: " << solver_summary.BriefReport() << "\n";
+  return out.str();
+}
+
+}  // namespace activecal

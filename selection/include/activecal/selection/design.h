@@ -1,0 +1,102 @@
+// A design (a set of distinct pool poses) with its information matrix kept
+// current, the inputs every selection algorithm shares, and the Summary
+// every selection algorithm returns.
+
+#ifndef ACTIVECAL_SELECTION_DESIGN_H_
+#define ACTIVECAL_SELECTION_DESIGN_H_
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "activecal/selection/candidate_pool.h"
+#include "activecal/selection/information_matrix.h"
+
+namespace activecal {
+
+class Design {
+ public:
+  // An empty design over `pool`, which must outlive it.
+  explicit Design(const CandidatePool& pool, double ridge = 0.0);
+
+  const CandidatePool& pool() const { return *pool_; }
+  const std::vector<int64_t>& poses() const { return poses_; }
+  int size() const { return static_cast<int>(poses_.size()); }
+  bool Contains(int64_t pose) const { return member_[pose] != 0; }
+  const InformationMatrix& information() const { return info_; }
+  double log_det() const { return info_.log_det(); }
+
+  // Adds a pose not yet in the design.
+  void Add(int64_t pose);
+  // Removes a pose of the design; refused (false) if the information matrix
+  // would stop being positive definite.
+  bool Remove(int64_t pose);
+  // Recomputes the information matrix from the design's blocks.
+  void Rebuild();
+  // Drops a ridge used for a regularised start: M is rebuilt without it.
+  void ClearRidge();
+
+ private:
+  const CandidatePool* pool_;
+  std::vector<int64_t> poses_;
+  std::vector<char> member_;
+  InformationMatrix info_;
+};
+
+// The add gain log det(I + X_i V X_i^T) of every pool pose, against the
+// information matrix `info` (positive definite). Spread over num_threads
+// threads (<= 0: all); the result does not depend on the count.
+void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
+                     int num_threads, Eigen::VectorXd* gains);
+
+// What every selection algorithm takes besides its own options.
+struct DesignConstraints {
+  // Poses always in the design and never removed (measured anyway, or
+  // required). Counted in num_poses.
+  std::vector<int64_t> fixed;
+  // Poses never selected, e.g. those the measuring device cannot see.
+  std::function<bool(int64_t)> excluded;
+};
+
+// Checks the constraints against the pool and a design size, and marks the
+// poses that may be added (not fixed, not excluded). Returns false with a
+// message on inconsistent input.
+bool PrepareCandidates(const CandidatePool& pool, int num_poses,
+                       const DesignConstraints& constraints,
+                       std::vector<char>* eligible, std::string* error);
+
+// One accepted step of a selection algorithm.
+struct SelectionStep {
+  std::string kind;      // "initial", "exchange", "add", "remove", "restart"
+  int64_t added = -1;    // pool index, or -1
+  int64_t removed = -1;  // pool index, or -1
+  double log_det = 0.0;  // natural log det X^T X after the step
+};
+
+struct SelectionSummary {
+  bool success = false;
+  std::string message;
+  std::string algorithm;
+  int num_parameters = 0;
+  int64_t pool_size = 0;
+  // The selected poses (pool indices), fixed poses first.
+  std::vector<int64_t> design;
+  // Natural log det X^T X of the design, recomputed from scratch.
+  double log_det = -std::numeric_limits<double>::infinity();
+  // The steps of the restart that produced the design.
+  std::vector<SelectionStep> history;
+  int restarts = 0;
+  int best_restart = 0;
+  double seconds = 0.0;
+
+  double log10_det() const { return log_det / 2.302585092994046; }
+  std::string BriefReport() const;
+};
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_SELECTION_DESIGN_H_

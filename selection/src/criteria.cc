@@ -1,0 +1,58 @@
+#include "activecal/selection/criteria.h"
+
+#include <cmath>
+
+#include <Eigen/SVD>
+
+#include "activecal/selection/information_matrix.h"
+
+namespace activecal {
+
+ObservabilityIndices ComputeObservabilityIndices(const Eigen::MatrixXd& X) {
+  ObservabilityIndices o;
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(X);
+  o.singular_values = svd.singularValues();
+  const Eigen::VectorXd& s = o.singular_values;
+  if (s.size() == 0 || s[0] <= 0) return o;
+  const double tol = s[0] * std::max(X.rows(), X.cols()) * 1e-15;
+  double log_prod = 0.0, inv_sum = 0.0;
+  for (int i = 0; i < s.size(); ++i) {
+    if (s[i] <= tol) break;
+    ++o.rank;
+    log_prod += std::log(s[i]);
+    inv_sum += 1.0 / s[i];
+  }
+  const int L = o.rank;
+  const double smin = s[L - 1], smax = s[0];
+  o.oi = std::exp(log_prod / L) / L;
+  o.log10_oid = 2.0 * log_prod / std::log(10.0);
+  o.o1 = std::exp(log_prod / L) / std::sqrt(static_cast<double>(X.rows()));
+  o.o2 = smin / smax;
+  o.o3 = smin;
+  o.o4 = smin * smin / smax;
+  o.o5 = 1.0 / inv_sum;
+  return o;
+}
+
+double OiFromLogDet(double log_det, int num_parameters) {
+  const double p = num_parameters;
+  return std::exp(log_det / (2.0 * p)) / p;
+}
+
+double LogDetFromOi(double oi, int num_parameters) {
+  const double p = num_parameters;
+  return 2.0 * p * std::log(oi * p);
+}
+
+double LogDetFromScratch(const CandidatePool& pool,
+                         const std::vector<int64_t>& design) {
+  const int p = pool.num_parameters();
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+  for (int64_t i : design) {
+    const auto X = pool.block(i);
+    M.noalias() += X.transpose() * X;
+  }
+  return LogDetSpd(M);
+}
+
+}  // namespace activecal

@@ -1,0 +1,143 @@
+#include "activecal/selection/design.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "activecal/core/parallel.h"
+#include "activecal/selection/criteria.h"
+
+namespace activecal {
+
+Design::Design(const CandidatePool& pool, double ridge)
+    : pool_(&pool),
+      member_(pool.size(), 0),
+      info_(pool.num_parameters(), ridge) {}
+
+void Design::Add(int64_t pose) {
+  member_[pose] = 1;
+  poses_.push_back(pose);
+  info_.Add(pool_->block(pose));
+}
+
+bool Design::Remove(int64_t pose) {
+  if (!info_.Remove(pool_->block(pose))) return false;
+  member_[pose] = 0;
+  poses_.erase(std::find(poses_.begin(), poses_.end(), pose));
+  return true;
+}
+
+void Design::Rebuild() {
+  InformationMatrix fresh(pool_->num_parameters(), info_.ridge());
+  fresh.set_refresh_interval(info_.refresh_interval());
+  for (int64_t i : poses_) fresh.Add(pool_->block(i));
+  fresh.Refresh();
+  info_ = std::move(fresh);
+}
+
+void Design::ClearRidge() {
+  InformationMatrix fresh(pool_->num_parameters(), 0.0);
+  fresh.set_refresh_interval(info_.refresh_interval());
+  info_ = std::move(fresh);
+  Rebuild();
+}
+
+void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
+                     int num_threads, Eigen::VectorXd* gains) {
+  const int64_t n = pool.size();
+  const int t = pool.block_rows();
+  const int p = pool.num_parameters();
+  gains->resize(n);
+  const Eigen::MatrixXd& V = info.inverse();
+  // Chunks of poses: W = X_chunk V in one product, then t x t blocks.
+  constexpr int64_t kChunk = 512;
+  const int64_t num_chunks = (n + kChunk - 1) / kChunk;
+  ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
+    RowMatrixXd W;
+    Eigen::MatrixXd S(t, t);
+    for (int64_t c = cb; c < ce; ++c) {
+      const int64_t begin = c * kChunk;
+      const int64_t count = std::min(kChunk, n - begin);
+      Eigen::Map<const RowMatrixXd> X(pool.stacked().data() + begin * t * p,
+                                      count * t, p);
+      W.noalias() = X * V;
+      for (int64_t k = 0; k < count; ++k) {
+        S.noalias() = W.middleRows(k * t, t) * X.middleRows(k * t, t).transpose();
+        S.diagonal().array() += 1.0;
+        (*gains)[begin + k] = LogDetSpd(S);
+      }
+    }
+  });
+}
+
+bool PrepareCandidates(const CandidatePool& pool, int num_poses,
+                       const DesignConstraints& constraints,
+                       std::vector<char>* eligible, std::string* error) {
+  std::ostringstream msg;
+  const int64_t n = pool.size();
+  eligible->assign(n, 1);
+  std::vector<char> seen(n, 0);
+  for (int64_t f : constraints.fixed) {
+    if (f < 0 || f >= n) {
+      msg << "fixed pose " << f << " is outside the pool [0, " << n << ")";
+      break;
+    }
+    if (seen[f]) {
+      msg << "fixed pose " << f << " is listed twice";
+      break;
+    }
+    if (constraints.excluded && constraints.excluded(f)) {
+      msg << "fixed pose " << f << " is also excluded";
+      break;
+    }
+    seen[f] = 1;
+    (*eligible)[f] = 0;
+  }
+  int64_t available = 0;
+  if (msg.tellp() == 0) {
+    for (int64_t i = 0; i < n; ++i) {
+      if ((*eligible)[i] && constraints.excluded && constraints.excluded(i)) {
+        (*eligible)[i] = 0;
+      }
+      available += (*eligible)[i];
+    }
+    const int64_t fixed = static_cast<int64_t>(constraints.fixed.size());
+    if (num_poses <= 0) {
+      msg << "the number of poses must be > 0, got " << num_poses;
+    } else if (num_poses < fixed) {
+      msg << "the number of poses (" << num_poses << ") is smaller than the "
+          << fixed << " fixed poses";
+    } else if (num_poses - fixed > available) {
+      msg << "asked for " << num_poses << " poses, but the pool has only "
+          << available + fixed << " usable poses (" << fixed << " fixed, "
+          << n - available - fixed << " excluded of " << n << ")";
+    } else if (static_cast<int64_t>(num_poses) * pool.block_rows() <
+               pool.num_parameters()) {
+      msg << num_poses << " poses give " << num_poses * pool.block_rows()
+          << " equations, fewer than the " << pool.num_parameters()
+          << " parameters: every such design is singular";
+    }
+  }
+  if (msg.tellp() == 0) return true;
+  if (error) *error = msg.str();
+  return false;
+}
+
+std::string SelectionSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "activecal selection (" << algorithm << "): "
+      << (success ? "SUCCESS" : "FAILURE") << "\n  " << message << "\n";
+  if (success) {
+    out << "  " << design.size() << " poses from a pool of " << pool_size
+        << ", " << num_parameters << " parameters\n";
+    out.precision(6);
+    out << "  log10 det(X^T X) = " << log10_det()
+        << ", OI = " << OiFromLogDet(log_det, num_parameters) << "\n";
+    out << "  " << history.size() << " steps, " << restarts
+        << " restart(s), best restart " << best_restart << ", " << seconds
+        << " s\n";
+  }
+  return out.str();
+}
+
+}  // namespace activecal

@@ -1,0 +1,329 @@
+#include "activecal/selection/exchange_add_exchange.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include <Eigen/SVD>
+
+#include "activecal/core/parallel.h"
+#include "activecal/core/random.h"
+#include "activecal/selection/criteria.h"
+#include "selection_internal.h"
+
+namespace activecal {
+
+bool ExchangeAddExchangeOptions::IsValid(std::string* error) const {
+  std::ostringstream msg;
+  if (num_poses <= 0) {
+    msg << "num_poses must be > 0, got " << num_poses;
+  } else if (initial_poses <= 0 || initial_poses > num_poses) {
+    msg << "initial_poses must be in [1, num_poses = " << num_poses
+        << "], got " << initial_poses;
+  } else if (max_exchanges < 0) {
+    msg << "max_exchanges must be >= 0, got " << max_exchanges;
+  } else if (restarts <= 0) {
+    msg << "restarts must be > 0, got " << restarts;
+  } else if (!(min_improvement >= 0)) {
+    msg << "min_improvement must be >= 0";
+  }
+  if (msg.tellp() == 0) return true;
+  if (error) *error = msg.str();
+  return false;
+}
+
+namespace internal {
+
+// ---------------------------------------------------------------------------
+// Determinant-update scorer.
+
+DeterminantScorer::DeterminantScorer(const CandidatePool& pool,
+                                     int num_threads)
+    : design_(pool), num_threads_(num_threads) {}
+
+bool DeterminantScorer::BestAddition(const std::vector<char>& eligible,
+                                     int64_t* pose, double* value) {
+  ComputeAddGains(design_.pool(), design_.information(), num_threads_,
+                  &gains_);
+  int64_t best = -1;
+  for (int64_t i = 0; i < gains_.size(); ++i) {
+    if (eligible[i] && !design_.Contains(i) &&
+        (best < 0 || gains_[i] > gains_[best])) {
+      best = i;
+    }
+  }
+  if (best < 0) return false;
+  *pose = best;
+  *value = design_.log_det() + gains_[best];
+  return true;
+}
+
+bool DeterminantScorer::BestRemoval(const std::vector<char>& is_fixed,
+                                    int64_t* pose, double* value) {
+  int64_t best = -1;
+  double best_loss = -std::numeric_limits<double>::infinity();
+  for (int64_t i : design_.poses()) {
+    if (is_fixed[i]) continue;
+    const double loss =
+        design_.information().RemoveLoss(design_.pool().block(i));
+    if (best < 0 || loss > best_loss) {
+      best = i;
+      best_loss = loss;
+    }
+  }
+  if (best < 0 || !std::isfinite(best_loss)) return false;
+  *pose = best;
+  *value = design_.log_det() + best_loss;
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Eigenvalue (SVD) scorer: log det as 2 sum log sigma_i of the stacked matrix.
+
+namespace {
+double LogDetBySvd(const Eigen::MatrixXd& X) {
+  if (X.rows() < X.cols()) return -std::numeric_limits<double>::infinity();
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(X);
+  const Eigen::VectorXd& s = svd.singularValues();
+  if (s[s.size() - 1] <= s[0] * 1e-15 * X.rows()) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  return 2.0 * s.array().log().sum();
+}
+}  // namespace
+
+EigenvalueScorer::EigenvalueScorer(const CandidatePool& pool, int num_threads)
+    : pool_(&pool), member_(pool.size(), 0), num_threads_(num_threads) {}
+
+void EigenvalueScorer::Add(int64_t pose) {
+  poses_.push_back(pose);
+  member_[pose] = 1;
+  value_ = LogDetBySvd(pool_->Stack(poses_));
+}
+
+bool EigenvalueScorer::Remove(int64_t pose) {
+  std::vector<int64_t> rest = poses_;
+  rest.erase(std::find(rest.begin(), rest.end(), pose));
+  const double v = LogDetBySvd(pool_->Stack(rest));
+  if (!std::isfinite(v)) return false;
+  poses_ = rest;
+  member_[pose] = 0;
+  value_ = v;
+  return true;
+}
+
+bool EigenvalueScorer::BestAddition(const std::vector<char>& eligible,
+                                    int64_t* pose, double* value) {
+  const int t = pool_->block_rows();
+  const Eigen::MatrixXd base = pool_->Stack(poses_);
+  std::vector<double> values(pool_->size(),
+                             -std::numeric_limits<double>::infinity());
+  ParallelFor(pool_->size(), num_threads_,
+              [&](int64_t begin, int64_t end, int) {
+                Eigen::MatrixXd X(base.rows() + t, base.cols());
+                X.topRows(base.rows()) = base;
+                for (int64_t i = begin; i < end; ++i) {
+                  if (!eligible[i] || member_[i]) continue;
+                  X.bottomRows(t) = pool_->block(i);
+                  values[i] = LogDetBySvd(X);
+                }
+              });
+  int64_t best = -1;
+  for (int64_t i = 0; i < pool_->size(); ++i) {
+    if (eligible[i] && !member_[i] && (best < 0 || values[i] > values[best])) {
+      best = i;
+    }
+  }
+  if (best < 0) return false;
+  *pose = best;
+  *value = values[best];
+  return true;
+}
+
+bool EigenvalueScorer::BestRemoval(const std::vector<char>& is_fixed,
+                                   int64_t* pose, double* value) {
+  int64_t best = -1;
+  double best_value = -std::numeric_limits<double>::infinity();
+  for (int64_t i : poses_) {
+    if (is_fixed[i]) continue;
+    std::vector<int64_t> rest = poses_;
+    rest.erase(std::find(rest.begin(), rest.end(), i));
+    const double v = LogDetBySvd(pool_->Stack(rest));
+    if (best < 0 || v > best_value) {
+      best = i;
+      best_value = v;
+    }
+  }
+  if (best < 0 || !std::isfinite(best_value)) return false;
+  *pose = best;
+  *value = best_value;
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+
+int CompleteSingularDesign(const CandidatePool& pool,
+                           const std::vector<char>& eligible, int num_threads,
+                           std::vector<int64_t>* poses) {
+  const int p = pool.num_parameters();
+  // eps = 1e-9 * trace(sum over the pool of X_i^T X_i) / p.
+  const double eps =
+      1e-9 * pool.stacked().squaredNorm() / p / std::max<int64_t>(1, pool.size());
+  Design design(pool, eps);
+  for (int64_t i : *poses) design.Add(i);
+  InformationMatrix plain(p);
+  for (int64_t i : *poses) plain.Add(pool.block(i));
+  int added = 0;
+  Eigen::VectorXd gains;
+  while (!plain.positive_definite()) {
+    ComputeAddGains(pool, design.information(), num_threads, &gains);
+    int64_t best = -1;
+    for (int64_t i = 0; i < pool.size(); ++i) {
+      if (eligible[i] && !design.Contains(i) &&
+          (best < 0 || gains[i] > gains[best])) {
+        best = i;
+      }
+    }
+    if (best < 0) return -1;  // the pool itself is rank deficient
+    design.Add(best);
+    plain.Add(pool.block(best));
+    poses->push_back(best);
+    ++added;
+  }
+  return added;
+}
+
+bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
+                  const std::vector<char>& is_fixed, int max_exchanges,
+                  double min_improvement, std::vector<SelectionStep>* history) {
+  bool changed = false;
+  for (int k = 0; k < max_exchanges; ++k) {
+    const double current = scorer->Value();
+    int64_t out, in;
+    double after_removal, after_swap;
+    if (!scorer->BestRemoval(is_fixed, &out, &after_removal)) break;
+    if (!scorer->Remove(out)) break;
+    if (!scorer->BestAddition(eligible, &in, &after_swap) ||
+        in == out || !(after_swap > current + min_improvement)) {
+      scorer->Add(out);  // undo
+      break;
+    }
+    scorer->Add(in);
+    history->push_back({"exchange", in, out, scorer->Value()});
+    changed = true;
+  }
+  return changed;
+}
+
+}  // namespace internal
+
+bool ExchangeAddExchange(const CandidatePool& pool,
+                         const DesignConstraints& constraints,
+                         const ExchangeAddExchangeOptions& options,
+                         SelectionSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  *summary = SelectionSummary();
+  summary->algorithm =
+      options.criterion == SelectionCriterion::kDeterminantUpdate
+          ? "exchange-add-exchange (determinant update)"
+          : "exchange-add-exchange (eigenvalue OI)";
+  summary->num_parameters = pool.num_parameters();
+  summary->pool_size = pool.size();
+  std::string error;
+  std::vector<char> eligible;
+  if (!options.IsValid(&error) ||
+      !PrepareCandidates(pool, options.num_poses, constraints, &eligible,
+                         &error)) {
+    summary->message = error;
+    return false;
+  }
+  const int num_fixed = static_cast<int>(constraints.fixed.size());
+  if (options.initial_poses < num_fixed) {
+    summary->message = "initial_poses (" +
+                       std::to_string(options.initial_poses) +
+                       ") is smaller than the number of fixed poses (" +
+                       std::to_string(num_fixed) + ")";
+    return false;
+  }
+  std::vector<char> is_fixed(pool.size(), 0);
+  for (int64_t f : constraints.fixed) is_fixed[f] = 1;
+  std::vector<int64_t> candidates;
+  for (int64_t i = 0; i < pool.size(); ++i) {
+    if (eligible[i]) candidates.push_back(i);
+  }
+
+  std::ostringstream notes;
+  double best_value = -std::numeric_limits<double>::infinity();
+  for (int r = 0; r < options.restarts; ++r) {
+    Random random(Random::StreamSeed(options.seed, r));
+    std::vector<int64_t> initial = constraints.fixed;
+    for (int64_t j : random.SampleWithoutReplacement(
+             candidates.size(), options.initial_poses - num_fixed)) {
+      initial.push_back(candidates[j]);
+    }
+    if (!std::isfinite(LogDetFromScratch(pool, initial))) {
+      const int added = internal::CompleteSingularDesign(
+          pool, eligible, options.num_threads, &initial);
+      if (added < 0) {
+        summary->message =
+            "the pool's information matrix is singular: no design can "
+            "identify all " + std::to_string(pool.num_parameters()) +
+            " parameters (check identifiability)";
+        return false;
+      }
+      notes << " restart " << r << ": the initial design of "
+            << options.initial_poses << " poses was singular; completed "
+            << "greedily on M + eps I with " << added << " pose(s).";
+    }
+    std::unique_ptr<internal::Scorer> scorer;
+    if (options.criterion == SelectionCriterion::kDeterminantUpdate) {
+      scorer = std::make_unique<internal::DeterminantScorer>(
+          pool, options.num_threads);
+    } else {
+      scorer = std::make_unique<internal::EigenvalueScorer>(
+          pool, options.num_threads);
+    }
+    for (int64_t i : initial) scorer->Add(i);
+    std::vector<SelectionStep> history;
+    history.push_back({"initial", -1, -1, scorer->Value()});
+
+    internal::ExchangeStep(scorer.get(), eligible, is_fixed,
+                           options.max_exchanges, options.min_improvement,
+                           &history);
+    while (scorer->size() < options.num_poses &&
+           scorer->Value() < options.target_log_det) {
+      int64_t in;
+      double after;
+      if (!scorer->BestAddition(eligible, &in, &after) ||
+          !(after > scorer->Value() + options.min_improvement)) {
+        break;
+      }
+      scorer->Add(in);
+      history.push_back({"add", in, -1, scorer->Value()});
+    }
+    internal::ExchangeStep(scorer.get(), eligible, is_fixed,
+                           options.max_exchanges, options.min_improvement,
+                           &history);
+    const double value = LogDetFromScratch(pool, scorer->poses());
+    if (value > best_value) {
+      best_value = value;
+      summary->design = scorer->poses();
+      summary->history = history;
+      summary->best_restart = r;
+    }
+  }
+  summary->restarts = options.restarts;
+  summary->log_det = best_value;
+  summary->seconds = std::chrono::duration<double>(
+                         std::chrono::steady_clock::now() - start)
+                         .count();
+  std::ostringstream msg;
+  msg << summary->design.size() << " poses after " << summary->history.size()
+      << " steps" << notes.str();
+  summary->message = msg.str();
+  summary->success = std::isfinite(summary->log_det);
+  return summary->success;
+}
+
+}  // namespace activecal

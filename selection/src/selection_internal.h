@@ -1,0 +1,95 @@
+// Internal pieces shared by the selection algorithms. Not installed.
+
+#ifndef ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
+#define ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "activecal/selection/candidate_pool.h"
+#include "activecal/selection/design.h"
+
+namespace activecal {
+namespace internal {
+
+// A design together with a way of scoring single-pose changes to it.
+// Values are natural log det X^T X (or, for the SVD scorer, the same
+// quantity computed from singular values).
+class Scorer {
+ public:
+  virtual ~Scorer() = default;
+  virtual double Value() const = 0;
+  virtual int size() const = 0;
+  virtual const std::vector<int64_t>& poses() const = 0;
+  virtual void Add(int64_t pose) = 0;
+  virtual bool Remove(int64_t pose) = 0;
+  // The eligible pose not in the design whose addition gives the highest
+  // value; ties go to the lowest index.
+  virtual bool BestAddition(const std::vector<char>& eligible, int64_t* pose,
+                            double* value) = 0;
+  // The design pose (not fixed) whose removal leaves the highest value.
+  virtual bool BestRemoval(const std::vector<char>& is_fixed, int64_t* pose,
+                           double* value) = 0;
+};
+
+class DeterminantScorer : public Scorer {
+ public:
+  DeterminantScorer(const CandidatePool& pool, int num_threads);
+  double Value() const override { return design_.log_det(); }
+  int size() const override { return design_.size(); }
+  const std::vector<int64_t>& poses() const override {
+    return design_.poses();
+  }
+  void Add(int64_t pose) override { design_.Add(pose); }
+  bool Remove(int64_t pose) override { return design_.Remove(pose); }
+  bool BestAddition(const std::vector<char>& eligible, int64_t* pose,
+                    double* value) override;
+  bool BestRemoval(const std::vector<char>& is_fixed, int64_t* pose,
+                   double* value) override;
+
+ private:
+  Design design_;
+  int num_threads_;
+  Eigen::VectorXd gains_;
+};
+
+class EigenvalueScorer : public Scorer {
+ public:
+  EigenvalueScorer(const CandidatePool& pool, int num_threads);
+  double Value() const override { return value_; }
+  int size() const override { return static_cast<int>(poses_.size()); }
+  const std::vector<int64_t>& poses() const override { return poses_; }
+  void Add(int64_t pose) override;
+  bool Remove(int64_t pose) override;
+  bool BestAddition(const std::vector<char>& eligible, int64_t* pose,
+                    double* value) override;
+  bool BestRemoval(const std::vector<char>& is_fixed, int64_t* pose,
+                   double* value) override;
+
+ private:
+  const CandidatePool* pool_;
+  std::vector<int64_t> poses_;
+  std::vector<char> member_;
+  int num_threads_;
+  double value_ = -std::numeric_limits<double>::infinity();
+};
+
+// Completes a singular design greedily on M + eps I until M is positive
+// definite. Returns the number of poses added, or -1 if the eligible pool
+// cannot make M positive definite.
+int CompleteSingularDesign(const CandidatePool& pool,
+                           const std::vector<char>& eligible, int num_threads,
+                           std::vector<int64_t>* poses);
+
+// The paper's exchange step. Returns whether any swap was made.
+bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
+                  const std::vector<char>& is_fixed, int max_exchanges,
+                  double min_improvement, std::vector<SelectionStep>* history);
+
+}  // namespace internal
+}  // namespace activecal
+
+#endif  // ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
