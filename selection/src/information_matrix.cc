@@ -11,6 +11,19 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
 // An update whose determinant factor is below this (a removal taking away
 // almost all information in some direction) is recomputed from scratch.
 constexpr double kIllConditionedLogFactor = -20.0;
+// A Cholesky pivot L_ii^2 below this fraction of M_ii means column i is (to
+// rounding) a combination of the columns before it: M is singular. The test
+// is invariant to column scaling, as the D-criterion is.
+constexpr double kRelativePivotTolerance = 1e-12;
+
+bool PivotsPositive(const Eigen::Ref<const Eigen::MatrixXd>& M,
+                    const Eigen::Ref<const Eigen::MatrixXd>& llt) {
+  for (Eigen::Index i = 0; i < M.rows(); ++i) {
+    const double pivot = llt(i, i) * llt(i, i);
+    if (!(pivot > kRelativePivotTolerance * M(i, i))) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -28,10 +41,10 @@ double LogDetSpd(const Eigen::Ref<const Eigen::MatrixXd>& S) {
     return std::log(det);
   }
   Eigen::LLT<Eigen::MatrixXd> llt(S);
-  if (llt.info() != Eigen::Success) return kNegInf;
-  const Eigen::VectorXd diag = llt.matrixLLT().diagonal();
-  if ((diag.array() <= 0).any()) return kNegInf;
-  return 2.0 * diag.array().log().sum();
+  if (llt.info() != Eigen::Success || !PivotsPositive(S, llt.matrixLLT())) {
+    return kNegInf;
+  }
+  return 2.0 * llt.matrixLLT().diagonal().array().log().sum();
 }
 
 InformationMatrix::InformationMatrix(int num_parameters, double ridge)
@@ -44,7 +57,8 @@ InformationMatrix::InformationMatrix(int num_parameters, double ridge)
 void InformationMatrix::Refresh() {
   Eigen::LLT<Eigen::MatrixXd> llt(M_);
   const Eigen::VectorXd diag = llt.matrixLLT().diagonal();
-  positive_definite_ = llt.info() == Eigen::Success && (diag.array() > 0).all();
+  positive_definite_ =
+      llt.info() == Eigen::Success && PivotsPositive(M_, llt.matrixLLT());
   updates_since_refresh_ = 0;
   if (!positive_definite_) return;
   log_det_ = 2.0 * diag.array().log().sum();

@@ -1,0 +1,87 @@
+// Helpers shared by the tests.
+
+#ifndef ACTIVECAL_TESTS_TEST_UTIL_H_
+#define ACTIVECAL_TESTS_TEST_UTIL_H_
+
+#include <string>
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include "activecal/core/lattice.h"
+#include "activecal/core/puma560.h"
+#include "activecal/core/random.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/residuals/jacobians.h"
+#include "activecal/selection/candidate_pool.h"
+
+namespace activecal {
+namespace testing {
+
+// The PUMA lattice pool with `levels` values per joint, Jacobians at the
+// nominal values.
+inline CandidatePool PumaPool(int levels, JointLattice* lattice_out = nullptr) {
+  const RobotModel model = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(model, levels, &lattice, &error)) << error;
+  RowMatrixXd stacked;
+  EXPECT_TRUE(PoolPositionJacobians(model, model.nominal,
+                                    lattice.AllJointValues(),
+                                    PoolJacobianOptions(), &stacked, &error))
+      << error;
+  CandidatePool pool;
+  EXPECT_TRUE(CandidatePool::Create(std::move(stacked), 3, &pool, &error))
+      << error;
+  if (lattice_out) *lattice_out = lattice;
+  return pool;
+}
+
+// Random joint values inside the model's ranges.
+inline Eigen::VectorXd RandomJoints(const RobotModel& model, Random* random) {
+  Eigen::VectorXd q(model.num_joints());
+  for (int j = 0; j < model.num_joints(); ++j) {
+    const Link& l = model.links[j];
+    q[j] = l.joint_min + (l.joint_max - l.joint_min) * random->Uniform();
+  }
+  return q;
+}
+
+// A model exercising every convention, a prismatic joint, free gains and a
+// free tool point.
+inline RobotModel MixedModel() {
+  RobotModel m;
+  m.name = "mixed";
+  m.base.name = "B";
+  m.base.convention = LinkConvention::kHayati;
+  m.base.joint_type = JointType::kFixed;
+  m.base.free = {true, true, true, true, true, false};
+  const LinkConvention conventions[4] = {
+      LinkConvention::kStandardDH, LinkConvention::kHayati,
+      LinkConvention::kModifiedDH, LinkConvention::kStandardDH};
+  for (int i = 0; i < 4; ++i) {
+    Link l;
+    l.name = "L" + std::to_string(i + 1);
+    l.convention = conventions[i];
+    l.joint_type = i == 2 ? JointType::kPrismatic : JointType::kRevolute;
+    l.joint_min = i == 2 ? 0.0 : -2.5;
+    l.joint_max = i == 2 ? 0.4 : 2.5;
+    l.free = {true, true, true, true, conventions[i] == LinkConvention::kHayati,
+              true};
+    m.links.push_back(l);
+  }
+  m.tool_free = {true, true, true};
+  m.nominal.resize(m.num_parameters());
+  m.nominal << 0.1, 0.02, 1.5, 0.3, -0.01, 1.0,  // B
+      0.0, -1.57, 0.05, 0.6, 0.0, 1.0,           // L1 DH
+      0.01, 0.02, 0.43, 0.0, 0.01, 1.0,          // L2 Hayati
+      0.3, 1.2, 0.1, 0.05, 0.0, 1.0,             // L3 modified DH, prismatic
+      -0.2, 0.7, 0.2, 0.1, 0.0, 0.98,            // L4 DH
+      0.05, -0.02, 0.12;                         // tool
+  return m;
+}
+
+}  // namespace testing
+}  // namespace activecal
+
+#endif  // ACTIVECAL_TESTS_TEST_UTIL_H_
