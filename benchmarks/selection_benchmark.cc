@@ -1,0 +1,134 @@
+// Cost of scoring one candidate pose: the paper's determinant update
+// against the eigenvalue OI by SVD of the stacked design matrix, for the
+// paper's PUMA (27 parameters) and a 30-pose design.
+//
+//   build/benchmarks/activecal_selection_benchmark
+
+#include <benchmark/benchmark.h>
+
+#include <Eigen/SVD>
+
+#include "activecal/core/lattice.h"
+#include "activecal/core/puma560.h"
+#include "activecal/core/random.h"
+#include "activecal/residuals/jacobians.h"
+#include "activecal/selection/candidate_pool.h"
+#include "activecal/selection/criteria.h"
+#include "activecal/selection/design.h"
+
+namespace activecal {
+namespace {
+
+const CandidatePool& Pool(int levels) {
+  static std::map<int, CandidatePool> pools;
+  auto it = pools.find(levels);
+  if (it != pools.end()) return it->second;
+  const RobotModel model = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  JointLattice::Create(model, levels, &lattice, &error);
+  RowMatrixXd stacked;
+  PoolPositionJacobians(model, model.nominal, lattice.AllJointValues(),
+                        PoolJacobianOptions(), &stacked, &error);
+  CandidatePool pool;
+  CandidatePool::Create(std::move(stacked), 3, &pool, &error);
+  return pools.emplace(levels, std::move(pool)).first->second;
+}
+
+std::vector<int64_t> Design30() {
+  return Random(1).SampleWithoutReplacement(Pool(5).size(), 30);
+}
+
+// One candidate by the update formula: log det(I + X V X^T).
+void BM_CandidateByDeterminantUpdate(benchmark::State& state) {
+  const CandidatePool& pool = Pool(5);
+  Design design(pool);
+  for (int64_t i : Design30()) design.Add(i);
+  int64_t c = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(design.information().AddGain(pool.block(c)));
+    c = (c + 7919) % pool.size();
+  }
+}
+BENCHMARK(BM_CandidateByDeterminantUpdate);
+
+// One candidate by the eigenvalue OI: SVD of the stacked 93 x 27 matrix.
+void BM_CandidateByEigenvalueOi(benchmark::State& state) {
+  const CandidatePool& pool = Pool(5);
+  Eigen::MatrixXd X(31 * 3, 27);
+  X.topRows(90) = pool.Stack(Design30());
+  int64_t c = 0;
+  for (auto _ : state) {
+    X.bottomRows(3) = pool.block(c);
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(X);
+    benchmark::DoNotOptimize(
+        std::exp(svd.singularValues().array().log().mean()) / 27);
+    c = (c + 7919) % pool.size();
+  }
+}
+BENCHMARK(BM_CandidateByEigenvalueOi);
+
+// The same with Eigen's Jacobi SVD (the classical algorithm).
+void BM_CandidateByEigenvalueOiJacobi(benchmark::State& state) {
+  const CandidatePool& pool = Pool(5);
+  Eigen::MatrixXd X(31 * 3, 27);
+  X.topRows(90) = pool.Stack(Design30());
+  int64_t c = 0;
+  for (auto _ : state) {
+    X.bottomRows(3) = pool.block(c);
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(X);
+    benchmark::DoNotOptimize(svd.singularValues()[0]);
+    c = (c + 7919) % pool.size();
+  }
+}
+BENCHMARK(BM_CandidateByEigenvalueOiJacobi);
+
+// Every candidate of the 15,625-pose pool by the batched update formula.
+void BM_AllCandidatesByDeterminantUpdate(benchmark::State& state) {
+  const CandidatePool& pool = Pool(5);
+  Design design(pool);
+  for (int64_t i : Design30()) design.Add(i);
+  Eigen::VectorXd gains;
+  for (auto _ : state) {
+    ComputeAddGains(pool, design.information(), state.range(0), &gains);
+    benchmark::DoNotOptimize(gains.data());
+  }
+  state.SetItemsProcessed(state.iterations() * pool.size());
+}
+BENCHMARK(BM_AllCandidatesByDeterminantUpdate)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// Adding and removing a pose (rank-3 update of V and log det).
+void BM_AddRemoveUpdate(benchmark::State& state) {
+  const CandidatePool& pool = Pool(5);
+  Design design(pool);
+  for (int64_t i : Design30()) design.Add(i);
+  int64_t c = 12345;
+  for (auto _ : state) {
+    design.Add(c);
+    design.Remove(c);
+  }
+}
+BENCHMARK(BM_AddRemoveUpdate);
+
+// Jacobians of the whole 15,625-pose pool through the Ceres cost function.
+void BM_PoolJacobians(benchmark::State& state) {
+  const RobotModel model = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  JointLattice::Create(model, 5, &lattice, &error);
+  const Eigen::MatrixXd joints = lattice.AllJointValues();
+  PoolJacobianOptions options;
+  options.num_threads = state.range(0);
+  RowMatrixXd stacked;
+  for (auto _ : state) {
+    PoolPositionJacobians(model, model.nominal, joints, options, &stacked,
+                          &error);
+  }
+  state.SetItemsProcessed(state.iterations() * joints.rows());
+}
+BENCHMARK(BM_PoolJacobians)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace activecal
+
+BENCHMARK_MAIN();
