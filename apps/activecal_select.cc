@@ -1,6 +1,8 @@
 // activecal_select: choose calibration poses for the paper's PUMA 560 from
 // a joint lattice by a D-optimal design algorithm.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -9,7 +11,9 @@
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/selection/criteria.h"
+#include "activecal/selection/approximate_design.h"
 #include "activecal/selection/exchange_add_exchange.h"
+#include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
 #include "app_common.h"
 
@@ -18,7 +22,12 @@ DEFINE_int32(levels, 5,
              "The pool has levels^6 poses.");
 DEFINE_string(algorithm, "eae",
               "eae: the paper's exchange-add-exchange; random: best of "
-              "--random_designs random designs.");
+              "--random_designs random designs; fedorov: Fedorov exchange "
+              "(best swap over all pairs), restart 0 from the rounded "
+              "approximate design; detmax: Mitchell's excursions; greedy: "
+              "sequential best additions; approx: the approximate "
+              "(continuous-weight) D-optimal design, rounded to its "
+              "--num_poses heaviest poses.");
 DEFINE_string(criterion, "det",
               "For eae: det scores candidates by the determinant update "
               "formulas (fast); svd by the eigenvalue OI of the stacked "
@@ -26,8 +35,17 @@ DEFINE_string(criterion, "det",
 DEFINE_int32(num_poses, 30, "Poses in the design.");
 DEFINE_int32(initial_poses, 12, "eae: random poses in the initial design.");
 DEFINE_int32(random_designs, 5000, "random: number of designs drawn.");
-DEFINE_int32(restarts, 1, "eae: independent random restarts; the best is "
-                          "kept.");
+DEFINE_int32(restarts, 0,
+             "eae, fedorov, detmax: independent restarts, run in parallel; "
+             "the best is kept. 0: the algorithm's default (eae 1, fedorov "
+             "16, detmax 4).");
+DEFINE_bool(certificate, true,
+            "Solve the approximate design and report a certified lower "
+            "bound on the design's D-efficiency (efficiency_lower_bound) "
+            "and the upper bound on log10 det it rests on.");
+DEFINE_double(approx_tolerance, 2e-3,
+              "Approximate design: stop when max_i d_i <= p (1 + tol). The "
+              "bounds hold for any value; smaller is tighter and slower.");
 DEFINE_uint64(seed, 1, "Seed of every random choice.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the selected design here.");
@@ -36,11 +54,37 @@ namespace activecal {
 namespace {
 
 int Main() {
+  const int64_t start = app::NowNs();
   const RobotModel model = Puma560PaperModel();
   const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
   double jacobian_seconds = 0;
   const CandidatePool pool = app::MakeLatticePoolOrDie(
       model, model.nominal, lattice, FLAGS_threads, &jacobian_seconds);
+
+  static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
+                                            "detmax", "greedy", "approx"};
+  if (std::find(std::begin(kAlgorithms), std::end(kAlgorithms),
+                FLAGS_algorithm) == std::end(kAlgorithms)) {
+    app::Fail("--algorithm must be one of eae, random, fedorov, detmax, "
+              "greedy, approx; got '" + FLAGS_algorithm + "'");
+  }
+  if (FLAGS_restarts < 0) {
+    app::Fail("--restarts must be >= 0, got " + std::to_string(FLAGS_restarts));
+  }
+  const bool need_approx = FLAGS_certificate || FLAGS_algorithm == "fedorov" ||
+                           FLAGS_algorithm == "approx";
+  ApproximateDesignSummary approx;
+  if (need_approx) {
+    ApproximateDesignOptions options;
+    options.tolerance = FLAGS_approx_tolerance;
+    options.num_threads = FLAGS_threads;
+    std::string error;
+    if (!options.IsValid(&error)) app::Fail("--approx_tolerance: " + error);
+    if (!SolveApproximateDesign(pool, {}, options, &approx) &&
+        approx.support.empty()) {
+      app::Fail("approximate design: " + approx.message);
+    }
+  }
 
   SelectionSummary summary;
   bool ok = false;
@@ -48,7 +92,7 @@ int Main() {
     ExchangeAddExchangeOptions options;
     options.num_poses = FLAGS_num_poses;
     options.initial_poses = FLAGS_initial_poses;
-    options.restarts = FLAGS_restarts;
+    if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
     options.seed = FLAGS_seed;
     options.num_threads = FLAGS_threads;
     if (FLAGS_criterion == "det") {
@@ -67,13 +111,40 @@ int Main() {
     options.seed = FLAGS_seed;
     options.num_threads = FLAGS_threads;
     ok = SelectRandomDesigns(pool, {}, options, &summary);
+  } else if (FLAGS_algorithm == "fedorov" || FLAGS_algorithm == "approx") {
+    FedorovOptions options;
+    options.num_poses = FLAGS_num_poses;
+    if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
+    options.seed = FLAGS_seed;
+    options.num_threads = FLAGS_threads;
+    if (FLAGS_algorithm == "approx") {
+      // Only the rounding: no swaps.
+      options.max_swaps = 0;
+      options.restarts = 1;
+    }
+    ok = FedorovExchange(pool, {}, options, &approx, &summary);
+    if (FLAGS_algorithm == "approx") summary.algorithm = "approx (rounded)";
+  } else if (FLAGS_algorithm == "detmax") {
+    DetmaxOptions options;
+    options.num_poses = FLAGS_num_poses;
+    if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
+    options.seed = FLAGS_seed;
+    options.num_threads = FLAGS_threads;
+    ok = Detmax(pool, {}, options, &summary);
   } else {
-    app::Fail("--algorithm must be eae or random, got '" + FLAGS_algorithm +
-              "'");
+    GreedyOptions options;
+    options.num_poses = FLAGS_num_poses;
+    options.num_threads = FLAGS_threads;
+    ok = GreedyDesign(pool, {}, options, &summary);
   }
   if (!ok) app::Fail(summary.message);
 
+  if (FLAGS_certificate) {
+    CertifyDesign(pool, {}, &approx, FLAGS_threads, &summary);
+  }
+  const double total_seconds = app::Seconds(start);
   std::printf("%s", summary.BriefReport().c_str());
+  if (need_approx) std::printf("%s", approx.BriefReport().c_str());
   std::printf("  Jacobians of %lld poses: %.3f s\n",
               static_cast<long long>(pool.size()), jacobian_seconds);
   std::printf("  %-6s %-8s %s\n", "#", "index", "levels (joint 1..6)");
@@ -88,6 +159,22 @@ int Main() {
     j["seed"] = FLAGS_seed;
     j["levels"] = FLAGS_levels;
     j["jacobian_seconds"] = jacobian_seconds;
+    j["total_seconds"] = total_seconds;
+    if (FLAGS_certificate) {
+      j["efficiency_lower_bound"] = summary.efficiency_lower_bound;
+      j["log10_det_upper_bound"] = summary.log_det_upper_bound / std::log(10.0);
+    }
+    if (need_approx) {
+      j["approximate"] = {
+          {"support", approx.support},
+          {"weights", approx.weights},
+          {"log10_det", approx.log_det / std::log(10.0)},
+          {"max_variance", approx.max_variance},
+          {"log10_det_upper_bound", approx.log_det_upper_bound / std::log(10.0)},
+          {"tolerance", FLAGS_approx_tolerance},
+          {"converged", approx.success},
+          {"seconds", approx.seconds}};
+    }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
   return 0;

@@ -6,6 +6,7 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/selection/criteria.h"
+#include "selection_internal.h"
 
 namespace activecal {
 
@@ -42,13 +43,14 @@ void Design::ClearRidge() {
   Rebuild();
 }
 
-void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
-                     int num_threads, Eigen::VectorXd* gains) {
+namespace internal {
+
+void ForEachQuadraticForm(
+    const CandidatePool& pool, const Eigen::MatrixXd& V, int num_threads,
+    const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn) {
   const int64_t n = pool.size();
   const int t = pool.block_rows();
   const int p = pool.num_parameters();
-  gains->resize(n);
-  const Eigen::MatrixXd& V = info.inverse();
   // Chunks of poses: W = X_chunk V in one product, then t x t blocks.
   constexpr int64_t kChunk = 512;
   const int64_t num_chunks = (n + kChunk - 1) / kChunk;
@@ -62,12 +64,36 @@ void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
                                       count * t, p);
       W.noalias() = X * V;
       for (int64_t k = 0; k < count; ++k) {
-        S.noalias() = W.middleRows(k * t, t) * X.middleRows(k * t, t).transpose();
-        S.diagonal().array() += 1.0;
-        (*gains)[begin + k] = LogDetSpd(S);
+        S.noalias() =
+            W.middleRows(k * t, t) * X.middleRows(k * t, t).transpose();
+        fn(begin + k, S);
       }
     }
   });
+}
+
+}  // namespace internal
+
+void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
+                     int num_threads, Eigen::VectorXd* gains) {
+  gains->resize(pool.size());
+  internal::ForEachQuadraticForm(
+      pool, info.inverse(), num_threads,
+      [gains](int64_t i, const Eigen::MatrixXd& D) {
+        Eigen::MatrixXd S = D;
+        S.diagonal().array() += 1.0;
+        (*gains)[i] = LogDetSpd(S);
+      });
+}
+
+void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
+                      int num_threads, Eigen::VectorXd* variances) {
+  variances->resize(pool.size());
+  internal::ForEachQuadraticForm(
+      pool, V, num_threads,
+      [variances](int64_t i, const Eigen::MatrixXd& D) {
+        (*variances)[i] = D.trace();
+      });
 }
 
 bool PrepareCandidates(const CandidatePool& pool, int num_poses,
@@ -133,6 +159,12 @@ std::string SelectionSummary::BriefReport() const {
     out.precision(6);
     out << "  log10 det(X^T X) = " << log10_det()
         << ", OI = " << OiFromLogDet(log_det, num_parameters) << "\n";
+    if (!std::isnan(efficiency_lower_bound)) {
+      out << "  certified: D-efficiency >= " << efficiency_lower_bound
+          << " (log10 det of the best " << design.size()
+          << "-pose design <= " << log_det_upper_bound / std::log(10.0)
+          << ")\n";
+    }
     out << "  " << history.size() << " steps, " << restarts
         << " restart(s), best restart " << best_restart << ", " << seconds
         << " s\n";

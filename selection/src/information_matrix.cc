@@ -14,10 +14,17 @@ constexpr double kIllConditionedLogFactor = -20.0;
 // A Cholesky pivot L_ii^2 below this fraction of M_ii means column i is (to
 // rounding) a combination of the columns before it: M is singular. The test
 // is invariant to column scaling, as the D-criterion is.
-constexpr double kRelativePivotTolerance = 1e-12;
+constexpr double kRelativePivotTolerance = 1e-10;
+constexpr double kEmptyColumnTolerance = 1e-14;
 
 bool PivotsPositive(const Eigen::Ref<const Eigen::MatrixXd>& M,
                     const Eigen::Ref<const Eigen::MatrixXd>& llt) {
+  // A column with (to rounding) no information at all is singular too,
+  // whatever its pivot: compare with the best-informed column.
+  const double max_diag = M.diagonal().maxCoeff();
+  for (Eigen::Index i = 0; i < M.rows(); ++i) {
+    if (!(M(i, i) > kEmptyColumnTolerance * max_diag)) return false;
+  }
   for (Eigen::Index i = 0; i < M.rows(); ++i) {
     const double pivot = llt(i, i) * llt(i, i);
     if (!(pivot > kRelativePivotTolerance * M(i, i))) return false;

@@ -4,16 +4,25 @@
 #define ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "activecal/selection/approximate_design.h"
 #include "activecal/selection/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {
 namespace internal {
+
+// Calls fn(i, X_i V X_i^T) for every pool pose, in parallel chunks (fn must
+// only write per-pose results).
+void ForEachQuadraticForm(
+    const CandidatePool& pool, const Eigen::MatrixXd& V, int num_threads,
+    const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn);
 
 // A design together with a way of scoring single-pose changes to it.
 // Values are natural log det X^T X (or, for the SVD scorer, the same
@@ -88,6 +97,35 @@ int CompleteSingularDesign(const CandidatePool& pool,
 bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int max_exchanges,
                   double min_improvement, std::vector<SelectionStep>* history);
+
+// One restart's outcome.
+struct RestartResult {
+  bool ok = false;
+  int restart = 0;
+  std::vector<int64_t> design;
+  std::vector<SelectionStep> history;
+  double log_det = -std::numeric_limits<double>::infinity();
+};
+
+// Runs restarts 0..restarts-1 (in parallel when there are at least as many
+// restarts as threads, otherwise one after the other with all threads each)
+// and returns the best by log det, the lowest restart on ties.
+RestartResult BestOfRestarts(
+    int restarts, int num_threads,
+    const std::function<RestartResult(int restart, int inner_threads)>& run);
+
+// A starting design of num_poses poses: the fixed poses, then (if given)
+// poses of an approximate design (its heaviest, or if `randomized` a draw
+// proportional to the weights), then random eligible poses drawn with
+// `seed`. A singular start is completed greedily and trimmed back.
+// Empty if the pool cannot give a non-singular design.
+std::vector<int64_t> InitialDesign(const CandidatePool& pool,
+                                   const DesignConstraints& constraints,
+                                   const std::vector<char>& eligible,
+                                   int num_poses, uint64_t seed,
+                                   const ApproximateDesignSummary* approximate,
+                                   bool randomized, int num_threads,
+                                   std::string* note);
 
 }  // namespace internal
 }  // namespace activecal

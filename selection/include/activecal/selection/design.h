@@ -53,6 +53,11 @@ class Design {
 void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
                      int num_threads, Eigen::VectorXd* gains);
 
+// The variance function d_i = tr(X_i V X_i^T) of every pool pose for a
+// given V (the inverse of an information matrix).
+void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
+                      int num_threads, Eigen::VectorXd* variances);
+
 // What every selection algorithm takes besides its own options.
 struct DesignConstraints {
   // Poses always in the design and never removed (measured anyway, or
@@ -92,6 +97,11 @@ struct SelectionSummary {
   int restarts = 0;
   int best_restart = 0;
   double seconds = 0.0;
+  // Filled by CertifyDesign (certificate.h): a certified lower bound on the
+  // D-efficiency against the best possible design of the same size, and the
+  // upper bound on log det it comes from. NaN when not computed.
+  double efficiency_lower_bound = std::numeric_limits<double>::quiet_NaN();
+  double log_det_upper_bound = std::numeric_limits<double>::quiet_NaN();
 
   double log10_det() const { return log_det / 2.302585092994046; }
   std::string BriefReport() const;

@@ -1,0 +1,92 @@
+// Exact-design algorithms beyond the paper's exchange-add-exchange, on the
+// same information-matrix updates:
+//
+//  * FedorovExchange: at every iteration the best swap over all
+//    (design pose, candidate) pairs, by the block exchange formula
+//      det ratio = det(I + D_x) det(I - D_y + D_xy^T (I + D_x)^-1 D_xy),
+//    in the fast form of Nguyen & Miller (1992): every candidate's block
+//    D_j = X_j V X_j^T is kept current by rank-2t updates after each swap,
+//    and swaps that cannot win are pruned by the bound
+//      ratio <= exp(tr D_x - tr D_y).
+//    With an approximate design, restart 0 starts from its N heaviest
+//    poses and restart r > 0 from N of its poses drawn without replacement
+//    with probability proportional to weight (randomized rounding);
+//    without one, every restart starts from a random design.
+//  * Detmax (Mitchell 1974): excursions that add k poses and remove k (or
+//    remove k and add k), k = 1..max_excursion, kept when they raise det.
+//  * GreedyDesign: add the best pose until N (from the fixed poses; a
+//    vanishing ridge while the design is singular).
+//
+// Restarts are independent and run in parallel threads; each draws from its
+// own seeded stream and ties go to the lowest index, so the result is the
+// same for any thread count. Every algorithm only accepts steps that raise
+// log det, so none ends below its start.
+
+#ifndef ACTIVECAL_SELECTION_FEDOROV_H_
+#define ACTIVECAL_SELECTION_FEDOROV_H_
+
+#include <cstdint>
+#include <string>
+
+#include "activecal/selection/approximate_design.h"
+#include "activecal/selection/candidate_pool.h"
+#include "activecal/selection/design.h"
+
+namespace activecal {
+
+struct FedorovOptions {
+  int num_poses = 30;
+  int restarts = 16;
+  int max_swaps = 100000;  // per restart
+  // A swap must raise log det by more than this.
+  double min_improvement = 1e-9;
+  // Swaps between from-scratch refreshes of every candidate's block.
+  int refresh_interval = 20;
+  // When no single swap helps, DETMAX excursions of 2..max_excursion poses
+  // are tried, and swapping resumes after one succeeds (< 2: none).
+  int max_excursion = 2;
+  // With an approximate design, restarts swap first within a reduced pool
+  // of this many poses (those of largest variance under the approximate
+  // design, plus its support); the best result is then polished by swaps
+  // over the whole pool. <= 0: always the whole pool.
+  int64_t reduced_pool_size = 3000;
+  uint64_t seed = 1;
+  int num_threads = 0;  // <= 0: all
+
+  bool IsValid(std::string* error) const;
+};
+
+// `approximate` (may be null): the restarts start from its roundings.
+bool FedorovExchange(const CandidatePool& pool,
+                     const DesignConstraints& constraints,
+                     const FedorovOptions& options,
+                     const ApproximateDesignSummary* approximate,
+                     SelectionSummary* summary);
+
+struct DetmaxOptions {
+  int num_poses = 30;
+  int max_excursion = 4;
+  int max_iterations = 10000;
+  double min_improvement = 1e-9;
+  int restarts = 4;
+  uint64_t seed = 1;
+  int num_threads = 0;
+
+  bool IsValid(std::string* error) const;
+};
+
+bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
+            const DetmaxOptions& options, SelectionSummary* summary);
+
+struct GreedyOptions {
+  int num_poses = 30;
+  int num_threads = 0;
+};
+
+bool GreedyDesign(const CandidatePool& pool,
+                  const DesignConstraints& constraints,
+                  const GreedyOptions& options, SelectionSummary* summary);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_SELECTION_FEDOROV_H_

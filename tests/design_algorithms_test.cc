@@ -1,0 +1,224 @@
+// Fedorov, DETMAX, greedy, the approximate design and its certificate.
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "activecal/core/lattice.h"
+#include "activecal/residuals/jacobians.h"
+#include "activecal/selection/approximate_design.h"
+#include "activecal/selection/criteria.h"
+#include "activecal/selection/fedorov.h"
+#include "test_util.h"
+
+namespace activecal {
+namespace {
+
+// A planar three-link arm: six free parameters (offsets and lengths), a
+// pool of 5^3 = 125 poses; small enough for exhaustive search over all
+// 3-pose designs.
+CandidatePool PlanarPool() {
+  RobotModel m;
+  m.name = "planar3";
+  m.base.joint_type = JointType::kFixed;
+  for (int i = 0; i < 3; ++i) {
+    Link l;
+    l.name = "L" + std::to_string(i + 1);
+    l.joint_min = -2.8;
+    l.joint_max = 2.8;
+    l.free = {true, false, true, false, false, false};
+    m.links.push_back(l);
+  }
+  m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
+  const double lengths[3] = {0.6, 0.45, 0.2};
+  for (int b = 0; b < 4; ++b) m.nominal[6 * b + kGain] = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    m.nominal[6 * (i + 1) + kA] = lengths[i];
+    m.nominal[6 * (i + 1) + kGamma] = 0.1 * (i + 1);
+  }
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error)) << error;
+  RowMatrixXd stacked;
+  EXPECT_TRUE(PoolPositionJacobians(m, m.nominal, lattice.AllJointValues(),
+                                    PoolJacobianOptions(), &stacked, &error))
+      << error;
+  CandidatePool pool;
+  EXPECT_TRUE(CandidatePool::Create(std::move(stacked), 3, &pool, &error));
+  return pool;
+}
+
+double ExhaustiveBestLogDet(const CandidatePool& pool) {
+  double best = -std::numeric_limits<double>::infinity();
+  const int64_t n = pool.size();
+  for (int64_t a = 0; a < n; ++a) {
+    for (int64_t b = a + 1; b < n; ++b) {
+      for (int64_t c = b + 1; c < n; ++c) {
+        best = std::max(best, LogDetFromScratch(pool, {a, b, c}));
+      }
+    }
+  }
+  return best;
+}
+
+class DesignAlgorithmsTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    puma_ = new CandidatePool(testing::PumaPool(3));
+  }
+  static void TearDownTestSuite() { delete puma_; }
+  static CandidatePool* puma_;
+};
+CandidatePool* DesignAlgorithmsTest::puma_ = nullptr;
+
+void ExpectNeverBelowStart(const SelectionSummary& s) {
+  ASSERT_FALSE(s.history.empty());
+  for (size_t k = 1; k < s.history.size(); ++k) {
+    EXPECT_GT(s.history[k].log_det, s.history[k - 1].log_det - 1e-9)
+        << s.algorithm << " step " << k << " " << s.history[k].kind;
+  }
+  EXPECT_GE(s.log_det, s.history.front().log_det - 1e-9) << s.algorithm;
+}
+
+TEST_F(DesignAlgorithmsTest, FedorovDetmaxGreedyNeverEndBelowTheirStart) {
+  FedorovOptions fo;
+  fo.num_poses = 20;
+  fo.restarts = 3;
+  SelectionSummary s;
+  ASSERT_TRUE(FedorovExchange(*puma_, {}, fo, nullptr, &s)) << s.message;
+  ExpectNeverBelowStart(s);
+  EXPECT_EQ(s.design.size(), 20u);
+  DetmaxOptions dopt;
+  dopt.num_poses = 20;
+  dopt.restarts = 2;
+  ASSERT_TRUE(Detmax(*puma_, {}, dopt, &s)) << s.message;
+  ExpectNeverBelowStart(s);
+  GreedyOptions g;
+  g.num_poses = 20;
+  ASSERT_TRUE(GreedyDesign(*puma_, {}, g, &s)) << s.message;
+  EXPECT_EQ(s.design.size(), 20u);
+  EXPECT_TRUE(std::isfinite(s.log_det));
+}
+
+TEST_F(DesignAlgorithmsTest, FedorovEndsAtASwapLocalOptimum) {
+  FedorovOptions fo;
+  fo.num_poses = 14;
+  fo.restarts = 1;
+  SelectionSummary s;
+  ASSERT_TRUE(FedorovExchange(*puma_, {}, fo, nullptr, &s));
+  // Brute force: no single swap raises log det.
+  for (size_t k = 0; k < s.design.size(); ++k) {
+    for (int64_t x = 0; x < puma_->size(); ++x) {
+      if (std::count(s.design.begin(), s.design.end(), x)) continue;
+      std::vector<int64_t> d = s.design;
+      d[k] = x;
+      ASSERT_LE(LogDetFromScratch(*puma_, d), s.log_det + 1e-8)
+          << "swap " << s.design[k] << " -> " << x;
+    }
+  }
+}
+
+TEST_F(DesignAlgorithmsTest, FedorovRespectsConstraintsAndThreads) {
+  DesignConstraints c;
+  c.fixed = {1, 2};
+  c.excluded = [](int64_t i) { return i % 7 == 0; };
+  FedorovOptions fo;
+  fo.num_poses = 16;
+  fo.restarts = 4;
+  SelectionSummary a, b;
+  fo.num_threads = 1;
+  ASSERT_TRUE(FedorovExchange(*puma_, c, fo, nullptr, &a)) << a.message;
+  fo.num_threads = 3;
+  ASSERT_TRUE(FedorovExchange(*puma_, c, fo, nullptr, &b)) << b.message;
+  EXPECT_EQ(a.design, b.design);
+  EXPECT_EQ(a.log_det, b.log_det);
+  for (int64_t f : c.fixed) EXPECT_EQ(std::count(a.design.begin(), a.design.end(), f), 1);
+  for (int64_t i : a.design) {
+    if (i != 1 && i != 2) EXPECT_NE(i % 7, 0) << i;
+  }
+}
+
+TEST_F(DesignAlgorithmsTest, ApproximateDesignSatisfiesEquivalenceTheorem) {
+  ApproximateDesignOptions options;
+  options.tolerance = 1e-4;
+  ApproximateDesignSummary approx;
+  ASSERT_TRUE(SolveApproximateDesign(*puma_, {}, options, &approx))
+      << approx.message;
+  const int p = puma_->num_parameters();
+  double sum = 0;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+  for (size_t k = 0; k < approx.support.size(); ++k) {
+    EXPECT_GT(approx.weights[k], 0);
+    sum += approx.weights[k];
+    const auto X = puma_->block(approx.support[k]);
+    M += approx.weights[k] * X.transpose() * X;
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-12);
+  // Recompute the variance function from the weights, independently.
+  const Eigen::MatrixXd V = M.inverse();
+  double max_d = 0;
+  for (int64_t i = 0; i < puma_->size(); ++i) {
+    const auto X = puma_->block(i);
+    max_d = std::max(max_d, (X * V * X.transpose()).trace());
+  }
+  EXPECT_LE(max_d, p * (1 + options.tolerance) + 1e-9);
+  EXPECT_NEAR(max_d, approx.max_variance, 1e-8);
+  // sum_i w_i d_i = tr(M^-1 M) = p, so with max d <= p(1+tol) every
+  // support point's d is close to p too (weighted).
+  double weighted = 0;
+  for (size_t k = 0; k < approx.support.size(); ++k) {
+    const auto X = puma_->block(approx.support[k]);
+    weighted += approx.weights[k] * (X * V * X.transpose()).trace();
+  }
+  EXPECT_NEAR(weighted, p, 1e-8);
+  EXPECT_NEAR(approx.log_det, std::log(M.determinant()), 1e-8);
+}
+
+TEST(CertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
+  const CandidatePool pool = PlanarPool();
+  const int p = pool.num_parameters();
+  ASSERT_EQ(p, 6);
+  const double optimum = ExhaustiveBestLogDet(pool);
+  ASSERT_TRUE(std::isfinite(optimum));
+  ApproximateDesignSummary approx;
+  ApproximateDesignOptions options;
+  ASSERT_TRUE(SolveApproximateDesign(pool, {}, options, &approx))
+      << approx.message;
+  // N^p det M* bounds the exhaustive optimum.
+  EXPECT_GE(approx.log_det_upper_bound + p * std::log(3.0), optimum - 1e-9);
+  // For designs of every quality: Fedorov's, greedy's, and random ones.
+  std::vector<std::vector<int64_t>> designs;
+  FedorovOptions fo;
+  fo.num_poses = 3;
+  SelectionSummary s;
+  ASSERT_TRUE(FedorovExchange(pool, {}, fo, &approx, &s)) << s.message;
+  designs.push_back(s.design);
+  GreedyOptions g;
+  g.num_poses = 3;
+  ASSERT_TRUE(GreedyDesign(pool, {}, g, &s));
+  designs.push_back(s.design);
+  Random random(2);
+  while (designs.size() < 40) {
+    std::vector<int64_t> d = random.SampleWithoutReplacement(pool.size(), 3);
+    if (std::isfinite(LogDetFromScratch(pool, d))) designs.push_back(d);
+  }
+  for (const auto& d : designs) {
+    for (const ApproximateDesignSummary* a :
+         {static_cast<const ApproximateDesignSummary*>(nullptr),
+          static_cast<const ApproximateDesignSummary*>(&approx)}) {
+      SelectionSummary summary;
+      summary.design = d;
+      ASSERT_TRUE(CertifyDesign(pool, {}, a, 1, &summary));
+      const double log_det = LogDetFromScratch(pool, d);
+      const double true_efficiency = std::exp((log_det - optimum) / p);
+      EXPECT_LE(summary.efficiency_lower_bound, true_efficiency + 1e-12);
+      EXPECT_GE(summary.log_det_upper_bound, optimum - 1e-9);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace activecal
