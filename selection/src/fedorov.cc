@@ -260,48 +260,60 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     int64_t best_x = -1, best_y = -1;
     std::vector<double> item_lr(kBlock);
     std::vector<int64_t> item_y(kBlock);
-    for (size_t b = 0; b < xs.size(); b += kBlock) {
-      if (xs[b].trace - min_try <= best_lr) break;
-      const double threshold = best_lr;
-      const int64_t count = std::min<int64_t>(kBlock, xs.size() - b);
-      ParallelFor(count, threads, [&](int64_t ib, int64_t ie, int) {
-        Eigen::MatrixXd Sx(t, t), Sx_inv(t, t), Dxy(t, t), T(t, t);
-        RowMatrixXd Wx(t, p);
-        for (int64_t k = ib; k < ie; ++k) {
-          item_lr[k] = -std::numeric_limits<double>::infinity();
-          item_y[k] = -1;
-          const int64_t x = xs[b + k].pose;
-          const double trx = xs[b + k].trace;
-          if (trx - min_try <= threshold) continue;
-          Sx = Eigen::Map<const Eigen::MatrixXd>(D.data() + x * tt, t, t);
-          Sx.diagonal().array() += 1.0;
-          const double gain = LogDetSpd(Sx);
-          if (!(gain > threshold)) continue;
-          Sx_inv = Sx.inverse();
-          Wx.noalias() = pool.block(x) * V;
-          for (const YEntry& y : ys) {
-            if (trx - y.trace <= threshold) break;
-            Dxy.noalias() = Wx * pool.block(y.pose).transpose();
-            T = -Eigen::Map<const Eigen::MatrixXd>(D.data() + y.pose * tt, t,
-                                                   t);
-            T.diagonal().array() += 1.0;
-            T.noalias() += Dxy.transpose() * Sx_inv * Dxy;
-            const double lr = gain + LogDetSpd(T);
-            if (lr > item_lr[k]) {
-              item_lr[k] = lr;
-              item_y[k] = y.pose;
+    // Best swap among the first num_x candidates and num_y design poses.
+    auto scan = [&](size_t num_x, size_t num_y) {
+      for (size_t b = 0; b < num_x; b += kBlock) {
+        if (xs[b].trace - min_try <= best_lr) break;
+        const double threshold = best_lr;
+        const int64_t count = std::min<int64_t>(kBlock, num_x - b);
+        ParallelFor(count, threads, [&](int64_t ib, int64_t ie, int) {
+          Eigen::MatrixXd Sx(t, t), Sx_inv(t, t), Dxy(t, t), T(t, t);
+          RowMatrixXd Wx(t, p);
+          for (int64_t k = ib; k < ie; ++k) {
+            item_lr[k] = -std::numeric_limits<double>::infinity();
+            item_y[k] = -1;
+            const int64_t x = xs[b + k].pose;
+            const double trx = xs[b + k].trace;
+            if (trx - min_try <= threshold) continue;
+            Sx = Eigen::Map<const Eigen::MatrixXd>(D.data() + x * tt, t, t);
+            Sx.diagonal().array() += 1.0;
+            const double gain = LogDetSpd(Sx);
+            if (!(gain > threshold)) continue;
+            Sx_inv = Sx.inverse();
+            Wx.noalias() = pool.block(x) * V;
+            for (size_t j = 0; j < num_y; ++j) {
+              const YEntry& y = ys[j];
+              if (trx - y.trace <= threshold) break;
+              Dxy.noalias() = Wx * pool.block(y.pose).transpose();
+              T = -Eigen::Map<const Eigen::MatrixXd>(D.data() + y.pose * tt,
+                                                     t, t);
+              T.diagonal().array() += 1.0;
+              T.noalias() += Dxy.transpose() * Sx_inv * Dxy;
+              const double lr = gain + LogDetSpd(T);
+              if (lr > item_lr[k]) {
+                item_lr[k] = lr;
+                item_y[k] = y.pose;
+              }
             }
           }
-        }
-      });
-      for (int64_t k = 0; k < count; ++k) {
-        if (item_lr[k] > best_lr) {
-          best_lr = item_lr[k];
-          best_x = xs[b + k].pose;
-          best_y = item_y[k];
+        });
+        for (int64_t k = 0; k < count; ++k) {
+          if (item_lr[k] > best_lr) {
+            best_lr = item_lr[k];
+            best_x = xs[b + k].pose;
+            best_y = item_y[k];
+          }
         }
       }
-    }
+    };
+    // KL exchange first (Atkinson & Donev): the weakest design poses
+    // against the strongest candidates. Only when no such swap helps is
+    // every pair scanned, so the result is a local optimum over all swaps.
+    const size_t kl_y = std::min<size_t>(ys.size(),
+                                         std::max<size_t>(4, ys.size() / 8));
+    const size_t kl_x = std::min<size_t>(xs.size(), 64 * kl_y);
+    if (options.kl_exchange) scan(kl_x, kl_y);
+    if (best_x < 0) scan(xs.size(), ys.size());
     if (best_x < 0) break;
 
     // The update terms, from V before the swap.
@@ -525,8 +537,12 @@ bool FedorovExchange(const CandidatePool& pool,
   if (work_pool != &pool && best.ok) {
     std::vector<int64_t> initial;
     for (int64_t i : best.design) initial.push_back(to_full[i]);
+    // The polish is plain Fedorov: the best swap over all pairs each time.
+    FedorovOptions polish_options = options;
+    polish_options.kl_exchange = false;
     RestartResult polished = FedorovRestart(pool, eligible, is_fixed, initial,
-                                            options, options.num_threads);
+                                            polish_options,
+                                            options.num_threads);
     std::vector<SelectionStep> history = best.history;
     for (SelectionStep& step : history) {
       if (step.added >= 0) step.added = to_full[step.added];

@@ -50,6 +50,9 @@ struct FedorovOptions {
   // design, plus its support); the best result is then polished by swaps
   // over the whole pool. <= 0: always the whole pool.
   int64_t reduced_pool_size = 3000;
+  // Scan the weakest design poses against the strongest candidates first
+  // (KL exchange) and all pairs only when that finds no improving swap.
+  bool kl_exchange = true;
   uint64_t seed = 1;
   int num_threads = 0;  // <= 0: all
 
