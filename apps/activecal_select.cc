@@ -75,6 +75,8 @@ int Main() {
                            FLAGS_algorithm == "approx";
   ApproximateDesignSummary approx;
   if (need_approx) {
+    app::Progress("approximate design over " + std::to_string(pool.size()) +
+                  " poses ...");
     ApproximateDesignOptions options;
     options.tolerance = FLAGS_approx_tolerance;
     options.num_threads = FLAGS_threads;
@@ -86,6 +88,8 @@ int Main() {
     }
   }
 
+  app::Progress(FLAGS_algorithm + ": selecting " +
+                std::to_string(FLAGS_num_poses) + " poses ...");
   SelectionSummary summary;
   bool ok = false;
   if (FLAGS_algorithm == "eae") {

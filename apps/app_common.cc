@@ -5,6 +5,8 @@
 #include <fstream>
 #include <iostream>
 
+#include <unistd.h>
+
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
@@ -86,6 +88,7 @@ CandidatePool MakeLatticePoolOrDie(const RobotModel& model,
                                    const JointLattice& lattice,
                                    int num_threads, double* seconds) {
   const int64_t start = NowNs();
+  Progress("Jacobians of " + std::to_string(lattice.size()) + " poses ...");
   RowMatrixXd stacked;
   std::string error;
   PoolJacobianOptions options;
@@ -124,6 +127,11 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
   j["history_log10_det"] = history;
   j["seconds"] = summary.seconds;
   return j;
+}
+
+void Progress(const std::string& message) {
+  static const bool tty = isatty(2);
+  if (tty) std::cerr << g_program << ": " << message << std::endl;
 }
 
 int64_t NowNs() {

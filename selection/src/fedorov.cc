@@ -537,12 +537,8 @@ bool FedorovExchange(const CandidatePool& pool,
   if (work_pool != &pool && best.ok) {
     std::vector<int64_t> initial;
     for (int64_t i : best.design) initial.push_back(to_full[i]);
-    // The polish is plain Fedorov: the best swap over all pairs each time.
-    FedorovOptions polish_options = options;
-    polish_options.kl_exchange = false;
     RestartResult polished = FedorovRestart(pool, eligible, is_fixed, initial,
-                                            polish_options,
-                                            options.num_threads);
+                                            options, options.num_threads);
     std::vector<SelectionStep> history = best.history;
     for (SelectionStep& step : history) {
       if (step.added >= 0) step.added = to_full[step.added];
