@@ -1,11 +1,11 @@
 // activecal_identify: simulate position measurements of the paper's PUMA 560
 // at random lattice poses and identify its 27 parameters.
 
+#include <gflags/gflags.h>
+
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-
-#include <gflags/gflags.h>
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
@@ -20,8 +20,9 @@ DEFINE_int32(levels, 5, "Lattice values per joint (both range ends included).");
 DEFINE_uint64(seed, 1, "Seed for the pose draw and the measurement noise.");
 DEFINE_double(noise_m, 0.01,
               "Standard deviation of the measurement noise on each axis (m).");
-DEFINE_int32(threads, 1, "Threads for the solver (the result does not depend "
-                         "on it).");
+DEFINE_int32(threads, 1,
+             "Threads for the solver (the result does not depend "
+             "on it).");
 DEFINE_string(json_out, "", "If set, write the identification report here.");
 
 namespace activecal {

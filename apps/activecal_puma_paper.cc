@@ -10,13 +10,13 @@
 //
 // Writes CSV and JSON files from which the paper's figures can be drawn.
 
+#include <gflags/gflags.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
-
-#include <gflags/gflags.h>
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
@@ -28,8 +28,9 @@
 #include "activecal/selection/random_designs.h"
 #include "app_common.h"
 
-DEFINE_uint64(seed, 1, "Seed of the random designs, the initial design and "
-                       "the measurement noise.");
+DEFINE_uint64(seed, 1,
+              "Seed of the random designs, the initial design and "
+              "the measurement noise.");
 DEFINE_string(out_dir, "paper_out", "Folder for the CSV and JSON files.");
 DEFINE_int32(random_designs, 5000, "Random designs drawn (paper: 5,000).");
 DEFINE_int32(num_poses, 30, "Poses per design (paper: 30).");
@@ -50,16 +51,15 @@ constexpr double kPaperRandomOid = 2.5414e22;
 constexpr double kPaperEaeOid = 1.4818e27;
 constexpr double kPaperEaeOi = 0.11798;
 constexpr double kPaperTableIII[27] = {
-    1.570881,  0.031672,  20.001537, 0.030290,  0.003324,  -1.568910,
-    0.004117,  0.685666,  0.011386,  0.030969,  0.431692,  0.027905,
-    0.003694,  1.566960,  -0.028746, 0.149672,  -0.000672, -1.581108,
-    -0.002910, 0.433253,  0.006226,  1.577711,  -0.001479, 0.000302,
-    -0.017604, 0.199881,  0.165315};
+    1.570881,  0.031672,  20.001537, 0.030290,  0.003324,  -1.568910, 0.004117,
+    0.685666,  0.011386,  0.030969,  0.431692,  0.027905,  0.003694,  1.566960,
+    -0.028746, 0.149672,  -0.000672, -1.581108, -0.002910, 0.433253,  0.006226,
+    1.577711,  -0.001479, 0.000302,  -0.017604, 0.199881,  0.165315};
 constexpr double kPaperTableIV[27] = {
-    0.000084, 0.000256, 0.001537,  0.001126, 0.003324, 0.001886, 0.004117,
-    0.000134, 0.011386, 0.000447,  -0.000108, 0.003511, 0.003694, 0.003836,
-    -0.008446, 0.000572, 0.000672, 0.010311, -0.002910, 0.000153, 0.006226,
-    0.006914, 0.001479, 0.000302, 0.017604, 0.000119, 0.000185};
+    0.000084,  0.000256, 0.001537, 0.001126,  0.003324,  0.001886, 0.004117,
+    0.000134,  0.011386, 0.000447, -0.000108, 0.003511,  0.003694, 0.003836,
+    -0.008446, 0.000572, 0.000672, 0.010311,  -0.002910, 0.000153, 0.006226,
+    0.006914,  0.001479, 0.000302, 0.017604,  0.000119,  0.000185};
 
 std::string Path(const std::string& name) {
   return (std::filesystem::path(FLAGS_out_dir) / name).string();
@@ -87,9 +87,9 @@ std::string HistoryCsv(const SelectionSummary& s, int p) {
       ++n;
     }
     const double l10 = h.log_det / std::log(10.0);
-    csv << k << "," << h.kind << "," << h.added << "," << h.removed << ","
-        << n << "," << l10 << "," << OiFromLogDet(h.log_det, p) << ","
-        << -l10 << "\n";
+    csv << k << "," << h.kind << "," << h.added << "," << h.removed << "," << n
+        << "," << l10 << "," << OiFromLogDet(h.log_det, p) << "," << -l10
+        << "\n";
   }
   return csv.str();
 }
@@ -113,17 +113,19 @@ std::string PosesCsv(const std::vector<int64_t>& design,
 }
 
 nlohmann::json IndicesJson(const ObservabilityIndices& o) {
-  return {{"oi", o.oi},    {"log10_oid", o.log10_oid}, {"o1", o.o1},
-          {"o2", o.o2},    {"o3", o.o3},               {"o4", o.o4},
-          {"o5", o.o5},    {"rank", o.rank}};
+  return {{"oi", o.oi}, {"log10_oid", o.log10_oid},
+          {"o1", o.o1}, {"o2", o.o2},
+          {"o3", o.o3}, {"o4", o.o4},
+          {"o5", o.o5}, {"rank", o.rank}};
 }
 
 int Main() {
   const int64_t start = app::NowNs();
   std::error_code ec;
   std::filesystem::create_directories(FLAGS_out_dir, ec);
-  if (ec) app::Fail("cannot create --out_dir '" + FLAGS_out_dir + "': " +
-                    ec.message());
+  if (ec)
+    app::Fail("cannot create --out_dir '" + FLAGS_out_dir +
+              "': " + ec.message());
   const RobotModel model = Puma560PaperModel();
   const Eigen::VectorXd truth = Puma560TrueParameters();
   const int p = model.num_free();
@@ -228,24 +230,26 @@ int Main() {
               kPaperRandomOid, std::pow(10.0, random_idx.log10_oid));
   std::printf("%-44s %14.4e %14.4e\n", "exchange-add-exchange: OID",
               kPaperEaeOid, std::pow(10.0, eae_idx.log10_oid));
-  std::printf("%-44s %14.5f %14.5f\n", "exchange-add-exchange: OI",
-              kPaperEaeOi, eae_idx.oi);
+  std::printf("%-44s %14.5f %14.5f\n", "exchange-add-exchange: OI", kPaperEaeOi,
+              eae_idx.oi);
   std::printf("%-44s %14.0f %14.0f\n", "OID ratio, active / random",
               kPaperEaeOid / kPaperRandomOid, std::pow(10.0, ratio_log10));
   std::vector<double> ois;
   for (double v : random_log_dets) ois.push_back(OiFromLogDet(v, p));
-  std::printf("\nRandom designs' OI: min %.4f, median %.4f, 99th pct %.4f, "
-              "max %.4f\n",
-              Quantile(ois, 0), Quantile(ois, 0.5), Quantile(ois, 0.99),
-              Quantile(ois, 1));
+  std::printf(
+      "\nRandom designs' OI: min %.4f, median %.4f, 99th pct %.4f, "
+      "max %.4f\n",
+      Quantile(ois, 0), Quantile(ois, 0.5), Quantile(ois, 0.99),
+      Quantile(ois, 1));
   std::printf("Exchange-add-exchange: %zu steps (%s)\n", eae.history.size(),
               eae.message.c_str());
   if (FLAGS_compare_eigen_oi) {
-    std::printf("Same run with the eigenvalue OI: OI %.5f, %s poses, "
-                "%.2f s against %.3f s for the determinant update (x%.0f)\n",
-                OiFromLogDet(eig.log_det, p),
-                eig.design == eae.design ? "the same" : "DIFFERENT",
-                eig.seconds, eae.seconds, eig.seconds / eae.seconds);
+    std::printf(
+        "Same run with the eigenvalue OI: OI %.5f, %s poses, "
+        "%.2f s against %.3f s for the determinant update (x%.0f)\n",
+        OiFromLogDet(eig.log_det, p),
+        eig.design == eae.design ? "the same" : "DIFFERENT", eig.seconds,
+        eae.seconds, eig.seconds / eae.seconds);
   }
   std::printf("\nObservability indices (unscaled columns)\n");
   std::printf("%-10s %12s %12s %12s %12s %12s\n", "design", "O1", "O2", "O3",
@@ -257,12 +261,12 @@ int Main() {
                 o->o2, o->o3, o->o4, o->o5);
   }
 
-  std::printf("\nIdentification at the selected poses, %.3g m noise "
-              "(Tables III and IV)\n",
-              FLAGS_noise_m);
-  std::printf("%-9s %11s | %11s %11s | %10s %10s %10s\n", "parameter",
-              "true", "paper est.", "our est.", "paper err", "our err",
-              "our std");
+  std::printf(
+      "\nIdentification at the selected poses, %.3g m noise "
+      "(Tables III and IV)\n",
+      FLAGS_noise_m);
+  std::printf("%-9s %11s | %11s %11s | %10s %10s %10s\n", "parameter", "true",
+              "paper est.", "our est.", "paper err", "our err", "our std");
   const std::vector<int> free = model.FreeParameterIndices();
   nlohmann::json params = nlohmann::json::array();
   std::ostringstream csv;
@@ -289,13 +293,14 @@ int Main() {
                       {"paper_error", kPaperTableIV[k]}});
   }
   app::WriteTextOrDie(Path("identification.csv"), csv.str());
-  std::printf("%d of %d errors within 2 std; RMS residual %.4f m -> %.4f m; "
-              "sigma %.4f m\n",
-              within2, p, id.initial_rms_m, id.rms_m, id.sigma_m);
-  std::printf("\nJacobians %.3f s, random designs %.3f s, "
-              "exchange-add-exchange %.3f s, total %.2f s\n",
-              jacobian_seconds, random_summary.seconds, eae.seconds,
-              total_seconds);
+  std::printf(
+      "%d of %d errors within 2 std; RMS residual %.4f m -> %.4f m; "
+      "sigma %.4f m\n",
+      within2, p, id.initial_rms_m, id.rms_m, id.sigma_m);
+  std::printf(
+      "\nJacobians %.3f s, random designs %.3f s, "
+      "exchange-add-exchange %.3f s, total %.2f s\n",
+      jacobian_seconds, random_summary.seconds, eae.seconds, total_seconds);
   std::printf("Files for the figures are in %s/\n", FLAGS_out_dir.c_str());
 
   nlohmann::json j;

@@ -1,17 +1,17 @@
 // activecal_select: choose calibration poses for the paper's PUMA 560 from
 // a joint lattice by a D-optimal design algorithm.
 
+#include <gflags/gflags.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 
-#include <gflags/gflags.h>
-
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/selection/criteria.h"
 #include "activecal/selection/approximate_design.h"
+#include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
@@ -65,8 +65,10 @@ int Main() {
                                             "detmax", "greedy", "approx"};
   if (std::find(std::begin(kAlgorithms), std::end(kAlgorithms),
                 FLAGS_algorithm) == std::end(kAlgorithms)) {
-    app::Fail("--algorithm must be one of eae, random, fedorov, detmax, "
-              "greedy, approx; got '" + FLAGS_algorithm + "'");
+    app::Fail(
+        "--algorithm must be one of eae, random, fedorov, detmax, "
+        "greedy, approx; got '" +
+        FLAGS_algorithm + "'");
   }
   if (FLAGS_restarts < 0) {
     app::Fail("--restarts must be >= 0, got " + std::to_string(FLAGS_restarts));
@@ -153,8 +155,7 @@ int Main() {
               static_cast<long long>(pool.size()), jacobian_seconds);
   std::printf("  %-6s %-8s %s\n", "#", "index", "levels (joint 1..6)");
   for (size_t k = 0; k < summary.design.size(); ++k) {
-    std::printf("  %-6zu %-8lld", k,
-                static_cast<long long>(summary.design[k]));
+    std::printf("  %-6zu %-8lld", k, static_cast<long long>(summary.design[k]));
     for (int l : lattice.Levels(summary.design[k])) std::printf(" %d", l);
     std::printf("\n");
   }
@@ -169,15 +170,15 @@ int Main() {
       j["log10_det_upper_bound"] = summary.log_det_upper_bound / std::log(10.0);
     }
     if (need_approx) {
-      j["approximate"] = {
-          {"support", approx.support},
-          {"weights", approx.weights},
-          {"log10_det", approx.log_det / std::log(10.0)},
-          {"max_variance", approx.max_variance},
-          {"log10_det_upper_bound", approx.log_det_upper_bound / std::log(10.0)},
-          {"tolerance", FLAGS_approx_tolerance},
-          {"converged", approx.success},
-          {"seconds", approx.seconds}};
+      j["approximate"] = {{"support", approx.support},
+                          {"weights", approx.weights},
+                          {"log10_det", approx.log_det / std::log(10.0)},
+                          {"max_variance", approx.max_variance},
+                          {"log10_det_upper_bound",
+                           approx.log_det_upper_bound / std::log(10.0)},
+                          {"tolerance", FLAGS_approx_tolerance},
+                          {"converged", approx.success},
+                          {"seconds", approx.seconds}};
     }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }

@@ -1,14 +1,13 @@
 #include "app_common.h"
 
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-
-#include <unistd.h>
-
-#include <gflags/gflags.h>
-#include <glog/logging.h>
 
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/criteria.h"
@@ -85,8 +84,8 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
 
 CandidatePool MakeLatticePoolOrDie(const RobotModel& model,
                                    const Eigen::VectorXd& parameters,
-                                   const JointLattice& lattice,
-                                   int num_threads, double* seconds) {
+                                   const JointLattice& lattice, int num_threads,
+                                   double* seconds) {
   const int64_t start = NowNs();
   Progress("Jacobians of " + std::to_string(lattice.size()) + " poses ...");
   RowMatrixXd stacked;

@@ -3,12 +3,11 @@
 #ifndef ACTIVECAL_APPS_APP_COMMON_H_
 #define ACTIVECAL_APPS_APP_COMMON_H_
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/robot_model.h"
@@ -36,8 +35,8 @@ void WriteTextOrDie(const std::string& path, const std::string& text);
 JointLattice MakeLatticeOrDie(const RobotModel& model, int levels);
 CandidatePool MakeLatticePoolOrDie(const RobotModel& model,
                                    const Eigen::VectorXd& parameters,
-                                   const JointLattice& lattice,
-                                   int num_threads, double* seconds);
+                                   const JointLattice& lattice, int num_threads,
+                                   double* seconds);
 
 // JSON for a selection result: algorithm, pool_size, pose_indices,
 // joint_angles_rad, log10_det, oi, history_log10_det, seconds.

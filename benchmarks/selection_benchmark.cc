@@ -95,7 +95,10 @@ void BM_AllCandidatesByDeterminantUpdate(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * pool.size());
 }
-BENCHMARK(BM_AllCandidatesByDeterminantUpdate)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AllCandidatesByDeterminantUpdate)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond);
 
 // Adding and removing a pose (rank-3 update of V and log det).
 void BM_AddRemoveUpdate(benchmark::State& state) {

@@ -1,8 +1,8 @@
-#include <cmath>
-#include <string>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <cmath>
+#include <string>
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
@@ -66,11 +66,9 @@ TEST(KinematicsTest, HayatiLinkMatchesHandComputation) {
   const Vector3d y(std::sin(be), 0, std::cos(be));
   const Vector3d x(y[0], std::cos(al) * y[1] - std::sin(al) * y[2],
                    std::sin(al) * y[1] + std::cos(al) * y[2]);
-  const Vector3d expected(std::cos(th) * x[0] - std::sin(th) * x[1] +
-                              a * std::cos(th),
-                          std::sin(th) * x[0] + std::cos(th) * x[1] +
-                              a * std::sin(th),
-                          x[2]);
+  const Vector3d expected(
+      std::cos(th) * x[0] - std::sin(th) * x[1] + a * std::cos(th),
+      std::sin(th) * x[0] + std::cos(th) * x[1] + a * std::sin(th), x[2]);
   EXPECT_TRUE(MeasuredPoint(m, p, Eigen::VectorXd::Constant(1, q))
                   .isApprox(expected, 1e-14));
 }
@@ -96,9 +94,15 @@ TEST(KinematicsTest, ModifiedDhPrismaticLinkWithGain) {
 // The PUMA chain composed independently from Eigen's elementary transforms.
 Vector3d PumaByElementaryTransforms(const Eigen::VectorXd& p,
                                     const Eigen::VectorXd& q) {
-  auto Rz = [](double a) { return Eigen::Affine3d(AngleAxisd(a, Vector3d::UnitZ())); };
-  auto Rx = [](double a) { return Eigen::Affine3d(AngleAxisd(a, Vector3d::UnitX())); };
-  auto Ry = [](double a) { return Eigen::Affine3d(AngleAxisd(a, Vector3d::UnitY())); };
+  auto Rz = [](double a) {
+    return Eigen::Affine3d(AngleAxisd(a, Vector3d::UnitZ()));
+  };
+  auto Rx = [](double a) {
+    return Eigen::Affine3d(AngleAxisd(a, Vector3d::UnitX()));
+  };
+  auto Ry = [](double a) {
+    return Eigen::Affine3d(AngleAxisd(a, Vector3d::UnitY()));
+  };
   auto T = [](double x, double y, double z) {
     return Eigen::Affine3d(Eigen::Translation3d(x, y, z));
   };
@@ -122,10 +126,10 @@ TEST(KinematicsTest, PumaMatchesElementaryTransforms) {
   const RobotModel m = Puma560PaperModel();
   Random random(7);
   for (const Eigen::VectorXd& p : {m.nominal, Puma560TrueParameters()}) {
-    EXPECT_TRUE(MeasuredPoint(m, p, Eigen::VectorXd::Zero(6))
-                    .isApprox(PumaByElementaryTransforms(
-                                  p, Eigen::VectorXd::Zero(6)),
-                              1e-13));
+    EXPECT_TRUE(
+        MeasuredPoint(m, p, Eigen::VectorXd::Zero(6))
+            .isApprox(PumaByElementaryTransforms(p, Eigen::VectorXd::Zero(6)),
+                      1e-13));
     for (int k = 0; k < 20; ++k) {
       const Eigen::VectorXd q = testing::RandomJoints(m, &random);
       EXPECT_TRUE(MeasuredPoint(m, p, q).isApprox(
@@ -254,8 +258,8 @@ TEST(LatticeTest, RejectsBadLevels) {
   std::string error;
   EXPECT_FALSE(JointLattice::Create(m, 1, &lattice, &error));
   EXPECT_NE(error.find("at least 2 levels"), std::string::npos) << error;
-  EXPECT_FALSE(JointLattice::Create(m, std::vector<int>{5, 5}, &lattice,
-                                    &error));
+  EXPECT_FALSE(
+      JointLattice::Create(m, std::vector<int>{5, 5}, &lattice, &error));
   EXPECT_NE(error.find("expected 6"), std::string::npos) << error;
 }
 
@@ -291,26 +295,26 @@ TEST(SimulationTest, NoiseFreeMatchesKinematicsAndSeedReproduces) {
   joints(2, 4) = -1.0;
   std::vector<PositionMeasurement> clean, noisy1, noisy2;
   std::string error;
-  ASSERT_TRUE(SimulatePositionMeasurements(m, truth, joints, 0.0, 1, &clean,
-                                           &error));
+  ASSERT_TRUE(
+      SimulatePositionMeasurements(m, truth, joints, 0.0, 1, &clean, &error));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(clean[i].position,
               MeasuredPoint(m, truth, joints.row(i).transpose()));
   }
-  ASSERT_TRUE(SimulatePositionMeasurements(m, truth, joints, 0.01, 5,
-                                           &noisy1, &error));
-  ASSERT_TRUE(SimulatePositionMeasurements(m, truth, joints, 0.01, 5,
-                                           &noisy2, &error));
+  ASSERT_TRUE(
+      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
+  ASSERT_TRUE(
+      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy2, &error));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(noisy1[i].position, noisy2[i].position);
     EXPECT_LT((noisy1[i].position - clean[i].position).norm(), 0.1);
   }
   joints(0, 3) = std::nan("");
-  EXPECT_FALSE(SimulatePositionMeasurements(m, truth, joints, 0.01, 5,
-                                            &noisy1, &error));
+  EXPECT_FALSE(
+      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
   EXPECT_NE(error.find("pose 0"), std::string::npos) << error;
-  EXPECT_FALSE(SimulatePositionMeasurements(m, truth, joints.leftCols(4),
-                                            0.01, 5, &noisy1, &error));
+  EXPECT_FALSE(SimulatePositionMeasurements(m, truth, joints.leftCols(4), 0.01,
+                                            5, &noisy1, &error));
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
 // Fedorov, DETMAX, greedy, the approximate design and its certificate.
 
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <string>
-
-#include <Eigen/LU>
-#include <gtest/gtest.h>
 
 #include "activecal/core/lattice.h"
 #include "activecal/residuals/jacobians.h"
@@ -135,9 +135,12 @@ TEST_F(DesignAlgorithmsTest, FedorovRespectsConstraintsAndThreads) {
   ASSERT_TRUE(FedorovExchange(*puma_, c, fo, nullptr, &b)) << b.message;
   EXPECT_EQ(a.design, b.design);
   EXPECT_EQ(a.log_det, b.log_det);
-  for (int64_t f : c.fixed) EXPECT_EQ(std::count(a.design.begin(), a.design.end(), f), 1);
+  for (int64_t f : c.fixed)
+    EXPECT_EQ(std::count(a.design.begin(), a.design.end(), f), 1);
   for (int64_t i : a.design) {
-    if (i != 1 && i != 2) EXPECT_NE(i % 7, 0) << i;
+    if (i != 1 && i != 2) {
+      EXPECT_NE(i % 7, 0) << i;
+    }
   }
 }
 

@@ -1,13 +1,14 @@
-#include <cmath>
-#include <string>
+#include "activecal/residuals/identification.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
-#include "activecal/residuals/identification.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -95,21 +96,18 @@ TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   std::vector<PositionMeasurement> data = PumaMeasurements(30, 0.01, 1);
   IdentificationSummary summary;
   data[4].position[1] = std::nan("");
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(),
-                        &summary));
+  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("measurement 4"), std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
   data[7].joints.resize(5);
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(),
-                        &summary));
+  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("measurement 7: expected 6 joint values"),
             std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
   data[2].joints[0] = std::nan("");
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(),
-                        &summary));
+  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("measurement 2"), std::string::npos);
   Eigen::VectorXd initial = m.nominal;
   initial[5] = std::numeric_limits<double>::infinity();
@@ -157,15 +155,13 @@ TEST(IdentificationTest, MixedModelRedundanciesAreNamed) {
   }
   std::vector<PositionMeasurement> data;
   std::string error;
-  ASSERT_TRUE(SimulatePositionMeasurements(m, m.nominal, joints, 0.0, 1,
-                                           &data, &error));
+  ASSERT_TRUE(SimulatePositionMeasurements(m, m.nominal, joints, 0.0, 1, &data,
+                                           &error));
   IdentificationSummary summary;
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(),
-                        &summary));
+  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("not identifiable"), std::string::npos);
   EXPECT_GT(summary.identifiability.unidentifiable.size(), 0u);
-  EXPECT_EQ(summary.identifiability.num_free -
-                summary.identifiability.rank,
+  EXPECT_EQ(summary.identifiability.num_free - summary.identifiability.rank,
             static_cast<int>(summary.identifiability.unidentifiable.size()));
 }
 

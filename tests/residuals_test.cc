@@ -1,8 +1,8 @@
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <memory>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
@@ -26,8 +26,8 @@ Eigen::MatrixXd CentralDifferenceJacobian(const RobotModel& m,
     Eigen::VectorXd plus = p, minus = p;
     plus[free[c]] += h;
     minus[free[c]] -= h;
-    J.col(c) = (MeasuredPoint(m, plus, q) - MeasuredPoint(m, minus, q)) /
-               (2 * h);
+    J.col(c) =
+        (MeasuredPoint(m, plus, q) - MeasuredPoint(m, minus, q)) / (2 * h);
   }
   return J;
 }
@@ -88,21 +88,21 @@ TEST(PoolJacobiansTest, SameResultForAnyThreadCount) {
   RowMatrixXd one, two, five;
   PoolJacobianOptions options;
   options.num_threads = 1;
-  ASSERT_TRUE(PoolPositionJacobians(m, m.nominal, joints, options, &one,
-                                    &error));
+  ASSERT_TRUE(
+      PoolPositionJacobians(m, m.nominal, joints, options, &one, &error));
   options.num_threads = 2;
-  ASSERT_TRUE(PoolPositionJacobians(m, m.nominal, joints, options, &two,
-                                    &error));
+  ASSERT_TRUE(
+      PoolPositionJacobians(m, m.nominal, joints, options, &two, &error));
   options.num_threads = 5;
-  ASSERT_TRUE(PoolPositionJacobians(m, m.nominal, joints, options, &five,
-                                    &error));
+  ASSERT_TRUE(
+      PoolPositionJacobians(m, m.nominal, joints, options, &five, &error));
   EXPECT_EQ(one.rows(), 3 * 729);
   EXPECT_TRUE(one == two);
   EXPECT_TRUE(one == five);
   // And each block equals the single-pose Jacobian.
   Eigen::MatrixXd J;
-  ASSERT_TRUE(PositionJacobian(m, m.nominal, joints.row(100).transpose(), &J,
-                               &error));
+  ASSERT_TRUE(
+      PositionJacobian(m, m.nominal, joints.row(100).transpose(), &J, &error));
   EXPECT_TRUE(Eigen::MatrixXd(one.middleRows(300, 3)) == J);
 }
 
@@ -119,8 +119,8 @@ TEST(PoolJacobiansTest, BadInputGivesMessages) {
                                      PoolJacobianOptions(), &out, &error));
   EXPECT_NE(error.find("expected 6 joint values"), std::string::npos) << error;
   Eigen::MatrixXd J;
-  EXPECT_FALSE(PositionJacobian(m, m.nominal.head(20),
-                                Eigen::VectorXd::Zero(6), &J, &error));
+  EXPECT_FALSE(PositionJacobian(m, m.nominal.head(20), Eigen::VectorXd::Zero(6),
+                                &J, &error));
   EXPECT_NE(error.find("expected 45 parameter values, got 20"),
             std::string::npos)
       << error;

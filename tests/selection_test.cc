@@ -1,9 +1,9 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <string>
-
-#include <Eigen/Cholesky>
-#include <gtest/gtest.h>
 
 #include "activecal/core/random.h"
 #include "activecal/selection/criteria.h"
@@ -46,8 +46,8 @@ TEST_F(SelectionTest, IncrementalLogDetMatchesScratchOver10000Updates) {
   double worst = 0;
   int removals_refused = 0;
   for (int step = 0; step < 10000; ++step) {
-    const bool add = design.size() < 15 ||
-                     (design.size() < 40 && random.Uniform() < 0.5);
+    const bool add =
+        design.size() < 15 || (design.size() < 40 && random.Uniform() < 0.5);
     if (add) {
       int64_t i;
       do {
@@ -98,8 +98,7 @@ TEST_F(SelectionTest, GainsAndLossesEqualBruteForce) {
   ComputeAddGains(pool, design.information(), 2, &gains);
   for (int64_t i = 0; i < pool.size(); i += 13) {
     const auto X = pool.block(i);
-    const double brute =
-        BruteForceLogDet(M + X.transpose() * X) - base;
+    const double brute = BruteForceLogDet(M + X.transpose() * X) - base;
     EXPECT_NEAR(gains[i], brute, 1e-9 * std::max(1.0, std::abs(brute)));
     EXPECT_NEAR(design.information().AddGain(X), brute,
                 1e-9 * std::max(1.0, std::abs(brute)));
@@ -139,7 +138,8 @@ TEST_F(SelectionTest, ObservabilityIndicesAgreeWithLogDet) {
   const CandidatePool& pool = *pool_;
   const std::vector<int64_t> design =
       Random(4).SampleWithoutReplacement(pool.size(), 30);
-  const ObservabilityIndices o = ComputeObservabilityIndices(pool.Stack(design));
+  const ObservabilityIndices o =
+      ComputeObservabilityIndices(pool.Stack(design));
   EXPECT_EQ(o.rank, 27);
   const double log_det = LogDetFromScratch(pool, design);
   EXPECT_NEAR(o.log10_oid, log_det / std::log(10.0), 1e-9);
@@ -190,17 +190,18 @@ TEST_F(SelectionTest, ExcludedPosesNeverAppear) {
   // Exclude every pose whose first level is 0 or whose index is even.
   constraints.excluded = [](int64_t i) { return i % 2 == 0 || i < 243; };
   SelectionSummary summary;
-  ASSERT_TRUE(
-      ExchangeAddExchange(*pool_, constraints, SmallEae(), &summary));
+  ASSERT_TRUE(ExchangeAddExchange(*pool_, constraints, SmallEae(), &summary));
   for (int64_t i : summary.design) EXPECT_FALSE(constraints.excluded(i)) << i;
   for (const SelectionStep& s : summary.history) {
-    if (s.added >= 0) EXPECT_FALSE(constraints.excluded(s.added));
+    if (s.added >= 0) {
+      EXPECT_FALSE(constraints.excluded(s.added));
+    }
   }
   RandomDesignOptions random_options;
   random_options.num_poses = 20;
   random_options.num_designs = 50;
-  ASSERT_TRUE(SelectRandomDesigns(*pool_, constraints, random_options,
-                                  &summary));
+  ASSERT_TRUE(
+      SelectRandomDesigns(*pool_, constraints, random_options, &summary));
   for (int64_t i : summary.design) EXPECT_FALSE(constraints.excluded(i)) << i;
 }
 

@@ -3,10 +3,10 @@
 #ifndef ACTIVECAL_TESTS_TEST_UTIL_H_
 #define ACTIVECAL_TESTS_TEST_UTIL_H_
 
-#include <string>
+#include <gtest/gtest.h>
 
 #include <Eigen/Core>
-#include <gtest/gtest.h>
+#include <string>
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"

@@ -6,8 +6,8 @@
 namespace activecal {
 
 bool JointLattice::Create(const RobotModel& model,
-                          const std::vector<int>& levels,
-                          JointLattice* lattice, std::string* error) {
+                          const std::vector<int>& levels, JointLattice* lattice,
+                          std::string* error) {
   std::ostringstream msg;
   if (static_cast<int>(levels.size()) != model.num_joints()) {
     msg << "lattice: expected " << model.num_joints()

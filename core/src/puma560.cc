@@ -13,7 +13,8 @@ struct Row {
 };
 
 Eigen::VectorXd Pack(const Row (&rows)[7]) {
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(7 * kLinkBlockSize + kToolBlockSize);
+  Eigen::VectorXd v =
+      Eigen::VectorXd::Zero(7 * kLinkBlockSize + kToolBlockSize);
   for (int b = 0; b < 7; ++b) {
     double* p = v.data() + b * kLinkBlockSize;
     p[kGamma] = rows[b].gamma;

@@ -164,8 +164,8 @@ bool RobotModel::CheckJointValues(const Eigen::VectorXd& q,
     for (int i = 0; i < q.size(); ++i) {
       const Link& l = links[i];
       const double slack =
-          1e-9 * std::max(1.0, std::max(std::abs(l.joint_min),
-                                        std::abs(l.joint_max)));
+          1e-9 *
+          std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
       if (!std::isfinite(q[i])) {
         msg << "joint " << i + 1 << " (" << block_name(i + 1)
             << ") value is not finite (" << q[i] << ")";

@@ -10,8 +10,8 @@ namespace activecal {
 
 bool SimulatePositionMeasurements(const RobotModel& model,
                                   const Eigen::VectorXd& true_parameters,
-                                  const Eigen::MatrixXd& joints,
-                                  double noise_m, uint64_t seed,
+                                  const Eigen::MatrixXd& joints, double noise_m,
+                                  uint64_t seed,
                                   std::vector<PositionMeasurement>* out,
                                   std::string* error) {
   if (!model.CheckParameters(true_parameters, error)) return false;

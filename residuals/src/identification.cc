@@ -1,14 +1,14 @@
 #include "activecal/residuals/identification.h"
 
+#include <ceres/ceres.h>
+#include <ceres/covariance.h>
+#include <ceres/manifold.h>
+
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
-
-#include <Eigen/SVD>
-#include <ceres/ceres.h>
-#include <ceres/covariance.h>
-#include <ceres/manifold.h>
 
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/position_residual.h"
@@ -70,8 +70,8 @@ IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
   }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
   report.singular_values = svd.singularValues();
-  const double smax = report.singular_values.size() ? report.singular_values[0]
-                                                    : 0.0;
+  const double smax =
+      report.singular_values.size() ? report.singular_values[0] : 0.0;
   report.rank = 0;
   for (int i = 0; i < report.singular_values.size(); ++i) {
     if (report.singular_values[i] > rank_tolerance * smax) ++report.rank;
@@ -156,8 +156,7 @@ bool Identify(const RobotModel& model,
   Eigen::MatrixXd stacked(3 * measurements.size(), p);
   for (size_t i = 0; i < measurements.size(); ++i) {
     Eigen::MatrixXd J;
-    if (!PositionJacobian(model, initial, measurements[i].joints, &J,
-                          &error)) {
+    if (!PositionJacobian(model, initial, measurements[i].joints, &J, &error)) {
       return fail("measurement " + std::to_string(i) + ": " + error);
     }
     stacked.middleRows(3 * i, 3) = J;
@@ -243,8 +242,7 @@ bool Identify(const RobotModel& model,
   }
   RowMatrixXd cov(p, p);
   if (!covariance.Compute(pairs, &problem) ||
-      !covariance.GetCovarianceMatrixInTangentSpace(free_blocks,
-                                                    cov.data())) {
+      !covariance.GetCovarianceMatrixInTangentSpace(free_blocks, cov.data())) {
     return fail(
         "the covariance could not be computed: the Jacobian at the solution "
         "is rank deficient (parameters not identifiable from these poses)");
@@ -253,9 +251,8 @@ bool Identify(const RobotModel& model,
   summary->standard_deviations = summary->covariance.diagonal().cwiseSqrt();
   summary->success = true;
   std::ostringstream msg;
-  msg << "identified " << p << " parameters from "
-      << summary->num_measurements << " measurements in "
-      << summary->iterations << " iterations";
+  msg << "identified " << p << " parameters from " << summary->num_measurements
+      << " measurements in " << summary->iterations << " iterations";
   summary->message = msg.str();
   return true;
 }

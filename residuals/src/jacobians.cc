@@ -41,8 +41,8 @@ class JacobianEvaluator {
 
   // Writes the 3 x num_free Jacobian, row-major, to out.
   bool Evaluate(const Eigen::VectorXd& q, double* out) {
-    std::unique_ptr<ceres::CostFunction> cost(PositionResidual::Create(
-        model_, q, Eigen::Vector3d::Zero()));
+    std::unique_ptr<ceres::CostFunction> cost(
+        PositionResidual::Create(model_, q, Eigen::Vector3d::Zero()));
     double residuals[3];
     if (!cost->Evaluate(blocks_.data(), residuals, jacobian_ptrs_.data())) {
       return false;

@@ -1,13 +1,12 @@
 #include "activecal/selection/approximate_design.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numeric>
 #include <sstream>
-
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
 
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/information_matrix.h"
@@ -103,7 +102,8 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   }
   std::vector<char> eligible;
   const int min_poses = (p + t - 1) / t;
-  if (!PrepareCandidates(pool, std::max<int>(min_poses, constraints.fixed.size()),
+  if (!PrepareCandidates(pool,
+                         std::max<int>(min_poses, constraints.fixed.size()),
                          constraints, &eligible, &error)) {
     summary->message = error;
     return false;
@@ -314,14 +314,13 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   summary->log_det_upper_bound =
       summary->log_det + p * std::log(summary->max_variance / p);
   summary->efficiency_lower_bound = p / summary->max_variance;
-  summary->seconds = std::chrono::duration<double>(
-                         std::chrono::steady_clock::now() - start)
-                         .count();
+  summary->seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
   std::ostringstream msg;
   msg << "max variance " << summary->max_variance << " (p = " << p << ") on "
-      << summary->support.size() << " support poses after "
-      << summary->rounds << " rounds, " << summary->inner_iterations
-      << " inner iterations";
+      << summary->support.size() << " support poses after " << summary->rounds
+      << " rounds, " << summary->inner_iterations << " inner iterations";
   summary->success = summary->max_variance <= target;
   if (!summary->success) msg << "; tolerance not reached (bounds still hold)";
   summary->message = msg.str();
@@ -334,15 +333,16 @@ std::string ApproximateDesignSummary::BriefReport() const {
       << (success ? "CONVERGED" : "NOT CONVERGED") << "\n  " << message
       << "\n  log10 det M(w) = " << log_det / std::log(10.0)
       << ", upper bound on log10 det M* = "
-      << log_det_upper_bound / std::log(10.0) << ", efficiency of w >= "
-      << efficiency_lower_bound << ", " << seconds << " s\n";
+      << log_det_upper_bound / std::log(10.0)
+      << ", efficiency of w >= " << efficiency_lower_bound << ", " << seconds
+      << " s\n";
   return out.str();
 }
 
 bool CertifyDesign(const CandidatePool& pool,
                    const DesignConstraints& constraints,
-                   const ApproximateDesignSummary* approximate,
-                   int num_threads, SelectionSummary* summary) {
+                   const ApproximateDesignSummary* approximate, int num_threads,
+                   SelectionSummary* summary) {
   const int p = pool.num_parameters();
   const double N = static_cast<double>(summary->design.size());
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);

@@ -1,8 +1,7 @@
 #include "activecal/selection/criteria.h"
 
-#include <cmath>
-
 #include <Eigen/SVD>
+#include <cmath>
 
 #include "activecal/selection/information_matrix.h"
 

@@ -77,21 +77,19 @@ void ForEachQuadraticForm(
 void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
                      int num_threads, Eigen::VectorXd* gains) {
   gains->resize(pool.size());
-  internal::ForEachQuadraticForm(
-      pool, info.inverse(), num_threads,
-      [gains](int64_t i, const Eigen::MatrixXd& D) {
-        Eigen::MatrixXd S = D;
-        S.diagonal().array() += 1.0;
-        (*gains)[i] = LogDetSpd(S);
-      });
+  internal::ForEachQuadraticForm(pool, info.inverse(), num_threads,
+                                 [gains](int64_t i, const Eigen::MatrixXd& D) {
+                                   Eigen::MatrixXd S = D;
+                                   S.diagonal().array() += 1.0;
+                                   (*gains)[i] = LogDetSpd(S);
+                                 });
 }
 
 void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
                       int num_threads, Eigen::VectorXd* variances) {
   variances->resize(pool.size());
   internal::ForEachQuadraticForm(
-      pool, V, num_threads,
-      [variances](int64_t i, const Eigen::MatrixXd& D) {
+      pool, V, num_threads, [variances](int64_t i, const Eigen::MatrixXd& D) {
         (*variances)[i] = D.trace();
       });
 }
@@ -151,8 +149,9 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
 
 std::string SelectionSummary::BriefReport() const {
   std::ostringstream out;
-  out << "activecal selection (" << algorithm << "): "
-      << (success ? "SUCCESS" : "FAILURE") << "\n  " << message << "\n";
+  out << "activecal selection (" << algorithm
+      << "): " << (success ? "SUCCESS" : "FAILURE") << "\n  " << message
+      << "\n";
   if (success) {
     out << "  " << design.size() << " poses from a pool of " << pool_size
         << ", " << num_parameters << " parameters\n";

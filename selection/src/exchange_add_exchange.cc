@@ -1,11 +1,10 @@
 #include "activecal/selection/exchange_add_exchange.h"
 
+#include <Eigen/SVD>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
-
-#include <Eigen/SVD>
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
@@ -19,8 +18,8 @@ bool ExchangeAddExchangeOptions::IsValid(std::string* error) const {
   if (num_poses <= 0) {
     msg << "num_poses must be > 0, got " << num_poses;
   } else if (initial_poses <= 0 || initial_poses > num_poses) {
-    msg << "initial_poses must be in [1, num_poses = " << num_poses
-        << "], got " << initial_poses;
+    msg << "initial_poses must be in [1, num_poses = " << num_poses << "], got "
+        << initial_poses;
   } else if (max_exchanges < 0) {
     msg << "max_exchanges must be >= 0, got " << max_exchanges;
   } else if (restarts <= 0) {
@@ -38,14 +37,12 @@ namespace internal {
 // ---------------------------------------------------------------------------
 // Determinant-update scorer.
 
-DeterminantScorer::DeterminantScorer(const CandidatePool& pool,
-                                     int num_threads)
+DeterminantScorer::DeterminantScorer(const CandidatePool& pool, int num_threads)
     : design_(pool), num_threads_(num_threads) {}
 
 bool DeterminantScorer::BestAddition(const std::vector<char>& eligible,
                                      int64_t* pose, double* value) {
-  ComputeAddGains(design_.pool(), design_.information(), num_threads_,
-                  &gains_);
+  ComputeAddGains(design_.pool(), design_.information(), num_threads_, &gains_);
   int64_t best = -1;
   for (int64_t i = 0; i < gains_.size(); ++i) {
     if (eligible[i] && !design_.Contains(i) &&
@@ -168,8 +165,8 @@ int CompleteSingularDesign(const CandidatePool& pool,
                            std::vector<int64_t>* poses) {
   const int p = pool.num_parameters();
   // eps = 1e-9 * trace(sum over the pool of X_i^T X_i) / p.
-  const double eps =
-      1e-9 * pool.stacked().squaredNorm() / p / std::max<int64_t>(1, pool.size());
+  const double eps = 1e-9 * pool.stacked().squaredNorm() / p /
+                     std::max<int64_t>(1, pool.size());
   Design design(pool, eps);
   for (int64_t i : *poses) design.Add(i);
   InformationMatrix plain(p);
@@ -204,8 +201,8 @@ bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
     double after_removal, after_swap;
     if (!scorer->BestRemoval(is_fixed, &out, &after_removal)) break;
     if (!scorer->Remove(out)) break;
-    if (!scorer->BestAddition(eligible, &in, &after_swap) ||
-        in == out || !(after_swap > current + min_improvement)) {
+    if (!scorer->BestAddition(eligible, &in, &after_swap) || in == out ||
+        !(after_swap > current + min_improvement)) {
       scorer->Add(out);  // undo
       break;
     }
@@ -268,7 +265,8 @@ bool ExchangeAddExchange(const CandidatePool& pool,
       if (added < 0) {
         summary->message =
             "the pool's information matrix is singular: no design can "
-            "identify all " + std::to_string(pool.num_parameters()) +
+            "identify all " +
+            std::to_string(pool.num_parameters()) +
             " parameters (check identifiability)";
         return false;
       }
@@ -315,9 +313,9 @@ bool ExchangeAddExchange(const CandidatePool& pool,
   }
   summary->restarts = options.restarts;
   summary->log_det = best_value;
-  summary->seconds = std::chrono::duration<double>(
-                         std::chrono::steady_clock::now() - start)
-                         .count();
+  summary->seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
   std::ostringstream msg;
   msg << summary->design.size() << " poses after " << summary->history.size()
       << " steps" << notes.str();

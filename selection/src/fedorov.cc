@@ -1,14 +1,13 @@
 #include "activecal/selection/fedorov.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
 #include <sstream>
-
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
@@ -19,11 +18,16 @@ namespace activecal {
 
 bool FedorovOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0) msg << "num_poses must be > 0, got " << num_poses;
-  else if (restarts <= 0) msg << "restarts must be > 0, got " << restarts;
-  else if (max_swaps < 0) msg << "max_swaps must be >= 0";
-  else if (refresh_interval <= 0) msg << "refresh_interval must be > 0";
-  else if (!(min_improvement >= 0)) msg << "min_improvement must be >= 0";
+  if (num_poses <= 0)
+    msg << "num_poses must be > 0, got " << num_poses;
+  else if (restarts <= 0)
+    msg << "restarts must be > 0, got " << restarts;
+  else if (max_swaps < 0)
+    msg << "max_swaps must be >= 0";
+  else if (refresh_interval <= 0)
+    msg << "refresh_interval must be > 0";
+  else if (!(min_improvement >= 0))
+    msg << "min_improvement must be >= 0";
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();
   return false;
@@ -31,10 +35,14 @@ bool FedorovOptions::IsValid(std::string* error) const {
 
 bool DetmaxOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0) msg << "num_poses must be > 0, got " << num_poses;
-  else if (restarts <= 0) msg << "restarts must be > 0, got " << restarts;
-  else if (max_excursion <= 0) msg << "max_excursion must be > 0";
-  else if (max_iterations < 0) msg << "max_iterations must be >= 0";
+  if (num_poses <= 0)
+    msg << "num_poses must be > 0, got " << num_poses;
+  else if (restarts <= 0)
+    msg << "restarts must be > 0, got " << restarts;
+  else if (max_excursion <= 0)
+    msg << "max_excursion must be > 0";
+  else if (max_iterations < 0)
+    msg << "max_iterations must be >= 0";
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();
   return false;
@@ -118,8 +126,8 @@ std::vector<int64_t> InitialDesign(const CandidatePool& pool,
   const int missing = num_poses - static_cast<int>(design.size());
   if (missing > 0) {
     Random random(seed);
-    for (int64_t j : random.SampleWithoutReplacement(candidates.size(),
-                                                     missing)) {
+    for (int64_t j :
+         random.SampleWithoutReplacement(candidates.size(), missing)) {
       design.push_back(candidates[j]);
     }
   }
@@ -165,8 +173,8 @@ struct YEntry {
   int64_t pose;
 };
 
-// Tries DETMAX excursions of size 2..max_excursion on `poses` (add k best
-// then remove k, or remove k then add k). Returns true and updates poses
+// Tries DETMAX excursions of size min_size..max_excursion on `poses` (add k
+// best then remove k, or remove k then add k). Returns true and updates poses
 // when one raises log det by more than min_improvement.
 bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int min_size,
@@ -194,8 +202,9 @@ bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
       }
       if (ok && scorer.Value() > base + min_improvement) {
         *poses = scorer.poses();
-        *kind = std::string(direction == 0 ? "excursion up " : "excursion down ") +
-                std::to_string(k);
+        *kind =
+            std::string(direction == 0 ? "excursion up " : "excursion down ") +
+            std::to_string(k);
         return true;
       }
     }
@@ -236,148 +245,148 @@ RestartResult FedorovRestart(const CandidatePool& pool,
   constexpr int64_t kBlock = 256;
   int swaps = 0;
   for (;;) {
-  for (; swaps < options.max_swaps; ++swaps) {
-    std::vector<YEntry> ys;
-    for (int64_t y : design.poses()) {
-      if (!is_fixed[y]) ys.push_back({trace_of(y), y});
-    }
-    if (ys.empty()) break;
-    std::sort(ys.begin(), ys.end(), [](const YEntry& a, const YEntry& b) {
-      return a.trace < b.trace || (a.trace == b.trace && a.pose < b.pose);
-    });
-    const double min_try = ys[0].trace;
-    std::vector<YEntry> xs;
-    for (int64_t x = 0; x < m; ++x) {
-      if (!eligible[x] || design.Contains(x)) continue;
-      const double tr = trace_of(x);
-      if (tr - min_try > options.min_improvement) xs.push_back({tr, x});
-    }
-    std::sort(xs.begin(), xs.end(), [](const YEntry& a, const YEntry& b) {
-      return a.trace > b.trace || (a.trace == b.trace && a.pose < b.pose);
-    });
-    const Eigen::MatrixXd& V = design.information().inverse();
-    double best_lr = options.min_improvement;
-    int64_t best_x = -1, best_y = -1;
-    std::vector<double> item_lr(kBlock);
-    std::vector<int64_t> item_y(kBlock);
-    // Best swap among the first num_x candidates and num_y design poses.
-    auto scan = [&](size_t num_x, size_t num_y) {
-      for (size_t b = 0; b < num_x; b += kBlock) {
-        if (xs[b].trace - min_try <= best_lr) break;
-        const double threshold = best_lr;
-        const int64_t count = std::min<int64_t>(kBlock, num_x - b);
-        ParallelFor(count, threads, [&](int64_t ib, int64_t ie, int) {
-          Eigen::MatrixXd Sx(t, t), Sx_inv(t, t), Dxy(t, t), T(t, t);
-          RowMatrixXd Wx(t, p);
-          for (int64_t k = ib; k < ie; ++k) {
-            item_lr[k] = -std::numeric_limits<double>::infinity();
-            item_y[k] = -1;
-            const int64_t x = xs[b + k].pose;
-            const double trx = xs[b + k].trace;
-            if (trx - min_try <= threshold) continue;
-            Sx = Eigen::Map<const Eigen::MatrixXd>(D.data() + x * tt, t, t);
-            Sx.diagonal().array() += 1.0;
-            const double gain = LogDetSpd(Sx);
-            if (!(gain > threshold)) continue;
-            Sx_inv = Sx.inverse();
-            Wx.noalias() = pool.block(x) * V;
-            for (size_t j = 0; j < num_y; ++j) {
-              const YEntry& y = ys[j];
-              if (trx - y.trace <= threshold) break;
-              Dxy.noalias() = Wx * pool.block(y.pose).transpose();
-              T = -Eigen::Map<const Eigen::MatrixXd>(D.data() + y.pose * tt,
-                                                     t, t);
-              T.diagonal().array() += 1.0;
-              T.noalias() += Dxy.transpose() * Sx_inv * Dxy;
-              const double lr = gain + LogDetSpd(T);
-              if (lr > item_lr[k]) {
-                item_lr[k] = lr;
-                item_y[k] = y.pose;
+    for (; swaps < options.max_swaps; ++swaps) {
+      std::vector<YEntry> ys;
+      for (int64_t y : design.poses()) {
+        if (!is_fixed[y]) ys.push_back({trace_of(y), y});
+      }
+      if (ys.empty()) break;
+      std::sort(ys.begin(), ys.end(), [](const YEntry& a, const YEntry& b) {
+        return a.trace < b.trace || (a.trace == b.trace && a.pose < b.pose);
+      });
+      const double min_try = ys[0].trace;
+      std::vector<YEntry> xs;
+      for (int64_t x = 0; x < m; ++x) {
+        if (!eligible[x] || design.Contains(x)) continue;
+        const double tr = trace_of(x);
+        if (tr - min_try > options.min_improvement) xs.push_back({tr, x});
+      }
+      std::sort(xs.begin(), xs.end(), [](const YEntry& a, const YEntry& b) {
+        return a.trace > b.trace || (a.trace == b.trace && a.pose < b.pose);
+      });
+      const Eigen::MatrixXd& V = design.information().inverse();
+      double best_lr = options.min_improvement;
+      int64_t best_x = -1, best_y = -1;
+      std::vector<double> item_lr(kBlock);
+      std::vector<int64_t> item_y(kBlock);
+      // Best swap among the first num_x candidates and num_y design poses.
+      auto scan = [&](size_t num_x, size_t num_y) {
+        for (size_t b = 0; b < num_x; b += kBlock) {
+          if (xs[b].trace - min_try <= best_lr) break;
+          const double threshold = best_lr;
+          const int64_t count = std::min<int64_t>(kBlock, num_x - b);
+          ParallelFor(count, threads, [&](int64_t ib, int64_t ie, int) {
+            Eigen::MatrixXd Sx(t, t), Sx_inv(t, t), Dxy(t, t), T(t, t);
+            RowMatrixXd Wx(t, p);
+            for (int64_t k = ib; k < ie; ++k) {
+              item_lr[k] = -std::numeric_limits<double>::infinity();
+              item_y[k] = -1;
+              const int64_t x = xs[b + k].pose;
+              const double trx = xs[b + k].trace;
+              if (trx - min_try <= threshold) continue;
+              Sx = Eigen::Map<const Eigen::MatrixXd>(D.data() + x * tt, t, t);
+              Sx.diagonal().array() += 1.0;
+              const double gain = LogDetSpd(Sx);
+              if (!(gain > threshold)) continue;
+              Sx_inv = Sx.inverse();
+              Wx.noalias() = pool.block(x) * V;
+              for (size_t j = 0; j < num_y; ++j) {
+                const YEntry& y = ys[j];
+                if (trx - y.trace <= threshold) break;
+                Dxy.noalias() = Wx * pool.block(y.pose).transpose();
+                T = -Eigen::Map<const Eigen::MatrixXd>(D.data() + y.pose * tt,
+                                                       t, t);
+                T.diagonal().array() += 1.0;
+                T.noalias() += Dxy.transpose() * Sx_inv * Dxy;
+                const double lr = gain + LogDetSpd(T);
+                if (lr > item_lr[k]) {
+                  item_lr[k] = lr;
+                  item_y[k] = y.pose;
+                }
               }
             }
-          }
-        });
-        for (int64_t k = 0; k < count; ++k) {
-          if (item_lr[k] > best_lr) {
-            best_lr = item_lr[k];
-            best_x = xs[b + k].pose;
-            best_y = item_y[k];
+          });
+          for (int64_t k = 0; k < count; ++k) {
+            if (item_lr[k] > best_lr) {
+              best_lr = item_lr[k];
+              best_x = xs[b + k].pose;
+              best_y = item_y[k];
+            }
           }
         }
+      };
+      // KL exchange first (Atkinson & Donev): the weakest design poses
+      // against the strongest candidates. Only when no such swap helps is
+      // every pair scanned, so the result is a local optimum over all swaps.
+      const size_t kl_y =
+          std::min<size_t>(ys.size(), std::max<size_t>(4, ys.size() / 8));
+      const size_t kl_x = std::min<size_t>(xs.size(), 64 * kl_y);
+      if (options.kl_exchange) scan(kl_x, kl_y);
+      if (best_x < 0) scan(xs.size(), ys.size());
+      if (best_x < 0) break;
+
+      // The update terms, from V before the swap.
+      const auto X = pool.block(best_x);
+      const auto Y = pool.block(best_y);
+      const Eigen::MatrixXd Wa = V * X.transpose();
+      Eigen::MatrixXd Sa = X * Wa;
+      Sa.diagonal().array() += 1.0;
+      const Eigen::MatrixXd Sa_inv = Sa.inverse();
+      const Eigen::MatrixXd V1 = V - Wa * Sa_inv * Wa.transpose();
+      const Eigen::MatrixXd Wr = V1 * Y.transpose();
+      Eigen::MatrixXd Sr = -(Y * Wr);
+      Sr.diagonal().array() += 1.0;
+      const Eigen::MatrixXd Sr_inv = Sr.inverse();
+
+      design.Add(best_x);
+      if (!design.Remove(best_y)) {
+        // Cannot happen for an improving swap; stop rather than loop.
+        design.Remove(best_x);
+        break;
       }
-    };
-    // KL exchange first (Atkinson & Donev): the weakest design poses
-    // against the strongest candidates. Only when no such swap helps is
-    // every pair scanned, so the result is a local optimum over all swaps.
-    const size_t kl_y = std::min<size_t>(ys.size(),
-                                         std::max<size_t>(4, ys.size() / 8));
-    const size_t kl_x = std::min<size_t>(xs.size(), 64 * kl_y);
-    if (options.kl_exchange) scan(kl_x, kl_y);
-    if (best_x < 0) scan(xs.size(), ys.size());
-    if (best_x < 0) break;
-
-    // The update terms, from V before the swap.
-    const auto X = pool.block(best_x);
-    const auto Y = pool.block(best_y);
-    const Eigen::MatrixXd Wa = V * X.transpose();
-    Eigen::MatrixXd Sa = X * Wa;
-    Sa.diagonal().array() += 1.0;
-    const Eigen::MatrixXd Sa_inv = Sa.inverse();
-    const Eigen::MatrixXd V1 = V - Wa * Sa_inv * Wa.transpose();
-    const Eigen::MatrixXd Wr = V1 * Y.transpose();
-    Eigen::MatrixXd Sr = -(Y * Wr);
-    Sr.diagonal().array() += 1.0;
-    const Eigen::MatrixXd Sr_inv = Sr.inverse();
-
-    design.Add(best_x);
-    if (!design.Remove(best_y)) {
-      // Cannot happen for an improving swap; stop rather than loop.
-      design.Remove(best_x);
+      result.history.push_back({"exchange", best_x, best_y, design.log_det()});
+      if (++since_refresh >= options.refresh_interval) {
+        refresh_all();
+        since_refresh = 0;
+        continue;
+      }
+      Eigen::MatrixXd Wb(p, 2 * t);
+      Wb.leftCols(t) = Wa;
+      Wb.rightCols(t) = Wr;
+      constexpr int64_t kChunk = 512;
+      const int64_t chunks = (m + kChunk - 1) / kChunk;
+      ParallelFor(chunks, threads, [&](int64_t cb, int64_t ce, int) {
+        RowMatrixXd P;
+        for (int64_t c = cb; c < ce; ++c) {
+          const int64_t begin = c * kChunk;
+          const int64_t n = std::min(kChunk, m - begin);
+          Eigen::Map<const RowMatrixXd> Xc(
+              pool.stacked().data() + begin * t * p, n * t, p);
+          P.noalias() = Xc * Wb;
+          for (int64_t k = 0; k < n; ++k) {
+            Eigen::Map<Eigen::MatrixXd> Dj(D.data() + (begin + k) * tt, t, t);
+            const auto Pa = P.block(k * t, 0, t, t);
+            const auto Pr = P.block(k * t, t, t, t);
+            Dj.noalias() -= Pa * Sa_inv * Pa.transpose();
+            Dj.noalias() += Pr * Sr_inv * Pr.transpose();
+          }
+        }
+      });
+    }
+    // No single swap helps: try larger excursions, and swap again after one.
+    if (swaps >= options.max_swaps || options.max_excursion < 2) break;
+    std::vector<int64_t> poses = design.poses();
+    std::string kind;
+    if (!TryExcursion(pool, eligible, is_fixed, 2, options.max_excursion,
+                      options.min_improvement, threads, &poses, &kind)) {
       break;
     }
-    result.history.push_back({"exchange", best_x, best_y, design.log_det()});
-    if (++since_refresh >= options.refresh_interval) {
-      refresh_all();
-      since_refresh = 0;
-      continue;
-    }
-    Eigen::MatrixXd Wb(p, 2 * t);
-    Wb.leftCols(t) = Wa;
-    Wb.rightCols(t) = Wr;
-    constexpr int64_t kChunk = 512;
-    const int64_t chunks = (m + kChunk - 1) / kChunk;
-    ParallelFor(chunks, threads, [&](int64_t cb, int64_t ce, int) {
-      RowMatrixXd P;
-      for (int64_t c = cb; c < ce; ++c) {
-        const int64_t begin = c * kChunk;
-        const int64_t n = std::min(kChunk, m - begin);
-        Eigen::Map<const RowMatrixXd> Xc(pool.stacked().data() + begin * t * p,
-                                         n * t, p);
-        P.noalias() = Xc * Wb;
-        for (int64_t k = 0; k < n; ++k) {
-          Eigen::Map<Eigen::MatrixXd> Dj(D.data() + (begin + k) * tt, t, t);
-          const auto Pa = P.block(k * t, 0, t, t);
-          const auto Pr = P.block(k * t, t, t, t);
-          Dj.noalias() -= Pa * Sa_inv * Pa.transpose();
-          Dj.noalias() += Pr * Sr_inv * Pr.transpose();
-        }
-      }
-    });
-  }
-  // No single swap helps: try larger excursions, and swap again after one.
-  if (swaps >= options.max_swaps || options.max_excursion < 2) break;
-  std::vector<int64_t> poses = design.poses();
-  std::string kind;
-  if (!TryExcursion(pool, eligible, is_fixed, 2, options.max_excursion,
-                    options.min_improvement, threads, &poses, &kind)) {
-    break;
-  }
-  Design next(pool);
-  for (int64_t i : poses) next.Add(i);
-  design = std::move(next);
-  refresh_all();
-  since_refresh = 0;
-  result.history.push_back({kind, -1, -1, design.log_det()});
+    Design next(pool);
+    for (int64_t i : poses) next.Add(i);
+    design = std::move(next);
+    refresh_all();
+    since_refresh = 0;
+    result.history.push_back({kind, -1, -1, design.log_det()});
   }
   result.design = design.poses();
   result.log_det = LogDetFromScratch(pool, result.design);
@@ -469,9 +478,10 @@ bool FedorovExchange(const CandidatePool& pool,
       M.noalias() += approximate->weights[k] * X.transpose() * X;
     }
     Eigen::VectorXd d;
-    ComputeVariances(pool, Eigen::LLT<Eigen::MatrixXd>(M).solve(
-                               Eigen::MatrixXd::Identity(p, p)),
-                     options.num_threads, &d);
+    ComputeVariances(
+        pool,
+        Eigen::LLT<Eigen::MatrixXd>(M).solve(Eigen::MatrixXd::Identity(p, p)),
+        options.num_threads, &d);
     std::vector<char> keep(pool.size(), 0);
     for (int64_t f : constraints.fixed) keep[f] = 1;
     for (int64_t i : approximate->support) keep[i] = eligible[i];
@@ -593,57 +603,29 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
             Random::StreamSeed(options.seed, r), nullptr, false, threads,
             &notes[r]);
         if (poses.empty()) return result;
-        auto make = [&](const std::vector<int64_t>& ps) {
-          auto s = std::make_unique<internal::DeterminantScorer>(pool,
-                                                                 threads);
-          for (int64_t i : ps) s->Add(i);
-          return s;
-        };
-        auto scorer = make(poses);
-        result.history.push_back({"initial", -1, -1, scorer->Value()});
-        for (int it = 0; it < options.max_iterations; ++it) {
-          bool improved = false;
-          for (int k = 1; k <= options.max_excursion && !improved; ++k) {
-            for (int direction = 0; direction < 2 && !improved; ++direction) {
-              const double base = scorer->Value();
-              const std::vector<int64_t> saved = scorer->poses();
-              bool ok = true;
-              for (int phase = 0; phase < 2 && ok; ++phase) {
-                const bool adding = (phase == 0) == (direction == 0);
-                for (int j = 0; j < k && ok; ++j) {
-                  int64_t pose;
-                  double value;
-                  if (adding) {
-                    ok = scorer->BestAddition(eligible, &pose, &value);
-                    if (ok) scorer->Add(pose);
-                  } else {
-                    ok = scorer->BestRemoval(is_fixed, &pose, &value) &&
-                         scorer->Remove(pose);
-                  }
-                }
-              }
-              if (ok && scorer->Value() > base + options.min_improvement) {
-                improved = true;
-                result.history.push_back(
-                    {direction == 0 ? "excursion up " + std::to_string(k)
-                                    : "excursion down " + std::to_string(k),
-                     -1, -1, scorer->Value()});
-              } else {
-                scorer = make(saved);
-              }
-            }
-          }
-          if (!improved) break;
+        {
+          internal::DeterminantScorer start_scorer(pool, threads);
+          for (int64_t i : poses) start_scorer.Add(i);
+          result.history.push_back({"initial", -1, -1, start_scorer.Value()});
         }
-        result.design = scorer->poses();
+        for (int it = 0; it < options.max_iterations; ++it) {
+          std::string kind;
+          if (!TryExcursion(pool, eligible, is_fixed, 1, options.max_excursion,
+                            options.min_improvement, threads, &poses, &kind)) {
+            break;
+          }
+          result.history.push_back(
+              {kind, -1, -1, LogDetFromScratch(pool, poses)});
+        }
+        result.design = poses;
         result.log_det = LogDetFromScratch(pool, result.design);
         result.ok = std::isfinite(result.log_det);
         return result;
       });
-  Finish(best, options.restarts, start,
-         best.restart < static_cast<int>(notes.size()) ? notes[best.restart]
-                                                       : "",
-         summary);
+  Finish(
+      best, options.restarts, start,
+      best.restart < static_cast<int>(notes.size()) ? notes[best.restart] : "",
+      summary);
   return summary->success;
 }
 

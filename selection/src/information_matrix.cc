@@ -1,8 +1,7 @@
 #include "activecal/selection/information_matrix.h"
 
-#include <cmath>
-
 #include <Eigen/Cholesky>
+#include <cmath>
 
 namespace activecal {
 namespace {
@@ -42,8 +41,8 @@ double LogDetSpd(const Eigen::Ref<const Eigen::MatrixXd>& S) {
     const double a = S(0, 0), b = S(0, 1), c = S(0, 2);
     const double d = S(1, 1), e = S(1, 2), f = S(2, 2);
     const double m2 = a * d - b * b;
-    const double det = a * (d * f - e * e) - b * (b * f - c * e) +
-                       c * (b * e - c * d);
+    const double det =
+        a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d);
     if (!(a > 0 && m2 > 0 && det > 0)) return kNegInf;
     return std::log(det);
   }

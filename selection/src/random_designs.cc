@@ -12,7 +12,8 @@ namespace activecal {
 
 bool RandomDesignOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0) msg << "num_poses must be > 0, got " << num_poses;
+  if (num_poses <= 0)
+    msg << "num_poses must be > 0, got " << num_poses;
   else if (num_designs <= 0)
     msg << "num_designs must be > 0, got " << num_designs;
   if (msg.tellp() == 0) return true;
@@ -73,9 +74,9 @@ bool SelectRandomDesigns(const CandidatePool& pool,
   summary->restarts = options.num_designs;
   summary->best_restart = best;
   if (log_dets) *log_dets = values;
-  summary->seconds = std::chrono::duration<double>(
-                         std::chrono::steady_clock::now() - start)
-                         .count();
+  summary->seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
   if (!std::isfinite(summary->log_det)) {
     summary->message = "all " + std::to_string(options.num_designs) +
                        " random designs are singular";

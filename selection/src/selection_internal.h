@@ -3,13 +3,12 @@
 #ifndef ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
 #define ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/candidate_pool.h"
@@ -49,9 +48,7 @@ class DeterminantScorer : public Scorer {
   DeterminantScorer(const CandidatePool& pool, int num_threads);
   double Value() const override { return design_.log_det(); }
   int size() const override { return design_.size(); }
-  const std::vector<int64_t>& poses() const override {
-    return design_.poses();
-  }
+  const std::vector<int64_t>& poses() const override { return design_.poses(); }
   void Add(int64_t pose) override { design_.Add(pose); }
   bool Remove(int64_t pose) override { return design_.Remove(pose); }
   bool BestAddition(const std::vector<char>& eligible, int64_t* pose,

@@ -14,10 +14,9 @@
 #ifndef ACTIVECAL_CORE_KINEMATICS_H_
 #define ACTIVECAL_CORE_KINEMATICS_H_
 
+#include <Eigen/Core>
 #include <cmath>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/core/robot_model.h"
 
@@ -63,6 +62,9 @@ void LinkTransform(const Link& link, const T* p, double q, Matrix3<T>* R,
       }
       return;
   }
+  // Not reached for a valid convention; keeps the outputs defined.
+  R->setIdentity();
+  t->setZero();
 }
 
 // The end transform (R, t) of the last link for joint readings q

@@ -9,11 +9,10 @@
 #ifndef ACTIVECAL_CORE_LATTICE_H_
 #define ACTIVECAL_CORE_LATTICE_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/core/robot_model.h"
 
@@ -29,8 +28,8 @@ class JointLattice {
   static bool Create(const RobotModel& model, const std::vector<int>& levels,
                      JointLattice* lattice, std::string* error);
   // The same number of levels on every joint.
-  static bool Create(const RobotModel& model, int levels,
-                     JointLattice* lattice, std::string* error);
+  static bool Create(const RobotModel& model, int levels, JointLattice* lattice,
+                     std::string* error);
 
   int num_joints() const { return static_cast<int>(levels_.size()); }
   int64_t size() const { return size_; }

@@ -32,12 +32,11 @@
 #ifndef ACTIVECAL_CORE_ROBOT_MODEL_H_
 #define ACTIVECAL_CORE_ROBOT_MODEL_H_
 
+#include <Eigen/Core>
 #include <array>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace activecal {
 

@@ -5,11 +5,10 @@
 #ifndef ACTIVECAL_CORE_SIMULATION_H_
 #define ACTIVECAL_CORE_SIMULATION_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/core/robot_model.h"
 
@@ -28,8 +27,8 @@ struct PositionMeasurement {
 // (sizes, non-finite values, joints out of range, negative noise).
 bool SimulatePositionMeasurements(const RobotModel& model,
                                   const Eigen::VectorXd& true_parameters,
-                                  const Eigen::MatrixXd& joints,
-                                  double noise_m, uint64_t seed,
+                                  const Eigen::MatrixXd& joints, double noise_m,
+                                  uint64_t seed,
                                   std::vector<PositionMeasurement>* out,
                                   std::string* error);
 

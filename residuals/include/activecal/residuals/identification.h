@@ -16,11 +16,11 @@
 #ifndef ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
 #define ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
 
-#include <string>
-#include <vector>
+#include <ceres/solver.h>
 
 #include <Eigen/Core>
-#include <ceres/solver.h>
+#include <string>
+#include <vector>
 
 #include "activecal/core/robot_model.h"
 #include "activecal/core/simulation.h"
@@ -69,13 +69,13 @@ struct IdentificationSummary {
   bool success = false;
   std::string message;
 
-  std::vector<std::string> names;           // free parameters, in order
-  Eigen::VectorXd initial;                  // full vector
-  Eigen::VectorXd parameters;               // full vector, identified
-  Eigen::VectorXd estimates;                // free parameters
-  Eigen::VectorXd standard_deviations;      // free parameters
-  Eigen::MatrixXd covariance;               // free x free, scaled by s^2
-  Eigen::VectorXd residuals;                // 3 per measurement (m)
+  std::vector<std::string> names;       // free parameters, in order
+  Eigen::VectorXd initial;              // full vector
+  Eigen::VectorXd parameters;           // full vector, identified
+  Eigen::VectorXd estimates;            // free parameters
+  Eigen::VectorXd standard_deviations;  // free parameters
+  Eigen::MatrixXd covariance;           // free x free, scaled by s^2
+  Eigen::VectorXd residuals;            // 3 per measurement (m)
   int num_measurements = 0;
   int num_residuals = 0;
   int num_free = 0;

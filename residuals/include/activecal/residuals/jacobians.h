@@ -7,9 +7,8 @@
 #ifndef ACTIVECAL_RESIDUALS_JACOBIANS_H_
 #define ACTIVECAL_RESIDUALS_JACOBIANS_H_
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "activecal/core/robot_model.h"
 #include "activecal/core/types.h"

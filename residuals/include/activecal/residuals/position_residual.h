@@ -17,11 +17,11 @@
 #ifndef ACTIVECAL_RESIDUALS_POSITION_RESIDUAL_H_
 #define ACTIVECAL_RESIDUALS_POSITION_RESIDUAL_H_
 
-#include <memory>
-#include <utility>
+#include <ceres/dynamic_autodiff_cost_function.h>
 
 #include <Eigen/Core>
-#include <ceres/dynamic_autodiff_cost_function.h>
+#include <memory>
+#include <utility>
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/robot_model.h"

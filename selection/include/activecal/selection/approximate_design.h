@@ -45,7 +45,7 @@ struct ApproximateDesignOptions {
   // Stop when max_i d_i(w) <= p (1 + tolerance); w is then at least
   // 1 / (1 + tolerance) D-efficient.
   double tolerance = 1e-4;
-  int max_rounds = 200;             // full-pool checks
+  int max_rounds = 200;              // full-pool checks
   int max_inner_iterations = 20000;  // per round, on the working set
   int num_threads = 0;               // <= 0: all; result does not depend on it
 
@@ -85,8 +85,8 @@ bool SolveApproximateDesign(const CandidatePool& pool,
 // if the design is singular.
 bool CertifyDesign(const CandidatePool& pool,
                    const DesignConstraints& constraints,
-                   const ApproximateDesignSummary* approximate,
-                   int num_threads, SelectionSummary* summary);
+                   const ApproximateDesignSummary* approximate, int num_threads,
+                   SelectionSummary* summary);
 
 }  // namespace activecal
 

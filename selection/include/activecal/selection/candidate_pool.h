@@ -6,11 +6,10 @@
 #ifndef ACTIVECAL_SELECTION_CANDIDATE_POOL_H_
 #define ACTIVECAL_SELECTION_CANDIDATE_POOL_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/core/types.h"
 

@@ -17,10 +17,9 @@
 #ifndef ACTIVECAL_SELECTION_CRITERIA_H_
 #define ACTIVECAL_SELECTION_CRITERIA_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/selection/candidate_pool.h"
 
@@ -30,7 +29,7 @@ struct ObservabilityIndices {
   Eigen::VectorXd singular_values;  // descending
   int rank = 0;                     // non-zero singular values (L)
   double oi = 0.0;
-  double log10_oid = 0.0;           // log10 det X^T X
+  double log10_oid = 0.0;  // log10 det X^T X
   double o1 = 0.0, o2 = 0.0, o3 = 0.0, o4 = 0.0, o5 = 0.0;
 };
 

@@ -5,13 +5,12 @@
 #ifndef ACTIVECAL_SELECTION_DESIGN_H_
 #define ACTIVECAL_SELECTION_DESIGN_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "activecal/selection/candidate_pool.h"
 #include "activecal/selection/information_matrix.h"

@@ -41,8 +41,8 @@ enum class SelectionCriterion {
 };
 
 struct ExchangeAddExchangeOptions {
-  int num_poses = 30;      // the maximum design size n1 (fixed included)
-  int initial_poses = 12;  // the random initial design size n
+  int num_poses = 30;        // the maximum design size n1 (fixed included)
+  int initial_poses = 12;    // the random initial design size n
   int max_exchanges = 1000;  // per exchange step
   // Stop adding once log det X^T X (natural log) reaches this.
   double target_log_det = std::numeric_limits<double>::infinity();

@@ -18,9 +18,8 @@
 #ifndef ACTIVECAL_SELECTION_INFORMATION_MATRIX_H_
 #define ACTIVECAL_SELECTION_INFORMATION_MATRIX_H_
 
-#include <limits>
-
 #include <Eigen/Core>
+#include <limits>
 
 #include "activecal/core/types.h"
 

@@ -14,7 +14,7 @@
 namespace activecal {
 
 struct RandomDesignOptions {
-  int num_poses = 30;     // poses per design, fixed poses included
+  int num_poses = 30;  // poses per design, fixed poses included
   int num_designs = 5000;
   uint64_t seed = 1;
   // Threads (<= 0: all). Design k always draws from its own stream, so the
