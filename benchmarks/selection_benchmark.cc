@@ -52,7 +52,9 @@ void BM_CandidateByDeterminantUpdate(benchmark::State& state) {
 }
 BENCHMARK(BM_CandidateByDeterminantUpdate);
 
-// One candidate by the eigenvalue OI: SVD of the stacked 93 x 27 matrix.
+// One candidate by the eigenvalue OI: SVD of the stacked 93 x 27 matrix,
+// by Eigen's divide-and-conquer SVD or the classical Jacobi SVD.
+template <typename Svd>
 void BM_CandidateByEigenvalueOi(benchmark::State& state) {
   const CandidatePool& pool = Pool(5);
   Eigen::MatrixXd X(31 * 3, 27);
@@ -60,28 +62,15 @@ void BM_CandidateByEigenvalueOi(benchmark::State& state) {
   int64_t c = 0;
   for (auto _ : state) {
     X.bottomRows(3) = pool.block(c);
-    Eigen::BDCSVD<Eigen::MatrixXd> svd(X);
+    Svd svd(X);
     benchmark::DoNotOptimize(
         std::exp(svd.singularValues().array().log().mean()) / 27);
     c = (c + 7919) % pool.size();
   }
 }
-BENCHMARK(BM_CandidateByEigenvalueOi);
-
-// The same with Eigen's Jacobi SVD (the classical algorithm).
-void BM_CandidateByEigenvalueOiJacobi(benchmark::State& state) {
-  const CandidatePool& pool = Pool(5);
-  Eigen::MatrixXd X(31 * 3, 27);
-  X.topRows(90) = pool.Stack(Design30());
-  int64_t c = 0;
-  for (auto _ : state) {
-    X.bottomRows(3) = pool.block(c);
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(X);
-    benchmark::DoNotOptimize(svd.singularValues()[0]);
-    c = (c + 7919) % pool.size();
-  }
-}
-BENCHMARK(BM_CandidateByEigenvalueOiJacobi);
+BENCHMARK_TEMPLATE(BM_CandidateByEigenvalueOi, Eigen::BDCSVD<Eigen::MatrixXd>);
+BENCHMARK_TEMPLATE(BM_CandidateByEigenvalueOi,
+                   Eigen::JacobiSVD<Eigen::MatrixXd>);
 
 // Every candidate of the 15,625-pose pool by the batched update formula.
 void BM_AllCandidatesByDeterminantUpdate(benchmark::State& state) {

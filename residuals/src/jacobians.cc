@@ -23,16 +23,12 @@ class JacobianEvaluator {
     block_jacobians_.resize(m.num_blocks());
     jacobian_ptrs_.assign(m.num_blocks(), nullptr);
     for (int b = 0; b < m.num_blocks(); ++b) {
+      const size_t before = columns_.size();
       for (int j = 0; j < m.block_size(b); ++j) {
-        if (m.IsFree(m.block_offset(b) + j)) {
-          columns_.push_back({b, j});
-        }
+        if (m.IsFree(m.block_offset(b) + j)) columns_.push_back({b, j});
       }
-      bool any = false;
-      for (int j = 0; j < m.block_size(b); ++j) {
-        any = any || m.IsFree(m.block_offset(b) + j);
-      }
-      if (any) {
+      // Ask Ceres only for the blocks that hold a free parameter.
+      if (columns_.size() > before) {
         block_jacobians_[b].resize(3 * m.block_size(b));
         jacobian_ptrs_[b] = block_jacobians_[b].data();
       }

@@ -160,14 +160,20 @@ bool EigenvalueScorer::BestRemoval(const std::vector<char>& is_fixed,
 
 // ---------------------------------------------------------------------------
 
+double RegularisingRidge(const CandidatePool& pool) {
+  // tr(sum_i X_i^T X_i) / (pool size * p): the mean diagonal entry of one
+  // pose's information.
+  const double mean_diagonal = pool.stacked().squaredNorm() /
+                               pool.num_parameters() /
+                               std::max<int64_t>(1, pool.size());
+  return 1e-9 * mean_diagonal;
+}
+
 int CompleteSingularDesign(const CandidatePool& pool,
                            const std::vector<char>& eligible, int num_threads,
                            std::vector<int64_t>* poses) {
   const int p = pool.num_parameters();
-  // eps = 1e-9 * trace(sum over the pool of X_i^T X_i) / p.
-  const double eps = 1e-9 * pool.stacked().squaredNorm() / p /
-                     std::max<int64_t>(1, pool.size());
-  Design design(pool, eps);
+  Design design(pool, RegularisingRidge(pool));
   for (int64_t i : *poses) design.Add(i);
   InformationMatrix plain(p);
   for (int64_t i : *poses) plain.Add(pool.block(i));

@@ -33,6 +33,12 @@ bool FedorovOptions::IsValid(std::string* error) const {
   return false;
 }
 
+bool GreedyOptions::IsValid(std::string* error) const {
+  if (num_poses > 0) return true;
+  if (error) *error = "num_poses must be > 0, got " + std::to_string(num_poses);
+  return false;
+}
+
 bool DetmaxOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
   if (num_poses <= 0)
@@ -136,22 +142,14 @@ std::vector<int64_t> InitialDesign(const CandidatePool& pool,
         CompleteSingularDesign(pool, eligible, num_threads, &design);
     if (added < 0) return {};
     // Back to num_poses: drop the non-fixed poses that cost least.
-    Design d(pool);
+    DeterminantScorer d(pool, num_threads);
     for (int64_t i : design) d.Add(i);
     std::vector<char> is_fixed(pool.size(), 0);
     for (int64_t f : constraints.fixed) is_fixed[f] = 1;
     while (d.size() > num_poses) {
-      int64_t best = -1;
-      double best_loss = -std::numeric_limits<double>::infinity();
-      for (int64_t i : d.poses()) {
-        if (is_fixed[i]) continue;
-        const double loss = d.information().RemoveLoss(pool.block(i));
-        if (best < 0 || loss > best_loss) {
-          best = i;
-          best_loss = loss;
-        }
-      }
-      if (best < 0 || !d.Remove(best)) break;
+      int64_t worst;
+      double value;
+      if (!d.BestRemoval(is_fixed, &worst, &value) || !d.Remove(worst)) break;
     }
     design = d.poses();
     if (note) {
@@ -394,21 +392,32 @@ RestartResult FedorovRestart(const CandidatePool& pool,
   return result;
 }
 
+// Resets the summary, checks the options and the constraints, and marks the
+// eligible and the fixed poses.
+template <typename Options>
 bool Prepare(const CandidatePool& pool, const DesignConstraints& constraints,
-             int num_poses, const char* algorithm, SelectionSummary* summary,
-             std::vector<char>* eligible, std::vector<char>* is_fixed) {
+             const Options& options, const char* algorithm,
+             SelectionSummary* summary, std::vector<char>* eligible,
+             std::vector<char>* is_fixed) {
   *summary = SelectionSummary();
   summary->algorithm = algorithm;
   summary->num_parameters = pool.num_parameters();
   summary->pool_size = pool.size();
   std::string error;
-  if (!PrepareCandidates(pool, num_poses, constraints, eligible, &error)) {
+  if (!options.IsValid(&error) ||
+      !PrepareCandidates(pool, options.num_poses, constraints, eligible,
+                         &error)) {
     summary->message = error;
     return false;
   }
   is_fixed->assign(pool.size(), 0);
   for (int64_t f : constraints.fixed) (*is_fixed)[f] = 1;
   return true;
+}
+
+// The note a restart left, if any.
+std::string NoteOf(const std::vector<std::string>& notes, int restart) {
+  return restart < static_cast<int>(notes.size()) ? notes[restart] : "";
 }
 
 void Finish(const RestartResult& best, int restarts,
@@ -445,14 +454,8 @@ bool FedorovExchange(const CandidatePool& pool,
                      SelectionSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<char> eligible, is_fixed;
-  std::string error;
-  if (!options.IsValid(&error)) {
-    *summary = SelectionSummary();
-    summary->message = error;
-    return false;
-  }
-  if (!Prepare(pool, constraints, options.num_poses, "fedorov", summary,
-               &eligible, &is_fixed)) {
+  if (!Prepare(pool, constraints, options, "fedorov", summary, &eligible,
+               &is_fixed)) {
     return false;
   }
   // With an approximate design and a large pool, the restarts swap within
@@ -507,7 +510,9 @@ bool FedorovExchange(const CandidatePool& pool,
     for (size_t n = 0; n < to_full.size(); ++n) {
       rows.middleRows(n * t, t) = pool.block(to_full[n]);
     }
-    CandidatePool::Create(std::move(rows), t, &reduced, &error);
+    // Rows of a valid pool: Create cannot fail here.
+    std::string unused;
+    CandidatePool::Create(std::move(rows), t, &reduced, &unused);
     work_pool = &reduced;
     work_constraints = DesignConstraints();
     for (int64_t f : constraints.fixed) {
@@ -573,8 +578,7 @@ bool FedorovExchange(const CandidatePool& pool,
         << " s";
     timing = msg.str();
   }
-  std::string note =
-      best.restart < static_cast<int>(notes.size()) ? notes[best.restart] : "";
+  std::string note = NoteOf(notes, best.restart);
   if (!timing.empty()) note = note.empty() ? timing : note + "; " + timing;
   Finish(best, options.restarts, start, note, summary);
   return summary->success;
@@ -584,14 +588,8 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
             const DetmaxOptions& options, SelectionSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<char> eligible, is_fixed;
-  std::string error;
-  if (!options.IsValid(&error)) {
-    *summary = SelectionSummary();
-    summary->message = error;
-    return false;
-  }
-  if (!Prepare(pool, constraints, options.num_poses, "detmax", summary,
-               &eligible, &is_fixed)) {
+  if (!Prepare(pool, constraints, options, "detmax", summary, &eligible,
+               &is_fixed)) {
     return false;
   }
   std::vector<std::string> notes(options.restarts);
@@ -622,10 +620,7 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
         result.ok = std::isfinite(result.log_det);
         return result;
       });
-  Finish(
-      best, options.restarts, start,
-      best.restart < static_cast<int>(notes.size()) ? notes[best.restart] : "",
-      summary);
+  Finish(best, options.restarts, start, NoteOf(notes, best.restart), summary);
   return summary->success;
 }
 
@@ -634,13 +629,11 @@ bool GreedyDesign(const CandidatePool& pool,
                   const GreedyOptions& options, SelectionSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<char> eligible, is_fixed;
-  if (!Prepare(pool, constraints, options.num_poses, "greedy", summary,
-               &eligible, &is_fixed)) {
+  if (!Prepare(pool, constraints, options, "greedy", summary, &eligible,
+               &is_fixed)) {
     return false;
   }
-  const int p = pool.num_parameters();
-  const double eps = 1e-9 * pool.stacked().squaredNorm() / p /
-                     std::max<int64_t>(1, pool.size());
+  const double eps = internal::RegularisingRidge(pool);
   Design design(pool, eps);
   for (int64_t f : constraints.fixed) design.Add(f);
   RestartResult result;

@@ -83,6 +83,10 @@ class EigenvalueScorer : public Scorer {
   double value_ = -std::numeric_limits<double>::infinity();
 };
 
+// The ridge eps used while a design is singular: 1e-9 times the mean
+// diagonal entry of one pool pose's X_i^T X_i.
+double RegularisingRidge(const CandidatePool& pool);
+
 // Completes a singular design greedily on M + eps I until M is positive
 // definite. Returns the number of poses added, or -1 if the eligible pool
 // cannot make M positive definite.

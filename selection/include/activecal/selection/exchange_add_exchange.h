@@ -20,7 +20,8 @@
 //
 // An initial design with fewer than p independent rows is singular. It is
 // completed greedily, one pose at a time maximising log det(M + eps I) with
-// eps = 1e-9 * trace(pool information) / p, until M itself is positive
+// eps = 1e-9 * the mean diagonal entry of one pool pose's X_i^T X_i, until
+// M itself is positive
 // definite; the summary's message says so.
 
 #ifndef ACTIVECAL_SELECTION_EXCHANGE_ADD_EXCHANGE_H_

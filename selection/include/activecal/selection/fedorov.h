@@ -84,6 +84,8 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
 struct GreedyOptions {
   int num_poses = 30;
   int num_threads = 0;
+
+  bool IsValid(std::string* error) const;
 };
 
 bool GreedyDesign(const CandidatePool& pool,
