@@ -214,7 +214,7 @@ TEST(RobotModelTest, RejectsBadModelsWithMessages) {
   m = Puma560PaperModel();
   m.nominal.conservativeResize(10);
   EXPECT_FALSE(m.Validate(&error));
-  EXPECT_NE(error.find("expected 45"), std::string::npos) << error;
+  EXPECT_NE(error.find("expected 48"), std::string::npos) << error;
 }
 
 TEST(RobotModelTest, ChecksJointValues) {
@@ -312,7 +312,7 @@ TEST(SimulationTest, NoiseFreeMatchesKinematicsAndSeedReproduces) {
   joints(0, 3) = std::nan("");
   EXPECT_FALSE(
       SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
-  EXPECT_NE(error.find("pose 0"), std::string::npos) << error;
+  EXPECT_NE(error.find("measurement 0"), std::string::npos) << error;
   EXPECT_FALSE(SimulatePositionMeasurements(m, truth, joints.leftCols(4), 0.01,
                                             5, &noisy1, &error));
 }

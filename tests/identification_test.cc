@@ -102,7 +102,7 @@ TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   data = PumaMeasurements(30, 0.01, 1);
   data[7].joints.resize(5);
   EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
-  EXPECT_NE(summary.message.find("measurement 7: expected 6 joint values"),
+  EXPECT_NE(summary.message.find("measurement 7: joints: expected 6 joint values"),
             std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
@@ -114,7 +114,7 @@ TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   EXPECT_FALSE(Identify(m, PumaMeasurements(30, 0.01, 1), initial,
                         IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("initial values"), std::string::npos);
-  EXPECT_FALSE(Identify(m, {}, m.nominal, IdentificationOptions(), &summary));
+  EXPECT_FALSE(Identify(m, std::vector<Measurement>{}, m.nominal, IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("too few equations: 0"), std::string::npos)
       << summary.message;
 }

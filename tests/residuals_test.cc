@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -8,68 +9,180 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/position_residual.h"
+#include "activecal/residuals/measurement_residual.h"
 #include "test_util.h"
 
 namespace activecal {
 namespace {
 
-// Central differences of the measured point with respect to each free
-// parameter, step h scaled to the parameter.
-Eigen::MatrixXd CentralDifferenceJacobian(const RobotModel& m,
+// The residual rows of measurement `m` at full parameters p (double
+// evaluation of the cost function, no derivatives).
+Eigen::VectorXd ResidualAt(const RobotModel& model, const Eigen::VectorXd& p,
+                           const Measurement& m, double weight) {
+  auto shared = std::make_shared<const RobotModel>(model);
+  std::unique_ptr<ceres::CostFunction> cost(
+      MeasurementResidual::Create(shared, m, weight));
+  const std::vector<const double*> blocks = BlockPointers(model, p.data());
+  Eigen::VectorXd r(m.dimension());
+  EXPECT_TRUE(cost->Evaluate(blocks.data(), r.data(), nullptr));
+  return r;
+}
+
+// Central differences of the residual with respect to each free parameter,
+// step h scaled to the parameter.
+Eigen::MatrixXd CentralDifferenceJacobian(const RobotModel& model,
                                           const Eigen::VectorXd& p,
-                                          const Eigen::VectorXd& q) {
-  const std::vector<int> free = m.FreeParameterIndices();
-  Eigen::MatrixXd J(3, free.size());
+                                          const Measurement& m,
+                                          double weight) {
+  const std::vector<int> free = model.FreeParameterIndices();
+  Eigen::MatrixXd J(m.dimension(), free.size());
   for (size_t c = 0; c < free.size(); ++c) {
     const double h = 1e-6 * std::max(1.0, std::abs(p[free[c]]));
     Eigen::VectorXd plus = p, minus = p;
     plus[free[c]] += h;
     minus[free[c]] -= h;
-    J.col(c) =
-        (MeasuredPoint(m, plus, q) - MeasuredPoint(m, minus, q)) / (2 * h);
+    J.col(c) = (ResidualAt(model, plus, m, weight) -
+                ResidualAt(model, minus, m, weight)) /
+               (2 * h);
   }
   return J;
 }
 
-void CheckJacobiansAgainstCentralDifferences(const RobotModel& m,
+void CheckJacobiansAgainstCentralDifferences(const RobotModel& model,
+                                             MeasurementType type,
                                              uint64_t seed) {
   Random random(seed);
+  const double weight = 0.3;
   for (int trial = 0; trial < 25; ++trial) {
-    Eigen::VectorXd p = m.nominal;
+    Eigen::VectorXd p = model.nominal;
     for (int i = 0; i < p.size(); ++i) p[i] += 0.1 * random.Gaussian();
-    const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+    Measurement m;
+    m.type = type;
+    m.joints = testing::RandomJoints(model, &random);
+    m.joints2 = testing::RandomJoints(model, &random);
+    // Measured values near, not at, the prediction: the rotation log away
+    // from zero exercises its general branch.
+    m = PredictMeasurement(model, p, m);
+    m.position += Eigen::Vector3d(0.01, -0.02, 0.03);
+    m.rotation += Eigen::Vector3d(0.05, 0.02, -0.04);
+    m.distance += 0.01;
     Eigen::MatrixXd J;
     std::string error;
-    ASSERT_TRUE(PositionJacobian(m, p, q, &J, &error)) << error;
-    const Eigen::MatrixXd N = CentralDifferenceJacobian(m, p, q);
-    ASSERT_EQ(J.rows(), 3);
-    ASSERT_EQ(J.cols(), m.num_free());
+    ASSERT_TRUE(MeasurementJacobian(model, p, m, weight, &J, &error)) << error;
+    const Eigen::MatrixXd N = CentralDifferenceJacobian(model, p, m, weight);
+    ASSERT_EQ(J.rows(), m.dimension());
+    ASSERT_EQ(J.cols(), model.num_free());
     for (int c = 0; c < J.cols(); ++c) {
       EXPECT_LT((J.col(c) - N.col(c)).norm(),
                 1e-7 * std::max(1.0, N.col(c).norm()))
-          << m.FreeParameterNames()[c] << " trial " << trial;
+          << MeasurementTypeName(type) << " " << model.FreeParameterNames()[c]
+          << " trial " << trial;
     }
   }
 }
 
-TEST(PositionResidualTest, PumaJacobianMatchesCentralDifferences) {
-  CheckJacobiansAgainstCentralDifferences(Puma560PaperModel(), 1);
+// The mixed model with its tool orientation free, which only 6D pose
+// measurements see.
+RobotModel MixedModelWithToolAngles() {
+  RobotModel m = testing::MixedModel();
+  m.tool_free = {true, true, true, true, true, true};
+  m.nominal.tail(3) << 0.1, -0.2, 0.3;
+  return m;
 }
 
-TEST(PositionResidualTest, MixedModelJacobianMatchesCentralDifferences) {
+TEST(MeasurementResidualTest, PumaPositionJacobianMatchesCentralDifferences) {
+  CheckJacobiansAgainstCentralDifferences(Puma560PaperModel(),
+                                          MeasurementType::kPosition, 1);
+}
+
+TEST(MeasurementResidualTest, MixedModelJacobiansMatchCentralDifferences) {
   // Standard DH, Hayati, modified DH, a prismatic joint, gains, tool.
-  CheckJacobiansAgainstCentralDifferences(testing::MixedModel(), 2);
+  for (MeasurementType type : {MeasurementType::kPosition,
+                               MeasurementType::kPose,
+                               MeasurementType::kDistance}) {
+    CheckJacobiansAgainstCentralDifferences(MixedModelWithToolAngles(), type,
+                                            2);
+  }
 }
 
-TEST(PositionResidualTest, ResidualIsPredictedMinusMeasured) {
+TEST(MeasurementResidualTest, PoseJacobianAtZeroRotationError) {
+  // At a perfect measurement the rotation log is at its small-angle branch.
+  const RobotModel model = MixedModelWithToolAngles();
+  Random random(7);
+  Measurement m;
+  m.type = MeasurementType::kPose;
+  m.joints = testing::RandomJoints(model, &random);
+  m = PredictMeasurement(model, model.nominal, m);
+  Eigen::MatrixXd J;
+  std::string error;
+  ASSERT_TRUE(MeasurementJacobian(model, model.nominal, m, 1.0, &J, &error));
+  const Eigen::MatrixXd N =
+      CentralDifferenceJacobian(model, model.nominal, m, 1.0);
+  EXPECT_LT((J - N).norm(), 1e-6 * std::max(1.0, N.norm()));
+  EXPECT_LT(ResidualAt(model, model.nominal, m, 1.0).norm(), 1e-12);
+}
+
+TEST(MeasurementResidualTest, PoseAndDistanceResidualValues) {
+  const RobotModel model = testing::MixedModel();
+  Random random(3);
+  Measurement m;
+  m.type = MeasurementType::kPose;
+  m.joints = testing::RandomJoints(model, &random);
+  m.joints2 = testing::RandomJoints(model, &random);
+  const Measurement truth = PredictMeasurement(model, model.nominal, m);
+  // A measured orientation turned by 0.1 rad about z in the target frame:
+  // the rotation rows are the weighted log of that turn, -0.1 about z.
+  m = truth;
+  m.position += Eigen::Vector3d(0.001, 0.002, 0.003);
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(truth.rotation.norm(), truth.rotation.normalized())
+          .toRotationMatrix() *
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::AngleAxisd aa(R);
+  m.rotation = aa.angle() * aa.axis();
+  const Eigen::VectorXd r = ResidualAt(model, model.nominal, m, 2.0);
+  EXPECT_NEAR(r[0], -0.001, 1e-12);
+  EXPECT_NEAR(r[1], -0.002, 1e-12);
+  EXPECT_NEAR(r[2], -0.003, 1e-12);
+  EXPECT_NEAR(r[3], 0.0, 1e-10);
+  EXPECT_NEAR(r[4], 0.0, 1e-10);
+  EXPECT_NEAR(r[5], -0.2, 1e-10);
+  // Distance: the predicted distance minus the measured one.
+  m.type = MeasurementType::kDistance;
+  m.distance = 0.5;
+  const double predicted =
+      (MeasuredPoint(model, model.nominal, m.joints) -
+       MeasuredPoint(model, model.nominal, m.joints2))
+          .norm();
+  EXPECT_NEAR(ResidualAt(model, model.nominal, m, 1.0)[0], predicted - 0.5,
+              1e-12);
+}
+
+TEST(MeasurementResidualTest, ToolAnglesOnlyMoveTheOrientation) {
+  const RobotModel model = MixedModelWithToolAngles();
+  Random random(4);
+  Measurement m;
+  m.type = MeasurementType::kPose;
+  m.joints = testing::RandomJoints(model, &random);
+  Eigen::MatrixXd J;
+  std::string error;
+  ASSERT_TRUE(MeasurementJacobian(model, model.nominal, m, 1.0, &J, &error));
+  // The last three free parameters are tool.rx, ry, rz.
+  EXPECT_EQ(J.topRightCorner(3, 3).norm(), 0.0);
+  EXPECT_GT(J.bottomRightCorner(3, 3).norm(), 0.5);
+  m.type = MeasurementType::kPosition;
+  ASSERT_TRUE(MeasurementJacobian(model, model.nominal, m, 1.0, &J, &error));
+  EXPECT_EQ(J.rightCols(3).norm(), 0.0);
+}
+
+TEST(MeasurementResidualTest, ResidualIsPredictedMinusMeasured) {
   const RobotModel m = Puma560PaperModel();
   auto shared = std::make_shared<const RobotModel>(m);
   Eigen::VectorXd q(6);
   q << 0.1, 0.2, -0.3, 0.4, 0.5, -0.6;
   const Eigen::Vector3d measured(1.0, 2.0, 3.0);
   std::unique_ptr<ceres::CostFunction> cost(
-      PositionResidual::Create(shared, q, measured));
+      MeasurementResidual::CreatePosition(shared, q, measured));
   ASSERT_EQ(cost->parameter_block_sizes().size(), 8u);
   ASSERT_EQ(cost->num_residuals(), 3);
   const std::vector<const double*> blocks = BlockPointers(m, m.nominal.data());
@@ -121,7 +234,7 @@ TEST(PoolJacobiansTest, BadInputGivesMessages) {
   Eigen::MatrixXd J;
   EXPECT_FALSE(PositionJacobian(m, m.nominal.head(20), Eigen::VectorXd::Zero(6),
                                 &J, &error));
-  EXPECT_NE(error.find("expected 45 parameter values, got 20"),
+  EXPECT_NE(error.find("expected 48 parameter values, got 20"),
             std::string::npos)
       << error;
 }

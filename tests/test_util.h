@@ -77,7 +77,7 @@ inline RobotModel MixedModel() {
       0.01, 0.02, 0.43, 0.0, 0.01, 1.0,          // L2 Hayati
       0.3, 1.2, 0.1, 0.05, 0.0, 1.0,             // L3 modified DH, prismatic
       -0.2, 0.7, 0.2, 0.1, 0.0, 0.98,            // L4 DH
-      0.05, -0.02, 0.12;                         // tool
+      0.05, -0.02, 0.12, 0.0, 0.0, 0.0;          // tool point, angles
   return m;
 }
 

@@ -14,7 +14,8 @@ const char* LinkParameterName(int index) {
 }
 
 const char* ToolParameterName(int index) {
-  static const char* const kNames[kToolBlockSize] = {"x", "y", "z"};
+  static const char* const kNames[kToolBlockSize] = {"x",  "y",  "z",
+                                                     "rx", "ry", "rz"};
   return kNames[index];
 }
 
@@ -54,6 +55,26 @@ bool RobotModel::IsFree(int parameter_index) const {
   const int within = parameter_index % kLinkBlockSize;
   if (block == num_joints() + 1) return tool_free[within];
   return link(block).free[within];
+}
+
+void RobotModel::SetFree(int parameter_index, bool free) {
+  const int block = parameter_index / kLinkBlockSize;
+  const int within = parameter_index % kLinkBlockSize;
+  if (block == num_joints() + 1) {
+    tool_free[within] = free;
+  } else if (block == 0) {
+    base.free[within] = free;
+  } else {
+    links[block - 1].free[within] = free;
+  }
+}
+
+int RobotModel::ParameterIndex(const std::string& parameter_name) const {
+  const std::vector<std::string> names = ParameterNames();
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == parameter_name) return static_cast<int>(i);
+  }
+  return -1;
 }
 
 int RobotModel::num_free() const {
@@ -207,6 +228,14 @@ Eigen::Vector3d MeasuredPoint(const RobotModel& model,
   const std::vector<const double*> blocks =
       BlockPointers(model, parameters.data());
   return MeasuredPoint<double>(model, blocks.data(), q.data());
+}
+
+void TargetFrame(const RobotModel& model, const Eigen::VectorXd& parameters,
+                 const Eigen::VectorXd& q, Eigen::Matrix3d* R,
+                 Eigen::Vector3d* t) {
+  const std::vector<const double*> blocks =
+      BlockPointers(model, parameters.data());
+  TargetFrame<double>(model, blocks.data(), q.data(), R, t);
 }
 
 }  // namespace activecal

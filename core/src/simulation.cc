@@ -1,5 +1,6 @@
 #include "activecal/core/simulation.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <sstream>
 
@@ -7,6 +8,82 @@
 #include "activecal/core/random.h"
 
 namespace activecal {
+namespace {
+
+bool CheckNoise(double sigma, const char* what, std::string* error) {
+  if (sigma >= 0.0 && std::isfinite(sigma)) return true;
+  if (error) {
+    std::ostringstream msg;
+    msg << "simulation: " << what
+        << " noise standard deviation must be finite and >= 0, got " << sigma;
+    *error = msg.str();
+  }
+  return false;
+}
+
+}  // namespace
+
+bool SimulateMeasurements(const RobotModel& model,
+                          const Eigen::VectorXd& true_parameters,
+                          const std::vector<Measurement>& plan,
+                          const SimulationNoise& noise, uint64_t seed,
+                          std::vector<Measurement>* out, std::string* error) {
+  if (!model.CheckParameters(true_parameters, error)) return false;
+  if (!CheckNoise(noise.position_m, "position", error) ||
+      !CheckNoise(noise.rotation_rad, "rotation", error)) {
+    return false;
+  }
+  std::vector<Measurement> result;
+  result.reserve(plan.size());
+  Random random(seed);
+  for (size_t i = 0; i < plan.size(); ++i) {
+    Measurement like = plan[i];
+    like.position.setZero();
+    like.rotation.setZero();
+    like.distance = 0.0;
+    std::string why;
+    if (!CheckMeasurement(model, like, &why)) {
+      if (error) {
+        *error = "simulation: measurement " + std::to_string(i) + ": " + why;
+      }
+      return false;
+    }
+    Measurement m = PredictMeasurement(model, true_parameters, like);
+    switch (m.type) {
+      case MeasurementType::kPosition:
+        for (int k = 0; k < 3; ++k) {
+          m.position[k] += noise.position_m * random.Gaussian();
+        }
+        break;
+      case MeasurementType::kPose: {
+        for (int k = 0; k < 3; ++k) {
+          m.position[k] += noise.position_m * random.Gaussian();
+        }
+        Eigen::Vector3d w;
+        for (int k = 0; k < 3; ++k) w[k] = noise.rotation_rad * random.Gaussian();
+        const Eigen::Matrix3d R_true =
+            Eigen::AngleAxisd(m.rotation.norm(),
+                              m.rotation.norm() > 0
+                                  ? Eigen::Vector3d(m.rotation.normalized())
+                                  : Eigen::Vector3d::UnitX())
+                .toRotationMatrix();
+        const Eigen::Matrix3d R_noise =
+            w.norm() > 0
+                ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                : Eigen::Matrix3d::Identity();
+        const Eigen::AngleAxisd aa(R_true * R_noise);
+        m.rotation = aa.angle() * aa.axis();
+        break;
+      }
+      case MeasurementType::kDistance:
+        m.distance += noise.position_m * random.Gaussian();
+        break;
+    }
+    result.push_back(std::move(m));
+  }
+  *out = std::move(result);
+  return true;
+}
 
 bool SimulatePositionMeasurements(const RobotModel& model,
                                   const Eigen::VectorXd& true_parameters,
@@ -14,33 +91,21 @@ bool SimulatePositionMeasurements(const RobotModel& model,
                                   uint64_t seed,
                                   std::vector<PositionMeasurement>* out,
                                   std::string* error) {
-  if (!model.CheckParameters(true_parameters, error)) return false;
-  if (!(noise_m >= 0.0) || !std::isfinite(noise_m)) {
-    if (error) {
-      std::ostringstream msg;
-      msg << "simulation: noise standard deviation must be finite and >= 0, "
-          << "got " << noise_m;
-      *error = msg.str();
-    }
+  std::vector<Measurement> plan(joints.rows());
+  for (int i = 0; i < joints.rows(); ++i) {
+    plan[i].joints = joints.row(i).transpose();
+  }
+  SimulationNoise noise;
+  noise.position_m = noise_m;
+  std::vector<Measurement> measured;
+  if (!SimulateMeasurements(model, true_parameters, plan, noise, seed,
+                            &measured, error)) {
     return false;
   }
-  std::vector<PositionMeasurement> result;
-  result.reserve(joints.rows());
-  Random random(seed);
-  for (int i = 0; i < joints.rows(); ++i) {
-    const Eigen::VectorXd q = joints.row(i).transpose();
-    std::string why;
-    if (!model.CheckJointValues(q, &why)) {
-      if (error) *error = "simulation: pose " + std::to_string(i) + ": " + why;
-      return false;
-    }
-    PositionMeasurement m;
-    m.joints = q;
-    m.position = MeasuredPoint(model, true_parameters, q);
-    for (int k = 0; k < 3; ++k) m.position[k] += noise_m * random.Gaussian();
-    result.push_back(std::move(m));
+  out->clear();
+  for (Measurement& m : measured) {
+    out->push_back({std::move(m.joints), m.position});
   }
-  *out = std::move(result);
   return true;
 }
 

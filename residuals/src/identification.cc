@@ -11,13 +11,46 @@
 #include <sstream>
 
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/position_residual.h"
+#include "activecal/residuals/measurement_residual.h"
 
 namespace activecal {
 
+const char* RobustLossName(RobustLoss loss) {
+  switch (loss) {
+    case RobustLoss::kNone:
+      return "none";
+    case RobustLoss::kHuber:
+      return "huber";
+    case RobustLoss::kCauchy:
+      return "cauchy";
+  }
+  return "unknown";
+}
+
+bool ParseRobustLoss(const std::string& name, RobustLoss* loss) {
+  for (RobustLoss l :
+       {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
+    if (name == RobustLossName(l)) {
+      *loss = l;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool IdentificationOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (max_num_iterations <= 0) {
+  if (robust_loss != RobustLoss::kNone &&
+      !(robust_scale_m > 0 && std::isfinite(robust_scale_m))) {
+    msg << "robust loss '" << RobustLossName(robust_loss)
+        << "' needs robust_scale_m > 0 (m), got " << robust_scale_m;
+  } else if (!(outlier_threshold > 0)) {
+    msg << "outlier_threshold must be > 0, got " << outlier_threshold;
+  } else if (!(rotation_weight_m_per_rad > 0 &&
+               std::isfinite(rotation_weight_m_per_rad))) {
+    msg << "rotation_weight_m_per_rad must be finite and > 0, got "
+        << rotation_weight_m_per_rad;
+  } else if (max_num_iterations <= 0) {
     msg << "max_num_iterations must be > 0, got " << max_num_iterations;
   } else if (!(function_tolerance >= 0 && gradient_tolerance >= 0 &&
                parameter_tolerance >= 0)) {
@@ -97,11 +130,68 @@ IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
   return report;
 }
 
+std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
+                                        double rank_tolerance) {
+  const int p = static_cast<int>(jacobian.cols());
+  Eigen::MatrixXd scaled = jacobian;
+  std::vector<int> to_fix;
+  std::vector<int> live;
+  for (int c = 0; c < p; ++c) {
+    const double norm = scaled.col(c).norm();
+    if (norm > 0) {
+      scaled.col(c) /= norm;
+      live.push_back(c);
+    } else {
+      to_fix.push_back(c);
+    }
+  }
+  Eigen::MatrixXd kept(scaled.rows(), live.size());
+  for (size_t k = 0; k < live.size(); ++k) kept.col(k) = scaled.col(live[k]);
+  if (!live.empty()) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(kept);
+    const Eigen::VectorXd sv = svd.singularValues();
+    int rank = 0;
+    for (int i = 0; i < sv.size(); ++i) {
+      if (sv[i] > rank_tolerance * sv[0]) ++rank;
+    }
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(kept);
+    const auto& perm = qr.colsPermutation().indices();
+    for (int k = rank; k < static_cast<int>(live.size()); ++k) {
+      to_fix.push_back(live[perm[k]]);
+    }
+  }
+  std::sort(to_fix.begin(), to_fix.end());
+  return to_fix;
+}
+
 namespace {
 
-double Rms3d(const Eigen::VectorXd& residuals) {
-  const int n = static_cast<int>(residuals.size() / 3);
-  return n ? std::sqrt(residuals.squaredNorm() / n) : 0.0;
+double Rms(const Eigen::VectorXd& norms) {
+  return norms.size() ? std::sqrt(norms.squaredNorm() / norms.size()) : 0.0;
+}
+
+// Norm of each measurement's rows of the stacked residual vector.
+Eigen::VectorXd BlockNorms(const std::vector<Measurement>& measurements,
+                           const Eigen::VectorXd& residuals) {
+  Eigen::VectorXd norms(measurements.size());
+  int row = 0;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const int t = measurements[i].dimension();
+    norms[i] = residuals.segment(row, t).norm();
+    row += t;
+  }
+  return norms;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0) {
+    m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + mid));
+  }
+  return m;
 }
 
 bool EvaluateResiduals(ceres::Problem* problem, Eigen::VectorXd* out) {
@@ -118,7 +208,7 @@ bool EvaluateResiduals(ceres::Problem* problem, Eigen::VectorXd* out) {
 }  // namespace
 
 bool Identify(const RobotModel& model,
-              const std::vector<PositionMeasurement>& measurements,
+              const std::vector<Measurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
               IdentificationSummary* summary) {
@@ -127,7 +217,10 @@ bool Identify(const RobotModel& model,
   summary->names = model.FreeParameterNames();
   summary->num_free = model.num_free();
   summary->num_measurements = static_cast<int>(measurements.size());
-  summary->num_residuals = 3 * summary->num_measurements;
+  summary->num_residuals = 0;
+  for (const Measurement& m : measurements) {
+    summary->num_residuals += m.dimension();
+  }
   std::string error;
   auto fail = [summary](const std::string& why) {
     summary->success = false;
@@ -141,25 +234,12 @@ bool Identify(const RobotModel& model,
   }
   if (summary->num_free == 0) return fail("no free parameters to identify");
   const int p = summary->num_free;
-  for (size_t i = 0; i < measurements.size(); ++i) {
-    const PositionMeasurement& m = measurements[i];
-    if (!model.CheckJointValues(m.joints, &error)) {
-      return fail("measurement " + std::to_string(i) + ": " + error);
-    }
-    if (!m.position.allFinite()) {
-      return fail("measurement " + std::to_string(i) +
-                  ": measured position is not finite");
-    }
-  }
-
-  // Identifiability at the starting point, before any solving.
-  Eigen::MatrixXd stacked(3 * measurements.size(), p);
-  for (size_t i = 0; i < measurements.size(); ++i) {
-    Eigen::MatrixXd J;
-    if (!PositionJacobian(model, initial, measurements[i].joints, &J, &error)) {
-      return fail("measurement " + std::to_string(i) + ": " + error);
-    }
-    stacked.middleRows(3 * i, 3) = J;
+  // Identifiability at the starting point, before any solving (this also
+  // checks every measurement).
+  Eigen::MatrixXd stacked;
+  if (!StackedJacobian(model, initial, measurements,
+                       options.rotation_weight_m_per_rad, &stacked, &error)) {
+    return fail(error);
   }
   summary->identifiability =
       AnalyzeIdentifiability(model, stacked, options.rank_tolerance);
@@ -176,10 +256,17 @@ bool Identify(const RobotModel& model,
   }
   ceres::Problem problem;
   auto shared = std::make_shared<const RobotModel>(model);
-  for (const PositionMeasurement& m : measurements) {
+  for (const Measurement& m : measurements) {
+    ceres::LossFunction* loss = nullptr;
+    if (options.robust_loss == RobustLoss::kHuber) {
+      loss = new ceres::HuberLoss(options.robust_scale_m);
+    } else if (options.robust_loss == RobustLoss::kCauchy) {
+      loss = new ceres::CauchyLoss(options.robust_scale_m);
+    }
     problem.AddResidualBlock(
-        PositionResidual::Create(shared, m.joints, m.position), nullptr,
-        blocks);
+        MeasurementResidual::Create(shared, m,
+                                    options.rotation_weight_m_per_rad),
+        loss, blocks);
   }
   std::vector<const double*> free_blocks;
   for (int b = 0; b < model.num_blocks(); ++b) {
@@ -199,7 +286,8 @@ bool Identify(const RobotModel& model,
   }
   Eigen::VectorXd r0;
   EvaluateResiduals(&problem, &r0);
-  summary->initial_rms_m = Rms3d(r0);
+  summary->initial_residual_norms = BlockNorms(measurements, r0);
+  summary->initial_rms_m = Rms(summary->initial_residual_norms);
 
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
@@ -218,10 +306,36 @@ bool Identify(const RobotModel& model,
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
   EvaluateResiduals(&problem, &summary->residuals);
-  summary->rms_m = Rms3d(summary->residuals);
-  const int dof = summary->num_residuals - p;
-  summary->sigma_m =
-      dof > 0 ? std::sqrt(summary->residuals.squaredNorm() / dof) : 0.0;
+  summary->residual_norms = BlockNorms(measurements, summary->residuals);
+  summary->rms_m = Rms(summary->residual_norms);
+  // Outliers: rows beyond outlier_threshold robust standard deviations.
+  {
+    std::vector<double> abs_rows(summary->residuals.size());
+    for (int k = 0; k < summary->residuals.size(); ++k) {
+      abs_rows[k] = std::abs(summary->residuals[k]);
+    }
+    const double robust_sigma = 1.4826 * Median(abs_rows);
+    int row = 0;
+    for (size_t i = 0; i < measurements.size(); ++i) {
+      const int t = measurements[i].dimension();
+      if (summary->residuals.segment(row, t).cwiseAbs().maxCoeff() >
+          options.outlier_threshold * robust_sigma) {
+        summary->outliers.push_back(static_cast<int>(i));
+      }
+      row += t;
+    }
+  }
+  // s^2 over all rows; with a robust loss over the rows of the inliers.
+  double ssr = summary->residuals.squaredNorm();
+  int rows_used = summary->num_residuals;
+  if (options.robust_loss != RobustLoss::kNone) {
+    for (int i : summary->outliers) {
+      ssr -= summary->residual_norms[i] * summary->residual_norms[i];
+      rows_used -= measurements[i].dimension();
+    }
+  }
+  const int dof = rows_used - p;
+  summary->sigma_m = dof > 0 ? std::sqrt(std::max(0.0, ssr) / dof) : 0.0;
   if (!summary->converged) {
     return fail("the solver did not converge: " + ss.message);
   }
@@ -249,6 +363,15 @@ bool Identify(const RobotModel& model,
   }
   summary->covariance = cov * (summary->sigma_m * summary->sigma_m);
   summary->standard_deviations = summary->covariance.diagonal().cwiseSqrt();
+  summary->correlation = summary->covariance;
+  for (int i = 0; i < p; ++i) {
+    for (int j = 0; j < p; ++j) {
+      const double denom = summary->standard_deviations[i] *
+                           summary->standard_deviations[j];
+      summary->correlation(i, j) =
+          denom > 0 ? summary->covariance(i, j) / denom : 0.0;
+    }
+  }
   summary->success = true;
   std::ostringstream msg;
   msg << "identified " << p << " parameters from " << summary->num_measurements
@@ -257,14 +380,30 @@ bool Identify(const RobotModel& model,
   return true;
 }
 
+bool Identify(const RobotModel& model,
+              const std::vector<PositionMeasurement>& measurements,
+              const Eigen::VectorXd& initial,
+              const IdentificationOptions& options,
+              IdentificationSummary* summary) {
+  std::vector<Measurement> general(measurements.size());
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    general[i].joints = measurements[i].joints;
+    general[i].position = measurements[i].position;
+  }
+  return Identify(model, general, initial, options, summary);
+}
+
 std::string IdentificationSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal identification: " << (success ? "SUCCESS" : "FAILURE")
       << "\n  " << message << "\n";
   out << "  measurements: " << num_measurements << " (" << num_residuals
       << " equations), free parameters: " << num_free << "\n";
-  out << "  RMS 3D residual: " << initial_rms_m << " m at start -> " << rms_m
-      << " m at the estimate; sigma per axis " << sigma_m << " m\n";
+  out << "  RMS residual: " << initial_rms_m << " m at start -> " << rms_m
+      << " m at the estimate; sigma per row " << sigma_m << " m\n";
+  if (!outliers.empty()) {
+    out << "  outliers flagged: " << outliers.size() << " measurement(s)\n";
+  }
   out << "  solver: " << solver_summary.BriefReport() << "\n";
   return out.str();
 }

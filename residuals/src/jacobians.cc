@@ -5,50 +5,60 @@
 #include <vector>
 
 #include "activecal/core/parallel.h"
-#include "activecal/residuals/position_residual.h"
+#include "activecal/residuals/measurement_residual.h"
 
 namespace activecal {
 namespace {
 
-// Evaluates PositionResidual Jacobians for one model and parameter vector,
-// asking Ceres only for blocks that hold free parameters. Not thread-safe:
-// use one per thread.
+// Evaluates MeasurementResidual Jacobians for one model and parameter
+// vector, asking Ceres only for blocks that hold free parameters. Not
+// thread-safe: use one per thread.
 class JacobianEvaluator {
  public:
   JacobianEvaluator(std::shared_ptr<const RobotModel> model,
-                    const Eigen::VectorXd& parameters)
-      : model_(std::move(model)), parameters_(parameters) {
+                    const Eigen::VectorXd& parameters, double rotation_weight)
+      : model_(std::move(model)),
+        parameters_(parameters),
+        rotation_weight_(rotation_weight) {
     const RobotModel& m = *model_;
     blocks_ = BlockPointers(m, parameters_.data());
     block_jacobians_.resize(m.num_blocks());
     jacobian_ptrs_.assign(m.num_blocks(), nullptr);
     for (int b = 0; b < m.num_blocks(); ++b) {
-      const size_t before = columns_.size();
       for (int j = 0; j < m.block_size(b); ++j) {
         if (m.IsFree(m.block_offset(b) + j)) columns_.push_back({b, j});
-      }
-      // Ask Ceres only for the blocks that hold a free parameter.
-      if (columns_.size() > before) {
-        block_jacobians_[b].resize(3 * m.block_size(b));
-        jacobian_ptrs_[b] = block_jacobians_[b].data();
       }
     }
   }
 
-  // Writes the 3 x num_free Jacobian, row-major, to out.
-  bool Evaluate(const Eigen::VectorXd& q, double* out) {
+  // Writes the dimension() x num_free Jacobian, row-major, to `jacobian`
+  // and, if not null, the residuals to `residuals`.
+  bool Evaluate(const Measurement& measurement, double* jacobian,
+                double* residuals = nullptr) {
+    const RobotModel& m = *model_;
+    const int rows = measurement.dimension();
     std::unique_ptr<ceres::CostFunction> cost(
-        PositionResidual::Create(model_, q, Eigen::Vector3d::Zero()));
-    double residuals[3];
-    if (!cost->Evaluate(blocks_.data(), residuals, jacobian_ptrs_.data())) {
+        MeasurementResidual::Create(model_, measurement, rotation_weight_));
+    double r[6];
+    if (jacobian) {
+      // Ask Ceres only for the blocks that hold a free parameter.
+      for (const auto& [b, j] : columns_) {
+        block_jacobians_[b].resize(rows * m.block_size(b));
+        jacobian_ptrs_[b] = block_jacobians_[b].data();
+      }
+    }
+    if (!cost->Evaluate(blocks_.data(), r,
+                        jacobian ? jacobian_ptrs_.data() : nullptr)) {
       return false;
     }
+    if (residuals) std::copy(r, r + rows, residuals);
+    if (!jacobian) return true;
     const int p = static_cast<int>(columns_.size());
     for (int c = 0; c < p; ++c) {
       const auto [b, j] = columns_[c];
-      const int size = model_->block_size(b);
-      for (int r = 0; r < 3; ++r) {
-        out[r * p + c] = block_jacobians_[b][r * size + j];
+      const int size = m.block_size(b);
+      for (int k = 0; k < rows; ++k) {
+        jacobian[k * p + c] = block_jacobians_[b][k * size + j];
       }
     }
     return true;
@@ -57,6 +67,7 @@ class JacobianEvaluator {
  private:
   std::shared_ptr<const RobotModel> model_;
   Eigen::VectorXd parameters_;
+  double rotation_weight_;
   std::vector<const double*> blocks_;
   std::vector<std::vector<double>> block_jacobians_;
   std::vector<double*> jacobian_ptrs_;
@@ -64,41 +75,130 @@ class JacobianEvaluator {
 };
 
 bool CheckInputs(const RobotModel& model, const Eigen::VectorXd& parameters,
-                 std::string* error) {
+                 double rotation_weight, std::string* error) {
   if (!model.Validate(error)) return false;
   if (!model.CheckParameters(parameters, error)) return false;
   if (model.num_free() == 0) {
     if (error) *error = "robot '" + model.name + "': no free parameters";
     return false;
   }
+  if (!(rotation_weight > 0) || !std::isfinite(rotation_weight)) {
+    if (error) {
+      *error = "rotation weight must be finite and > 0, got " +
+               std::to_string(rotation_weight);
+    }
+    return false;
+  }
+  return true;
+}
+
+bool CheckAll(const RobotModel& model,
+              const std::vector<Measurement>& measurements,
+              std::string* error) {
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    std::string why;
+    if (!CheckMeasurement(model, measurements[i], &why)) {
+      if (error) *error = "measurement " + std::to_string(i) + ": " + why;
+      return false;
+    }
+  }
   return true;
 }
 
 }  // namespace
 
+bool MeasurementJacobian(const RobotModel& model,
+                         const Eigen::VectorXd& parameters,
+                         const Measurement& measurement,
+                         double rotation_weight_m_per_rad,
+                         Eigen::MatrixXd* jacobian, std::string* error) {
+  return StackedJacobian(model, parameters, {measurement},
+                         rotation_weight_m_per_rad, jacobian, error);
+}
+
 bool PositionJacobian(const RobotModel& model,
                       const Eigen::VectorXd& parameters,
                       const Eigen::VectorXd& joints, Eigen::MatrixXd* jacobian,
                       std::string* error) {
-  if (!CheckInputs(model, parameters, error)) return false;
+  Measurement m;
+  m.joints = joints;
+  if (!CheckInputs(model, parameters, 1.0, error)) return false;
   if (!model.CheckJointValues(joints, error)) return false;
-  JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
-                              parameters);
-  RowMatrixXd J(3, model.num_free());
-  if (!evaluator.Evaluate(joints, J.data())) {
-    if (error) *error = "Jacobian evaluation failed";
+  return MeasurementJacobian(model, parameters, m, 1.0, jacobian, error);
+}
+
+bool StackedJacobian(const RobotModel& model,
+                     const Eigen::VectorXd& parameters,
+                     const std::vector<Measurement>& measurements,
+                     double rotation_weight_m_per_rad, Eigen::MatrixXd* jacobian,
+                     std::string* error) {
+  if (!CheckInputs(model, parameters, rotation_weight_m_per_rad, error) ||
+      !CheckAll(model, measurements, error)) {
     return false;
+  }
+  int rows = 0;
+  for (const Measurement& m : measurements) rows += m.dimension();
+  const int p = model.num_free();
+  RowMatrixXd J(rows, p);
+  JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
+                              parameters, rotation_weight_m_per_rad);
+  int row = 0;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    if (!evaluator.Evaluate(measurements[i], J.data() + row * p)) {
+      if (error) {
+        *error = "measurement " + std::to_string(i) +
+                 ": Jacobian evaluation failed";
+      }
+      return false;
+    }
+    row += measurements[i].dimension();
   }
   *jacobian = J;
   return true;
 }
 
-bool PoolPositionJacobians(const RobotModel& model,
-                           const Eigen::VectorXd& parameters,
-                           const Eigen::MatrixXd& joints,
-                           const PoolJacobianOptions& options,
-                           RowMatrixXd* stacked, std::string* error) {
-  if (!CheckInputs(model, parameters, error)) return false;
+bool MeasurementErrors(const RobotModel& model,
+                       const Eigen::VectorXd& parameters,
+                       const std::vector<Measurement>& measurements,
+                       double rotation_weight_m_per_rad,
+                       Eigen::VectorXd* norms, std::string* error) {
+  if (!model.Validate(error) || !model.CheckParameters(parameters, error) ||
+      !CheckAll(model, measurements, error)) {
+    return false;
+  }
+  JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
+                              parameters, rotation_weight_m_per_rad);
+  norms->resize(measurements.size());
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    double r[6];
+    if (!evaluator.Evaluate(measurements[i], nullptr, r)) {
+      if (error) {
+        *error = "measurement " + std::to_string(i) + ": evaluation failed";
+      }
+      return false;
+    }
+    (*norms)[i] =
+        Eigen::Map<Eigen::VectorXd>(r, measurements[i].dimension()).norm();
+  }
+  return true;
+}
+
+bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
+                   const Eigen::MatrixXd& joints,
+                   const PoolJacobianOptions& options, RowMatrixXd* stacked,
+                   std::string* error) {
+  if (!CheckInputs(model, parameters, options.rotation_weight_m_per_rad,
+                   error)) {
+    return false;
+  }
+  if (options.type == MeasurementType::kDistance) {
+    if (error) {
+      *error =
+          "pool: a distance measurement needs two poses; pool Jacobians "
+          "are per pose (position or pose)";
+    }
+    return false;
+  }
   if (joints.cols() != model.num_joints()) {
     if (error) {
       *error = "pool: expected " + std::to_string(model.num_joints()) +
@@ -115,14 +215,18 @@ bool PoolPositionJacobians(const RobotModel& model,
     }
   }
   const int p = model.num_free();
-  stacked->resize(3 * n, p);
+  const int t = MeasurementDimension(options.type);
+  stacked->resize(t * n, p);
   auto shared = std::make_shared<const RobotModel>(model);
   std::atomic<int64_t> failed{-1};
   ParallelFor(n, options.num_threads, [&](int64_t begin, int64_t end, int) {
-    JacobianEvaluator evaluator(shared, parameters);
+    JacobianEvaluator evaluator(shared, parameters,
+                                options.rotation_weight_m_per_rad);
+    Measurement m;
+    m.type = options.type;
     for (int64_t i = begin; i < end; ++i) {
-      if (!evaluator.Evaluate(joints.row(i).transpose(),
-                              stacked->data() + 3 * i * p)) {
+      m.joints = joints.row(i).transpose();
+      if (!evaluator.Evaluate(m, stacked->data() + t * i * p)) {
         failed = i;
         return;
       }
@@ -136,6 +240,16 @@ bool PoolPositionJacobians(const RobotModel& model,
     return false;
   }
   return true;
+}
+
+bool PoolPositionJacobians(const RobotModel& model,
+                           const Eigen::VectorXd& parameters,
+                           const Eigen::MatrixXd& joints,
+                           const PoolJacobianOptions& options,
+                           RowMatrixXd* stacked, std::string* error) {
+  PoolJacobianOptions position = options;
+  position.type = MeasurementType::kPosition;
+  return PoolJacobians(model, parameters, joints, position, stacked, error);
 }
 
 }  // namespace activecal

@@ -93,6 +93,34 @@ Vector3<T> MeasuredPoint(const RobotModel& model, const T* const* blocks,
   return R * Vector3<T>(tool[0], tool[1], tool[2]) + t;
 }
 
+// The rotation Rz(rz) Ry(ry) Rx(rx) of the tool block's angles.
+template <typename T>
+Matrix3<T> ToolRotation(const T* tool) {
+  using std::cos;
+  using std::sin;
+  const T cx = cos(tool[3]), sx = sin(tool[3]);
+  const T cy = cos(tool[4]), sy = sin(tool[4]);
+  const T cz = cos(tool[5]), sz = sin(tool[5]);
+  Matrix3<T> R;
+  R << cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,  //
+      sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,   //
+      -sy, cy * sx, cy * cx;
+  return R;
+}
+
+// The measured target frame in the device's frame: orientation R (the last
+// link's frame turned by the tool angles) and origin t (the measured point).
+template <typename T>
+void TargetFrame(const RobotModel& model, const T* const* blocks,
+                 const double* q, Matrix3<T>* R, Vector3<T>* t) {
+  Matrix3<T> Rn;
+  Vector3<T> tn;
+  ForwardKinematics(model, blocks, q, &Rn, &tn);
+  const T* tool = blocks[model.num_joints() + 1];
+  *t = Rn * Vector3<T>(tool[0], tool[1], tool[2]) + tn;
+  *R = Rn * ToolRotation(tool);
+}
+
 // Convenience for a full parameter vector in block order (double only).
 Eigen::Vector3d MeasuredPoint(const RobotModel& model,
                               const Eigen::VectorXd& parameters,
@@ -101,6 +129,10 @@ void ForwardKinematics(const RobotModel& model,
                        const Eigen::VectorXd& parameters,
                        const Eigen::VectorXd& q, Eigen::Matrix3d* R,
                        Eigen::Vector3d* t);
+
+void TargetFrame(const RobotModel& model, const Eigen::VectorXd& parameters,
+                 const Eigen::VectorXd& q, Eigen::Matrix3d* R,
+                 Eigen::Vector3d* t);
 
 // Pointers to each block of a full parameter vector.
 template <typename T>

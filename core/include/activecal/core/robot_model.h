@@ -11,7 +11,7 @@
 //
 //   block 0            the base frame "B"          kLinkBlockSize values
 //   block 1 .. n       the links "L1" .. "Ln"      kLinkBlockSize values each
-//   block n + 1        the tool point "tool"       kToolBlockSize values
+//   block n + 1        the tool "tool"             kToolBlockSize values
 //
 // A link block holds, in this order (LinkParameter):
 //
@@ -23,7 +23,10 @@
 //   gain   joint gain (dimensionless), scales the joint reading q
 //
 // The tool block is the measured point (x, y, z) in metres, in the last
-// link's frame. Units are metres and radians throughout.
+// link's frame, then the orientation of the measured target frame relative
+// to the last link's frame as fixed-axis angles (rx, ry, rz) in radians:
+// R_tool = Rz(rz) Ry(ry) Rx(rx). Only 6D pose measurements see rx, ry, rz.
+// Units are metres and radians throughout.
 //
 // The full parameter vector concatenates the blocks; the free parameters are
 // the entries marked free, taken in that same order. Jacobian columns,
@@ -58,7 +61,7 @@ enum class JointType {
 };
 
 inline constexpr int kLinkBlockSize = 6;
-inline constexpr int kToolBlockSize = 3;
+inline constexpr int kToolBlockSize = 6;
 
 // Index of each value inside a link block.
 enum LinkParameter : int {
@@ -72,7 +75,7 @@ enum LinkParameter : int {
 
 // Name of a link-block entry: "gamma", "alpha", "a", "d", "beta", "gain".
 const char* LinkParameterName(int index);
-// Name of a tool-block entry: "x", "y", "z".
+// Name of a tool-block entry: "x", "y", "z", "rx", "ry", "rz".
 const char* ToolParameterName(int index);
 const char* LinkConventionName(LinkConvention convention);
 const char* JointTypeName(JointType type);
@@ -114,6 +117,10 @@ struct RobotModel {
   }
 
   bool IsFree(int parameter_index) const;
+  // Marks a parameter (index into the full vector) free or fixed.
+  void SetFree(int parameter_index, bool free);
+  // Index into the full vector of a parameter name such as "L2.beta", or -1.
+  int ParameterIndex(const std::string& parameter_name) const;
   int num_free() const;
   // Indices into the full parameter vector of the free parameters.
   std::vector<int> FreeParameterIndices() const;

@@ -1,5 +1,6 @@
-// Identification of the free kinematic parameters from position
-// measurements, by nonlinear least squares (Ceres, Levenberg-Marquardt).
+// Identification of the free kinematic parameters from measurements of any
+// kind (measurement.h: position, 6D pose, distance, mixed), by nonlinear
+// least squares (Ceres, Levenberg-Marquardt), optionally with a robust loss.
 //
 //   IdentificationOptions options;
 //   IdentificationSummary summary;
@@ -11,7 +12,10 @@
 // Standard deviations come from ceres::Covariance, (J^T J)^-1 at the
 // solution, scaled by the residual variance s^2 = SSR / (m - p), m scalar
 // residuals, p free parameters: the usual estimate when the measurement
-// noise is unknown.
+// noise is unknown. Every residual row is assumed to carry the same noise;
+// for 6D poses choose rotation_weight_m_per_rad to make it so. With a
+// robust loss, Ceres' covariance uses the robustified Jacobian and s^2 is
+// taken over the measurements not flagged as outliers.
 
 #ifndef ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
 #define ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
@@ -22,12 +26,32 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/simulation.h"
 
 namespace activecal {
 
+enum class RobustLoss {
+  kNone,    // plain least squares
+  kHuber,   // quadratic up to the scale, linear beyond
+  kCauchy,  // log(1 + (r/scale)^2): strong down-weighting of gross errors
+};
+const char* RobustLossName(RobustLoss loss);
+bool ParseRobustLoss(const std::string& name, RobustLoss* loss);
+
 struct IdentificationOptions {
+  // A robust loss on each measurement's residual norm, with its scale (m):
+  // residual norms below the scale count as in least squares.
+  RobustLoss robust_loss = RobustLoss::kNone;
+  double robust_scale_m = 0.0;
+  // A measurement is reported as an outlier when one of its residual rows
+  // exceeds outlier_threshold robust standard deviations (1.4826 times the
+  // median absolute residual row) at the estimate.
+  double outlier_threshold = 4.0;
+  // Scales the orientation rows of 6D pose measurements (m per rad).
+  double rotation_weight_m_per_rad = 1.0;
+
   int max_num_iterations = 200;
   double function_tolerance = 1e-15;
   double gradient_tolerance = 1e-15;
@@ -63,6 +87,14 @@ IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
                                              const Eigen::MatrixXd& jacobian,
                                              double rank_tolerance = 1e-10);
 
+// Free parameters (positions in free-parameter order, ascending) to hold
+// at their current values so that the rest are identifiable from
+// `jacobian`: the columns left over by QR with column pivoting on the
+// column-normalised Jacobian, i.e. those closest to combinations of the
+// others. Empty when all are identifiable.
+std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
+                                        double rank_tolerance = 1e-10);
+
 struct IdentificationSummary {
   // True when the problem was identifiable, the solver converged and the
   // covariance was computed. Otherwise `message` says why.
@@ -75,13 +107,21 @@ struct IdentificationSummary {
   Eigen::VectorXd estimates;            // free parameters
   Eigen::VectorXd standard_deviations;  // free parameters
   Eigen::MatrixXd covariance;           // free x free, scaled by s^2
-  Eigen::VectorXd residuals;            // 3 per measurement (m)
+  Eigen::MatrixXd correlation;          // free x free
+  // Residual rows of every measurement, in order (dimension() each).
+  Eigen::VectorXd residuals;
+  // Per measurement: the norm of its residual rows at start and at the
+  // estimate (m; a 6D pose's rotation rows weighted).
+  Eigen::VectorXd initial_residual_norms;
+  Eigen::VectorXd residual_norms;
+  // Measurements flagged as outliers at the estimate (indices, ascending).
+  std::vector<int> outliers;
   int num_measurements = 0;
   int num_residuals = 0;
   int num_free = 0;
-  double initial_rms_m = 0.0;  // RMS of the 3D residual distance at start
+  double initial_rms_m = 0.0;  // RMS of the residual norms at start
   double rms_m = 0.0;          // ... at the estimate
-  double sigma_m = 0.0;        // s = sqrt(SSR / (m - p)), per axis
+  double sigma_m = 0.0;        // s = sqrt(SSR / (m - p)), per residual row
   int iterations = 0;
   bool converged = false;
   IdentifiabilityReport identifiability;
@@ -94,6 +134,13 @@ struct IdentificationSummary {
 // from the full parameter vector `initial` (usually model.nominal).
 // Returns summary->success; on failure summary->message names the problem:
 // bad input, too few equations, unidentifiable parameters, no convergence.
+bool Identify(const RobotModel& model,
+              const std::vector<Measurement>& measurements,
+              const Eigen::VectorXd& initial,
+              const IdentificationOptions& options,
+              IdentificationSummary* summary);
+
+// The same for position measurements.
 bool Identify(const RobotModel& model,
               const std::vector<PositionMeasurement>& measurements,
               const Eigen::VectorXd& initial,

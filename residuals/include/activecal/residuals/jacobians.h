@@ -1,7 +1,7 @@
 // Jacobians of the measurements with respect to the free parameters: the
 // design matrix rows consumed by the pose selector. They are evaluated
 // through the same cost functions the identification uses
-// (position_residual.h), so selection and identification see the same
+// (measurement_residual.h), so selection and identification see the same
 // derivatives.
 
 #ifndef ACTIVECAL_RESIDUALS_JACOBIANS_H_
@@ -9,29 +9,66 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
+#include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/types.h"
 
 namespace activecal {
 
-// The 3 x num_free Jacobian of the measured point at joint readings `joints`
-// and the full parameter vector `parameters`, columns in free-parameter
-// order. Returns false with a message on bad input.
+// The dimension() x num_free Jacobian of one measurement's residual at the
+// full parameter vector `parameters`, columns in free-parameter order (the
+// measured values do not matter). Returns false with a message on bad input.
+bool MeasurementJacobian(const RobotModel& model,
+                         const Eigen::VectorXd& parameters,
+                         const Measurement& measurement,
+                         double rotation_weight_m_per_rad,
+                         Eigen::MatrixXd* jacobian, std::string* error);
+
+// The 3 x num_free Jacobian of the measured point at joint readings
+// `joints`.
 bool PositionJacobian(const RobotModel& model,
                       const Eigen::VectorXd& parameters,
                       const Eigen::VectorXd& joints, Eigen::MatrixXd* jacobian,
                       std::string* error);
 
+// The Jacobians of all `measurements`, stacked in order (rows: the sum of
+// their dimensions). The message names the first bad measurement.
+bool StackedJacobian(const RobotModel& model,
+                     const Eigen::VectorXd& parameters,
+                     const std::vector<Measurement>& measurements,
+                     double rotation_weight_m_per_rad, Eigen::MatrixXd* jacobian,
+                     std::string* error);
+
+// Residual norms |predicted - measured| per measurement (rows as in
+// measurement_residual.h), at `parameters`.
+bool MeasurementErrors(const RobotModel& model,
+                       const Eigen::VectorXd& parameters,
+                       const std::vector<Measurement>& measurements,
+                       double rotation_weight_m_per_rad,
+                       Eigen::VectorXd* norms, std::string* error);
+
 struct PoolJacobianOptions {
   // Threads to spread the poses over; <= 0: all hardware threads. The result
   // is the same for every thread count.
   int num_threads = 0;
+  // What is measured at each pool pose: kPosition (3 rows per pose) or
+  // kPose (6 rows). A distance needs two poses, so it has no per-pose pool.
+  MeasurementType type = MeasurementType::kPosition;
+  double rotation_weight_m_per_rad = 1.0;
 };
 
 // Jacobians of every pose in `joints` (one pose per row), stacked: rows
-// 3i, 3i+1, 3i+2 are pose i's x, y, z rows. Row-major, so each pose's block
-// is contiguous. Returns false with a message naming the first bad pose.
+// t*i .. t*i + t-1 are pose i's rows (t = 3 or 6). Row-major, so each
+// pose's block is contiguous. Returns false with a message naming the first
+// bad pose.
+bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
+                   const Eigen::MatrixXd& joints,
+                   const PoolJacobianOptions& options, RowMatrixXd* stacked,
+                   std::string* error);
+
+// PoolJacobians for position measurements (options.type is ignored).
 bool PoolPositionJacobians(const RobotModel& model,
                            const Eigen::VectorXd& parameters,
                            const Eigen::MatrixXd& joints,

@@ -1,0 +1,62 @@
+// What a measuring device reports about the robot, one struct for every
+// kind: a 3D position (laser tracker, stereo camera), a full 6D pose (a
+// tracker with a 6D probe), or the distance between the measured points of
+// two poses (a ballbar or a length artefact). Measurements of different
+// kinds can be mixed freely in one identification.
+//
+// Units: metres and radians. Orientations are rotation vectors (axis times
+// angle, radians) of the target frame in the device's frame.
+
+#ifndef ACTIVECAL_CORE_MEASUREMENT_H_
+#define ACTIVECAL_CORE_MEASUREMENT_H_
+
+#include <Eigen/Core>
+#include <string>
+
+#include "activecal/core/robot_model.h"
+
+namespace activecal {
+
+enum class MeasurementType {
+  kPosition,  // the measured point: 3 rows (m)
+  kPose,      // point and target orientation: 6 rows (m, then weighted rad)
+  kDistance,  // distance between the points of two poses: 1 row (m)
+};
+
+// Rows of the residual and of the Jacobian: 3, 6 or 1.
+int MeasurementDimension(MeasurementType type);
+// "position", "pose", "distance".
+const char* MeasurementTypeName(MeasurementType type);
+// Parses a name above; false if unknown.
+bool ParseMeasurementType(const std::string& name, MeasurementType* type);
+
+struct Measurement {
+  MeasurementType type = MeasurementType::kPosition;
+  // Joint readings of the pose (the first pose for a distance).
+  Eigen::VectorXd joints;
+  // Distance only: joint readings of the second pose.
+  Eigen::VectorXd joints2;
+  // Position and pose: the measured point (m).
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  // Pose only: rotation vector of the target frame (rad).
+  Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
+  // Distance only: the measured distance (m).
+  double distance = 0.0;
+
+  int dimension() const { return MeasurementDimension(type); }
+};
+
+// Checks a measurement against the model: joint counts, finiteness, joint
+// ranges, a non-negative distance. The message names the field.
+bool CheckMeasurement(const RobotModel& model, const Measurement& measurement,
+                      std::string* error);
+
+// The measurement the device would report at `parameters` (full vector),
+// without noise, for the joints (and type) of `like`.
+Measurement PredictMeasurement(const RobotModel& model,
+                               const Eigen::VectorXd& parameters,
+                               const Measurement& like);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CORE_MEASUREMENT_H_

@@ -1,0 +1,101 @@
+#include "activecal/core/measurement.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <sstream>
+
+#include "activecal/core/kinematics.h"
+
+namespace activecal {
+
+int MeasurementDimension(MeasurementType type) {
+  switch (type) {
+    case MeasurementType::kPosition:
+      return 3;
+    case MeasurementType::kPose:
+      return 6;
+    case MeasurementType::kDistance:
+      return 1;
+  }
+  return 0;
+}
+
+const char* MeasurementTypeName(MeasurementType type) {
+  switch (type) {
+    case MeasurementType::kPosition:
+      return "position";
+    case MeasurementType::kPose:
+      return "pose";
+    case MeasurementType::kDistance:
+      return "distance";
+  }
+  return "unknown";
+}
+
+bool ParseMeasurementType(const std::string& name, MeasurementType* type) {
+  for (MeasurementType t : {MeasurementType::kPosition, MeasurementType::kPose,
+                            MeasurementType::kDistance}) {
+    if (name == MeasurementTypeName(t)) {
+      *type = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool CheckMeasurement(const RobotModel& model, const Measurement& m,
+                      std::string* error) {
+  std::string why;
+  if (!model.CheckJointValues(m.joints, &why)) {
+    if (error) *error = "joints: " + why;
+    return false;
+  }
+  std::ostringstream msg;
+  switch (m.type) {
+    case MeasurementType::kPosition:
+    case MeasurementType::kPose:
+      if (!m.position.allFinite()) {
+        msg << "measured position is not finite";
+      } else if (m.type == MeasurementType::kPose && !m.rotation.allFinite()) {
+        msg << "measured rotation is not finite";
+      } else if (m.type == MeasurementType::kPose && m.rotation.norm() > M_PI + 1e-9) {
+        msg << "measured rotation vector has angle " << m.rotation.norm()
+            << " rad > pi";
+      }
+      break;
+    case MeasurementType::kDistance:
+      if (!model.CheckJointValues(m.joints2, &why)) {
+        msg << "second pose joints: " << why;
+      } else if (!std::isfinite(m.distance) || m.distance < 0) {
+        msg << "measured distance must be finite and >= 0, got "
+            << m.distance;
+      }
+      break;
+  }
+  if (msg.tellp() == 0) return true;
+  if (error) *error = msg.str();
+  return false;
+}
+
+Measurement PredictMeasurement(const RobotModel& model,
+                               const Eigen::VectorXd& parameters,
+                               const Measurement& like) {
+  Measurement out = like;
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  TargetFrame(model, parameters, like.joints, &R, &t);
+  out.position = t;
+  out.rotation.setZero();
+  out.distance = 0.0;
+  if (like.type == MeasurementType::kPose) {
+    const Eigen::AngleAxisd aa(R);
+    out.rotation = aa.angle() * aa.axis();
+  } else if (like.type == MeasurementType::kDistance) {
+    out.position.setZero();
+    out.distance =
+        (t - MeasuredPoint(model, parameters, like.joints2)).norm();
+  }
+  return out;
+}
+
+}  // namespace activecal

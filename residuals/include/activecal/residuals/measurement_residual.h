@@ -1,0 +1,134 @@
+// The Ceres residual of one measurement (measurement.h): predicted minus
+// measured, with exact automatic derivatives through the templated
+// kinematics.
+//
+//   position  3 rows (m):  predicted point - measured point
+//   pose      6 rows:      predicted point - measured point (m), then
+//                          w * Log(R_measured^T R_predicted) (rad scaled by
+//                          w, the rotation weight in m/rad)
+//   distance  1 row (m):   |p(q1) - p(q2)| - measured distance
+//
+// The rotation weight puts the orientation rows on the same scale as the
+// position rows; set it to sigma_position / sigma_rotation of the device so
+// every row has the same noise (identification assumes that).
+//
+// The cost function takes one parameter block per group of the RobotModel
+// (base, each link, tool; see robot_model.h), so any group can be held
+// constant with Problem::SetParameterBlockConstant and part of one with a
+// SubsetManifold. It is a ceres::DynamicAutoDiffCostFunction because the
+// number of blocks is the robot's, known only at run time.
+//
+//   std::shared_ptr<const RobotModel> model = ...;
+//   ceres::CostFunction* cost = MeasurementResidual::Create(model, m);
+//   std::vector<double*> blocks = ...;  // model->num_blocks() pointers
+//   problem.AddResidualBlock(cost, nullptr, blocks);
+
+#ifndef ACTIVECAL_RESIDUALS_MEASUREMENT_RESIDUAL_H_
+#define ACTIVECAL_RESIDUALS_MEASUREMENT_RESIDUAL_H_
+
+#include <ceres/dynamic_autodiff_cost_function.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <utility>
+
+#include "activecal/core/kinematics.h"
+#include "activecal/core/measurement.h"
+#include "activecal/core/robot_model.h"
+
+namespace activecal {
+
+// Derivatives are propagated this many at a time (Jet size). 14 covers the
+// PUMA's 42 parameters of its seven non-constant blocks in three passes.
+inline constexpr int kAutoDiffStride = 14;
+
+class MeasurementResidual {
+ public:
+  using CostFunction =
+      ceres::DynamicAutoDiffCostFunction<MeasurementResidual, kAutoDiffStride>;
+
+  MeasurementResidual(std::shared_ptr<const RobotModel> model,
+                      Measurement measurement, double rotation_weight_m_per_rad)
+      : model_(std::move(model)),
+        m_(std::move(measurement)),
+        rotation_weight_(rotation_weight_m_per_rad) {
+    const double angle = m_.rotation.norm();
+    measured_rotation_transposed_ =
+        (angle > 0 ? Eigen::AngleAxisd(angle, m_.rotation / angle)
+                         .toRotationMatrix()
+                   : Eigen::Matrix3d::Identity())
+            .transpose();
+  }
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residuals) const {
+    switch (m_.type) {
+      case MeasurementType::kPosition: {
+        const Vector3<T> p = MeasuredPoint<T>(*model_, blocks, m_.joints.data());
+        for (int k = 0; k < 3; ++k) residuals[k] = p[k] - T(m_.position[k]);
+        return true;
+      }
+      case MeasurementType::kPose: {
+        Matrix3<T> R;
+        Vector3<T> t;
+        TargetFrame<T>(*model_, blocks, m_.joints.data(), &R, &t);
+        for (int k = 0; k < 3; ++k) residuals[k] = t[k] - T(m_.position[k]);
+        const Matrix3<T> error =
+            measured_rotation_transposed_.template cast<T>() * R;
+        T log[3];
+        ceres::RotationMatrixToAngleAxis(error.data(), log);
+        for (int k = 0; k < 3; ++k) {
+          residuals[3 + k] = T(rotation_weight_) * log[k];
+        }
+        return true;
+      }
+      case MeasurementType::kDistance: {
+        const Vector3<T> a =
+            MeasuredPoint<T>(*model_, blocks, m_.joints.data());
+        const Vector3<T> b =
+            MeasuredPoint<T>(*model_, blocks, m_.joints2.data());
+        residuals[0] = (a - b).norm() - T(m_.distance);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // A cost function with the model's blocks declared, owned by the caller
+  // (or by the ceres::Problem it is added to).
+  static CostFunction* Create(std::shared_ptr<const RobotModel> model,
+                              Measurement measurement,
+                              double rotation_weight_m_per_rad = 1.0) {
+    const RobotModel& m = *model;
+    const int rows = measurement.dimension();
+    auto* cost = new CostFunction(new MeasurementResidual(
+        std::move(model), std::move(measurement), rotation_weight_m_per_rad));
+    for (int b = 0; b < m.num_blocks(); ++b) {
+      cost->AddParameterBlock(m.block_size(b));
+    }
+    cost->SetNumResiduals(rows);
+    return cost;
+  }
+
+  // A position measurement's cost function.
+  static CostFunction* CreatePosition(std::shared_ptr<const RobotModel> model,
+                                      Eigen::VectorXd joints,
+                                      const Eigen::Vector3d& measured) {
+    Measurement m;
+    m.joints = std::move(joints);
+    m.position = measured;
+    return Create(std::move(model), std::move(m));
+  }
+
+ private:
+  std::shared_ptr<const RobotModel> model_;
+  Measurement m_;
+  double rotation_weight_;
+  Eigen::Matrix3d measured_rotation_transposed_;
+};
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_RESIDUALS_MEASUREMENT_RESIDUAL_H_
