@@ -1,96 +1,311 @@
-// activecal_identify: simulate position measurements of the paper's PUMA 560
-// at random lattice poses and identify its 27 parameters.
+// activecal_identify: identify a robot's kinematic parameters from
+// measurements (a CSV file from the device, or simulated ones), validate on
+// held-out measurements, and write the calibrated model and a report.
 
 #include <gflags/gflags.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 
+#include "activecal/core/csv_files.h"
 #include "activecal/core/lattice.h"
-#include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
+#include "activecal/core/robot_file.h"
 #include "activecal/core/simulation.h"
 #include "activecal/residuals/identification.h"
+#include "activecal/residuals/jacobians.h"
 #include "app_common.h"
 
+DEFINE_string(measurements, "",
+              "Measurements CSV (docs/formats.md): position, pose and "
+              "distance rows, mixed freely. Empty: simulate --num_poses "
+              "position measurements at random lattice poses from the "
+              "robot's true values.");
+DEFINE_string(model_out, "",
+              "If set, write the calibrated robot (same YAML format as "
+              "--robot, identified values as nominal) here.");
+DEFINE_string(json_out, "",
+              "If set, write the report here: estimates, std, correlation "
+              "matrix, residual per measurement, RMS before and after, "
+              "outliers, validation errors.");
+DEFINE_double(validation_fraction, 0.0,
+              "Fraction of the measurements held out (chosen at random with "
+              "--seed) to validate the calibrated model on; in [0, 0.9].");
+DEFINE_string(robust_loss, "none",
+              "none, huber or cauchy: a robust loss on each measurement's "
+              "residual norm, for data with outliers.");
+DEFINE_double(robust_scale_m, 0.0,
+              "Scale of the robust loss (m): residual norms below it count "
+              "as in least squares. Required with --robust_loss; about 3 "
+              "times the device's noise is a good start.");
+DEFINE_double(outlier_threshold, 4.0,
+              "Flag a measurement as an outlier when a residual row exceeds "
+              "this many robust standard deviations.");
+DEFINE_double(rotation_weight, 1.0,
+              "Weight of 6D pose orientation rows, m per rad (set it to "
+              "sigma_position / sigma_rotation of the device).");
+DEFINE_bool(auto_fix, false,
+            "If the measurements cannot identify some free parameters, hold "
+            "them at their nominal values (named on stderr and in the "
+            "report) instead of failing.");
 DEFINE_int32(num_poses, 30,
-             "Number of distinct random lattice poses to measure.");
-DEFINE_int32(levels, 5, "Lattice values per joint (both range ends included).");
-DEFINE_uint64(seed, 1, "Seed for the pose draw and the measurement noise.");
+             "Simulation only: distinct random lattice poses to measure.");
+DEFINE_int32(levels, 5,
+             "Simulation only: lattice values per joint (range ends "
+             "included).");
 DEFINE_double(noise_m, 0.01,
-              "Standard deviation of the measurement noise on each axis (m).");
+              "Simulation only: noise standard deviation on each axis (m).");
+DEFINE_uint64(seed, 1,
+              "Seed of the validation split and of the simulation (pose "
+              "draw and noise).");
 DEFINE_int32(threads, 1,
-             "Threads for the solver (the result does not depend "
-             "on it).");
-DEFINE_string(json_out, "", "If set, write the identification report here.");
+             "Threads for the solver (the result does not depend on it).");
 
 namespace activecal {
 namespace {
 
-int Main() {
-  const RobotModel model = Puma560PaperModel();
-  const Eigen::VectorXd truth = Puma560TrueParameters();
+std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
+                                       std::vector<int64_t>* poses) {
+  const RobotModel& model = robot.model;
+  if (robot.true_parameters.size() != model.num_parameters()) {
+    app::Fail(
+        "no --measurements given and --robot has no true values to simulate "
+        "from (add 'true:' entries, see docs/formats.md)");
+  }
   const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
   if (FLAGS_num_poses <= 0 || FLAGS_num_poses > lattice.size()) {
     app::Fail("--num_poses must be in [1, " + std::to_string(lattice.size()) +
               "], got " + std::to_string(FLAGS_num_poses));
   }
   Random random(Random::StreamSeed(FLAGS_seed, 0));
-  const std::vector<int64_t> poses =
-      random.SampleWithoutReplacement(lattice.size(), FLAGS_num_poses);
-  Eigen::MatrixXd joints(poses.size(), model.num_joints());
-  for (size_t i = 0; i < poses.size(); ++i) {
-    joints.row(i) = lattice.JointValues(poses[i]).transpose();
+  *poses = random.SampleWithoutReplacement(lattice.size(), FLAGS_num_poses);
+  std::vector<Measurement> plan(poses->size());
+  for (size_t i = 0; i < poses->size(); ++i) {
+    plan[i].joints = lattice.JointValues((*poses)[i]);
   }
-  std::vector<PositionMeasurement> measurements;
+  SimulationNoise noise;
+  noise.position_m = FLAGS_noise_m;
+  std::vector<Measurement> measurements;
   std::string error;
-  if (!SimulatePositionMeasurements(model, truth, joints, FLAGS_noise_m,
-                                    Random::StreamSeed(FLAGS_seed, 1),
-                                    &measurements, &error)) {
+  if (!SimulateMeasurements(model, robot.true_parameters, plan, noise,
+                            Random::StreamSeed(FLAGS_seed, 1), &measurements,
+                            &error)) {
     app::Fail(error);
   }
+  return measurements;
+}
+
+struct ValidationErrors {
+  int count = 0;
+  double rms_nominal_m = 0, rms_calibrated_m = 0;
+  double max_nominal_m = 0, max_calibrated_m = 0;
+};
+
+ValidationErrors Validate(const RobotModel& model,
+                          const Eigen::VectorXd& nominal,
+                          const Eigen::VectorXd& calibrated,
+                          const std::vector<Measurement>& held_out) {
+  ValidationErrors v;
+  v.count = static_cast<int>(held_out.size());
+  if (held_out.empty()) return v;
+  Eigen::VectorXd before, after;
+  std::string error;
+  if (!MeasurementErrors(model, nominal, held_out, FLAGS_rotation_weight,
+                         &before, &error) ||
+      !MeasurementErrors(model, calibrated, held_out, FLAGS_rotation_weight,
+                         &after, &error)) {
+    app::Fail("validation: " + error);
+  }
+  v.rms_nominal_m = std::sqrt(before.squaredNorm() / before.size());
+  v.rms_calibrated_m = std::sqrt(after.squaredNorm() / after.size());
+  v.max_nominal_m = before.maxCoeff();
+  v.max_calibrated_m = after.maxCoeff();
+  return v;
+}
+
+int Main() {
+  const RobotDescription robot = app::LoadRobotOrDie();
+  RobotModel model = robot.model;
+  const bool simulated = FLAGS_measurements.empty();
+  std::vector<int64_t> simulated_poses;
+  std::vector<Measurement> all;
+  if (simulated) {
+    all = SimulateOrDie(robot, &simulated_poses);
+  } else {
+    std::string error;
+    if (!ReadMeasurementsCsv(FLAGS_measurements, model, &all, &error)) {
+      app::Fail("--measurements: " + error);
+    }
+  }
+  if (!(FLAGS_validation_fraction >= 0 && FLAGS_validation_fraction <= 0.9)) {
+    app::Fail("--validation_fraction must be in [0, 0.9], got " +
+              std::to_string(FLAGS_validation_fraction));
+  }
   IdentificationOptions options;
+  if (!ParseRobustLoss(FLAGS_robust_loss, &options.robust_loss)) {
+    app::Fail("--robust_loss must be none, huber or cauchy, got '" +
+              FLAGS_robust_loss + "'");
+  }
+  options.robust_scale_m = FLAGS_robust_scale_m;
+  options.outlier_threshold = FLAGS_outlier_threshold;
+  options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   options.num_threads = FLAGS_threads;
-  IdentificationSummary summary;
-  if (!Identify(model, measurements, model.nominal, options, &summary)) {
-    app::Fail("identification failed: " + summary.message);
+  {
+    std::string error;
+    if (!options.IsValid(&error)) app::Fail(error);
   }
 
+  // Split: a seeded random subset held out for validation.
+  const int n = static_cast<int>(all.size());
+  const int num_validation =
+      static_cast<int>(std::lround(FLAGS_validation_fraction * n));
+  std::vector<bool> held(n, false);
+  if (num_validation > 0) {
+    Random random(Random::StreamSeed(FLAGS_seed, 2));
+    for (int64_t i : random.SampleWithoutReplacement(n, num_validation)) {
+      held[i] = true;
+    }
+  }
+  std::vector<Measurement> training, validation;
+  std::vector<int> training_index;
+  for (int i = 0; i < n; ++i) {
+    if (held[i]) {
+      validation.push_back(all[i]);
+    } else {
+      training.push_back(all[i]);
+      training_index.push_back(i);
+    }
+  }
+
+  // Identifiability before solving.
+  std::vector<std::string> auto_fixed;
+  {
+    Eigen::MatrixXd J;
+    std::string error;
+    if (!StackedJacobian(model, model.nominal, training, FLAGS_rotation_weight,
+                         &J, &error)) {
+      app::Fail("--measurements: " + error);
+    }
+    RowMatrixXd jacobian = J;
+    auto_fixed = app::EnsureIdentifiableOrDie(
+        &model, &jacobian, FLAGS_auto_fix,
+        "the " + std::to_string(training.size()) + " measurements");
+  }
+
+  IdentificationSummary summary;
+  if (!Identify(model, training, model.nominal, options, &summary)) {
+    app::Fail("identification failed: " + summary.message);
+  }
+  const ValidationErrors validation_errors =
+      Validate(model, model.nominal, summary.parameters, validation);
+
+  const bool has_truth = robot.true_parameters.size() == model.num_parameters();
   const std::vector<int> free = model.FreeParameterIndices();
-  std::printf("%-10s %12s %12s %12s %12s %12s %8s\n", "parameter", "true",
-              "nominal", "estimate", "error", "std", "err/std");
+  std::printf("%-10s %12s %12s %12s", "parameter", "nominal", "estimate",
+              "std");
+  if (has_truth) std::printf(" %12s %12s %8s", "true", "error", "err/std");
+  std::printf("\n");
   int outside = 0;
   nlohmann::json params = nlohmann::json::array();
   for (size_t k = 0; k < free.size(); ++k) {
     const int i = free[k];
-    const double err = summary.estimates[k] - truth[i];
     const double sd = summary.standard_deviations[k];
-    if (std::abs(err) > 4 * sd) ++outside;
-    std::printf("%-10s %12.6f %12.6f %12.6f %12.6f %12.6f %8.2f\n",
-                summary.names[k].c_str(), truth[i], model.nominal[i],
-                summary.estimates[k], err, sd, err / sd);
-    params.push_back({{"name", summary.names[k]},
-                      {"true", truth[i]},
-                      {"nominal", model.nominal[i]},
-                      {"estimate", summary.estimates[k]},
-                      {"std", sd}});
+    std::printf("%-10s %12.6f %12.6f %12.6f", summary.names[k].c_str(),
+                model.nominal[i], summary.estimates[k], sd);
+    nlohmann::json entry = {{"name", summary.names[k]},
+                            {"nominal", model.nominal[i]},
+                            {"estimate", summary.estimates[k]},
+                            {"std", sd}};
+    if (has_truth) {
+      const double truth = robot.true_parameters[i];
+      const double err = summary.estimates[k] - truth;
+      if (std::abs(err) > 4 * sd) ++outside;
+      std::printf(" %12.6f %12.6f %8.2f", truth, err, err / sd);
+      entry["true"] = truth;
+    }
+    std::printf("\n");
+    params.push_back(entry);
   }
   std::printf("\n%s", summary.BriefReport().c_str());
-  std::printf("  %d of %zu estimates lie more than 4 std from the truth\n",
-              outside, free.size());
+  if (has_truth) {
+    std::printf("  %d of %zu estimates lie more than 4 std from the truth\n",
+                outside, free.size());
+  }
+  if (!validation.empty()) {
+    std::printf(
+        "  validation on %d held-out measurements: RMS error %.6f m with the "
+        "nominal model -> %.6f m calibrated (max %.6f -> %.6f m)\n",
+        validation_errors.count, validation_errors.rms_nominal_m,
+        validation_errors.rms_calibrated_m, validation_errors.max_nominal_m,
+        validation_errors.max_calibrated_m);
+  }
+  if (!summary.outliers.empty()) {
+    std::printf("  outliers (measurement index in the input):");
+    for (int o : summary.outliers) std::printf(" %d", training_index[o]);
+    std::printf("\n");
+  }
+
+  if (!FLAGS_model_out.empty()) {
+    RobotFileOptions file_options;
+    file_options.angle_unit = robot.angle_unit;
+    file_options.comment = "Calibrated by activecal_identify from " +
+                           (simulated ? std::string("simulated measurements")
+                                      : FLAGS_measurements) +
+                           "\n" + std::to_string(summary.num_measurements) +
+                           " measurements, RMS residual " +
+                           std::to_string(summary.rms_m) + " m";
+    app::WriteTextOrDie(FLAGS_model_out,
+                        RobotFileText(model, summary.parameters, file_options));
+  }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j;
+    j["robot"] = model.name;
+    j["measurements"] = simulated ? "simulated" : FLAGS_measurements;
     j["parameters"] = params;
-    j["rms_residual_m"] = summary.rms_m;
+    nlohmann::json correlation = nlohmann::json::array();
+    for (int r = 0; r < summary.correlation.rows(); ++r) {
+      correlation.push_back(std::vector<double>(
+          summary.correlation.row(r).data(),
+          summary.correlation.row(r).data() + summary.correlation.cols()));
+    }
+    j["correlation"] = correlation;
+    nlohmann::json residuals = nlohmann::json::array();
+    std::vector<int> outlier_inputs;
+    for (int o : summary.outliers) outlier_inputs.push_back(training_index[o]);
+    for (size_t k = 0; k < training.size(); ++k) {
+      residuals.push_back(
+          {{"index", training_index[k]},
+           {"type", MeasurementTypeName(training[k].type)},
+           {"initial_norm_m", summary.initial_residual_norms[k]},
+           {"norm_m", summary.residual_norms[k]},
+           {"outlier",
+            std::binary_search(summary.outliers.begin(), summary.outliers.end(),
+                               static_cast<int>(k))}});
+    }
+    j["residuals"] = residuals;
+    j["outliers"] = outlier_inputs;
     j["initial_rms_residual_m"] = summary.initial_rms_m;
+    j["rms_residual_m"] = summary.rms_m;
     j["sigma_m"] = summary.sigma_m;
     j["iterations"] = summary.iterations;
     j["converged"] = summary.converged;
     j["num_measurements"] = summary.num_measurements;
-    j["pose_indices"] = poses;
+    j["auto_fixed"] = auto_fixed;
+    j["robust_loss"] = FLAGS_robust_loss;
+    j["validation"] = {
+        {"count", validation_errors.count},
+        {"fraction", FLAGS_validation_fraction},
+        {"rms_error_nominal_m", validation_errors.rms_nominal_m},
+        {"rms_error_calibrated_m", validation_errors.rms_calibrated_m},
+        {"max_error_nominal_m", validation_errors.max_nominal_m},
+        {"max_error_calibrated_m", validation_errors.max_calibrated_m}};
     j["seed"] = FLAGS_seed;
-    j["noise_m"] = FLAGS_noise_m;
+    if (simulated) {
+      j["pose_indices"] = simulated_poses;
+      j["noise_m"] = FLAGS_noise_m;
+    }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
   return 0;
@@ -102,11 +317,13 @@ int Main() {
 int main(int argc, char** argv) {
   activecal::app::Init(
       &argc, &argv,
-      "Simulates noisy 3D position measurements of the Sun & Hollerbach PUMA "
-      "560 at random lattice poses and identifies its 27 kinematic "
-      "parameters from the nominal values (Ceres, Levenberg-Marquardt).\n"
-      "Prints per parameter: true, nominal, estimate, error and standard "
-      "deviation.\n  activecal_identify --num_poses=30 --seed=1 "
-      "--json_out=out.json");
+      "Identifies the free kinematic parameters of --robot (default: the Sun "
+      "& Hollerbach PUMA 560) from a measurements CSV, or from simulated "
+      "position measurements when none is given (Ceres, "
+      "Levenberg-Marquardt). Checks identifiability first, validates on "
+      "held-out measurements, and writes the calibrated model and a JSON "
+      "report.\n  activecal_identify --robot=data/puma560.yaml "
+      "--measurements=measurements.csv --validation_fraction=0.2 "
+      "--model_out=calibrated.yaml --json_out=report.json");
   return activecal::Main();
 }

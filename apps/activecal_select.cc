@@ -1,5 +1,6 @@
-// activecal_select: choose calibration poses for the paper's PUMA 560 from
-// a joint lattice by a D-optimal design algorithm.
+// activecal_select: choose calibration poses for a robot (the paper's PUMA
+// 560 by default) from a joint lattice or a pool read from CSV, by a
+// D-optimal design algorithm.
 
 #include <gflags/gflags.h>
 
@@ -8,8 +9,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "activecal/core/csv_files.h"
 #include "activecal/core/lattice.h"
-#include "activecal/core/puma560.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"
@@ -19,7 +20,23 @@
 
 DEFINE_int32(levels, 5,
              "Lattice values per joint, both range ends included (>= 2). "
-             "The pool has levels^6 poses.");
+             "The pool has levels^(number of joints) poses.");
+DEFINE_string(pool_csv, "",
+              "Read the candidate poses from this poses CSV "
+              "(docs/formats.md) instead of the lattice; duplicates are an "
+              "error. pose_index labels the poses in the output.");
+DEFINE_string(poses_csv, "",
+              "If set, write the selected poses here (pose_index, joints in "
+              "rad and deg) to run on the robot.");
+DEFINE_string(measurement, "position",
+              "What the device measures at each pose: position (3D point) "
+              "or pose (6D: point and orientation).");
+DEFINE_double(rotation_weight, 1.0,
+              "pose: weight of the orientation rows, m per rad (set it to "
+              "sigma_position / sigma_rotation of the device).");
+DEFINE_bool(auto_fix, false,
+            "If the pool cannot identify some free parameters, hold them "
+            "at their nominal values (named on stderr) instead of failing.");
 DEFINE_string(algorithm, "eae",
               "eae: the paper's exchange-add-exchange; random: best of "
               "--random_designs random designs; fedorov: Fedorov exchange "
@@ -55,11 +72,50 @@ namespace {
 
 int Main() {
   const int64_t start = app::NowNs();
-  const RobotModel model = Puma560PaperModel();
-  const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
+  const RobotDescription robot = app::LoadRobotOrDie();
+  RobotModel model = robot.model;
+  MeasurementType type;
+  if (!ParseMeasurementType(FLAGS_measurement, &type) ||
+      type == MeasurementType::kDistance) {
+    app::Fail("--measurement must be position or pose, got '" +
+              FLAGS_measurement + "'");
+  }
+  Eigen::MatrixXd pool_joints;
+  std::vector<int64_t> labels;
+  JointLattice lattice;
+  const bool from_lattice = FLAGS_pool_csv.empty();
+  if (from_lattice) {
+    lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
+    pool_joints = lattice.AllJointValues();
+  } else {
+    PoseList list;
+    std::string error;
+    if (!ReadPosesCsv(FLAGS_pool_csv, model, /*reject_duplicates=*/true, &list,
+                      &error)) {
+      app::Fail("--pool_csv: " + error);
+    }
+    pool_joints = std::move(list.joints);
+    labels = std::move(list.pose_indices);
+  }
+  if (FLAGS_num_poses <= 0 || FLAGS_num_poses > pool_joints.rows()) {
+    app::Fail("--num_poses must be in [1, " +
+              std::to_string(pool_joints.rows()) + "] (the pool size), got " +
+              std::to_string(FLAGS_num_poses));
+  }
   double jacobian_seconds = 0;
-  const CandidatePool pool = app::MakeLatticePoolOrDie(
-      model, model.nominal, lattice, FLAGS_threads, &jacobian_seconds);
+  RowMatrixXd stacked = app::PoolJacobiansOrDie(
+      model, model.nominal, pool_joints, type, FLAGS_rotation_weight,
+      FLAGS_threads, &jacobian_seconds);
+  const std::vector<std::string> auto_fixed = app::EnsureIdentifiableOrDie(
+      &model, &stacked, FLAGS_auto_fix, "the pool");
+  CandidatePool pool;
+  {
+    std::string error;
+    if (!CandidatePool::Create(std::move(stacked), MeasurementDimension(type),
+                               &pool, &error)) {
+      app::Fail(error);
+    }
+  }
 
   static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
                                             "detmax", "greedy", "approx"};
@@ -153,18 +209,48 @@ int Main() {
   if (need_approx) std::printf("%s", approx.BriefReport().c_str());
   std::printf("  Jacobians of %lld poses: %.3f s\n",
               static_cast<long long>(pool.size()), jacobian_seconds);
-  std::printf("  %-6s %-8s %s\n", "#", "index", "levels (joint 1..6)");
+  std::printf("  %-6s %-8s %s\n", "#", "index",
+              from_lattice ? "levels (joint 1..n)" : "joints (deg)");
   for (size_t k = 0; k < summary.design.size(); ++k) {
-    std::printf("  %-6zu %-8lld", k, static_cast<long long>(summary.design[k]));
-    for (int l : lattice.Levels(summary.design[k])) std::printf(" %d", l);
+    const int64_t i = summary.design[k];
+    std::printf("  %-6zu %-8lld", k,
+                static_cast<long long>(labels.empty() ? i : labels[i]));
+    if (from_lattice) {
+      for (int l : lattice.Levels(i)) std::printf(" %d", l);
+    } else {
+      for (int c = 0; c < pool_joints.cols(); ++c) {
+        std::printf(" %.3f", pool_joints(i, c) * 180.0 / M_PI);
+      }
+    }
     std::printf("\n");
   }
+  if (!FLAGS_poses_csv.empty()) {
+    PoseList chosen;
+    chosen.joints.resize(summary.design.size(), model.num_joints());
+    for (size_t k = 0; k < summary.design.size(); ++k) {
+      const int64_t i = summary.design[k];
+      chosen.joints.row(k) = pool_joints.row(i);
+      chosen.pose_indices.push_back(labels.empty() ? i : labels[i]);
+    }
+    app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+  }
   if (!FLAGS_json_out.empty()) {
-    nlohmann::json j = app::SelectionJson(summary, lattice);
+    nlohmann::json j = app::SelectionJson(summary, pool_joints, labels);
+    j["robot"] = model.name;
+    j["measurement"] = FLAGS_measurement;
+    j["free_parameters"] = model.FreeParameterNames();
+    j["auto_fixed"] = auto_fixed;
     j["seed"] = FLAGS_seed;
-    j["levels"] = FLAGS_levels;
-    j["jacobian_seconds"] = jacobian_seconds;
-    j["total_seconds"] = total_seconds;
+    if (from_lattice) {
+      j["levels"] = FLAGS_levels;
+    } else {
+      j["pool_csv"] = FLAGS_pool_csv;
+    }
+    // Wall-clock times: the only fields that vary between runs.
+    j["timing"] = {{"jacobian_seconds", jacobian_seconds},
+                   {"selection_seconds", summary.seconds},
+                   {"approximate_seconds", approx.seconds},
+                   {"total_seconds", total_seconds}};
     if (FLAGS_certificate) {
       j["efficiency_lower_bound"] = summary.efficiency_lower_bound;
       j["log10_det_upper_bound"] = summary.log_det_upper_bound / std::log(10.0);
@@ -177,8 +263,7 @@ int Main() {
                           {"log10_det_upper_bound",
                            approx.log_det_upper_bound / std::log(10.0)},
                           {"tolerance", FLAGS_approx_tolerance},
-                          {"converged", approx.success},
-                          {"seconds", approx.seconds}};
+                          {"converged", approx.success}};
     }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
@@ -191,9 +276,10 @@ int Main() {
 int main(int argc, char** argv) {
   activecal::app::Init(
       &argc, &argv,
-      "Selects calibration poses for the Sun & Hollerbach PUMA 560 from a "
-      "lattice of joint values, maximising det(X^T X) of the position "
-      "Jacobian at the nominal parameters.\n  activecal_select "
-      "--algorithm=eae --seed=1 --json_out=design.json");
+      "Selects calibration poses from a lattice of joint values (or a pool "
+      "read from CSV), maximising det(X^T X) of the measurement Jacobian at "
+      "the nominal parameters. The robot is --robot (default: the Sun & "
+      "Hollerbach PUMA 560).\n  activecal_select --algorithm=fedorov "
+      "--seed=1 --json_out=design.json --poses_csv=poses.csv");
   return activecal::Main();
 }

@@ -9,8 +9,15 @@
 #include <fstream>
 #include <iostream>
 
+#include "activecal/core/puma560.h"
+#include "activecal/residuals/identification.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/criteria.h"
+
+DEFINE_string(robot, "",
+              "Robot description file (YAML, docs/formats.md). Empty: the "
+              "built-in PUMA 560 of Sun & Hollerbach, the same as "
+              "data/puma560.yaml.");
 
 namespace activecal {
 namespace app {
@@ -82,40 +89,103 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
   return lattice;
 }
 
-CandidatePool MakeLatticePoolOrDie(const RobotModel& model,
-                                   const Eigen::VectorXd& parameters,
-                                   const JointLattice& lattice, int num_threads,
-                                   double* seconds) {
+RobotDescription LoadRobotOrDie() {
+  RobotDescription robot;
+  if (FLAGS_robot.empty()) {
+    robot.model = Puma560PaperModel();
+    robot.true_parameters = Puma560TrueParameters();
+    return robot;
+  }
+  std::string error;
+  if (!LoadRobotFile(FLAGS_robot, &robot, &error)) Fail("--robot: " + error);
+  return robot;
+}
+
+RowMatrixXd PoolJacobiansOrDie(const RobotModel& model,
+                               const Eigen::VectorXd& parameters,
+                               const Eigen::MatrixXd& joints,
+                               MeasurementType type, double rotation_weight,
+                               int num_threads, double* seconds) {
   const int64_t start = NowNs();
-  Progress("Jacobians of " + std::to_string(lattice.size()) + " poses ...");
+  Progress("Jacobians of " + std::to_string(joints.rows()) + " poses ...");
   RowMatrixXd stacked;
   std::string error;
   PoolJacobianOptions options;
   options.num_threads = num_threads;
-  if (!PoolPositionJacobians(model, parameters, lattice.AllJointValues(),
-                             options, &stacked, &error)) {
-    Fail(error);
-  }
-  CandidatePool pool;
-  if (!CandidatePool::Create(std::move(stacked), 3, &pool, &error)) {
+  options.type = type;
+  options.rotation_weight_m_per_rad = rotation_weight;
+  if (!PoolJacobians(model, parameters, joints, options, &stacked, &error)) {
     Fail(error);
   }
   if (seconds) *seconds = Seconds(start);
-  return pool;
+  return stacked;
+}
+
+std::vector<std::string> EnsureIdentifiableOrDie(RobotModel* model,
+                                                 RowMatrixXd* jacobian,
+                                                 bool auto_fix,
+                                                 const std::string& what) {
+  // A tall Jacobian is analysed through a deterministic subset of its rows
+  // (every k-th block of rows), enough to expose structural rank loss.
+  const int64_t max_rows = 300000;
+  const int64_t rows = jacobian->rows();
+  Eigen::MatrixXd sample;
+  if (rows <= max_rows) {
+    sample = *jacobian;
+  } else {
+    const int64_t stride = (rows + max_rows - 1) / max_rows;
+    const int64_t n = rows / stride;
+    sample.resize(n, jacobian->cols());
+    for (int64_t i = 0; i < n; ++i) sample.row(i) = jacobian->row(i * stride);
+  }
+  const IdentifiabilityReport report = AnalyzeIdentifiability(*model, sample);
+  if (report.identifiable()) return {};
+  if (!auto_fix) {
+    Fail(what + ": " + report.Message() +
+         ". Fix them in the robot file (remove them from 'free') or pass "
+         "--auto_fix");
+  }
+  const std::vector<int> drop = SuggestParametersToFix(sample);
+  const std::vector<std::string> names = model->FreeParameterNames();
+  const std::vector<int> free = model->FreeParameterIndices();
+  std::vector<std::string> fixed;
+  std::vector<int> keep;
+  for (int c = 0, d = 0; c < static_cast<int>(free.size()); ++c) {
+    if (d < static_cast<int>(drop.size()) && drop[d] == c) {
+      model->SetFree(free[c], false);
+      fixed.push_back(names[c]);
+      ++d;
+    } else {
+      keep.push_back(c);
+    }
+  }
+  RowMatrixXd kept(jacobian->rows(), keep.size());
+  for (size_t k = 0; k < keep.size(); ++k) kept.col(k) = jacobian->col(keep[k]);
+  *jacobian = std::move(kept);
+  std::string list;
+  for (const std::string& f : fixed) list += (list.empty() ? "" : ", ") + f;
+  std::cerr << g_program << ": --auto_fix: " << what << " cannot identify "
+            << fixed.size() << " of " << free.size()
+            << " free parameters; holding them at their nominal values: "
+            << list << std::endl;
+  return fixed;
 }
 
 nlohmann::json SelectionJson(const SelectionSummary& summary,
-                             const JointLattice& lattice) {
+                             const Eigen::MatrixXd& pool_joints,
+                             const std::vector<int64_t>& labels) {
   nlohmann::json j;
   j["algorithm"] = summary.algorithm;
   j["pool_size"] = summary.pool_size;
   j["num_parameters"] = summary.num_parameters;
-  j["pose_indices"] = summary.design;
+  std::vector<int64_t> indices;
   nlohmann::json angles = nlohmann::json::array();
   for (int64_t i : summary.design) {
-    const Eigen::VectorXd q = lattice.JointValues(i);
+    indices.push_back(labels.empty() ? i : labels[i]);
+    const Eigen::VectorXd q = pool_joints.row(i).transpose();
     angles.push_back(std::vector<double>(q.data(), q.data() + q.size()));
   }
+  j["pose_indices"] = indices;
   j["joint_angles_rad"] = angles;
   j["log10_det"] = summary.log10_det();
   j["oi"] = OiFromLogDet(summary.log_det, summary.num_parameters);
@@ -124,7 +194,6 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
     history.push_back(s.log_det / std::log(10.0));
   }
   j["history_log10_det"] = history;
-  j["seconds"] = summary.seconds;
   return j;
 }
 

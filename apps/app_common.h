@@ -3,6 +3,8 @@
 #ifndef ACTIVECAL_APPS_APP_COMMON_H_
 #define ACTIVECAL_APPS_APP_COMMON_H_
 
+#include <gflags/gflags_declare.h>
+
 #include <Eigen/Core>
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -10,12 +12,21 @@
 #include <vector>
 
 #include "activecal/core/lattice.h"
+#include "activecal/core/measurement.h"
+#include "activecal/core/robot_file.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/selection/candidate_pool.h"
 #include "activecal/selection/design.h"
 
+// --robot, shared by every program.
+DECLARE_string(robot);
+
 namespace activecal {
 namespace app {
+
+// The robot of --robot, or the built-in PUMA 560 of the paper (with its
+// true values) when --robot is empty. Dies with file:line:field on errors.
+RobotDescription LoadRobotOrDie();
 
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);
@@ -30,18 +41,34 @@ bool WriteFileAtomically(const std::string& path, const std::string& text,
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 void WriteTextOrDie(const std::string& path, const std::string& text);
 
-// The lattice over the model with `levels` values per joint, and the
-// Jacobian pool at `parameters`. Dies with a message on bad input.
+// The lattice over the model with `levels` values per joint. Dies with a
+// message on bad input.
 JointLattice MakeLatticeOrDie(const RobotModel& model, int levels);
-CandidatePool MakeLatticePoolOrDie(const RobotModel& model,
-                                   const Eigen::VectorXd& parameters,
-                                   const JointLattice& lattice, int num_threads,
-                                   double* seconds);
 
-// JSON for a selection result: algorithm, pool_size, pose_indices,
-// joint_angles_rad, log10_det, oi, history_log10_det, seconds.
+// The stacked Jacobians of every pose (a row of `joints`) for measurements
+// of `type`, at `parameters`. Dies with a message on bad input.
+RowMatrixXd PoolJacobiansOrDie(const RobotModel& model,
+                               const Eigen::VectorXd& parameters,
+                               const Eigen::MatrixXd& joints,
+                               MeasurementType type, double rotation_weight,
+                               int num_threads, double* seconds);
+
+// Checks that `jacobian` (columns: the model's free parameters) identifies
+// every free parameter. If not: with auto_fix, marks the parameters
+// SuggestParametersToFix names as fixed in *model, drops their columns from
+// *jacobian, says so on stderr and returns their names; without it, dies
+// naming the unidentifiable combinations.
+std::vector<std::string> EnsureIdentifiableOrDie(RobotModel* model,
+                                                 RowMatrixXd* jacobian,
+                                                 bool auto_fix,
+                                                 const std::string& what);
+
+// JSON for a selection result: algorithm, pool_size, pose_indices (labels
+// of the chosen pool rows), joint_angles_rad, log10_det, oi,
+// history_log10_det.
 nlohmann::json SelectionJson(const SelectionSummary& summary,
-                             const JointLattice& lattice);
+                             const Eigen::MatrixXd& pool_joints,
+                             const std::vector<int64_t>& labels);
 
 // A stage line on stderr ("activecal_select: approximate design ..."),
 // only when stderr is a terminal: logs and pipes stay clean.

@@ -15,7 +15,8 @@ foreach(layer core residuals selection)
     FILES_MATCHING PATTERN "*.h")
 endforeach()
 if(ACTIVECAL_BUILD_APPS)
-  install(TARGETS activecal_identify activecal_select activecal_puma_paper
+  install(TARGETS activecal_identify activecal_select activecal_simulate
+    activecal_puma_paper
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
 

@@ -102,8 +102,9 @@ TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   data = PumaMeasurements(30, 0.01, 1);
   data[7].joints.resize(5);
   EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
-  EXPECT_NE(summary.message.find("measurement 7: joints: expected 6 joint values"),
-            std::string::npos)
+  EXPECT_NE(
+      summary.message.find("measurement 7: joints: expected 6 joint values"),
+      std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
   data[2].joints[0] = std::nan("");
@@ -114,7 +115,8 @@ TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   EXPECT_FALSE(Identify(m, PumaMeasurements(30, 0.01, 1), initial,
                         IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("initial values"), std::string::npos);
-  EXPECT_FALSE(Identify(m, std::vector<Measurement>{}, m.nominal, IdentificationOptions(), &summary));
+  EXPECT_FALSE(Identify(m, std::vector<Measurement>{}, m.nominal,
+                        IdentificationOptions(), &summary));
   EXPECT_NE(summary.message.find("too few equations: 0"), std::string::npos)
       << summary.message;
 }

@@ -32,8 +32,7 @@ Eigen::VectorXd ResidualAt(const RobotModel& model, const Eigen::VectorXd& p,
 // step h scaled to the parameter.
 Eigen::MatrixXd CentralDifferenceJacobian(const RobotModel& model,
                                           const Eigen::VectorXd& p,
-                                          const Measurement& m,
-                                          double weight) {
+                                          const Measurement& m, double weight) {
   const std::vector<int> free = model.FreeParameterIndices();
   Eigen::MatrixXd J(m.dimension(), free.size());
   for (size_t c = 0; c < free.size(); ++c) {
@@ -97,9 +96,9 @@ TEST(MeasurementResidualTest, PumaPositionJacobianMatchesCentralDifferences) {
 
 TEST(MeasurementResidualTest, MixedModelJacobiansMatchCentralDifferences) {
   // Standard DH, Hayati, modified DH, a prismatic joint, gains, tool.
-  for (MeasurementType type : {MeasurementType::kPosition,
-                               MeasurementType::kPose,
-                               MeasurementType::kDistance}) {
+  for (MeasurementType type :
+       {MeasurementType::kPosition, MeasurementType::kPose,
+        MeasurementType::kDistance}) {
     CheckJacobiansAgainstCentralDifferences(MixedModelWithToolAngles(), type,
                                             2);
   }
@@ -150,10 +149,9 @@ TEST(MeasurementResidualTest, PoseAndDistanceResidualValues) {
   // Distance: the predicted distance minus the measured one.
   m.type = MeasurementType::kDistance;
   m.distance = 0.5;
-  const double predicted =
-      (MeasuredPoint(model, model.nominal, m.joints) -
-       MeasuredPoint(model, model.nominal, m.joints2))
-          .norm();
+  const double predicted = (MeasuredPoint(model, model.nominal, m.joints) -
+                            MeasuredPoint(model, model.nominal, m.joints2))
+                               .norm();
   EXPECT_NEAR(ResidualAt(model, model.nominal, m, 1.0)[0], predicted - 0.5,
               1e-12);
 }

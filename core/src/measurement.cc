@@ -58,7 +58,8 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
         msg << "measured position is not finite";
       } else if (m.type == MeasurementType::kPose && !m.rotation.allFinite()) {
         msg << "measured rotation is not finite";
-      } else if (m.type == MeasurementType::kPose && m.rotation.norm() > M_PI + 1e-9) {
+      } else if (m.type == MeasurementType::kPose &&
+                 m.rotation.norm() > M_PI + 1e-9) {
         msg << "measured rotation vector has angle " << m.rotation.norm()
             << " rad > pi";
       }
@@ -67,8 +68,7 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
       if (!model.CheckJointValues(m.joints2, &why)) {
         msg << "second pose joints: " << why;
       } else if (!std::isfinite(m.distance) || m.distance < 0) {
-        msg << "measured distance must be finite and >= 0, got "
-            << m.distance;
+        msg << "measured distance must be finite and >= 0, got " << m.distance;
       }
       break;
   }
@@ -92,8 +92,7 @@ Measurement PredictMeasurement(const RobotModel& model,
     out.rotation = aa.angle() * aa.axis();
   } else if (like.type == MeasurementType::kDistance) {
     out.position.setZero();
-    out.distance =
-        (t - MeasuredPoint(model, parameters, like.joints2)).norm();
+    out.distance = (t - MeasuredPoint(model, parameters, like.joints2)).norm();
   }
   return out;
 }

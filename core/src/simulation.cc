@@ -60,7 +60,8 @@ bool SimulateMeasurements(const RobotModel& model,
           m.position[k] += noise.position_m * random.Gaussian();
         }
         Eigen::Vector3d w;
-        for (int k = 0; k < 3; ++k) w[k] = noise.rotation_rad * random.Gaussian();
+        for (int k = 0; k < 3; ++k)
+          w[k] = noise.rotation_rad * random.Gaussian();
         const Eigen::Matrix3d R_true =
             Eigen::AngleAxisd(m.rotation.norm(),
                               m.rotation.norm() > 0

@@ -7,6 +7,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -14,6 +15,10 @@
 #include "activecal/residuals/measurement_residual.h"
 
 namespace activecal {
+namespace {
+// Columns shorter than this times the longest are taken as zero.
+constexpr double kNoEffectTolerance = 1e-12;
+}  // namespace
 
 const char* RobustLossName(RobustLoss loss) {
   switch (loss) {
@@ -89,6 +94,12 @@ IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
   const std::vector<std::string> names = model.FreeParameterNames();
   // Column scaling makes the test independent of units (m against rad).
   Eigen::VectorXd norms = jacobian.colwise().norm();
+  // A column that is zero up to rounding has no effect; normalising it
+  // would blow its rounding noise up into a direction of its own.
+  const double no_effect = kNoEffectTolerance * norms.maxCoeff();
+  for (int c = 0; c < norms.size(); ++c) {
+    if (norms[c] <= no_effect) norms[c] = 0.0;
+  }
   Eigen::MatrixXd scaled = jacobian;
   for (int c = 0; c < scaled.cols(); ++c) {
     if (norms[c] > 0) {
@@ -136,9 +147,11 @@ std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
   Eigen::MatrixXd scaled = jacobian;
   std::vector<int> to_fix;
   std::vector<int> live;
+  const double no_effect =
+      p ? kNoEffectTolerance * jacobian.colwise().norm().maxCoeff() : 0.0;
   for (int c = 0; c < p; ++c) {
     const double norm = scaled.col(c).norm();
-    if (norm > 0) {
+    if (norm > no_effect) {
       scaled.col(c) /= norm;
       live.push_back(c);
     } else {
@@ -194,15 +207,22 @@ double Median(std::vector<double> v) {
   return m;
 }
 
-bool EvaluateResiduals(ceres::Problem* problem, Eigen::VectorXd* out) {
-  std::vector<double> r;
-  double cost;
-  if (!problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, &r, nullptr,
-                         nullptr)) {
-    return false;
+// The raw residuals (no loss function applied) of every cost function at
+// the current parameter values.
+Eigen::VectorXd RawResiduals(const std::vector<ceres::CostFunction*>& costs,
+                             const std::vector<double*>& blocks) {
+  int rows = 0;
+  for (const ceres::CostFunction* c : costs) rows += c->num_residuals();
+  Eigen::VectorXd r(rows);
+  int row = 0;
+  for (const ceres::CostFunction* c : costs) {
+    if (!c->Evaluate(blocks.data(), r.data() + row, nullptr)) {
+      r.segment(row, c->num_residuals())
+          .setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+    row += c->num_residuals();
   }
-  *out = Eigen::Map<Eigen::VectorXd>(r.data(), r.size());
-  return true;
+  return r;
 }
 
 }  // namespace
@@ -256,6 +276,7 @@ bool Identify(const RobotModel& model,
   }
   ceres::Problem problem;
   auto shared = std::make_shared<const RobotModel>(model);
+  std::vector<ceres::CostFunction*> costs;  // owned by the problem
   for (const Measurement& m : measurements) {
     ceres::LossFunction* loss = nullptr;
     if (options.robust_loss == RobustLoss::kHuber) {
@@ -263,10 +284,9 @@ bool Identify(const RobotModel& model,
     } else if (options.robust_loss == RobustLoss::kCauchy) {
       loss = new ceres::CauchyLoss(options.robust_scale_m);
     }
-    problem.AddResidualBlock(
-        MeasurementResidual::Create(shared, m,
-                                    options.rotation_weight_m_per_rad),
-        loss, blocks);
+    costs.push_back(MeasurementResidual::Create(
+        shared, m, options.rotation_weight_m_per_rad));
+    problem.AddResidualBlock(costs.back(), loss, blocks);
   }
   std::vector<const double*> free_blocks;
   for (int b = 0; b < model.num_blocks(); ++b) {
@@ -284,8 +304,7 @@ bool Identify(const RobotModel& model,
       free_blocks.push_back(blocks[b]);
     }
   }
-  Eigen::VectorXd r0;
-  EvaluateResiduals(&problem, &r0);
+  const Eigen::VectorXd r0 = RawResiduals(costs, blocks);
   summary->initial_residual_norms = BlockNorms(measurements, r0);
   summary->initial_rms_m = Rms(summary->initial_residual_norms);
 
@@ -305,7 +324,7 @@ bool Identify(const RobotModel& model,
   summary->converged = ss.termination_type == ceres::CONVERGENCE;
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
-  EvaluateResiduals(&problem, &summary->residuals);
+  summary->residuals = RawResiduals(costs, blocks);
   summary->residual_norms = BlockNorms(measurements, summary->residuals);
   summary->rms_m = Rms(summary->residual_norms);
   // Outliers: rows beyond outlier_threshold robust standard deviations.
@@ -366,8 +385,8 @@ bool Identify(const RobotModel& model,
   summary->correlation = summary->covariance;
   for (int i = 0; i < p; ++i) {
     for (int j = 0; j < p; ++j) {
-      const double denom = summary->standard_deviations[i] *
-                           summary->standard_deviations[j];
+      const double denom =
+          summary->standard_deviations[i] * summary->standard_deviations[j];
       summary->correlation(i, j) =
           denom > 0 ? summary->covariance(i, j) / denom : 0.0;
     }

@@ -127,11 +127,10 @@ bool PositionJacobian(const RobotModel& model,
   return MeasurementJacobian(model, parameters, m, 1.0, jacobian, error);
 }
 
-bool StackedJacobian(const RobotModel& model,
-                     const Eigen::VectorXd& parameters,
+bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
                      const std::vector<Measurement>& measurements,
-                     double rotation_weight_m_per_rad, Eigen::MatrixXd* jacobian,
-                     std::string* error) {
+                     double rotation_weight_m_per_rad,
+                     Eigen::MatrixXd* jacobian, std::string* error) {
   if (!CheckInputs(model, parameters, rotation_weight_m_per_rad, error) ||
       !CheckAll(model, measurements, error)) {
     return false;
@@ -146,8 +145,8 @@ bool StackedJacobian(const RobotModel& model,
   for (size_t i = 0; i < measurements.size(); ++i) {
     if (!evaluator.Evaluate(measurements[i], J.data() + row * p)) {
       if (error) {
-        *error = "measurement " + std::to_string(i) +
-                 ": Jacobian evaluation failed";
+        *error =
+            "measurement " + std::to_string(i) + ": Jacobian evaluation failed";
       }
       return false;
     }
@@ -160,8 +159,8 @@ bool StackedJacobian(const RobotModel& model,
 bool MeasurementErrors(const RobotModel& model,
                        const Eigen::VectorXd& parameters,
                        const std::vector<Measurement>& measurements,
-                       double rotation_weight_m_per_rad,
-                       Eigen::VectorXd* norms, std::string* error) {
+                       double rotation_weight_m_per_rad, Eigen::VectorXd* norms,
+                       std::string* error) {
   if (!model.Validate(error) || !model.CheckParameters(parameters, error) ||
       !CheckAll(model, measurements, error)) {
     return false;

@@ -35,19 +35,18 @@ bool PositionJacobian(const RobotModel& model,
 
 // The Jacobians of all `measurements`, stacked in order (rows: the sum of
 // their dimensions). The message names the first bad measurement.
-bool StackedJacobian(const RobotModel& model,
-                     const Eigen::VectorXd& parameters,
+bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
                      const std::vector<Measurement>& measurements,
-                     double rotation_weight_m_per_rad, Eigen::MatrixXd* jacobian,
-                     std::string* error);
+                     double rotation_weight_m_per_rad,
+                     Eigen::MatrixXd* jacobian, std::string* error);
 
 // Residual norms |predicted - measured| per measurement (rows as in
 // measurement_residual.h), at `parameters`.
 bool MeasurementErrors(const RobotModel& model,
                        const Eigen::VectorXd& parameters,
                        const std::vector<Measurement>& measurements,
-                       double rotation_weight_m_per_rad,
-                       Eigen::VectorXd* norms, std::string* error);
+                       double rotation_weight_m_per_rad, Eigen::VectorXd* norms,
+                       std::string* error);
 
 struct PoolJacobianOptions {
   // Threads to spread the poses over; <= 0: all hardware threads. The result

@@ -56,9 +56,9 @@ class MeasurementResidual {
         rotation_weight_(rotation_weight_m_per_rad) {
     const double angle = m_.rotation.norm();
     measured_rotation_transposed_ =
-        (angle > 0 ? Eigen::AngleAxisd(angle, m_.rotation / angle)
-                         .toRotationMatrix()
-                   : Eigen::Matrix3d::Identity())
+        (angle > 0
+             ? Eigen::AngleAxisd(angle, m_.rotation / angle).toRotationMatrix()
+             : Eigen::Matrix3d::Identity())
             .transpose();
   }
 
@@ -66,7 +66,8 @@ class MeasurementResidual {
   bool operator()(T const* const* blocks, T* residuals) const {
     switch (m_.type) {
       case MeasurementType::kPosition: {
-        const Vector3<T> p = MeasuredPoint<T>(*model_, blocks, m_.joints.data());
+        const Vector3<T> p =
+            MeasuredPoint<T>(*model_, blocks, m_.joints.data());
         for (int k = 0; k < 3; ++k) residuals[k] = p[k] - T(m_.position[k]);
         return true;
       }
