@@ -194,8 +194,15 @@ bool RobotModel::CheckJointValues(const Eigen::VectorXd& q,
       }
       if (q[i] < l.joint_min - slack || q[i] > l.joint_max + slack) {
         msg << "joint " << i + 1 << " (" << block_name(i + 1) << ") value "
-            << q[i] << " is outside its range [" << l.joint_min << ", "
-            << l.joint_max << "]";
+            << q[i];
+        if (l.joint_type == JointType::kRevolute) {
+          const double deg = 180.0 / M_PI;
+          msg << " rad (" << q[i] * deg << " deg) is outside its range ["
+              << l.joint_min * deg << ", " << l.joint_max * deg << "] deg";
+        } else {
+          msg << " m is outside its range [" << l.joint_min << ", "
+              << l.joint_max << "] m";
+        }
         break;
       }
     }

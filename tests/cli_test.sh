@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# Command-line tests of the programs: the README's calibration loop with the
+# shipped PUMA file gives the same files as the built-in model, and every
+# bad input ends with status 1 and one clear line on stderr, leaving no
+# half-written output.
+#
+#   tests/cli_test.sh <build/apps dir> <data dir>
+set -uo pipefail
+apps="$(cd "$1" && pwd)"
+data="$(cd "$2" && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+failures=0
+
+# expect_fail <name> <text expected on stderr> <program> [flags...]
+expect_fail() {
+  local name="$1" want="$2"
+  shift 2
+  local prog="$1"
+  shift
+  "$apps/$prog" "$@" >out.txt 2>err.txt
+  local status=$?
+  local lines
+  lines=$(wc -l <err.txt)
+  if [ "$status" -ne 1 ]; then
+    echo "FAIL [$name]: exit status $status, expected 1"; failures=$((failures + 1))
+  elif [ "$lines" -ne 1 ]; then
+    echo "FAIL [$name]: $lines lines on stderr, expected 1:"; cat err.txt
+    failures=$((failures + 1))
+  elif ! grep -qF -- "$want" err.txt; then
+    echo "FAIL [$name]: stderr lacks '$want':"; cat err.txt
+    failures=$((failures + 1))
+  else
+    echo "ok   [$name]: $(cat err.txt)"
+  fi
+}
+
+expect_same() {
+  [ -s "$1" ] || { echo "FAIL [same]: $1 is empty or missing"; failures=$((failures + 1)); return; }
+  if cmp -s "$1" "$2"; then echo "ok   [same $1 $2]"; else
+    echo "FAIL [same]: $1 and $2 differ"; failures=$((failures + 1)); fi
+}
+
+# --- The README loop, with the YAML file and with the built-in model. ---
+run_loop() {  # <suffix> [--robot=...]
+  local s="$1"
+  shift
+  "$apps/activecal_select" "$@" --algorithm=fedorov --restarts=4 \
+    --poses_csv="poses$s.csv" --json_out="select$s.json" >/dev/null || return 1
+  "$apps/activecal_simulate" "$@" --poses_csv="poses$s.csv" --noise_m=0.001 \
+    --seed=3 --out="measurements$s.csv" >/dev/null || return 1
+  "$apps/activecal_identify" "$@" --measurements="measurements$s.csv" \
+    --validation_fraction=0.2 --model_out="calibrated$s.yaml" \
+    --json_out="report$s.json" >/dev/null || return 1
+}
+if run_loop _yaml --robot="$data/puma560.yaml" && run_loop _builtin; then
+  echo "ok   [loop runs]"
+else
+  echo "FAIL [loop runs]"; failures=$((failures + 1))
+fi
+expect_same poses_yaml.csv poses_builtin.csv
+expect_same measurements_yaml.csv measurements_builtin.csv
+# The calibrated models differ only in the comment naming the input.
+grep -v '^#' calibrated_yaml.yaml >a.yaml
+grep -v '^#' calibrated_builtin.yaml >b.yaml
+expect_same a.yaml b.yaml
+grep -v '"measurements"' report_yaml.json >a.json
+grep -v '"measurements"' report_builtin.json >b.json
+expect_same a.json b.json
+# The calibrated model loads back and identifies again from it.
+"$apps/activecal_identify" --robot=calibrated_yaml.yaml \
+  --measurements=measurements_yaml.csv >/dev/null 2>&1 &&
+  echo "ok   [calibrated model reloads]" ||
+  { echo "FAIL [calibrated model reloads]"; failures=$((failures + 1)); }
+
+# --- Bad flags. ---
+expect_fail "levels=1" "--levels=1" activecal_select --levels=1
+expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
+expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
+  activecal_select --num_poses=20000
+expect_fail "unknown algorithm" "--algorithm must be one of" activecal_select --algorithm=simplex
+expect_fail "distance pool" "--measurement must be position or pose" \
+  activecal_select --measurement=distance
+expect_fail "stray argument" "unexpected argument 'fedorov'" activecal_select fedorov
+expect_fail "unknown loss" "--robust_loss must be none, huber or cauchy" \
+  activecal_identify --robust_loss=tukey
+expect_fail "loss without scale" "needs robust_scale_m > 0" \
+  activecal_identify --robust_loss=huber
+expect_fail "validation fraction" "--validation_fraction must be in [0, 0.9]" \
+  activecal_identify --validation_fraction=2
+expect_fail "simulate without poses" "--poses_csv is required" activecal_simulate --out=x.csv
+expect_fail "simulate type" "--type must be position, pose or distance" \
+  activecal_simulate --poses_csv=poses_yaml.csv --out=x.csv --type=angle
+expect_fail "negative noise" "noise standard deviation must be finite and >= 0" \
+  activecal_simulate --poses_csv=poses_yaml.csv --out=x.csv --noise_m=-1
+
+# --- Bad files. ---
+expect_fail "missing robot file" "--robot: nope.yaml: cannot open the robot file" \
+  activecal_select --robot=nope.yaml
+sed 's/alpha: -1.4524/alpha: -1.45x24/' "$data/puma560.yaml" >typo.yaml
+expect_fail "typo in robot file" "typo.yaml:31:12: links[0].alpha: expected a number, got '-1.45x24'" \
+  activecal_select --robot=typo.yaml
+grep -v 'true:' "$data/puma560.yaml" >notruth.yaml
+expect_fail "no true values" "has no true values to simulate from" \
+  activecal_simulate --robot=notruth.yaml --poses_csv=poses_yaml.csv --out=x.csv
+expect_fail "missing measurements" "--measurements: nope.csv: cannot open the file" \
+  activecal_identify --measurements=nope.csv
+sed '5s/,0\.[0-9]*,/,abc,/' measurements_yaml.csv >bad.csv
+expect_fail "bad measurement value" "bad.csv:5:" activecal_identify --measurements=bad.csv
+head -5 measurements_yaml.csv >few.csv
+expect_fail "too few measurements" "the 4 measurements: too few equations: 12 measurement rows for 27 free parameters" \
+  activecal_identify --measurements=few.csv
+printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n' >dup.csv
+expect_fail "duplicate pool poses" "dup.csv:3: duplicate pose: the same joint values as line 2" \
+  activecal_select --pool_csv=dup.csv --num_poses=1
+printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,400\n' >range.csv
+expect_fail "joint out of range" "range.csv:2: joint 6 (L6) value 6.98132 rad (400 deg) is outside its range [-176, 356] deg" \
+  activecal_simulate --poses_csv=range.csv --out=x.csv
+printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n' >empty.csv
+expect_fail "empty pool" "empty.csv:1: no poses after the header" \
+  activecal_select --pool_csv=empty.csv
+
+# --- Unidentifiable parameters: refused, or fixed with --auto_fix. ---
+awk '/^base:/{b=1} b&&/free:/{sub(/beta\]/,"beta, d]"); b=0} {print}' \
+  "$data/puma560.yaml" >based.yaml
+expect_fail "unidentifiable" "not identifiable" activecal_identify --robot=based.yaml \
+  --measurements=measurements_yaml.csv
+grep -q "or pass --auto_fix" err.txt && grep -q "B.d" err.txt &&
+  echo "ok   [unidentifiable message names B.d and --auto_fix]" ||
+  { echo "FAIL [unidentifiable message]"; failures=$((failures + 1)); }
+if "$apps/activecal_identify" --robot=based.yaml --measurements=measurements_yaml.csv \
+  --auto_fix --json_out=autofix.json >/dev/null 2>err.txt &&
+  grep -q "auto_fix.*holding them at their nominal values" err.txt &&
+  grep -q '"auto_fixed"' autofix.json; then
+  echo "ok   [--auto_fix]: $(cat err.txt)"
+else
+  echo "FAIL [--auto_fix]"; cat err.txt; failures=$((failures + 1))
+fi
+
+# --- No half-written output: a failing write leaves the old file alone. ---
+echo "keep me" >kept.json
+mkdir -p kept.json.tmp  # the temporary name is taken: the write must fail
+expect_fail "unwritable output" "cannot open 'kept.json.tmp' for writing" \
+  activecal_identify --json_out=kept.json
+[ "$(cat kept.json)" = "keep me" ] && echo "ok   [old output kept]" ||
+  { echo "FAIL [old output kept]"; failures=$((failures + 1)); }
+
+echo "$failures failure(s)"
+[ "$failures" -eq 0 ]
