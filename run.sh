@@ -3,6 +3,8 @@
 #
 #   ./run.sh paper [flags]   install what is missing, build, run activecal_puma_paper
 #   ./run.sh test            install what is missing, build, run the whole test suite
+#   ./run.sh plots [flags]   run activecal_puma_paper into paper_out/, then draw
+#                            its figures with gnuplot into paper_out/plots/
 #   ./run.sh build           install what is missing and build only
 #   ./run.sh <program> [flags]  build, then run build/apps/<program>
 #
@@ -15,7 +17,7 @@ jobs="${JOBS:-$(nproc)}"
 
 packages=(build-essential cmake libceres-dev libeigen3-dev libgoogle-glog-dev
           libgflags-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
-          libyaml-cpp-dev)
+          libyaml-cpp-dev gnuplot-nox)
 
 install_missing() {
   local missing=()
@@ -46,6 +48,10 @@ case "$cmd" in
   paper)
     build
     exec "$build_dir/apps/activecal_puma_paper" "$@" ;;
+  plots)
+    build
+    "$build_dir/apps/activecal_puma_paper" --out_dir=paper_out "$@" >/dev/null
+    exec scripts/plot_paper.sh paper_out ;;
   *)
     build
     exec "$build_dir/apps/$cmd" "$@" ;;

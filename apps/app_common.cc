@@ -140,7 +140,8 @@ std::vector<std::string> EnsureIdentifiableOrDie(RobotModel* model,
   }
   const IdentifiabilityReport report = AnalyzeIdentifiability(*model, sample);
   if (report.identifiable()) return {};
-  if (report.num_equations < report.num_free) Fail(what + ": " + report.Message());
+  if (report.num_equations < report.num_free)
+    Fail(what + ": " + report.Message());
   if (!auto_fix) {
     Fail(what + ": " + report.Message() +
          ". Fix them in the robot file (remove them from 'free') or pass "

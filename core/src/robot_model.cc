@@ -69,6 +69,21 @@ void RobotModel::SetFree(int parameter_index, bool free) {
   }
 }
 
+const char* RobotModel::ParameterUnit(int parameter_index) const {
+  const int block = parameter_index / kLinkBlockSize;
+  const int within = parameter_index % kLinkBlockSize;
+  if (block == num_joints() + 1) return within < 3 ? "m" : "rad";
+  switch (within) {
+    case kA:
+    case kD:
+      return "m";
+    case kGain:
+      return "1";
+    default:
+      return "rad";
+  }
+}
+
 int RobotModel::ParameterIndex(const std::string& parameter_name) const {
   const std::vector<std::string> names = ParameterNames();
   for (size_t i = 0; i < names.size(); ++i) {

@@ -44,16 +44,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   activecal::CandidatePool pool;
-  if (!activecal::CandidatePool::Create(std::move(stacked), 3, &pool,
-                                        &error)) {
+  if (!activecal::CandidatePool::Create(std::move(stacked), 3, &pool, &error)) {
     std::cerr << error << "\n";
     return 1;
   }
 
   // 2. A D-optimal design of 40 poses, with its efficiency certificate.
   activecal::ApproximateDesignSummary approximate;
-  activecal::SolveApproximateDesign(pool, {}, activecal::ApproximateDesignOptions(),
-                                    &approximate);
+  activecal::SolveApproximateDesign(
+      pool, {}, activecal::ApproximateDesignOptions(), &approximate);
   activecal::FedorovOptions options;
   options.num_poses = 40;
   options.restarts = 4;
@@ -87,7 +86,6 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::cout << summary.BriefReport();
-  std::ofstream(argv[2]) << activecal::RobotFileText(model,
-                                                     summary.parameters);
+  std::ofstream(argv[2]) << activecal::RobotFileText(model, summary.parameters);
   return summary.rms_m < 1e-3 ? 0 : 1;
 }

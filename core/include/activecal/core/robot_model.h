@@ -119,6 +119,9 @@ struct RobotModel {
   bool IsFree(int parameter_index) const;
   // Marks a parameter (index into the full vector) free or fixed.
   void SetFree(int parameter_index, bool free);
+  // Unit of a parameter (index into the full vector): "rad", "m" or "1"
+  // (a gain).
+  const char* ParameterUnit(int parameter_index) const;
   // Index into the full vector of a parameter name such as "L2.beta", or -1.
   int ParameterIndex(const std::string& parameter_name) const;
   int num_free() const;
