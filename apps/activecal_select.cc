@@ -133,9 +133,9 @@ int Main() {
                            FLAGS_algorithm == "approx";
   ApproximateDesignSummary approx;
   if (need_approx) {
-    app::Progress("approximate design over " + std::to_string(pool.size()) +
-                  " poses ...");
+    app::ProgressLine line("approximate design, rounds");
     ApproximateDesignOptions options;
+    options.progress = line.callback();
     options.tolerance = FLAGS_approx_tolerance;
     options.num_threads = FLAGS_threads;
     std::string error;
@@ -146,8 +146,7 @@ int Main() {
     }
   }
 
-  app::Progress(FLAGS_algorithm + ": selecting " +
-                std::to_string(FLAGS_num_poses) + " poses ...");
+  app::ProgressLine restarts_line(FLAGS_algorithm + " restarts");
   SelectionSummary summary;
   bool ok = false;
   if (FLAGS_algorithm == "eae") {
@@ -179,6 +178,7 @@ int Main() {
     if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
     options.seed = FLAGS_seed;
     options.num_threads = FLAGS_threads;
+    options.progress = restarts_line.callback();
     if (FLAGS_algorithm == "approx") {
       // Only the rounding: no swaps.
       options.max_swaps = 0;
@@ -192,6 +192,7 @@ int Main() {
     if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
     options.seed = FLAGS_seed;
     options.num_threads = FLAGS_threads;
+    options.progress = restarts_line.callback();
     ok = Detmax(pool, {}, options, &summary);
   } else {
     GreedyOptions options;

@@ -107,10 +107,11 @@ RowMatrixXd PoolJacobiansOrDie(const RobotModel& model,
                                MeasurementType type, double rotation_weight,
                                int num_threads, double* seconds) {
   const int64_t start = NowNs();
-  Progress("Jacobians of " + std::to_string(joints.rows()) + " poses ...");
+  ProgressLine line("Jacobians of the pool poses");
   RowMatrixXd stacked;
   std::string error;
   PoolJacobianOptions options;
+  options.progress = line.callback();
   options.num_threads = num_threads;
   options.type = type;
   options.rotation_weight_m_per_rad = rotation_weight;
@@ -197,6 +198,41 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
   }
   j["history_log10_det"] = history;
   return j;
+}
+
+ProgressLine::ProgressLine(std::string label)
+    : label_(std::move(label)), tty_(isatty(2)), start_ns_(NowNs()) {}
+
+ProgressLine::~ProgressLine() {
+  if (tty_ && printed_) std::cerr << std::endl;
+}
+
+ProgressCallback ProgressLine::callback() {
+  return [this](int64_t done, int64_t total) { Update(done, total); };
+}
+
+void ProgressLine::Update(int64_t done, int64_t total) {
+  if (!tty_) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const int64_t now = NowNs();
+  if (done < total && now - last_ns_ < 200000000) return;
+  last_ns_ = now;
+  const double elapsed = (now - start_ns_) * 1e-9;
+  const double rate = elapsed > 0 ? done / elapsed : 0.0;
+  char line[256];
+  if (done < total && rate > 0) {
+    std::snprintf(line, sizeof(line), "%s: %s: %lld/%lld (%.3g/s, %.1f s left)",
+                  g_program.c_str(), label_.c_str(),
+                  static_cast<long long>(done), static_cast<long long>(total),
+                  rate, (total - done) / rate);
+  } else {
+    std::snprintf(line, sizeof(line), "%s: %s: %lld/%lld (%.1f s)",
+                  g_program.c_str(), label_.c_str(),
+                  static_cast<long long>(done), static_cast<long long>(total),
+                  elapsed);
+  }
+  std::cerr << "\r" << line << "\033[K" << std::flush;
+  printed_ = true;
 }
 
 void Progress(const std::string& message) {

@@ -218,6 +218,8 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
   stacked->resize(t * n, p);
   auto shared = std::make_shared<const RobotModel>(model);
   std::atomic<int64_t> failed{-1};
+  std::atomic<int64_t> done{0};
+  constexpr int64_t kReportEvery = 4096;
   ParallelFor(n, options.num_threads, [&](int64_t begin, int64_t end, int) {
     JacobianEvaluator evaluator(shared, parameters,
                                 options.rotation_weight_m_per_rad);
@@ -229,8 +231,12 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
         failed = i;
         return;
       }
+      if (options.progress && (i - begin + 1) % kReportEvery == 0) {
+        options.progress(done += kReportEvery, n);
+      }
     }
   });
+  if (options.progress) options.progress(n, n);
   if (failed >= 0) {
     if (error) {
       *error = "Jacobian evaluation failed at pool pose " +

@@ -174,6 +174,7 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   Eigen::VectorXd dw;
   for (int round = 0; round < options.max_rounds; ++round) {
     summary->rounds = round + 1;
+    if (options.progress) options.progress(round, options.max_rounds);
     // Inner: optimise the weights on the working set. Every
     // kRecomputeInterval steps M(w), V and the variances are recomputed
     // from the weights (and a multiplicative sweep is made); in between,

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -58,15 +59,24 @@ namespace internal {
 
 RestartResult BestOfRestarts(
     int restarts, int num_threads,
-    const std::function<RestartResult(int restart, int inner_threads)>& run) {
+    const std::function<RestartResult(int restart, int inner_threads)>& run,
+    const ProgressCallback& progress) {
   std::vector<RestartResult> results(restarts);
   const int threads = ResolveNumThreads(num_threads);
+  std::atomic<int64_t> done{0};
+  if (progress) progress(0, restarts);
   if (restarts >= threads) {
     ParallelFor(restarts, threads, [&](int64_t b, int64_t e, int) {
-      for (int64_t r = b; r < e; ++r) results[r] = run(r, 1);
+      for (int64_t r = b; r < e; ++r) {
+        results[r] = run(r, 1);
+        if (progress) progress(++done, restarts);
+      }
     });
   } else {
-    for (int r = 0; r < restarts; ++r) results[r] = run(r, threads);
+    for (int r = 0; r < restarts; ++r) {
+      results[r] = run(r, threads);
+      if (progress) progress(++done, restarts);
+    }
   }
   int best = -1;
   for (int r = 0; r < restarts; ++r) {
@@ -538,7 +548,8 @@ bool FedorovExchange(const CandidatePool& pool,
   }
   std::vector<std::string> notes(options.restarts);
   RestartResult best = internal::BestOfRestarts(
-      options.restarts, options.num_threads, [&](int r, int threads) {
+      options.restarts, options.num_threads,
+      [&](int r, int threads) {
         const std::vector<int64_t> initial = internal::InitialDesign(
             *work_pool, work_constraints, work_eligible, options.num_poses,
             Random::StreamSeed(options.seed, r), work_approximate, r > 0,
@@ -546,7 +557,8 @@ bool FedorovExchange(const CandidatePool& pool,
         if (initial.empty()) return RestartResult();
         return FedorovRestart(*work_pool, work_eligible, work_fixed, initial,
                               options, threads);
-      });
+      },
+      options.progress);
   const auto restarts_done = std::chrono::steady_clock::now();
   std::string timing;
   if (work_pool != &pool && best.ok) {
@@ -594,7 +606,8 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
   }
   std::vector<std::string> notes(options.restarts);
   const RestartResult best = internal::BestOfRestarts(
-      options.restarts, options.num_threads, [&](int r, int threads) {
+      options.restarts, options.num_threads,
+      [&](int r, int threads) {
         RestartResult result;
         std::vector<int64_t> poses = internal::InitialDesign(
             pool, constraints, eligible, options.num_poses,
@@ -619,7 +632,8 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
         result.log_det = LogDetFromScratch(pool, result.design);
         result.ok = std::isfinite(result.log_det);
         return result;
-      });
+      },
+      options.progress);
   Finish(best, options.restarts, start, NoteOf(notes, best.restart), summary);
   return summary->success;
 }

@@ -113,7 +113,8 @@ struct RestartResult {
 // and returns the best by log det, the lowest restart on ties.
 RestartResult BestOfRestarts(
     int restarts, int num_threads,
-    const std::function<RestartResult(int restart, int inner_threads)>& run);
+    const std::function<RestartResult(int restart, int inner_threads)>& run,
+    const ProgressCallback& progress = ProgressCallback());
 
 // A starting design of num_poses poses: the fixed poses, then (if given)
 // poses of an approximate design (its heaviest, or if `randomized` a draw

@@ -56,6 +56,8 @@ struct PoolJacobianOptions {
   // kPose (6 rows). A distance needs two poses, so it has no per-pose pool.
   MeasurementType type = MeasurementType::kPosition;
   double rotation_weight_m_per_rad = 1.0;
+  // Called as poses are done (every few thousand).
+  ProgressCallback progress;
 };
 
 // Jacobians of every pose in `joints` (one pose per row), stacked: rows

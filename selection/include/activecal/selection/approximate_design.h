@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/types.h"
 #include "activecal/selection/candidate_pool.h"
 #include "activecal/selection/design.h"
 
@@ -48,6 +49,8 @@ struct ApproximateDesignOptions {
   int max_rounds = 200;              // full-pool checks
   int max_inner_iterations = 20000;  // per round, on the working set
   int num_threads = 0;               // <= 0: all; result does not depend on it
+  // Called after each round (done = rounds so far, total = max_rounds).
+  ProgressCallback progress;
 
   bool IsValid(std::string* error) const;
 };

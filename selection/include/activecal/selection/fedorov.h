@@ -55,6 +55,8 @@ struct FedorovOptions {
   bool kl_exchange = true;
   uint64_t seed = 1;
   int num_threads = 0;  // <= 0: all
+  // Called as restarts finish (done, total = restarts).
+  ProgressCallback progress;
 
   bool IsValid(std::string* error) const;
 };
@@ -74,6 +76,8 @@ struct DetmaxOptions {
   int restarts = 4;
   uint64_t seed = 1;
   int num_threads = 0;
+  // Called as restarts finish (done, total = restarts).
+  ProgressCallback progress;
 
   bool IsValid(std::string* error) const;
 };
