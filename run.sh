@@ -2,7 +2,12 @@
 # activecal's one entry point on a fresh Debian machine.
 #
 #   ./run.sh paper [flags]   install what is missing, build, run activecal_puma_paper
-#   ./run.sh test            install what is missing, build, run the whole test suite
+#   ./run.sh test            install what is missing, then everything CI checks:
+#                            the test suite (Release), the same suite built
+#                            with AddressSanitizer + UBSan, and the fuzzers
+#   ./run.sh unit            the Release test suite only (quick)
+#   ./run.sh sanitize        the ASan + UBSan test suite only (build-asan/)
+#   ./run.sh fuzz [seconds]  the libFuzzer targets (build-fuzz/, clang)
 #   ./run.sh plots [flags]   run activecal_puma_paper into paper_out/, then draw
 #                            its figures with gnuplot into paper_out/plots/
 #   ./run.sh build           install what is missing and build only
@@ -17,7 +22,7 @@ jobs="${JOBS:-$(nproc)}"
 
 packages=(build-essential cmake libceres-dev libeigen3-dev libgoogle-glog-dev
           libgflags-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
-          libyaml-cpp-dev gnuplot-nox)
+          libyaml-cpp-dev gnuplot-nox clang libclang-rt-dev)
 
 install_missing() {
   local missing=()
@@ -38,13 +43,35 @@ build() {
   cmake --build "$build_dir" -j "$jobs" >&2
 }
 
+# The test suite built with AddressSanitizer + UndefinedBehaviorSanitizer
+# (the install and plot checks are left to the Release build).
+sanitize() {
+  install_missing
+  local dir="${SANITIZE_BUILD_DIR:-build-asan}"
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACTIVECAL_SANITIZE=ON \
+    -DACTIVECAL_BUILD_BENCHMARKS=OFF -DACTIVECAL_INSTALL=OFF >/dev/null
+  cmake --build "$dir" -j "$jobs" >&2
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir "$dir" --output-on-failure -j "$jobs" -E "plots_test"
+}
+
 cmd="${1:-paper}"
 [ $# -gt 0 ] && shift
 case "$cmd" in
   build) build ;;
-  test)
+  unit)
     build
     ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@" ;;
+  sanitize)
+    sanitize ;;
+  fuzz)
+    install_missing
+    tests/fuzz/run.sh "${1:-30}" ;;
+  test)
+    build
+    ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@"
+    sanitize
+    tests/fuzz/run.sh "${FUZZ_SECONDS:-30}" ;;
   paper)
     build
     exec "$build_dir/apps/activecal_puma_paper" "$@" ;;

@@ -60,8 +60,6 @@ DEFINE_double(noise_m, 0.01,
 DEFINE_uint64(seed, 1,
               "Seed of the validation split and of the simulation (pose "
               "draw and noise).");
-DEFINE_int32(threads, 1,
-             "Threads for the solver (the result does not depend on it).");
 
 namespace activecal {
 namespace {
@@ -151,7 +149,6 @@ int Main() {
   options.robust_scale_m = FLAGS_robust_scale_m;
   options.outlier_threshold = FLAGS_outlier_threshold;
   options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
-  options.num_threads = FLAGS_threads;
   {
     std::string error;
     if (!options.IsValid(&error)) app::Fail(error);

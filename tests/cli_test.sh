@@ -74,6 +74,30 @@ expect_same a.json b.json
   echo "ok   [calibrated model reloads]" ||
   { echo "FAIL [calibrated model reloads]"; failures=$((failures + 1)); }
 
+# --- Determinism: every program's JSON is byte-identical for 1 and 2
+# threads, apart from the wall-clock times kept under "timing". ---
+strip_timing() { sed '/"timing": {/,/}/d' "$1"; }
+for t in 1 2; do
+  "$apps/activecal_select" --algorithm=fedorov --restarts=4 --threads=$t \
+    --json_out=select_t$t.json >/dev/null
+  "$apps/activecal_select" --algorithm=eae --threads=$t --json_out=eae_t$t.json >/dev/null
+  "$apps/activecal_puma_paper" --threads=$t --random_designs=500 \
+    --out_dir=paper_t$t >/dev/null
+  "$apps/activecal_monte_carlo" --threads=$t --trials=40 \
+    --poses_csv=poses_builtin.csv --json_out=mc_t$t.json >/dev/null
+done
+for name in select eae mc; do
+  strip_timing ${name}_t1.json >${name}_1.txt
+  strip_timing ${name}_t2.json >${name}_2.txt
+  expect_same ${name}_1.txt ${name}_2.txt
+done
+strip_timing paper_t1/paper_run.json >paper_1.txt
+strip_timing paper_t2/paper_run.json >paper_2.txt
+expect_same paper_1.txt paper_2.txt
+for f in random_designs.csv eae_history.csv identification.csv certificate.csv; do
+  expect_same paper_t1/$f paper_t2/$f
+done
+
 # --- Bad flags. ---
 expect_fail "levels=1" "--levels=1" activecal_select --levels=1
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
@@ -82,6 +106,8 @@ expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
 expect_fail "unknown algorithm" "--algorithm must be one of" activecal_select --algorithm=simplex
 expect_fail "distance pool" "--measurement must be position or pose" \
   activecal_select --measurement=distance
+expect_fail "monte carlo trials" "num_trials must be >= 3, got 1" \
+  activecal_monte_carlo --trials=1 --poses_csv=poses_builtin.csv
 expect_fail "stray argument" "unexpected argument 'fedorov'" activecal_select fedorov
 expect_fail "unknown loss" "--robust_loss must be none, huber or cauchy" \
   activecal_identify --robust_loss=tukey

@@ -316,7 +316,7 @@ bool Identify(const RobotModel& model,
   solver_options.function_tolerance = options.function_tolerance;
   solver_options.gradient_tolerance = options.gradient_tolerance;
   solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.num_threads = std::max(1, options.num_threads);
+  solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solve(solver_options, &problem, &summary->solver_summary);
   const ceres::Solver::Summary& ss = summary->solver_summary;
@@ -365,7 +365,9 @@ bool Identify(const RobotModel& model,
   ceres::Covariance::Options cov_options;
   cov_options.algorithm_type = ceres::DENSE_SVD;
   cov_options.null_space_rank = 0;
-  cov_options.num_threads = std::max(1, options.num_threads);
+  // One thread: the threaded dense SVD sums in a different order, and the
+  // result must not depend on the thread count.
+  cov_options.num_threads = 1;
   ceres::Covariance covariance(cov_options);
   std::vector<std::pair<const double*, const double*>> pairs;
   for (size_t i = 0; i < free_blocks.size(); ++i) {

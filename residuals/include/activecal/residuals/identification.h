@@ -56,8 +56,10 @@ struct IdentificationOptions {
   double function_tolerance = 1e-15;
   double gradient_tolerance = 1e-15;
   double parameter_tolerance = 1e-14;
-  // Threads Ceres may use; the result does not depend on it.
-  int num_threads = 1;
+  // Ceres runs single-threaded: its threaded evaluator sums the cost and
+  // gradient in an order that depends on the thread count, which changes
+  // the last bits of the estimates. Run several identifications in
+  // parallel instead (as RunMonteCarlo does).
   // The stacked Jacobian, columns scaled to unit norm, is taken as rank
   // deficient when sigma_min / sigma_max falls below this.
   double rank_tolerance = 1e-10;
