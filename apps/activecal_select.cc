@@ -63,6 +63,10 @@ DEFINE_bool(certificate, true,
 DEFINE_double(approx_tolerance, 2e-3,
               "Approximate design: stop when max_i d_i <= p (1 + tol). The "
               "bounds hold for any value; smaller is tighter and slower.");
+DEFINE_int64(polish_pool_size, 200000,
+             "fedorov: a pool larger than this is polished in rounds over "
+             "this many poses of largest variance rather than over every "
+             "pose (<= 0: always every pose).");
 DEFINE_uint64(seed, 1, "Seed of every random choice.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the selected design here.");
@@ -179,6 +183,7 @@ int Main() {
     options.seed = FLAGS_seed;
     options.num_threads = FLAGS_threads;
     options.progress = restarts_line.callback();
+    options.polish_pool_size = FLAGS_polish_pool_size;
     if (FLAGS_algorithm == "approx") {
       // Only the rounding: no swaps.
       options.max_swaps = 0;

@@ -13,8 +13,8 @@ tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 echo "| levels | pool | poses | seconds | peak MiB | log10 det | efficiency >= | Jacobians s | approx. design s |"
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-for levels in 5 7 10; do
-  for poses in 30 60 145; do
+for levels in ${LEVELS:-5 7 10}; do
+  for poses in ${POSES:-30 60 145}; do
     /usr/bin/time -f "%e %M" -o "$tmp/time" "$select" --levels=$levels \
       --num_poses=$poses --algorithm=fedorov --json_out="$tmp/out.json" \
       > /dev/null
@@ -25,7 +25,7 @@ j = json.load(open(sys.argv[1]))
 levels, poses, secs, kb = sys.argv[2:]
 print(f"| {levels} | {j['pool_size']} | {poses} | {float(secs):.1f} | {int(kb)/1024:.0f} | "
       f"{j['log10_det']:.4f} | {j['efficiency_lower_bound']:.4f} | "
-      f"{j['jacobian_seconds']:.1f} | {j['approximate']['seconds']:.1f} |")
+      f"{j['timing']['jacobian_seconds']:.1f} | {j['timing']['approximate_seconds']:.1f} |")
 PY
   done
 done

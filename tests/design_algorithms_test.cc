@@ -134,7 +134,7 @@ TEST_F(DesignAlgorithmsTest, FedorovRespectsConstraintsAndThreads) {
   fo.num_threads = 3;
   ASSERT_TRUE(FedorovExchange(*puma_, c, fo, nullptr, &b)) << b.message;
   EXPECT_EQ(a.design, b.design);
-  EXPECT_EQ(a.log_det, b.log_det);
+  EXPECT_EQ(a.log_det, b.log_det) << a.message << " | " << b.message;
   for (int64_t f : c.fixed)
     EXPECT_EQ(std::count(a.design.begin(), a.design.end(), f), 1);
   for (int64_t i : a.design) {

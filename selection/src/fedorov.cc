@@ -457,6 +457,95 @@ void Finish(const RestartResult& best, int restarts,
 
 }  // namespace
 
+namespace {
+
+// The poses of `keep` (pool indices, ascending) as a pool of their own.
+CandidatePool SubPool(const CandidatePool& pool,
+                      const std::vector<int64_t>& keep) {
+  const int t = pool.block_rows();
+  RowMatrixXd rows(keep.size() * t, pool.num_parameters());
+  for (size_t n = 0; n < keep.size(); ++n) {
+    rows.middleRows(n * t, t) = pool.block(keep[n]);
+  }
+  CandidatePool sub;
+  std::string unused;  // rows of a valid pool: Create cannot fail here
+  CandidatePool::Create(std::move(rows), t, &sub, &unused);
+  return sub;
+}
+
+// Swaps over the polish_pool_size poses of largest variance under the
+// current design, re-ranked after each round, until a round makes no swap.
+RestartResult PolishInRounds(const CandidatePool& pool,
+                             const std::vector<char>& eligible,
+                             const DesignConstraints& constraints,
+                             std::vector<int64_t> design,
+                             const FedorovOptions& options) {
+  RestartResult result;
+  result.ok = false;
+  std::vector<SelectionStep> history;
+  for (int round = 0; round < 8; ++round) {
+    const int p = pool.num_parameters();
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+    for (int64_t i : design) {
+      const auto X = pool.block(i);
+      M.noalias() += X.transpose() * X;
+    }
+    const Eigen::LLT<Eigen::MatrixXd> llt(M);
+    if (llt.info() != Eigen::Success) break;
+    Eigen::VectorXd d;
+    ComputeVariances(pool, llt.solve(Eigen::MatrixXd::Identity(p, p)),
+                     options.num_threads, &d);
+    std::vector<char> keep(pool.size(), 0);
+    for (int64_t i : design) keep[i] = 1;
+    for (int64_t f : constraints.fixed) keep[f] = 1;
+    std::vector<int64_t> order;
+    for (int64_t i = 0; i < pool.size(); ++i) {
+      if (eligible[i] && !keep[i]) order.push_back(i);
+    }
+    const int64_t k = std::min<int64_t>(options.polish_pool_size, order.size());
+    std::partial_sort(order.begin(), order.begin() + k, order.end(),
+                      [&](int64_t a, int64_t b) {
+                        return d[a] > d[b] || (d[a] == d[b] && a < b);
+                      });
+    for (int64_t n = 0; n < k; ++n) keep[order[n]] = 1;
+    std::vector<int64_t> to_full, to_sub(pool.size(), -1);
+    for (int64_t i = 0; i < pool.size(); ++i) {
+      if (keep[i]) {
+        to_sub[i] = static_cast<int64_t>(to_full.size());
+        to_full.push_back(i);
+      }
+    }
+    const CandidatePool sub = SubPool(pool, to_full);
+    std::vector<char> sub_eligible(sub.size(), 1), sub_fixed(sub.size(), 0);
+    for (int64_t f : constraints.fixed) {
+      sub_eligible[to_sub[f]] = 0;
+      sub_fixed[to_sub[f]] = 1;
+    }
+    std::vector<int64_t> initial;
+    for (int64_t i : design) initial.push_back(to_sub[i]);
+    RestartResult r = FedorovRestart(sub, sub_eligible, sub_fixed, initial,
+                                     options, options.num_threads);
+    if (!r.ok) break;
+    for (int64_t& i : r.design) i = to_full[i];
+    for (size_t n = 1; n < r.history.size(); ++n) {
+      SelectionStep step = r.history[n];
+      if (step.added >= 0) step.added = to_full[step.added];
+      if (step.removed >= 0) step.removed = to_full[step.removed];
+      history.push_back(step);
+    }
+    const bool changed = r.history.size() > 1;
+    design = r.design;
+    r.history.clear();
+    r.history.push_back(SelectionStep());  // the caller skips entry 0
+    for (const SelectionStep& step : history) r.history.push_back(step);
+    result = std::move(r);
+    if (!changed) break;
+  }
+  return result;
+}
+
+}  // namespace
+
 bool FedorovExchange(const CandidatePool& pool,
                      const DesignConstraints& constraints,
                      const FedorovOptions& options,
@@ -564,8 +653,14 @@ bool FedorovExchange(const CandidatePool& pool,
   if (work_pool != &pool && best.ok) {
     std::vector<int64_t> initial;
     for (int64_t i : best.design) initial.push_back(to_full[i]);
-    RestartResult polished = FedorovRestart(pool, eligible, is_fixed, initial,
-                                            options, options.num_threads);
+    RestartResult polished;
+    if (options.polish_pool_size <= 0 ||
+        pool.size() <= options.polish_pool_size) {
+      polished = FedorovRestart(pool, eligible, is_fixed, initial, options,
+                                options.num_threads);
+    } else {
+      polished = PolishInRounds(pool, eligible, constraints, initial, options);
+    }
     std::vector<SelectionStep> history = best.history;
     for (SelectionStep& step : history) {
       if (step.added >= 0) step.added = to_full[step.added];
@@ -583,7 +678,12 @@ bool FedorovExchange(const CandidatePool& pool,
     msg << "restarts on a reduced pool of " << reduced.size() << " poses "
         << std::chrono::duration<double>(restarts_done - start).count()
         << " s, then " << best.history.size() - reduced_steps
-        << " swaps over the whole pool "
+        << (pool.size() <= options.polish_pool_size ||
+                    options.polish_pool_size <= 0
+                ? " swaps over the whole pool "
+                : " swaps in rounds over the " +
+                      std::to_string(options.polish_pool_size) +
+                      " poses of largest variance ")
         << std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                          restarts_done)
                .count()

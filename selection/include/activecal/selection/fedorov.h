@@ -50,6 +50,12 @@ struct FedorovOptions {
   // design, plus its support); the best result is then polished by swaps
   // over the whole pool. <= 0: always the whole pool.
   int64_t reduced_pool_size = 3000;
+  // The polish swaps over the whole pool when it has at most this many
+  // poses. A larger pool is polished in rounds over this many poses of
+  // largest variance under the current design (re-ranked after each
+  // round, until a round makes no swap): not a proof of local optimality
+  // over every pose, which the efficiency certificate makes up for.
+  int64_t polish_pool_size = 200000;
   // Scan the weakest design poses against the strongest candidates first
   // (KL exchange) and all pairs only when that finds no improving swap.
   bool kl_exchange = true;
