@@ -55,7 +55,7 @@ struct FedorovOptions {
   // largest variance under the current design (re-ranked after each
   // round, until a round makes no swap): not a proof of local optimality
   // over every pose, which the efficiency certificate makes up for.
-  int64_t polish_pool_size = 200000;
+  int64_t polish_pool_size = 20000;
   // Scan the weakest design poses against the strongest candidates first
   // (KL exchange) and all pairs only when that finds no improving swap.
   bool kl_exchange = true;
