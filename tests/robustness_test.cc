@@ -134,3 +134,59 @@ TEST(RobustnessTest, PoolBlindToAParameterIsRefusedWithAMessage) {
 
 }  // namespace
 }  // namespace activecal
+
+namespace activecal {
+namespace {
+
+// The selector on blocks of 6 rows (6D pose measurements) and of 1 row
+// (one scalar per candidate, as a distance): updates match recomputation
+// and the algorithms run.
+TEST(RobustnessTest, SelectorWorksForBlocksOfAnyRowCount) {
+  const CandidatePool position = testing::PumaPool(3);
+  for (int rows : {1, 6}) {
+    RowMatrixXd stacked;
+    if (rows == 1) {
+      stacked = position.stacked();  // every scalar row a candidate
+    } else {
+      // Pairs of consecutive position blocks as one 6-row candidate.
+      const int64_t n = position.size() / 2;
+      stacked = position.stacked().topRows(6 * n);
+    }
+    CandidatePool pool;
+    std::string error;
+    ASSERT_TRUE(CandidatePool::Create(std::move(stacked), rows, &pool, &error))
+        << error;
+    Design design(pool);
+    Random random(rows);
+    for (int64_t i : random.SampleWithoutReplacement(pool.size(), 60)) {
+      design.Add(i);
+    }
+    for (int step = 0; step < 2000; ++step) {
+      if (step % 2 == 0) {
+        int64_t i;
+        do {
+          i = static_cast<int64_t>(random.UniformInt(pool.size()));
+        } while (design.Contains(i));
+        design.Add(i);
+      } else {
+        while (
+            !design.Remove(design.poses()[random.UniformInt(design.size())])) {
+        }
+      }
+    }
+    const double scratch = LogDetFromScratch(pool, design.poses());
+    EXPECT_NEAR(design.log_det(), scratch, 1e-9 * std::abs(scratch)) << rows;
+    FedorovOptions options;
+    options.num_poses = rows == 1 ? 40 : 10;
+    options.restarts = 2;
+    SelectionSummary summary;
+    ASSERT_TRUE(FedorovExchange(pool, {}, options, nullptr, &summary))
+        << rows << ": " << summary.message;
+    EXPECT_NEAR(summary.log_det, LogDetFromScratch(pool, summary.design),
+                1e-9 * std::abs(summary.log_det))
+        << rows;
+  }
+}
+
+}  // namespace
+}  // namespace activecal
