@@ -235,11 +235,6 @@ void ProgressLine::Update(int64_t done, int64_t total) {
   printed_ = true;
 }
 
-void Progress(const std::string& message) {
-  static const bool tty = isatty(2);
-  if (tty) std::cerr << g_program << ": " << message << std::endl;
-}
-
 int64_t NowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::steady_clock::now().time_since_epoch())

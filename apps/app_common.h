@@ -95,10 +95,6 @@ class ProgressLine {
   bool printed_ = false;
 };
 
-// A stage line on stderr ("activecal_select: approximate design ..."),
-// only when stderr is a terminal: logs and pipes stay clean.
-void Progress(const std::string& message);
-
 double Seconds(int64_t start_ns);
 int64_t NowNs();
 

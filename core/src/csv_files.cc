@@ -1,21 +1,17 @@
 #include "activecal/core/csv_files.h"
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "number_text.h"
+
 namespace activecal {
 namespace {
 
-constexpr double kDegree = M_PI / 180.0;
-
-std::string Shortest(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
+using internal::kDegree;
+using internal::ShortestText;
 
 std::string Trim(const std::string& s) {
   const size_t b = s.find_first_not_of(" \t\r");
@@ -108,25 +104,9 @@ class Table {
     const int c = Column(column);
     const std::string& text = row.fields[c];
     if (text.empty()) return Fail(row.line, column + ": empty", error);
-    const char* begin = text.data();
-    const char* end = begin + text.size();
-    if (*begin == '+') ++begin;
-    const auto result = std::from_chars(begin, end, *value);
-    if (result.ec == std::errc::result_out_of_range && result.ptr == end) {
-      return Fail(row.line,
-                  column +
-                      ": must be finite (beyond the range of a double), "
-                      "got '" +
-                      text + "'",
-                  error);
-    }
-    if (result.ec != std::errc() || result.ptr != end) {
-      return Fail(row.line, column + ": expected a number, got '" + text + "'",
-                  error);
-    }
-    if (!std::isfinite(*value)) {
-      return Fail(row.line, column + ": must be finite, got '" + text + "'",
-                  error);
+    std::string why;
+    if (!internal::ParseFiniteNumber(text, value, &why)) {
+      return Fail(row.line, column + ": " + why, error);
     }
     return true;
   }
@@ -181,7 +161,7 @@ bool ReadJoint(const Table& table, const Row& row, const RobotModel& model,
       std::abs(si_value - display_value) >
           1e-9 * std::max(1.0, std::abs(si_value))) {
     return table.Fail(row.line,
-                      si + " = " + Shortest(si_value) + " and " + display +
+                      si + " = " + ShortestText(si_value) + " and " + display +
                           " disagree; edit one and delete the other column",
                       error);
   }
@@ -237,10 +217,10 @@ std::string PosesCsvText(const RobotModel& model, const PoseList& poses) {
                 ? poses.pose_indices[i]
                 : i);
     for (int j = 0; j < model.num_joints(); ++j) {
-      out << "," << Shortest(poses.joints(i, j));
+      out << "," << ShortestText(poses.joints(i, j));
     }
     for (int j = 0; j < model.num_joints(); ++j) {
-      out << "," << Shortest(poses.joints(i, j) / DisplayScale(model, j));
+      out << "," << ShortestText(poses.joints(i, j) / DisplayScale(model, j));
     }
     out << "\n";
   }
@@ -272,7 +252,7 @@ bool ParsePosesCsv(const std::string& text, const std::string& source,
       if (index < 0 || index != std::floor(index) || index > 9e15) {
         return table.Fail(
             row.line,
-            "pose_index: expected an integer >= 0, got " + Shortest(index),
+            "pose_index: expected an integer >= 0, got " + ShortestText(index),
             error);
       }
       out.pose_indices[i] = static_cast<int64_t>(index);
@@ -319,23 +299,23 @@ std::string MeasurementsCsvText(const RobotModel& model,
   out << "\n";
   for (const Measurement& m : measurements) {
     out << MeasurementTypeName(m.type);
-    for (int j = 0; j < nj; ++j) out << "," << Shortest(m.joints[j]);
+    for (int j = 0; j < nj; ++j) out << "," << ShortestText(m.joints[j]);
     const bool distance = m.type == MeasurementType::kDistance;
     for (int k = 0; k < 3; ++k) {
-      out << "," << (distance ? "" : Shortest(m.position[k]));
+      out << "," << (distance ? "" : ShortestText(m.position[k]));
     }
     if (any_pose) {
       for (int k = 0; k < 3; ++k) {
         out << ","
-            << (m.type == MeasurementType::kPose ? Shortest(m.rotation[k])
+            << (m.type == MeasurementType::kPose ? ShortestText(m.rotation[k])
                                                  : "");
       }
     }
     if (any_distance) {
       for (int j = 0; j < nj; ++j) {
-        out << "," << (distance ? Shortest(m.joints2[j]) : "");
+        out << "," << (distance ? ShortestText(m.joints2[j]) : "");
       }
-      out << "," << (distance ? Shortest(m.distance) : "");
+      out << "," << (distance ? ShortestText(m.distance) : "");
     }
     out << "\n";
   }

@@ -3,24 +3,19 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <vector>
 
+#include "number_text.h"
+
 namespace activecal {
 namespace {
 
-constexpr double kDegree = M_PI / 180.0;
-
-// Shortest decimal text that reads back to the same double.
-std::string Shortest(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
+using internal::kDegree;
+using internal::ShortestText;
 
 bool IsAngle(bool tool, int index) {
   if (tool) return index >= 3;
@@ -137,26 +132,9 @@ class Parser {
 
   bool Number(const YAML::Node& node, const std::string& field, double* out) {
     if (!node.IsScalar()) return Fail(node.Mark(), field, "expected a number");
-    const std::string& text = node.Scalar();
-    const char* begin = text.data();
-    const char* end = begin + text.size();
-    // from_chars does not take a leading '+'.
-    if (begin != end && *begin == '+') ++begin;
-    double value = 0.0;
-    const auto result = std::from_chars(begin, end, value);
-    if (result.ec == std::errc::result_out_of_range && result.ptr == end) {
-      return Fail(
-          node.Mark(), field,
-          "must be finite (beyond the range of a double), got '" + text + "'");
-    }
-    if (result.ec != std::errc() || result.ptr != end || text.empty()) {
-      return Fail(node.Mark(), field, "expected a number, got '" + text + "'");
-    }
-    if (!std::isfinite(value)) {
-      return Fail(node.Mark(), field, "must be finite, got '" + text + "'");
-    }
-    *out = value;
-    return true;
+    std::string why;
+    return internal::ParseFiniteNumber(node.Scalar(), out, &why) ||
+           Fail(node.Mark(), field, why);
   }
 
   // One block: base (0), link (1..n) or tool (n+1).
@@ -224,8 +202,9 @@ class Parser {
         return false;
       }
       if (!(lo <= hi)) {
-        return Fail(limits.Mark(), field + ".limits",
-                    "min " + Shortest(lo) + " is above max " + Shortest(hi));
+        return Fail(
+            limits.Mark(), field + ".limits",
+            "min " + ShortestText(lo) + " is above max " + ShortestText(hi));
       }
       const double scale =
           link->joint_type == JointType::kRevolute ? angle_scale_ : 1.0;
@@ -359,8 +338,8 @@ std::string RobotFileText(const RobotModel& model,
             << JointTypeName(l.joint_type);
         const double s = l.joint_type == JointType::kRevolute ? scale : 1.0;
         out << YAML::Key << "limits" << YAML::Value << YAML::Flow
-            << YAML::BeginSeq << Shortest(l.joint_min * s)
-            << Shortest(l.joint_max * s) << YAML::EndSeq;
+            << YAML::BeginSeq << ShortestText(l.joint_min * s)
+            << ShortestText(l.joint_max * s) << YAML::EndSeq;
       }
     }
     std::vector<std::string> free;
@@ -375,7 +354,7 @@ std::string RobotFileText(const RobotModel& model,
       if (!skip) {
         const double s = IsAngle(tool, j) ? scale : 1.0;
         out << YAML::Key << name << YAML::Value
-            << Shortest(values[offset + j] * s);
+            << ShortestText(values[offset + j] * s);
       }
       if (model.IsFree(offset + j)) free.push_back(name);
       if (with_truth &&
@@ -389,7 +368,8 @@ std::string RobotFileText(const RobotModel& model,
       for (int j : differs) {
         const double s = IsAngle(tool, j) ? scale : 1.0;
         out << YAML::Key << (tool ? ToolParameterName(j) : LinkParameterName(j))
-            << YAML::Value << Shortest(options.true_parameters[offset + j] * s);
+            << YAML::Value
+            << ShortestText(options.true_parameters[offset + j] * s);
       }
       out << YAML::EndMap;
     }
