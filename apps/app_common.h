@@ -16,7 +16,7 @@
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_file.h"
 #include "activecal/core/robot_model.h"
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 // --robot, shared by every program.

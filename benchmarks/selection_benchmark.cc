@@ -12,7 +12,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
 

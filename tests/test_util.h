@@ -13,7 +13,7 @@
 #include "activecal/core/random.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 
 namespace activecal {
 namespace testing {

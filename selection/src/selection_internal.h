@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "activecal/selection/approximate_design.h"
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

@@ -10,7 +10,7 @@
 #include <activecal/residuals/identification.h>
 #include <activecal/residuals/jacobians.h>
 #include <activecal/selection/approximate_design.h>
-#include <activecal/selection/candidate_pool.h>
+#include <activecal/core/candidate_pool.h>
 #include <activecal/selection/fedorov.h>
 
 #include <fstream>

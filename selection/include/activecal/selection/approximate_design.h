@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "activecal/core/types.h"
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 
 namespace activecal {
 

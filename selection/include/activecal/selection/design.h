@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/information_matrix.h"
 
 namespace activecal {

@@ -31,7 +31,7 @@
 #include <limits>
 #include <string>
 
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

@@ -29,7 +29,7 @@
 #include <string>
 
 #include "activecal/selection/approximate_design.h"
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

@@ -3,8 +3,8 @@
 // and p columns (free parameters). Blocks are stored stacked and row-major,
 // so each is contiguous.
 
-#ifndef ACTIVECAL_SELECTION_CANDIDATE_POOL_H_
-#define ACTIVECAL_SELECTION_CANDIDATE_POOL_H_
+#ifndef ACTIVECAL_CORE_CANDIDATE_POOL_H_
+#define ACTIVECAL_CORE_CANDIDATE_POOL_H_
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -46,4 +46,4 @@ class CandidatePool {
 
 }  // namespace activecal
 
-#endif  // ACTIVECAL_SELECTION_CANDIDATE_POOL_H_
+#endif  // ACTIVECAL_CORE_CANDIDATE_POOL_H_

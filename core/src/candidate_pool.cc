@@ -1,4 +1,4 @@
-#include "activecal/selection/candidate_pool.h"
+#include "activecal/core/candidate_pool.h"
 
 #include <cmath>
 #include <sstream>
