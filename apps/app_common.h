@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_file.h"
 #include "activecal/core/robot_model.h"
-#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/design.h"
 
 // --robot, shared by every program.

@@ -8,11 +8,11 @@
 
 #include <Eigen/SVD>
 
+#include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/core/candidate_pool.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
 

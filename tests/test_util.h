@@ -8,12 +8,12 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/core/candidate_pool.h"
 
 namespace activecal {
 namespace testing {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "activecal/selection/approximate_design.h"
 #include "activecal/core/candidate_pool.h"
+#include "activecal/selection/approximate_design.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

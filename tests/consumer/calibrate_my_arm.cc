@@ -4,13 +4,13 @@
 //
 //   calibrate_my_arm <robot.yaml> <calibrated.yaml>
 
+#include <activecal/core/candidate_pool.h>
 #include <activecal/core/lattice.h>
 #include <activecal/core/robot_file.h>
 #include <activecal/core/simulation.h>
 #include <activecal/residuals/identification.h>
 #include <activecal/residuals/jacobians.h>
 #include <activecal/selection/approximate_design.h>
-#include <activecal/core/candidate_pool.h>
 #include <activecal/selection/fedorov.h>
 
 #include <fstream>

@@ -36,8 +36,8 @@
 #include <string>
 #include <vector>
 
-#include "activecal/core/types.h"
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/types.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {

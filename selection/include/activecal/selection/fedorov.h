@@ -28,8 +28,8 @@
 #include <cstdint>
 #include <string>
 
-#include "activecal/selection/approximate_design.h"
 #include "activecal/core/candidate_pool.h"
+#include "activecal/selection/approximate_design.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {
