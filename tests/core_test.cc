@@ -31,7 +31,7 @@ RobotModel OneLink(LinkConvention convention, JointType type) {
   l.joint_max = 10;
   m.links.push_back(l);
   m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
-  m.nominal[kLinkBlockSize + kGain] = 1.0;
+  m.nominal[6 + kGain] = 1.0;
   m.nominal[kGain] = 1.0;
   return m;
 }

@@ -151,8 +151,8 @@ TEST(RobotFileTest, MalformedFilesNameFileLineAndField) {
       {"bad convention",
        (head + "  - convention: dh\n    joint: revolute\n    limits: [-1, "
                "1]\n    gamma: 0\n    alpha: 0\n    a: 0\n    d: 0\n"),
-       "f.yaml:4:17: links[0].convention: expected standard_dh, modified_dh "
-       "or hayati, got 'dh'"},
+       "f.yaml:4:17: links[0].convention: expected standard_dh, modified_dh, "
+       "hayati, urdf or frame, got 'dh'"},
       {"bad joint",
        (head + "  - convention: hayati\n    joint: spherical\n    limits: "
                "[-1, 1]\n    gamma: 0\n    alpha: 0\n    a: 0\n    d: 0\n    "

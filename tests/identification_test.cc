@@ -81,7 +81,7 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
   // Tool z and L6.d both move the point along the same axis (L6 has
   // alpha = 0): together they are not identifiable.
   RobotModel m = Puma560PaperModel();
-  m.tool_free[2] = true;
+  m.markers[0].free[2] = true;
   IdentificationSummary summary;
   EXPECT_FALSE(Identify(m, PumaMeasurements(30, 0.01, 1), m.nominal,
                         IdentificationOptions(), &summary));

@@ -20,7 +20,7 @@ namespace {
 // The PUMA with its tool orientation free; the true tool angles are not 0.
 RobotModel PumaWithToolAngles(Eigen::VectorXd* truth) {
   RobotModel m = Puma560PaperModel();
-  m.tool_free[3] = m.tool_free[4] = m.tool_free[5] = true;
+  m.markers[0].free[3] = m.markers[0].free[4] = m.markers[0].free[5] = true;
   *truth = Puma560TrueParameters();
   truth->tail(3) << 0.02, -0.01, 0.03;
   return m;

@@ -49,7 +49,7 @@ Eigen::MatrixXd CentralDifferenceJacobian(const RobotModel& model,
 
 void CheckJacobiansAgainstCentralDifferences(const RobotModel& model,
                                              MeasurementType type,
-                                             uint64_t seed) {
+                                             uint64_t seed, int marker = 0) {
   Random random(seed);
   const double weight = 0.3;
   for (int trial = 0; trial < 25; ++trial) {
@@ -57,13 +57,27 @@ void CheckJacobiansAgainstCentralDifferences(const RobotModel& model,
     for (int i = 0; i < p.size(); ++i) p[i] += 0.1 * random.Gaussian();
     Measurement m;
     m.type = type;
+    m.marker = marker;
     m.joints = testing::RandomJoints(model, &random);
     m.joints2 = testing::RandomJoints(model, &random);
     // Measured values near, not at, the prediction: the rotation log away
     // from zero exercises its general branch.
     m = PredictMeasurement(model, p, m);
     m.position += Eigen::Vector3d(0.01, -0.02, 0.03);
-    m.rotation += Eigen::Vector3d(0.05, 0.02, -0.04);
+    {
+      // Turn the measured orientation a little (composed, so that the
+      // rotation vector stays within angle pi).
+      const double angle = m.rotation.norm();
+      const Eigen::Matrix3d R =
+          angle > 0
+              ? Eigen::AngleAxisd(angle, m.rotation / angle).toRotationMatrix()
+              : Eigen::Matrix3d::Identity();
+      const Eigen::AngleAxisd turned(
+          R *
+          Eigen::AngleAxisd(0.06, Eigen::Vector3d(0.5, 0.2, -0.4).normalized())
+              .toRotationMatrix());
+      m.rotation = turned.angle() * turned.axis();
+    }
     m.distance += 0.01;
     Eigen::MatrixXd J;
     std::string error;
@@ -84,7 +98,7 @@ void CheckJacobiansAgainstCentralDifferences(const RobotModel& model,
 // measurements see.
 RobotModel MixedModelWithToolAngles() {
   RobotModel m = testing::MixedModel();
-  m.tool_free = {true, true, true, true, true, true};
+  m.markers[0].free = {true, true, true, true, true, true};
   m.nominal.tail(3) << 0.1, -0.2, 0.3;
   return m;
 }
@@ -101,6 +115,18 @@ TEST(MeasurementResidualTest, MixedModelJacobiansMatchCentralDifferences) {
         MeasurementType::kDistance}) {
     CheckJacobiansAgainstCentralDifferences(MixedModelWithToolAngles(), type,
                                             2);
+  }
+}
+
+TEST(MeasurementResidualTest,
+     UrdfJointsFrameBaseMarkersMatchCentralDifferences) {
+  for (MeasurementType type :
+       {MeasurementType::kPosition, MeasurementType::kPose,
+        MeasurementType::kDistance}) {
+    for (int marker : {0, 1}) {
+      CheckJacobiansAgainstCentralDifferences(testing::UrdfStyleModel(), type,
+                                              11 + marker, marker);
+    }
   }
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 
 #include "activecal/core/candidate_pool.h"
@@ -70,7 +71,7 @@ inline RobotModel MixedModel() {
               true};
     m.links.push_back(l);
   }
-  m.tool_free = {true, true, true};
+  m.markers[0].free = {true, true, true};
   m.nominal.resize(m.num_parameters());
   m.nominal << 0.1, 0.02, 1.5, 0.3, -0.01, 1.0,  // B
       0.0, -1.57, 0.05, 0.6, 0.0, 1.0,           // L1 DH
@@ -78,6 +79,51 @@ inline RobotModel MixedModel() {
       0.3, 1.2, 0.1, 0.05, 0.0, 1.0,             // L3 modified DH, prismatic
       -0.2, 0.7, 0.2, 0.1, 0.0, 0.98,            // L4 DH
       0.05, -0.02, 0.12, 0.0, 0.0, 0.0;          // tool point, angles
+  return m;
+}
+
+// A model of the newer conventions: a 6-DOF frame base, URDF joints
+// (revolute about z, about a tilted axis, prismatic), a fixed tip transform
+// and two markers, every parameter free except the base's that the first
+// joint's corrections duplicate.
+inline RobotModel UrdfStyleModel() {
+  RobotModel m;
+  m.name = "urdf_style";
+  m.base.name = "B";
+  m.base.convention = LinkConvention::kFrame;
+  m.base.joint_type = JointType::kFixed;
+  m.base.free = {true, true, true, true, true, true};
+  const Eigen::Vector3d axes[4] = {
+      Eigen::Vector3d::UnitZ(), Eigen::Vector3d(1, 2, 3).normalized(),
+      Eigen::Vector3d::UnitY(), Eigen::Vector3d(0, -1, 1).normalized()};
+  for (int i = 0; i < 4; ++i) {
+    Link l;
+    l.name = "joint" + std::to_string(i + 1);
+    l.convention = LinkConvention::kUrdf;
+    l.joint_type = i == 2 ? JointType::kPrismatic : JointType::kRevolute;
+    l.joint_min = i == 2 ? -0.1 : -2.5;
+    l.joint_max = i == 2 ? 0.3 : 2.5;
+    l.origin_xyz = Eigen::Vector3d(0.1 * i, 0.05, 0.3 - 0.02 * i);
+    l.origin_rpy = Eigen::Vector3d(0.3 * i - 0.2, 0.1, -0.4 + 0.2 * i);
+    l.axis = axes[i];
+    l.free = {true, true, true, true, true, true, true, true};
+    m.links.push_back(l);
+  }
+  m.tip.translation = Eigen::Vector3d(0.0, 0.02, 0.11);
+  m.tip.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized())
+                       .toRotationMatrix();
+  m.markers.resize(2);
+  m.markers[0].free = {true, true, true, true, true, true};
+  m.markers[1].name = "marker2";
+  m.markers[1].free = {true, true, true, false, false, false};
+  m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
+  for (int b = 0; b < m.num_blocks(); ++b) {
+    DefaultBlockValues(m, b, m.nominal.data() + m.block_offset(b));
+  }
+  m.nominal.head(6) << 1.2, -0.4, 0.3, 0.2, -0.1, 1.4;  // base frame
+  m.nominal.segment(m.block_offset(m.marker_block(0)), 6) << 0.05, 0.0, 0.1,
+      0.1, -0.2, 0.3;
+  m.nominal.segment(m.block_offset(m.marker_block(1)), 3) << -0.04, 0.03, 0.12;
   return m;
 }
 

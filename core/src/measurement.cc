@@ -46,6 +46,14 @@ bool ParseMeasurementType(const std::string& name, MeasurementType* type) {
 bool CheckMeasurement(const RobotModel& model, const Measurement& m,
                       std::string* error) {
   std::string why;
+  if (m.marker < 0 || m.marker >= model.num_markers()) {
+    if (error) {
+      *error = "marker " + std::to_string(m.marker + 1) +
+               " is not a marker of the model (it has " +
+               std::to_string(model.num_markers()) + ")";
+    }
+    return false;
+  }
   if (!model.CheckJointValues(m.joints, &why)) {
     if (error) *error = "joints: " + why;
     return false;
@@ -83,7 +91,7 @@ Measurement PredictMeasurement(const RobotModel& model,
   Measurement out = like;
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
-  TargetFrame(model, parameters, like.joints, &R, &t);
+  TargetFrame(model, parameters, like.joints, &R, &t, like.marker);
   out.position = t;
   out.rotation.setZero();
   out.distance = 0.0;
@@ -92,7 +100,9 @@ Measurement PredictMeasurement(const RobotModel& model,
     out.rotation = aa.angle() * aa.axis();
   } else if (like.type == MeasurementType::kDistance) {
     out.position.setZero();
-    out.distance = (t - MeasuredPoint(model, parameters, like.joints2)).norm();
+    out.distance =
+        (t - MeasuredPoint(model, parameters, like.joints2, like.marker))
+            .norm();
   }
   return out;
 }

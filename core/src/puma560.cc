@@ -13,10 +13,9 @@ struct Row {
 };
 
 Eigen::VectorXd Pack(const Row (&rows)[7]) {
-  Eigen::VectorXd v =
-      Eigen::VectorXd::Zero(7 * kLinkBlockSize + kToolBlockSize);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(7 * 6 + kMarkerBlockSize);
   for (int b = 0; b < 7; ++b) {
-    double* p = v.data() + b * kLinkBlockSize;
+    double* p = v.data() + b * 6;
     p[kGamma] = rows[b].gamma;
     p[kAlpha] = rows[b].alpha;
     p[kA] = rows[b].a;
@@ -56,7 +55,7 @@ RobotModel Puma560PaperModel() {
     }
     m.links.push_back(l);
   }
-  m.tool_free = {false, false, false};
+  m.markers[0].free = {false, false, false};
   // Table II.
   const Row nominal[7] = {{1.6360, 0.1572, 19.8820, 0.0, -0.0123},
                           {-0.0367, -1.4524, 0.0603, 0.6713, 0.0},

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <vector>
 
+#include "activecal/core/kinematics.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -16,11 +17,6 @@ namespace {
 
 using internal::kDegree;
 using internal::ShortestText;
-
-bool IsAngle(bool tool, int index) {
-  if (tool) return index >= 3;
-  return index == kGamma || index == kAlpha || index == kBeta;
-}
 
 class Parser {
  public:
@@ -39,7 +35,9 @@ class Parser {
       return Fail(root.Mark(), "",
                   "expected a mapping of robot fields at the top");
     }
-    if (!CheckKeys(root, "", {"name", "angle_unit", "base", "links", "tool"})) {
+    if (!CheckKeys(root, "",
+                   {"name", "angle_unit", "base", "links", "tip", "tool",
+                    "markers"})) {
       return false;
     }
     RobotModel& m = robot->model;
@@ -64,26 +62,67 @@ class Parser {
     }
     const int n = static_cast<int>(links.size());
     m.links.resize(n);
-    m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
-    truth_ = Eigen::VectorXd::Zero(m.num_parameters());
+    // Markers: a single "tool" block, or a list of named markers.
+    std::vector<YAML::Node> marker_nodes;
+    std::vector<std::string> marker_fields;
+    if (root["tool"] && root["markers"]) {
+      return Fail(root["markers"].Mark(), "markers",
+                  "give either 'tool' (one marker) or 'markers', not both");
+    }
+    if (const YAML::Node markers = root["markers"]) {
+      if (!markers.IsSequence() || markers.size() == 0) {
+        return Fail(markers.Mark(), "markers",
+                    "expected a non-empty list of markers");
+      }
+      for (size_t k = 0; k < markers.size(); ++k) {
+        marker_nodes.push_back(markers[k]);
+        marker_fields.push_back("markers[" + std::to_string(k) + "]");
+      }
+    } else if (const YAML::Node tool = root["tool"]) {
+      marker_nodes.push_back(tool);
+      marker_fields.push_back("tool");
+    }
+    m.markers.assign(std::max<size_t>(1, marker_nodes.size()), Marker());
+    for (size_t k = 1; k < m.markers.size(); ++k) {
+      m.markers[k].name = "marker" + std::to_string(k + 1);
+    }
 
-    // Base: optional, default the identity frame with nothing free.
+    // The structure first (conventions decide the block sizes), then the
+    // values. Base: optional, default the identity frame, nothing free.
     m.base.name = "B";
     m.base.joint_type = JointType::kFixed;
     m.base.convention = LinkConvention::kStandardDH;
-    m.nominal[kGain] = 1.0;
-    truth_[kGain] = 1.0;
-    if (const YAML::Node base = root["base"]) {
-      if (!ParseBlock(base, "base", 0, robot)) return false;
+    const YAML::Node base = root["base"];
+    if (base && !Convention(base, "base", &m.base)) return false;
+    for (int i = 0; i < n; ++i) {
+      if (!Convention(links[i], "links[" + std::to_string(i) + "]",
+                      &m.links[i])) {
+        return false;
+      }
     }
+    m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
+    for (int b = 0; b < m.num_blocks(); ++b) {
+      DefaultBlockValues(m, b, m.nominal.data() + m.block_offset(b));
+    }
+    truth_ = m.nominal;
+    if (base && !ParseBlock(base, "base", 0, robot)) return false;
     for (int i = 0; i < n; ++i) {
       if (!ParseBlock(links[i], "links[" + std::to_string(i) + "]", i + 1,
                       robot)) {
         return false;
       }
     }
-    if (const YAML::Node tool = root["tool"]) {
-      if (!ParseBlock(tool, "tool", n + 1, robot)) return false;
+    for (size_t k = 0; k < marker_nodes.size(); ++k) {
+      if (!ParseBlock(marker_nodes[k], marker_fields[k],
+                      m.marker_block(static_cast<int>(k)), robot)) {
+        return false;
+      }
+    }
+    if (const YAML::Node tip = root["tip"]) {
+      Eigen::Vector3d xyz, rpy;
+      if (!Origin(tip, "tip", &xyz, &rpy)) return false;
+      m.tip.translation = xyz;
+      m.tip.rotation = RpyRotation(rpy[0], rpy[1], rpy[2]);
     }
     std::string why;
     if (!m.Validate(&why)) return Fail(root.Mark(), "", why);
@@ -137,48 +176,93 @@ class Parser {
            Fail(node.Mark(), field, why);
   }
 
-  // One block: base (0), link (1..n) or tool (n+1).
+  // Reads a link's convention (the structure that decides its block size).
+  bool Convention(const YAML::Node& node, const std::string& field,
+                  Link* link) {
+    if (!node.IsMap()) return Fail(node.Mark(), field, "expected a mapping");
+    std::string convention;
+    if (!String(node, "convention", field + ".convention", &convention)) {
+      return false;
+    }
+    for (LinkConvention c :
+         {LinkConvention::kStandardDH, LinkConvention::kModifiedDH,
+          LinkConvention::kHayati, LinkConvention::kUrdf,
+          LinkConvention::kFrame}) {
+      if (convention == LinkConventionName(c)) {
+        link->convention = c;
+        return true;
+      }
+    }
+    return Fail(node["convention"].Mark(), field + ".convention",
+                "expected standard_dh, modified_dh, hayati, urdf or frame, "
+                "got '" +
+                    convention + "'");
+  }
+
+  // A three-number list.
+  bool Vector(const YAML::Node& node, const std::string& field,
+              Eigen::Vector3d* out) {
+    if (!node.IsSequence() || node.size() != 3) {
+      return Fail(node.Mark(), field, "expected [x, y, z]");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!Number(node[k], field + "[" + std::to_string(k) + "]", &(*out)[k])) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // {xyz: [..], rpy: [..]}, rpy in the file's angle unit; both optional.
+  bool Origin(const YAML::Node& node, const std::string& field,
+              Eigen::Vector3d* xyz, Eigen::Vector3d* rpy) {
+    if (!node.IsMap()) {
+      return Fail(node.Mark(), field,
+                  "expected {xyz: [x, y, z], rpy: [r, p, y]}");
+    }
+    if (!CheckKeys(node, field, {"xyz", "rpy"})) return false;
+    xyz->setZero();
+    rpy->setZero();
+    if (node["xyz"] && !Vector(node["xyz"], field + ".xyz", xyz)) return false;
+    if (node["rpy"] && !Vector(node["rpy"], field + ".rpy", rpy)) return false;
+    *rpy *= angle_scale_;
+    return true;
+  }
+
+  // One block: base (0), link (1..n) or marker (n+1..).
   bool ParseBlock(const YAML::Node& node, const std::string& field, int block,
                   RobotDescription* robot) {
     RobotModel& m = robot->model;
-    const bool tool = block == m.num_joints() + 1;
+    const bool marker = m.is_marker_block(block);
     const bool base = block == 0;
     if (!node.IsMap()) return Fail(node.Mark(), field, "expected a mapping");
     std::vector<std::string> names;
     for (int j = 0; j < m.block_size(block); ++j) {
-      names.push_back(tool ? ToolParameterName(j) : LinkParameterName(j));
+      names.push_back(m.BlockParameterName(block, j));
     }
+    Link* link = marker ? nullptr : (base ? &m.base : &m.links[block - 1]);
+    const LinkConvention convention =
+        link ? link->convention : LinkConvention::kFrame;
+    const bool dh = link && convention != LinkConvention::kUrdf &&
+                    convention != LinkConvention::kFrame;
     std::set<std::string> allowed(names.begin(), names.end());
-    allowed.insert({"free", "true"});
-    if (!tool) allowed.insert({"name", "convention"});
-    if (base) allowed.erase("gain");
-    if (!tool && !base) allowed.insert({"joint", "limits"});
+    allowed.insert({"free", "true", "name"});
+    if (link) allowed.insert("convention");
+    if (base && dh) allowed.erase("gain");
+    if (link && !base) allowed.insert({"joint", "limits"});
+    if (convention == LinkConvention::kUrdf) allowed.insert({"origin", "axis"});
     if (!CheckKeys(node, field, allowed)) return false;
 
-    Link* link = tool ? nullptr : (base ? &m.base : &m.links[block - 1]);
-    if (link) {
-      if (const YAML::Node name = node["name"]) {
-        if (!name.IsScalar())
-          return Fail(name.Mark(), field + ".name", "expected a text");
+    if (const YAML::Node name = node["name"]) {
+      if (!name.IsScalar())
+        return Fail(name.Mark(), field + ".name", "expected a text");
+      if (link) {
         link->name = name.Scalar();
-      } else if (!base) {
-        link->name = "L" + std::to_string(block);
-      }
-      std::string convention;
-      if (!String(node, "convention", field + ".convention", &convention)) {
-        return false;
-      }
-      if (convention == "standard_dh") {
-        link->convention = LinkConvention::kStandardDH;
-      } else if (convention == "modified_dh") {
-        link->convention = LinkConvention::kModifiedDH;
-      } else if (convention == "hayati") {
-        link->convention = LinkConvention::kHayati;
       } else {
-        return Fail(node["convention"].Mark(), field + ".convention",
-                    "expected standard_dh, modified_dh or hayati, got '" +
-                        convention + "'");
+        m.markers[block - m.num_joints() - 1].name = name.Scalar();
       }
+    } else if (link && !base) {
+      link->name = "L" + std::to_string(block);
     }
     if (link && !base) {
       std::string joint;
@@ -211,27 +295,39 @@ class Parser {
       link->joint_min = lo * scale;
       link->joint_max = hi * scale;
     }
+    if (convention == LinkConvention::kUrdf) {
+      if (const YAML::Node origin = node["origin"]) {
+        if (!Origin(origin, field + ".origin", &link->origin_xyz,
+                    &link->origin_rpy)) {
+          return false;
+        }
+      }
+      if (const YAML::Node axis = node["axis"]) {
+        Eigen::Vector3d a;
+        if (!Vector(axis, field + ".axis", &a)) return false;
+        if (!(a.norm() > 1e-12)) {
+          return Fail(axis.Mark(), field + ".axis", "the axis is zero");
+        }
+        link->axis = a.normalized();
+      }
+    }
 
-    // Values: the geometric ones are required (beta for Hayati links only),
-    // gain and tool angles default to 1 and 0.
+    // Values: the DH geometry (gamma, alpha, a, d) and a marker's point are
+    // required; beta (Hayati only), gains, URDF corrections, frame values
+    // and marker angles default to their DefaultBlockValues.
     const int offset = m.block_offset(block);
     for (int j = 0; j < m.block_size(block); ++j) {
       const YAML::Node value = node[names[j]];
-      double v;
       if (!value) {
-        const bool optional =
-            tool
-                ? j >= 3
-                : (j == kGain ||
-                   (j == kBeta && link->convention != LinkConvention::kHayati));
-        if (!optional) {
+        const bool required = marker ? j < 3 : dh && j <= kD;
+        if (required) {
           return Fail(node.Mark(), field + "." + names[j], "missing");
         }
-        v = (!tool && j == kGain) ? 1.0 : 0.0;
-      } else {
-        if (!Number(value, field + "." + names[j], &v)) return false;
-        if (IsAngle(tool, j)) v *= angle_scale_;
+        continue;
       }
+      double v;
+      if (!Number(value, field + "." + names[j], &v)) return false;
+      if (m.Kind(offset + j) == ParameterKind::kAngle) v *= angle_scale_;
       m.nominal[offset + j] = v;
       truth_[offset + j] = v;
     }
@@ -243,7 +339,7 @@ class Parser {
       for (size_t k = 0; k < free.size(); ++k) {
         const std::string name = free[k].IsScalar() ? free[k].Scalar() : "";
         const auto it = std::find(names.begin(), names.end(), name);
-        if (it == names.end() || (base && name == "gain")) {
+        if (it == names.end() || (base && dh && name == "gain")) {
           return Fail(free[k].Mark(), field + ".free",
                       "'" + name + "' is not a parameter of this block");
         }
@@ -265,7 +361,8 @@ class Parser {
         const int j = static_cast<int>(it - names.begin());
         double v;
         if (!Number(kv.second, field + ".true." + name, &v)) return false;
-        truth_[offset + j] = IsAngle(tool, j) ? v * angle_scale_ : v;
+        truth_[offset + j] =
+            m.Kind(offset + j) == ParameterKind::kAngle ? v * angle_scale_ : v;
       }
       has_truth_ = true;
     }
@@ -324,11 +421,31 @@ std::string RobotFileText(const RobotModel& model,
   out << YAML::Key << "name" << YAML::Value << model.name;
   out << YAML::Key << "angle_unit" << YAML::Value
       << (options.angle_unit == AngleUnit::kDegree ? "deg" : "rad");
+  auto triple = [&](const Eigen::Vector3d& v, double s) {
+    out << YAML::Flow << YAML::BeginSeq;
+    for (int k = 0; k < 3; ++k) out << ShortestText(v[k] * s);
+    out << YAML::EndSeq;
+  };
+  auto origin = [&](const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "xyz" << YAML::Value;
+    triple(xyz, 1.0);
+    out << YAML::Key << "rpy" << YAML::Value;
+    triple(rpy, scale);
+    out << YAML::EndMap;
+  };
   auto block = [&](int b) {
-    const bool tool = b == model.num_joints() + 1;
+    const bool marker = model.is_marker_block(b);
     const int offset = model.block_offset(b);
+    const LinkConvention convention =
+        marker ? LinkConvention::kFrame : model.link(b).convention;
+    const bool dh = !marker && convention != LinkConvention::kUrdf &&
+                    convention != LinkConvention::kFrame;
     out << YAML::BeginMap;
-    if (!tool) {
+    if (marker) {
+      if (model.num_markers() > 1) {
+        out << YAML::Key << "name" << YAML::Value << model.block_name(b);
+      }
+    } else {
       const Link& l = model.link(b);
       out << YAML::Key << "name" << YAML::Value << model.block_name(b);
       out << YAML::Key << "convention" << YAML::Value
@@ -341,18 +458,23 @@ std::string RobotFileText(const RobotModel& model,
             << YAML::BeginSeq << ShortestText(l.joint_min * s)
             << ShortestText(l.joint_max * s) << YAML::EndSeq;
       }
+      if (convention == LinkConvention::kUrdf) {
+        out << YAML::Key << "origin" << YAML::Value;
+        origin(l.origin_xyz, l.origin_rpy);
+        out << YAML::Key << "axis" << YAML::Value;
+        triple(l.axis, 1.0);
+      }
     }
     std::vector<std::string> free;
     std::vector<int> differs;
     for (int j = 0; j < model.block_size(b); ++j) {
-      const std::string name =
-          tool ? ToolParameterName(j) : LinkParameterName(j);
+      const std::string name = model.BlockParameterName(b, j);
       const bool skip =
-          !tool &&
-          ((b == 0 && j == kGain) ||
-           (j == kBeta && model.link(b).convention != LinkConvention::kHayati));
+          dh && ((b == 0 && j == kGain) ||
+                 (j == kBeta && convention != LinkConvention::kHayati));
+      const double s =
+          model.Kind(offset + j) == ParameterKind::kAngle ? scale : 1.0;
       if (!skip) {
-        const double s = IsAngle(tool, j) ? scale : 1.0;
         out << YAML::Key << name << YAML::Value
             << ShortestText(values[offset + j] * s);
       }
@@ -366,9 +488,9 @@ std::string RobotFileText(const RobotModel& model,
     if (!differs.empty()) {
       out << YAML::Key << "true" << YAML::Value << YAML::Flow << YAML::BeginMap;
       for (int j : differs) {
-        const double s = IsAngle(tool, j) ? scale : 1.0;
-        out << YAML::Key << (tool ? ToolParameterName(j) : LinkParameterName(j))
-            << YAML::Value
+        const double s =
+            model.Kind(offset + j) == ParameterKind::kAngle ? scale : 1.0;
+        out << YAML::Key << model.BlockParameterName(b, j) << YAML::Value
             << ShortestText(options.true_parameters[offset + j] * s);
       }
       out << YAML::EndMap;
@@ -380,8 +502,20 @@ std::string RobotFileText(const RobotModel& model,
   out << YAML::Key << "links" << YAML::Value << YAML::BeginSeq;
   for (int b = 1; b <= model.num_joints(); ++b) block(b);
   out << YAML::EndSeq;
-  out << YAML::Key << "tool" << YAML::Value;
-  block(model.num_joints() + 1);
+  if (!model.tip.IsIdentity()) {
+    out << YAML::Key << "tip" << YAML::Value;
+    origin(model.tip.translation, RotationToRpy(model.tip.rotation));
+  }
+  const bool single = model.num_markers() == 1 &&
+                      model.block_name(model.marker_block(0)) == "tool";
+  if (single) {
+    out << YAML::Key << "tool" << YAML::Value;
+    block(model.marker_block(0));
+  } else {
+    out << YAML::Key << "markers" << YAML::Value << YAML::BeginSeq;
+    for (int k = 0; k < model.num_markers(); ++k) block(model.marker_block(k));
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

@@ -1,5 +1,6 @@
 #include "activecal/core/robot_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -7,16 +8,66 @@
 
 namespace activecal {
 
-const char* LinkParameterName(int index) {
-  static const char* const kNames[kLinkBlockSize] = {"gamma", "alpha", "a",
-                                                     "d",     "beta",  "gain"};
+int LinkBlockSize(LinkConvention convention) {
+  return convention == LinkConvention::kUrdf ? 8 : 6;
+}
+
+const char* LinkParameterName(LinkConvention convention, int index) {
+  static const char* const kDh[6] = {"gamma", "alpha", "a",
+                                     "d",     "beta",  "gain"};
+  static const char* const kUrdf[8] = {"x",  "y",  "z",      "rx",
+                                       "ry", "rz", "offset", "gain"};
+  switch (convention) {
+    case LinkConvention::kUrdf:
+      return kUrdf[index];
+    case LinkConvention::kFrame:
+      return MarkerParameterName(index);
+    default:
+      return kDh[index];
+  }
+}
+
+ParameterKind LinkParameterKind(LinkConvention convention, JointType joint,
+                                int index) {
+  switch (convention) {
+    case LinkConvention::kUrdf:
+      if (index == kUrdfGain) return ParameterKind::kGain;
+      if (index == kUrdfOffset) {
+        return joint == JointType::kPrismatic ? ParameterKind::kLength
+                                              : ParameterKind::kAngle;
+      }
+      return index < 3 ? ParameterKind::kLength : ParameterKind::kAngle;
+    case LinkConvention::kFrame:
+      return index < 3 ? ParameterKind::kLength : ParameterKind::kAngle;
+    default:
+      switch (index) {
+        case kA:
+        case kD:
+          return ParameterKind::kLength;
+        case kGain:
+          return ParameterKind::kGain;
+        default:
+          return ParameterKind::kAngle;
+      }
+  }
+}
+
+const char* MarkerParameterName(int index) {
+  static const char* const kNames[kMarkerBlockSize] = {"x",  "y",  "z",
+                                                       "rx", "ry", "rz"};
   return kNames[index];
 }
 
-const char* ToolParameterName(int index) {
-  static const char* const kNames[kToolBlockSize] = {"x",  "y",  "z",
-                                                     "rx", "ry", "rz"};
-  return kNames[index];
+const char* ParameterKindUnit(ParameterKind kind) {
+  switch (kind) {
+    case ParameterKind::kLength:
+      return "m";
+    case ParameterKind::kAngle:
+      return "rad";
+    case ParameterKind::kGain:
+      return "1";
+  }
+  return "?";
 }
 
 const char* LinkConventionName(LinkConvention convention) {
@@ -27,6 +78,10 @@ const char* LinkConventionName(LinkConvention convention) {
       return "modified_dh";
     case LinkConvention::kHayati:
       return "hayati";
+    case LinkConvention::kUrdf:
+      return "urdf";
+    case LinkConvention::kFrame:
+      return "frame";
   }
   return "unknown";
 }
@@ -43,25 +98,67 @@ const char* JointTypeName(JointType type) {
   return "unknown";
 }
 
+int RobotModel::num_parameters() const { return block_offset(num_blocks()); }
+
+int RobotModel::block_size(int block) const {
+  return is_marker_block(block) ? kMarkerBlockSize
+                                : LinkBlockSize(link(block).convention);
+}
+
+int RobotModel::block_offset(int block) const {
+  int offset = 0;
+  for (int b = 0; b < block; ++b) offset += block_size(b);
+  return offset;
+}
+
+int RobotModel::BlockOf(int parameter_index, int* within) const {
+  int offset = 0;
+  for (int b = 0; b < num_blocks(); ++b) {
+    const int size = block_size(b);
+    if (parameter_index < offset + size) {
+      if (within) *within = parameter_index - offset;
+      return b;
+    }
+    offset += size;
+  }
+  return -1;
+}
+
 std::string RobotModel::block_name(int block) const {
-  if (block == num_joints() + 1) return "tool";
+  if (is_marker_block(block)) {
+    const Marker& m = markers[block - num_joints() - 1];
+    if (!m.name.empty()) return m.name;
+    return block == marker_block(0)
+               ? "tool"
+               : "marker" + std::to_string(block - num_joints());
+  }
   if (block == 0) return base.name.empty() ? "B" : base.name;
   const Link& l = links[block - 1];
   return l.name.empty() ? "L" + std::to_string(block) : l.name;
 }
 
+const char* RobotModel::BlockParameterName(int block, int within) const {
+  return is_marker_block(block)
+             ? MarkerParameterName(within)
+             : LinkParameterName(link(block).convention, within);
+}
+
 bool RobotModel::IsFree(int parameter_index) const {
-  const int block = parameter_index / kLinkBlockSize;
-  const int within = parameter_index % kLinkBlockSize;
-  if (block == num_joints() + 1) return tool_free[within];
+  int within = 0;
+  const int block = BlockOf(parameter_index, &within);
+  if (block < 0) return false;
+  if (is_marker_block(block)) {
+    return markers[block - num_joints() - 1].free[within];
+  }
   return link(block).free[within];
 }
 
 void RobotModel::SetFree(int parameter_index, bool free) {
-  const int block = parameter_index / kLinkBlockSize;
-  const int within = parameter_index % kLinkBlockSize;
-  if (block == num_joints() + 1) {
-    tool_free[within] = free;
+  int within = 0;
+  const int block = BlockOf(parameter_index, &within);
+  if (block < 0) return;
+  if (is_marker_block(block)) {
+    markers[block - num_joints() - 1].free[within] = free;
   } else if (block == 0) {
     base.free[within] = free;
   } else {
@@ -69,19 +166,18 @@ void RobotModel::SetFree(int parameter_index, bool free) {
   }
 }
 
-const char* RobotModel::ParameterUnit(int parameter_index) const {
-  const int block = parameter_index / kLinkBlockSize;
-  const int within = parameter_index % kLinkBlockSize;
-  if (block == num_joints() + 1) return within < 3 ? "m" : "rad";
-  switch (within) {
-    case kA:
-    case kD:
-      return "m";
-    case kGain:
-      return "1";
-    default:
-      return "rad";
+ParameterKind RobotModel::Kind(int parameter_index) const {
+  int within = 0;
+  const int block = BlockOf(parameter_index, &within);
+  if (is_marker_block(block)) {
+    return within < 3 ? ParameterKind::kLength : ParameterKind::kAngle;
   }
+  const Link& l = link(block);
+  return LinkParameterKind(l.convention, l.joint_type, within);
+}
+
+const char* RobotModel::ParameterUnit(int parameter_index) const {
+  return ParameterKindUnit(Kind(parameter_index));
 }
 
 int RobotModel::ParameterIndex(const std::string& parameter_name) const {
@@ -92,26 +188,44 @@ int RobotModel::ParameterIndex(const std::string& parameter_name) const {
   return -1;
 }
 
+int RobotModel::MarkerIndex(const std::string& name_or_number) const {
+  for (int k = 0; k < num_markers(); ++k) {
+    if (block_name(marker_block(k)) == name_or_number) return k;
+  }
+  if (!name_or_number.empty() &&
+      name_or_number.find_first_not_of("0123456789") == std::string::npos &&
+      name_or_number.size() < 6) {
+    const int k = std::stoi(name_or_number) - 1;
+    if (k >= 0 && k < num_markers()) return k;
+  }
+  return -1;
+}
+
 int RobotModel::num_free() const {
   return static_cast<int>(FreeParameterIndices().size());
 }
 
 std::vector<int> RobotModel::FreeParameterIndices() const {
   std::vector<int> indices;
-  for (int i = 0; i < num_parameters(); ++i) {
-    if (IsFree(i)) indices.push_back(i);
+  int offset = 0;
+  for (int b = 0; b < num_blocks(); ++b) {
+    const int size = block_size(b);
+    for (int j = 0; j < size; ++j) {
+      const bool free = is_marker_block(b)
+                            ? markers[b - num_joints() - 1].free[j]
+                            : link(b).free[j];
+      if (free) indices.push_back(offset + j);
+    }
+    offset += size;
   }
   return indices;
 }
 
 std::vector<std::string> RobotModel::ParameterNames() const {
   std::vector<std::string> names;
-  names.reserve(num_parameters());
   for (int b = 0; b < num_blocks(); ++b) {
-    const bool tool = b == num_joints() + 1;
     for (int j = 0; j < block_size(b); ++j) {
-      names.push_back(block_name(b) + "." +
-                      (tool ? ToolParameterName(j) : LinkParameterName(j)));
+      names.push_back(block_name(b) + "." + BlockParameterName(b, j));
     }
   }
   return names;
@@ -122,6 +236,18 @@ std::vector<std::string> RobotModel::FreeParameterNames() const {
   std::vector<std::string> names;
   for (int i : FreeParameterIndices()) names.push_back(all[i]);
   return names;
+}
+
+void DefaultBlockValues(const RobotModel& model, int block, double* values) {
+  const int size = model.block_size(block);
+  std::fill(values, values + size, 0.0);
+  if (model.is_marker_block(block)) return;
+  const LinkConvention c = model.link(block).convention;
+  if (c == LinkConvention::kUrdf) {
+    values[kUrdfGain] = 1.0;
+  } else if (c != LinkConvention::kFrame) {
+    values[kGain] = 1.0;
+  }
 }
 
 bool RobotModel::Validate(std::string* error) const {
@@ -135,23 +261,67 @@ bool RobotModel::Validate(std::string* error) const {
     msg << "robot '" << name << "': expected " << num_parameters()
         << " nominal parameter values, got " << nominal.size();
   } else {
+    auto dh_family = [](LinkConvention c) {
+      return c != LinkConvention::kUrdf && c != LinkConvention::kFrame;
+    };
     for (int b = 0; b <= num_joints() && msg.tellp() == 0; ++b) {
       const Link& l = link(b);
+      const int offset = block_offset(b);
       if (b > 0 && l.joint_type == JointType::kFixed) {
         msg << "link '" << block_name(b) << "': joint type 'fixed' is only "
             << "allowed for the base";
-      } else if (l.convention != LinkConvention::kHayati &&
-                 (l.free[kBeta] || nominal[block_offset(b) + kBeta] != 0.0)) {
+      } else if (b == 0 && l.convention == LinkConvention::kUrdf) {
+        msg << "base '" << block_name(0) << "': convention 'urdf' is for "
+            << "joints; a base is 'frame' or a DH convention";
+      } else if (b > 0 && l.convention == LinkConvention::kFrame) {
+        msg << "link '" << block_name(b) << "': convention 'frame' is only "
+            << "allowed for the base";
+      } else if (dh_family(l.convention) &&
+                 l.convention != LinkConvention::kHayati &&
+                 (l.free[kBeta] || nominal[offset + kBeta] != 0.0)) {
         msg << "link '" << block_name(b) << "': beta is a Hayati parameter, "
             << "but the link's convention is '"
             << LinkConventionName(l.convention)
             << "' (beta must be 0 and not free)";
-      } else if (b == 0 && l.free[kGain]) {
+      } else if (b == 0 && dh_family(l.convention) && l.free[kGain]) {
         msg << "base '" << block_name(0) << "': has no joint, so no gain to "
             << "identify";
       } else if (b > 0 && !(l.joint_min <= l.joint_max)) {
         msg << "link '" << block_name(b) << "': joint range [" << l.joint_min
             << ", " << l.joint_max << "] is empty or not a number";
+      } else if (l.convention == LinkConvention::kUrdf &&
+                 (!l.origin_xyz.allFinite() || !l.origin_rpy.allFinite() ||
+                  !l.axis.allFinite() ||
+                  std::abs(l.axis.norm() - 1.0) > 1e-9)) {
+        msg << "link '" << block_name(b) << "': the URDF origin must be "
+            << "finite and the axis a unit vector";
+      } else {
+        for (int j = LinkBlockSize(l.convention); j < kMaxBlockSize; ++j) {
+          if (l.free[j]) {
+            msg << "link '" << block_name(b) << "': free flag " << j
+                << " is beyond the block's " << LinkBlockSize(l.convention)
+                << " entries";
+            break;
+          }
+        }
+      }
+    }
+    if (msg.tellp() == 0 && markers.empty()) {
+      msg << "robot '" << name << "': no markers (measured points)";
+    }
+    if (msg.tellp() == 0 &&
+        (!tip.rotation.allFinite() || !tip.translation.allFinite())) {
+      msg << "robot '" << name << "': the tip transform is not finite";
+    }
+    if (msg.tellp() == 0) {
+      for (int a = 0; a < num_blocks() && msg.tellp() == 0; ++a) {
+        for (int b = a + 1; b < num_blocks(); ++b) {
+          if (block_name(a) == block_name(b)) {
+            msg << "robot '" << name << "': two parameter blocks are named '"
+                << block_name(a) << "'";
+            break;
+          }
+        }
       }
     }
     if (msg.tellp() == 0) {
@@ -227,6 +397,17 @@ bool RobotModel::CheckJointValues(const Eigen::VectorXd& q,
   return false;
 }
 
+Eigen::Vector3d RotationToRpy(const Eigen::Matrix3d& R) {
+  const double cp = std::hypot(R(0, 0), R(1, 0));
+  const double pitch = std::atan2(-R(2, 0), cp);
+  if (cp < 1e-12) {
+    // Gimbal lock: only yaw - roll (pitch > 0) or yaw + roll is defined.
+    return Eigen::Vector3d(0.0, pitch, std::atan2(-R(0, 1), R(1, 1)));
+  }
+  return Eigen::Vector3d(std::atan2(R(2, 1), R(2, 2)), pitch,
+                         std::atan2(R(1, 0), R(0, 0)));
+}
+
 Eigen::VectorXd ExtractFree(const RobotModel& model,
                             const Eigen::VectorXd& parameters) {
   const std::vector<int> idx = model.FreeParameterIndices();
@@ -246,18 +427,18 @@ void ForwardKinematics(const RobotModel& model,
 
 Eigen::Vector3d MeasuredPoint(const RobotModel& model,
                               const Eigen::VectorXd& parameters,
-                              const Eigen::VectorXd& q) {
+                              const Eigen::VectorXd& q, int marker) {
   const std::vector<const double*> blocks =
       BlockPointers(model, parameters.data());
-  return MeasuredPoint<double>(model, blocks.data(), q.data());
+  return MeasuredPoint<double>(model, blocks.data(), q.data(), marker);
 }
 
 void TargetFrame(const RobotModel& model, const Eigen::VectorXd& parameters,
                  const Eigen::VectorXd& q, Eigen::Matrix3d* R,
-                 Eigen::Vector3d* t) {
+                 Eigen::Vector3d* t, int marker) {
   const std::vector<const double*> blocks =
       BlockPointers(model, parameters.data());
-  TargetFrame<double>(model, blocks.data(), q.data(), R, t);
+  TargetFrame<double>(model, blocks.data(), q.data(), R, t, marker);
 }
 
 }  // namespace activecal

@@ -42,6 +42,9 @@ struct Measurement {
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
   // Distance only: the measured distance (m).
   double distance = 0.0;
+  // The marker (measured point) of the model this measurement sees,
+  // 0-based; a distance is between two positions of the same marker.
+  int marker = 0;
 
   int dimension() const { return MeasurementDimension(type); }
 };

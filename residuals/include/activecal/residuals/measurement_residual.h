@@ -67,14 +67,14 @@ class MeasurementResidual {
     switch (m_.type) {
       case MeasurementType::kPosition: {
         const Vector3<T> p =
-            MeasuredPoint<T>(*model_, blocks, m_.joints.data());
+            MeasuredPoint<T>(*model_, blocks, m_.joints.data(), m_.marker);
         for (int k = 0; k < 3; ++k) residuals[k] = p[k] - T(m_.position[k]);
         return true;
       }
       case MeasurementType::kPose: {
         Matrix3<T> R;
         Vector3<T> t;
-        TargetFrame<T>(*model_, blocks, m_.joints.data(), &R, &t);
+        TargetFrame<T>(*model_, blocks, m_.joints.data(), &R, &t, m_.marker);
         for (int k = 0; k < 3; ++k) residuals[k] = t[k] - T(m_.position[k]);
         const Matrix3<T> error =
             measured_rotation_transposed_.template cast<T>() * R;
@@ -87,9 +87,9 @@ class MeasurementResidual {
       }
       case MeasurementType::kDistance: {
         const Vector3<T> a =
-            MeasuredPoint<T>(*model_, blocks, m_.joints.data());
+            MeasuredPoint<T>(*model_, blocks, m_.joints.data(), m_.marker);
         const Vector3<T> b =
-            MeasuredPoint<T>(*model_, blocks, m_.joints2.data());
+            MeasuredPoint<T>(*model_, blocks, m_.joints2.data(), m_.marker);
         residuals[0] = (a - b).norm() - T(m_.distance);
         return true;
       }
