@@ -10,14 +10,25 @@
 #include <iostream>
 
 #include "activecal/core/puma560.h"
+#include "activecal/core/robot_loader.h"
 #include "activecal/residuals/identification.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/criteria.h"
 
 DEFINE_string(robot, "",
-              "Robot description file (YAML, docs/formats.md). Empty: the "
-              "built-in PUMA 560 of Sun & Hollerbach, the same as "
-              "data/puma560.yaml.");
+              "Robot description: an activecal robot YAML file or a URDF "
+              "file (.urdf; docs/formats.md). Empty: the built-in PUMA 560 "
+              "of Sun & Hollerbach, the same as data/puma560.yaml.");
+DEFINE_string(base_link, "",
+              "URDF robots: the link the calibrated chain starts at (default: "
+              "the URDF's root).");
+DEFINE_string(tip_link, "",
+              "URDF robots: the link the calibrated chain ends at (default: "
+              "the only leaf; several leaves are listed in the error).");
+DEFINE_string(frames, "",
+              "Metrology frames (YAML, docs/formats.md): the robot base in "
+              "the device's frame and the markers, e.g. from "
+              "activecal_identify --frames_out.");
 
 namespace activecal {
 namespace app {
@@ -92,12 +103,24 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
 RobotDescription LoadRobotOrDie() {
   RobotDescription robot;
   if (FLAGS_robot.empty()) {
+    if (!FLAGS_base_link.empty() || !FLAGS_tip_link.empty() ||
+        !FLAGS_frames.empty()) {
+      Fail(
+          "--base_link, --tip_link and --frames need a --robot file (the "
+          "built-in PUMA has neither a URDF chain nor a 6-DOF base)");
+    }
     robot.model = Puma560PaperModel();
     robot.true_parameters = Puma560TrueParameters();
     return robot;
   }
+  RobotLoadOptions options;
+  options.chain.base_link = FLAGS_base_link;
+  options.chain.tip_link = FLAGS_tip_link;
+  options.frames_path = FLAGS_frames;
   std::string error;
-  if (!LoadRobotFile(FLAGS_robot, &robot, &error)) Fail("--robot: " + error);
+  if (!LoadRobot(FLAGS_robot, options, &robot, &error)) {
+    Fail("--robot: " + error);
+  }
   return robot;
 }
 

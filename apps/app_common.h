@@ -19,14 +19,17 @@
 #include "activecal/core/robot_model.h"
 #include "activecal/selection/design.h"
 
-// --robot, shared by every program.
+// --robot (with --base_link, --tip_link, --frames), shared by every program.
 DECLARE_string(robot);
+DECLARE_string(frames);
 
 namespace activecal {
 namespace app {
 
-// The robot of --robot, or the built-in PUMA 560 of the paper (with its
-// true values) when --robot is empty. Dies with file:line:field on errors.
+// The robot of --robot (YAML, or a URDF chain between --base_link and
+// --tip_link) with the frames of --frames, or the built-in PUMA 560 of the
+// paper (with its true values) when --robot is empty. Dies with
+// file:line:field on errors.
 RobotDescription LoadRobotOrDie();
 
 // Prints "<program>: error: <message>" on stderr and exits with status 1.

@@ -8,8 +8,10 @@
 #include <Eigen/Geometry>
 #include <string>
 
+#include "activecal/core/frames_file.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/measurement.h"
+#include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_file.h"
 #include "test_util.h"
@@ -213,6 +215,84 @@ TEST(ModelConventionsTest, MeasurementOfAMissingMarkerIsRefused) {
       << error;
   x.marker = 1;
   EXPECT_TRUE(CheckMeasurement(m, x, &error)) << error;
+}
+
+}  // namespace
+}  // namespace activecal
+
+namespace activecal {
+namespace {
+
+TEST(FramesFileTest, RoundTripAndMarkerList) {
+  RobotDescription robot;
+  robot.model = testing::UrdfStyleModel();
+  Random random(4);
+  Eigen::VectorXd values = robot.model.nominal;
+  for (int i = 0; i < values.size(); ++i) values[i] += 0.01 * random.Gaussian();
+  const std::string text = FramesFileText(robot.model, values, "test");
+  RobotDescription back = robot;
+  std::string error;
+  ASSERT_TRUE(ParseFramesFile(text, "frames.yaml", &back, &error)) << error;
+  const RobotModel& m = robot.model;
+  EXPECT_EQ(back.model.num_markers(), 2);
+  EXPECT_EQ(back.model.block_name(m.marker_block(1)), "marker2");
+  // Base and markers from the file, links untouched.
+  EXPECT_EQ(back.model.nominal.head(6), values.head(6));
+  const int markers = m.block_offset(m.marker_block(0));
+  EXPECT_EQ(back.model.nominal.tail(12), values.tail(12));
+  EXPECT_EQ(back.model.nominal.segment(6, markers - 6),
+            m.nominal.segment(6, markers - 6));
+  // Three markers in degrees: the model grows a block, the free flags of
+  // the first marker carry over.
+  ASSERT_TRUE(ParseFramesFile(
+      "angle_unit: deg\nbase: {xyz: [1, 2, 3], rpy: [0, 0, 90]}\n"
+      "markers:\n  - {name: a, xyz: [0, 0, 0.1]}\n  - {name: b, xyz: [0.1, "
+      "0, 0]}\n  - {name: c, xyz: [0, 0.1, 0], rpy: [0, 180, 0]}\n",
+      "f.yaml", &back, &error))
+      << error;
+  EXPECT_EQ(back.model.num_markers(), 3);
+  EXPECT_EQ(back.model.num_parameters(), m.num_parameters() + 6);
+  EXPECT_EQ(back.model.MarkerIndex("c"), 2);
+  EXPECT_DOUBLE_EQ(back.model.nominal[5], M_PI / 2);
+  EXPECT_EQ(back.model.markers[2].free, m.markers[0].free);
+  EXPECT_DOUBLE_EQ(
+      back.model
+          .nominal[back.model.block_offset(back.model.marker_block(2)) + 4],
+      M_PI);
+}
+
+TEST(FramesFileTest, BadFramesAreNamed) {
+  RobotDescription urdf_style;
+  urdf_style.model = testing::UrdfStyleModel();
+  RobotDescription puma;
+  puma.model = Puma560PaperModel();
+  struct Case {
+    const char* name;
+    RobotDescription* robot;
+    const char* text;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"dh base", &puma, "base: {xyz: [0, 0, 0]}\n",
+       "f.yaml:1:7: base: the robot's base is a hayati block, not a 6-DOF "
+       "frame"},
+      {"twice", &urdf_style,
+       "markers:\n  - {name: a, xyz: [0, 0, 0]}\n  - {name: a, xyz: [0, 0, "
+       "1]}\n",
+       "marker 'a' is listed twice"},
+      {"bad number", &urdf_style, "base: {xyz: [0, x, 0]}\n",
+       "f.yaml:1:17: base.xyz[1]: expected a number, got 'x'"},
+      {"unknown", &urdf_style, "bse: {}\n", "bse: unknown field"},
+      {"unit", &urdf_style, "angle_unit: grad\n", "expected 'rad' or 'deg'"},
+  };
+  for (const Case& c : cases) {
+    RobotDescription robot = *c.robot;
+    std::string error;
+    EXPECT_FALSE(ParseFramesFile(c.text, "f.yaml", &robot, &error)) << c.name;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.name << ": " << error;
+    EXPECT_EQ(robot.model.nominal, c.robot->model.nominal) << c.name;
+  }
 }
 
 }  // namespace

@@ -1,0 +1,42 @@
+// Which parameters a calibration identifies, chosen by name rather than by
+// editing free flags:
+//
+//   registration  the base frame (6 for a 'frame' base; a DH base's free
+//                 flags as the file has them) and the marker points (x, y,
+//                 z of every marker; their angles too with 6D measurements)
+//   offsets       registration + every joint offset (URDF 'offset'; DH
+//                 'gamma' of a revolute joint, 'd' of a prismatic one)
+//   full          offsets + every geometric correction of every link (URDF
+//                 x, y, z, rx, ry, rz; DH gamma, alpha, a, d, and beta of a
+//                 Hayati link); joint gains stay fixed
+//   file          what the robot file marks free (the default for YAML
+//                 robots; 'full' is the default for URDF robots)
+//
+// A set usually holds parameters the data cannot separate (the first
+// joint's origin and the base frame); the identification reduces it to an
+// identifiable set and names what it dropped
+// (residuals/identification.h).
+
+#ifndef ACTIVECAL_CORE_PARAMETER_SETS_H_
+#define ACTIVECAL_CORE_PARAMETER_SETS_H_
+
+#include <string>
+
+#include "activecal/core/robot_model.h"
+
+namespace activecal {
+
+enum class ParameterSet { kRegistration, kOffsets, kFull, kFile };
+
+const char* ParameterSetName(ParameterSet set);
+// "registration", "offsets", "full" or "file"; false if none of them.
+bool ParseParameterSet(const std::string& name, ParameterSet* set);
+
+// Sets the free flags of *model for `set` (kFile leaves them).
+// `with_orientation`: the measurements see the markers' orientation (6D).
+void ApplyParameterSet(ParameterSet set, bool with_orientation,
+                       RobotModel* model);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CORE_PARAMETER_SETS_H_
