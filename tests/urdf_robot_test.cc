@@ -17,7 +17,9 @@
 
 #include "activecal/core/csv_files.h"
 #include "activecal/core/kinematics.h"
+#include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
+#include "activecal/core/urdf_export.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -204,6 +206,181 @@ TEST(UrdfRobotTest, ChainJointsAsTheFileHasThem) {
   EXPECT_EQ(joints[1].xyz.z(), 0.1807);
   EXPECT_EQ(joints[3].xyz.x(), -0.6127);
   EXPECT_EQ(joints[8].name, "flange-tool0");
+}
+
+}  // namespace
+}  // namespace activecal
+
+namespace activecal {
+namespace {
+
+// Small random calibrations of every URDF joint, a base frame and a marker.
+Eigen::VectorXd Perturbed(const RobotModel& m, uint64_t seed) {
+  Random random(seed);
+  Eigen::VectorXd v = m.nominal;
+  for (int i = 0; i < v.size(); ++i) {
+    int within = 0;
+    const int b = m.BlockOf(i, &within);
+    const bool gain = !m.is_marker_block(b) && b > 0 && within == kUrdfGain;
+    if (!gain) v[i] += (b == 0 ? 0.5 : 0.01) * random.Gaussian();
+  }
+  return v;
+}
+
+std::vector<Measurement> RandomMeasurements(const RobotModel& m, int n,
+                                            uint64_t seed) {
+  Random random(seed);
+  std::vector<Measurement> out(n);
+  for (int i = 0; i < n; ++i) {
+    out[i].type = i % 2 ? MeasurementType::kPose : MeasurementType::kPosition;
+    out[i].joints = RandomInside(m, &random);
+  }
+  return out;
+}
+
+// Lines of `a` and `b` that differ (same line count required).
+std::vector<std::string> ChangedLines(const std::string& a,
+                                      const std::string& b) {
+  std::istringstream sa(a), sb(b);
+  std::string la, lb;
+  std::vector<std::string> changed;
+  while (std::getline(sa, la)) {
+    if (!std::getline(sb, lb)) return {"(fewer lines)"};
+    if (la != lb) changed.push_back(lb);
+  }
+  if (std::getline(sb, lb)) return {"(more lines)"};
+  return changed;
+}
+
+void CheckCalibratedExport(const std::string& path, UrdfChainOptions chain,
+                           int expected_changed) {
+  const std::string xml = Read(path);
+  RobotDescription robot;
+  std::string error;
+  ASSERT_TRUE(ParseUrdfRobot(xml, path, chain, &robot, &error)) << error;
+  const RobotModel& m = robot.model;
+  const Eigen::VectorXd values = Perturbed(m, 3);
+  std::string out;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(
+      CalibratedUrdfText(xml, path, chain, m, values, &out, &warnings, &error))
+      << error;
+  EXPECT_TRUE(warnings.empty());
+  double worst = 1.0;
+  ASSERT_TRUE(CheckUrdfAgainstModel(out, "out.urdf", chain, m, values,
+                                    RandomMeasurements(m, 200, 5), &worst,
+                                    &error))
+      << error;
+  EXPECT_LT(worst, 1e-9) << path;
+  // Only the calibrated joints' origin lines changed.
+  const std::vector<std::string> changed = ChangedLines(xml, out);
+  EXPECT_EQ(static_cast<int>(changed.size()), expected_changed) << path;
+  for (const std::string& line : changed) {
+    EXPECT_NE(line.find("<origin"), std::string::npos) << line;
+  }
+  // And the nominal model written back changes nothing it should not: the
+  // reloaded nominal model predicts what the original does.
+  ASSERT_TRUE(CalibratedUrdfText(xml, path, chain, m, m.nominal, &out,
+                                 &warnings, &error))
+      << error;
+  ASSERT_TRUE(CheckUrdfAgainstModel(out, "out.urdf", chain, m, m.nominal,
+                                    RandomMeasurements(m, 50, 6), &worst,
+                                    &error));
+  EXPECT_LT(worst, 1e-12);
+}
+
+TEST(UrdfExportTest, CalibratedUrdfReloadsToTheFittedModel) {
+  UrdfChainOptions ur;
+  ur.tip_link = "tool0";
+  CheckCalibratedExport(DataFile("ur10.urdf"), ur, 6);
+  UrdfChainOptions arm;
+  arm.tip_link = "tcp";
+  CheckCalibratedExport(TestFile("arm7_rail.urdf"), arm, 8);
+}
+
+TEST(UrdfExportTest, AJointWithoutOriginGetsOne) {
+  std::string xml = Read(TestFile("arm7_rail.urdf"));
+  const std::string j5 =
+      "<origin xyz=\"0 0.19 0.003\" rpy=\"-1.5707963267948966 0 0.002\"/>";
+  ASSERT_NE(xml.find(j5), std::string::npos);
+  xml.replace(xml.find(j5), j5.size(), "");
+  UrdfChainOptions chain;
+  chain.tip_link = "tcp";
+  RobotDescription robot;
+  std::string error, out;
+  ASSERT_TRUE(ParseUrdfRobot(xml, "a.urdf", chain, &robot, &error)) << error;
+  const Eigen::VectorXd values = Perturbed(robot.model, 8);
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(CalibratedUrdfText(xml, "a.urdf", chain, robot.model, values,
+                                 &out, &warnings, &error))
+      << error;
+  double worst = 1.0;
+  ASSERT_TRUE(CheckUrdfAgainstModel(out, "out.urdf", chain, robot.model, values,
+                                    RandomMeasurements(robot.model, 50, 2),
+                                    &worst, &error))
+      << error;
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(UrdfExportTest, DhModelsAsUrdfMatchKdl) {
+  // The PUMA 560 of the paper (Hayati and DH links, a Hayati base) and a
+  // model with every DH convention and a prismatic joint, written as URDF:
+  // KDL's forward kinematics of the file against activecal's DH kinematics.
+  for (const RobotModel& m : {Puma560PaperModel(), testing::MixedModel()}) {
+    Eigen::VectorXd values = m.nominal;
+    if (m.name == "mixed") {
+      for (int b = 1; b <= m.num_joints(); ++b) {
+        values[m.block_offset(b) + kGain] = 1.0;  // a URDF has no gains
+      }
+    }
+    std::vector<std::string> warnings;
+    const std::string xml = UrdfFromModel(m, values, &warnings);
+    EXPECT_TRUE(warnings.empty());
+    KDL::Tree tree;
+    ASSERT_TRUE(kdl_parser::treeFromString(xml, tree)) << xml;
+    KDL::Chain chain;
+    ASSERT_TRUE(tree.getChain("base_link", "tip", chain));
+    ASSERT_EQ(static_cast<int>(chain.getNrOfJoints()), m.num_joints());
+    KDL::ChainFkSolverPos_recursive fk(chain);
+    Random random(21);
+    double worst = 0.0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+      KDL::JntArray kq(m.num_joints());
+      for (int j = 0; j < m.num_joints(); ++j) kq(j) = q[j];
+      KDL::Frame frame;
+      ASSERT_GE(fk.JntToCart(kq, frame), 0);
+      Eigen::Matrix3d R;
+      Eigen::Vector3d t;
+      ForwardKinematics(m, values, q, &R, &t);
+      for (int r = 0; r < 3; ++r) {
+        worst = std::max(worst, std::abs(t[r] - frame.p(r)));
+        for (int c = 0; c < 3; ++c) {
+          worst = std::max(worst, std::abs(R(r, c) - frame.M(r, c)));
+        }
+      }
+    }
+    // The PUMA's base lies 20 m away (Table II's a = 19.882 m): 1e-12
+    // relative to that.
+    EXPECT_LT(worst, 3e-11) << m.name;
+    UrdfChainOptions chain_options;
+    chain_options.base_link = "base_link";
+    chain_options.tip_link = "tip";
+    double reload = 1.0;
+    std::string error;
+    ASSERT_TRUE(CheckUrdfAgainstModel(xml, "dh.urdf", chain_options, m, values,
+                                      RandomMeasurements(m, 100, 4), &reload,
+                                      &error))
+        << error;
+    EXPECT_LT(reload, 1e-9) << m.name;
+  }
+  // A gain is reported, not silently dropped.
+  std::vector<std::string> warnings;
+  UrdfFromModel(testing::MixedModel(), testing::MixedModel().nominal,
+                &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("'L4' has gain 0.98"), std::string::npos)
+      << warnings[0];
 }
 
 }  // namespace
