@@ -15,7 +15,7 @@ foreach(layer core residuals selection)
     FILES_MATCHING PATTERN "*.h")
 endforeach()
 if(ACTIVECAL_BUILD_APPS)
-  install(TARGETS activecal_identify activecal_select activecal_simulate
+  install(TARGETS activecal_evaluate activecal_identify activecal_select activecal_simulate
     activecal_puma_paper activecal_monte_carlo
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()

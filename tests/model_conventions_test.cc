@@ -8,12 +8,14 @@
 #include <Eigen/Geometry>
 #include <string>
 
+#include "activecal/core/csv_files.h"
 #include "activecal/core/frames_file.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_file.h"
+#include "activecal/core/simulation.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -293,6 +295,55 @@ TEST(FramesFileTest, BadFramesAreNamed) {
         << c.name << ": " << error;
     EXPECT_EQ(robot.model.nominal, c.robot->model.nominal) << c.name;
   }
+}
+
+}  // namespace
+}  // namespace activecal
+
+namespace activecal {
+namespace {
+
+TEST(MarkerColumnTest, MeasurementsNameTheirMarker) {
+  const RobotModel m = testing::UrdfStyleModel();
+  Random random(6);
+  std::vector<Measurement> plan(4);
+  for (int i = 0; i < 4; ++i) {
+    plan[i].type = i == 3 ? MeasurementType::kPose : MeasurementType::kPosition;
+    plan[i].marker = i % 2;
+    plan[i].joints = testing::RandomJoints(m, &random);
+  }
+  std::vector<Measurement> measured;
+  std::string error;
+  ASSERT_TRUE(
+      SimulateMeasurements(m, m.nominal, plan, {}, 1, &measured, &error))
+      << error;
+  const std::string text = MeasurementsCsvText(m, measured);
+  EXPECT_EQ(text.rfind("type,marker,", 0), 0u) << text;
+  std::vector<Measurement> back;
+  ASSERT_TRUE(ParseMeasurementsCsv(text, "m.csv", m, &back, &error)) << error;
+  ASSERT_EQ(back.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(back[i].marker, i % 2);
+    EXPECT_EQ(back[i].position, measured[i].position);
+  }
+  // Numbers and an empty field; a marker the model does not have.
+  const std::string head =
+      "type,marker,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m\n";
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      head + "position,2,0,0,0,0,1,2,3\nposition,,0,0,0,0,1,2,3\n", "m.csv", m,
+      &back, &error))
+      << error;
+  EXPECT_EQ(back[0].marker, 1);
+  EXPECT_EQ(back[1].marker, 0);
+  EXPECT_FALSE(ParseMeasurementsCsv(head + "position,smr7,0,0,0,0,1,2,3\n",
+                                    "m.csv", m, &back, &error));
+  EXPECT_NE(error.find("m.csv:2: marker: 'smr7' is not a marker of the model "
+                       "(its markers: tool, marker2, or their numbers 1..2)"),
+            std::string::npos)
+      << error;
+  // A file without the column is all first-marker measurements.
+  const std::string plain = MeasurementsCsvText(m, {measured[0], measured[2]});
+  EXPECT_EQ(plain.rfind("type,q1_rad", 0), 0u) << plain;
 }
 
 }  // namespace

@@ -287,8 +287,11 @@ std::string MeasurementsCsvText(const RobotModel& model,
     any_distance |= m.type == MeasurementType::kDistance;
   }
   const int nj = model.num_joints();
+  bool any_marker = false;
+  for (const Measurement& m : measurements) any_marker |= m.marker != 0;
   std::ostringstream out;
   out << "type";
+  if (any_marker) out << ",marker";
   for (int j = 0; j < nj; ++j) out << "," << JointColumn(model, j);
   out << ",x_m,y_m,z_m";
   if (any_pose) out << ",rx_rad,ry_rad,rz_rad";
@@ -299,6 +302,8 @@ std::string MeasurementsCsvText(const RobotModel& model,
   out << "\n";
   for (const Measurement& m : measurements) {
     out << MeasurementTypeName(m.type);
+    if (any_marker)
+      out << "," << model.block_name(model.marker_block(m.marker));
     for (int j = 0; j < nj; ++j) out << "," << ShortestText(m.joints[j]);
     const bool distance = m.type == MeasurementType::kDistance;
     for (int k = 0; k < 3; ++k) {
@@ -350,6 +355,22 @@ bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
           error);
     }
     if (!ReadJoints(table, row, model, "", &m.joints, error)) return false;
+    if (table.Has("marker") && !table.Empty(row, "marker")) {
+      const std::string name = row.fields[table.Column("marker")];
+      m.marker = model.MarkerIndex(name);
+      if (m.marker < 0) {
+        std::string list;
+        for (int k = 0; k < model.num_markers(); ++k) {
+          list += (k ? ", " : "") + model.block_name(model.marker_block(k));
+        }
+        return table.Fail(row.line,
+                          "marker: '" + name +
+                              "' is not a marker of the model (its markers: " +
+                              list + ", or their numbers 1.." +
+                              std::to_string(model.num_markers()) + ")",
+                          error);
+      }
+    }
     const bool has_point = m.type != MeasurementType::kDistance;
     const bool has_rotation = m.type == MeasurementType::kPose;
     const bool has_second = m.type == MeasurementType::kDistance;

@@ -9,7 +9,11 @@
 //                the joints, and the measured values: x_m, y_m, z_m;
 //                rx_rad, ry_rad, rz_rad (pose: rotation vector); the second
 //                pose's joints q1_rad_2 ... and distance_m (distance).
-//                Fields a row's type does not use are left empty.
+//                Fields a row's type does not use are left empty. An
+//                optional "marker" column names the model's marker a row
+//                measured (its name, or its number 1, 2, ...; empty or no
+//                column: the first); written when a measurement is not of
+//                the first marker.
 //
 // Lines starting with '#' are comments. Every reader names the file, the
 // line and the column of a problem: "poses.csv:7: q3_rad: expected a
