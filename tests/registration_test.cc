@@ -11,6 +11,7 @@
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parameter_sets.h"
+#include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
 #include "activecal/core/urdf_robot.h"
@@ -122,6 +123,64 @@ TEST(RegistrationTest, ADhBaseIsNotRegistered) {
   EXPECT_FALSE(RegisterBaseFrame(puma, {}, &p, &summary));
   EXPECT_NE(summary.message.find("not a 6-DOF frame"), std::string::npos);
   EXPECT_EQ(p, puma.nominal);
+}
+
+}  // namespace
+}  // namespace activecal
+
+namespace activecal {
+namespace {
+
+TEST(ParameterSetTest, SetsFreeWhatTheyName) {
+  RobotDescription robot;
+  UrdfChainOptions chain;
+  chain.tip_link = "tool0";
+  std::string error;
+  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10.urdf",
+                            chain, &robot, &error))
+      << error;
+  RobotModel m = robot.model;
+  ApplyParameterSet(ParameterSet::kRegistration, false, &m);
+  EXPECT_EQ(m.num_free(), 6 + 3);
+  ApplyParameterSet(ParameterSet::kRegistration, true, &m);
+  EXPECT_EQ(m.num_free(), 6 + 6);
+  ApplyParameterSet(ParameterSet::kOffsets, false, &m);
+  EXPECT_EQ(m.num_free(), 6 + 6 + 3);
+  EXPECT_TRUE(m.IsFree(m.ParameterIndex("wrist_3_joint.offset")));
+  EXPECT_FALSE(m.IsFree(m.ParameterIndex("wrist_3_joint.gain")));
+  ApplyParameterSet(ParameterSet::kFull, false, &m);
+  EXPECT_EQ(m.num_free(), 6 + 6 * 7 + 3);
+  // 'file' keeps the flags; a DH model gets the DH parameters.
+  const RobotModel before = m;
+  ApplyParameterSet(ParameterSet::kFile, false, &m);
+  EXPECT_EQ(m.FreeParameterIndices(), before.FreeParameterIndices());
+  RobotModel puma = Puma560PaperModel();
+  ApplyParameterSet(ParameterSet::kOffsets, false, &puma);
+  // The Hayati base keeps its flags; offsets are the six gammas.
+  EXPECT_EQ(puma.num_free(), 4 + 6 + 3);
+  ApplyParameterSet(ParameterSet::kFull, false, &puma);
+  EXPECT_TRUE(puma.IsFree(puma.ParameterIndex("L2.beta")));
+  EXPECT_FALSE(puma.IsFree(puma.ParameterIndex("L3.beta")));
+  EXPECT_FALSE(puma.IsFree(puma.ParameterIndex("L3.gain")));
+  ParameterSet set;
+  EXPECT_TRUE(ParseParameterSet("offsets", &set));
+  EXPECT_EQ(set, ParameterSet::kOffsets);
+  EXPECT_FALSE(ParseParameterSet("all", &set));
+}
+
+TEST(ParameterSetTest, GenericPointMovesOnlyFreeParameters) {
+  RobotModel m = testing::UrdfStyleModel();
+  m.links[1].free.fill(false);
+  const Eigen::VectorXd g = GenericPoint(m, m.nominal);
+  EXPECT_EQ(g, GenericPoint(m, m.nominal));  // deterministic
+  for (int i = 0; i < m.num_parameters(); ++i) {
+    if (m.IsFree(i)) {
+      EXPECT_NE(g[i], m.nominal[i]) << m.ParameterNames()[i];
+      EXPECT_LT(std::abs(g[i] - m.nominal[i]), 6e-3);
+    } else {
+      EXPECT_EQ(g[i], m.nominal[i]) << m.ParameterNames()[i];
+    }
+  }
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "activecal/core/parameter_sets.h"
 
+#include "activecal/core/random.h"
+
 namespace activecal {
 
 const char* ParameterSetName(ParameterSet set) {
@@ -54,6 +56,17 @@ void ApplyParameterSet(ParameterSet set, bool with_orientation,
     for (int j = 0; j < 3; ++j) m.free[j] = true;
     for (int j = 3; j < 6; ++j) m.free[j] = with_orientation;
   }
+}
+
+Eigen::VectorXd GenericPoint(const RobotModel& model,
+                             const Eigen::VectorXd& parameters) {
+  Random random(0x5eed);
+  Eigen::VectorXd p = parameters;
+  for (int i : model.FreeParameterIndices()) {
+    // 1 mm, 1 mrad or 1e-3 of a gain: one scale in SI units.
+    p[i] += 1e-3 * random.Gaussian();
+  }
+  return p;
 }
 
 }  // namespace activecal

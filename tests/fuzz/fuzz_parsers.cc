@@ -1,7 +1,8 @@
 // libFuzzer targets of the file parsers: whatever the bytes, a parser
 // returns true or false with a message; it never crashes, reads out of
 // bounds, overflows or hangs. One binary per parser, chosen at compile time
-// by ACTIVECAL_FUZZ_TARGET (1 robot YAML, 2 poses CSV, 3 measurements CSV).
+// by ACTIVECAL_FUZZ_TARGET (1 robot YAML, 2 poses CSV, 3 measurements CSV,
+// 4 URDF, 5 frames YAML).
 
 #include <cstddef>
 #include <cstdint>
@@ -9,8 +10,34 @@
 #include <vector>
 
 #include "activecal/core/csv_files.h"
+#include "activecal/core/frames_file.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/robot_file.h"
+#include "activecal/core/urdf_export.h"
+#include "activecal/core/urdf_robot.h"
+
+namespace {
+
+// A two-joint URDF robot with a 6-DOF base, for the frames parser.
+const activecal::RobotDescription& SmallUrdfRobot() {
+  static const activecal::RobotDescription robot = [] {
+    activecal::RobotDescription r;
+    std::string error;
+    activecal::ParseUrdfRobot(
+        "<robot name='r'><link name='a'/><link name='b'/><link name='c'/>"
+        "<joint name='j1' type='revolute'><parent link='a'/><child "
+        "link='b'/><axis xyz='0 0 1'/><limit lower='-1' upper='1' "
+        "effort='1' velocity='1'/></joint><joint name='j2' "
+        "type='prismatic'><parent link='b'/><child link='c'/><origin "
+        "xyz='0 0 1'/><axis xyz='1 0 0'/><limit lower='0' upper='1' "
+        "effort='1' velocity='1'/></joint></robot>",
+        "small.urdf", {}, &r, &error);
+    return r;
+  }();
+  return robot;
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
@@ -29,6 +56,36 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
   } else if (error.empty()) {
     __builtin_trap();  // a failure always says why
+  }
+#elif ACTIVECAL_FUZZ_TARGET == 4
+  activecal::RobotDescription robot;
+  if (activecal::ParseUrdfRobot(text, "fuzz.urdf", {}, &robot, &error)) {
+    // A chain that loads is valid, and writes back as a URDF that loads.
+    std::string why, out;
+    if (!robot.model.Validate(&why)) __builtin_trap();
+    std::vector<std::string> warnings;
+    if (!activecal::CalibratedUrdfText(text, "fuzz.urdf", {}, robot.model,
+                                       robot.model.nominal, &out, &warnings,
+                                       &why)) {
+      __builtin_trap();
+    }
+    activecal::RobotDescription back;
+    if (!activecal::ParseUrdfRobot(out, "back.urdf", {}, &back, &why)) {
+      __builtin_trap();
+    }
+  } else if (error.empty()) {
+    __builtin_trap();
+  }
+#elif ACTIVECAL_FUZZ_TARGET == 5
+  activecal::RobotDescription robot = SmallUrdfRobot();
+  if (activecal::ParseFramesFile(text, "fuzz.yaml", &robot, &error)) {
+    std::string why;
+    if (!robot.model.Validate(&why)) __builtin_trap();
+    if (robot.model.nominal.size() != robot.model.num_parameters()) {
+      __builtin_trap();
+    }
+  } else if (error.empty()) {
+    __builtin_trap();
   }
 #else
   static const activecal::RobotModel model = activecal::Puma560PaperModel();

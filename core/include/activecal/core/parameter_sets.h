@@ -20,6 +20,7 @@
 #ifndef ACTIVECAL_CORE_PARAMETER_SETS_H_
 #define ACTIVECAL_CORE_PARAMETER_SETS_H_
 
+#include <Eigen/Core>
 #include <string>
 
 #include "activecal/core/robot_model.h"
@@ -36,6 +37,16 @@ bool ParseParameterSet(const std::string& name, ParameterSet* set);
 // `with_orientation`: the measurements see the markers' orientation (6D).
 void ApplyParameterSet(ParameterSet set, bool with_orientation,
                        RobotModel* model);
+
+// A generic point near `parameters` for identifiability analysis: every
+// free parameter moved by a fixed pseudo-random amount (seeded, the same on
+// every platform) of 1 mm (lengths), 1 mrad (angles) or 1e-3 (gains)
+// times a standard normal draw. Nominal values with exact symmetries (a
+// marker exactly on the last joint axis, zero corrections) make false
+// redundancies that real robots do not have; structural ones (the first
+// joint's origin against a 6-DOF base) stay.
+Eigen::VectorXd GenericPoint(const RobotModel& model,
+                             const Eigen::VectorXd& parameters);
 
 }  // namespace activecal
 
