@@ -28,6 +28,7 @@ DEFINE_string(model_out, "",
               "--robot, identified values as nominal) here.");
 DEFINE_string(json_out, "",
               "If set, write the report here: estimates, std, correlation "
+              "and covariance "
               "matrix, residual per measurement, RMS before and after, "
               "outliers, validation errors.");
 DEFINE_double(validation_fraction, 0.0,
@@ -93,6 +94,18 @@ std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
     app::Fail(error);
   }
   return measurements;
+}
+
+// A matrix as a JSON array of its rows (element by element: Eigen matrices
+// are column-major, so a row is not contiguous in memory).
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < m.rows(); ++r) {
+    std::vector<double> row(m.cols());
+    for (int c = 0; c < m.cols(); ++c) row[c] = m(r, c);
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 struct ValidationErrors {
@@ -261,13 +274,8 @@ int Main() {
     j["robot"] = model.name;
     j["measurements"] = simulated ? "simulated" : FLAGS_measurements;
     j["parameters"] = params;
-    nlohmann::json correlation = nlohmann::json::array();
-    for (int r = 0; r < summary.correlation.rows(); ++r) {
-      correlation.push_back(std::vector<double>(
-          summary.correlation.row(r).data(),
-          summary.correlation.row(r).data() + summary.correlation.cols()));
-    }
-    j["correlation"] = correlation;
+    j["correlation"] = MatrixJson(summary.correlation);
+    j["covariance"] = MatrixJson(summary.covariance);
     nlohmann::json residuals = nlohmann::json::array();
     std::vector<int> outlier_inputs;
     for (int o : summary.outliers) outlier_inputs.push_back(training_index[o]);

@@ -4,10 +4,11 @@
 # bad input ends with status 1 and one clear line on stderr, leaving no
 # half-written output.
 #
-#   tests/cli_test.sh <build/apps dir> <data dir>
+#   tests/cli_test.sh <build/apps dir> <data dir> <check_report_json>
 set -uo pipefail
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
+check_report="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -73,6 +74,16 @@ expect_same a.json b.json
   --measurements=measurements_yaml.csv >/dev/null 2>&1 &&
   echo "ok   [calibrated model reloads]" ||
   { echo "FAIL [calibrated model reloads]"; failures=$((failures + 1)); }
+
+# The report's correlation matrix, read back: unit diagonal, symmetric,
+# covariance / (std std^T), positive semi-definite.
+for r in report_yaml.json; do
+  if out=$("$check_report" "$r"); then echo "ok   [correlation of $r]"; else
+    echo "FAIL [correlation of $r]: $out" | head -5; failures=$((failures + 1)); fi
+done
+"$apps/activecal_identify" --json_out=report_sim.json >/dev/null 2>&1
+if out=$("$check_report" report_sim.json); then echo "ok   [correlation of report_sim.json]"; else
+  echo "FAIL [correlation of report_sim.json]: $out" | head -5; failures=$((failures + 1)); fi
 
 # --- Determinism: every program's JSON is byte-identical for 1 and 2
 # threads, apart from the wall-clock times kept under "timing". ---
