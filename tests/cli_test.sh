@@ -148,6 +148,9 @@ expect_fail "bad measurement value" "bad.csv:5:" activecal_identify --measuremen
 head -5 measurements_yaml.csv >few.csv
 expect_fail "too few measurements" "the 4 measurements: too few equations: 12 measurement rows for 27 free parameters" \
   activecal_identify --measurements=few.csv
+head -10 measurements_yaml.csv >nine.csv
+expect_fail "zero degrees of freedom" "27 measurement rows for 27 free parameters leave 0 degrees of freedom" \
+  activecal_identify --measurements=nine.csv
 printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n' >dup.csv
 expect_fail "duplicate pool poses" "dup.csv:3: duplicate pose: the same joint values as line 2" \
   activecal_select --pool_csv=dup.csv --num_poses=1

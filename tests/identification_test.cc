@@ -77,6 +77,41 @@ TEST(IdentificationTest, TooFewPosesIsReported) {
   EXPECT_EQ(summary.estimates.size(), 0);
 }
 
+TEST(IdentificationTest, ZeroDegreesOfFreedomIsRefused) {
+  // 9 position poses, 27 rows for 27 parameters: the estimates fit the data
+  // exactly and nothing is left to estimate the noise; never std 0.
+  const RobotModel m = Puma560PaperModel();
+  IdentificationSummary summary;
+  EXPECT_FALSE(Identify(m, PumaMeasurements(9, 0.01, 1), m.nominal,
+                        IdentificationOptions(), &summary));
+  EXPECT_NE(summary.message.find("0 degrees of freedom"), std::string::npos)
+      << summary.message;
+  EXPECT_EQ(summary.standard_deviations.size(), 0);
+}
+
+TEST(IdentificationTest, ExactDataFlagsNoOutliers) {
+  // Noise-free data: the median residual row is ~0, which must not make
+  // every rounding-level residual an outlier.
+  const RobotModel m = Puma560PaperModel();
+  IdentificationSummary summary;
+  IdentificationOptions options;
+  options.robust_loss = RobustLoss::kHuber;
+  options.robust_scale_m = 0.001;
+  ASSERT_TRUE(
+      Identify(m, PumaMeasurements(30, 0.0, 3), m.nominal, options, &summary))
+      << summary.message;
+  EXPECT_TRUE(summary.outliers.empty()) << summary.outliers.size();
+}
+
+TEST(IdentificationTest, StartingAtTheSolutionCountsZeroIterations) {
+  const RobotModel m = Puma560PaperModel();
+  IdentificationSummary summary;
+  ASSERT_TRUE(Identify(m, PumaMeasurements(30, 0.0, 3), Puma560TrueParameters(),
+                       IdentificationOptions(), &summary))
+      << summary.message;
+  EXPECT_GE(summary.iterations, 0);
+}
+
 TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
   // Tool z and L6.d both move the point along the same axis (L6 has
   // alpha = 0): together they are not identifiable.

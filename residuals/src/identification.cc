@@ -51,6 +51,10 @@ bool IdentificationOptions::IsValid(std::string* error) const {
         << "' needs robust_scale_m > 0 (m), got " << robust_scale_m;
   } else if (!(outlier_threshold > 0)) {
     msg << "outlier_threshold must be > 0, got " << outlier_threshold;
+  } else if (!(outlier_min_sigma_m >= 0 &&
+               std::isfinite(outlier_min_sigma_m))) {
+    msg << "outlier_min_sigma_m must be finite and >= 0, got "
+        << outlier_min_sigma_m;
   } else if (!(rotation_weight_m_per_rad > 0 &&
                std::isfinite(rotation_weight_m_per_rad))) {
     msg << "rotation_weight_m_per_rad must be finite and > 0, got "
@@ -266,6 +270,14 @@ bool Identify(const RobotModel& model,
   if (!summary->identifiability.identifiable()) {
     return fail(summary->identifiability.Message());
   }
+  if (summary->num_residuals <= p) {
+    std::ostringstream msg;
+    msg << summary->num_residuals << " measurement rows for " << p
+        << " free parameters leave 0 degrees of freedom: the estimates would "
+           "fit the data exactly and their standard deviations cannot be "
+           "estimated; measure more poses";
+    return fail(msg.str());
+  }
 
   // One block per group; constant groups fixed, partly free groups through a
   // SubsetManifold.
@@ -320,7 +332,9 @@ bool Identify(const RobotModel& model,
   solver_options.logging_type = ceres::SILENT;
   ceres::Solve(solver_options, &problem, &summary->solver_summary);
   const ceres::Solver::Summary& ss = summary->solver_summary;
-  summary->iterations = static_cast<int>(ss.iterations.size()) - 1;
+  // Not iterations.size() - 1, which is -1 when Ceres stops before its
+  // first iteration.
+  summary->iterations = ss.num_successful_steps + ss.num_unsuccessful_steps;
   summary->converged = ss.termination_type == ceres::CONVERGENCE;
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
@@ -333,7 +347,9 @@ bool Identify(const RobotModel& model,
     for (int k = 0; k < summary->residuals.size(); ++k) {
       abs_rows[k] = std::abs(summary->residuals[k]);
     }
-    const double robust_sigma = 1.4826 * Median(abs_rows);
+    // The floor keeps exact data (median ~ 0) from flagging every row.
+    const double robust_sigma =
+        std::max(1.4826 * Median(abs_rows), options.outlier_min_sigma_m);
     int row = 0;
     for (size_t i = 0; i < measurements.size(); ++i) {
       const int t = measurements[i].dimension();
@@ -355,6 +371,14 @@ bool Identify(const RobotModel& model,
   }
   const int dof = rows_used - p;
   summary->sigma_m = dof > 0 ? std::sqrt(std::max(0.0, ssr) / dof) : 0.0;
+  if (dof <= 0) {
+    std::ostringstream msg;
+    msg << "after leaving out the " << summary->outliers.size()
+        << " outlier(s), " << rows_used << " measurement rows for " << p
+        << " free parameters leave " << std::max(0, dof)
+        << " degrees of freedom: the standard deviations cannot be estimated";
+    return fail(msg.str());
+  }
   if (!summary->converged) {
     return fail("the solver did not converge: " + ss.message);
   }

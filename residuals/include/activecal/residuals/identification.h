@@ -49,6 +49,11 @@ struct IdentificationOptions {
   // exceeds outlier_threshold robust standard deviations (1.4826 times the
   // median absolute residual row) at the estimate.
   double outlier_threshold = 4.0;
+  // Floor of that robust standard deviation (m): with exact or nearly
+  // exact data the median residual is ~0 and, without a floor, every
+  // rounding-level residual would be an outlier. A micrometre is below the
+  // noise of any calibration device.
+  double outlier_min_sigma_m = 1e-6;
   // Scales the orientation rows of 6D pose measurements (m per rad).
   double rotation_weight_m_per_rad = 1.0;
 
