@@ -217,6 +217,28 @@ TEST(PoolJacobiansTest, SameResultForAnyThreadCount) {
   EXPECT_TRUE(Eigen::MatrixXd(one.middleRows(300, 3)) == J);
 }
 
+TEST(StackedJacobianTest, DistanceBetweenCoincidingPointsIsRefused) {
+  // The same joint values twice: bad input for every function.
+  const RobotModel m = Puma560PaperModel();
+  Measurement d;
+  d.type = MeasurementType::kDistance;
+  d.joints = Eigen::VectorXd::Zero(6);
+  d.joints2 = d.joints;
+  std::string error;
+  EXPECT_FALSE(CheckMeasurement(m, d, &error));
+  EXPECT_NE(error.find("identical"), std::string::npos) << error;
+  Eigen::MatrixXd J;
+  EXPECT_FALSE(StackedJacobian(m, m.nominal, {d}, 1.0, &J, &error));
+  EXPECT_NE(error.find("measurement 0"), std::string::npos) << error;
+  // Different joint values with the same measured point (joint 6 one turn
+  // apart): the norm's Jacobian would be NaN.
+  d.joints[5] = -1.0;
+  d.joints2[5] = -1.0 + 2 * M_PI;
+  ASSERT_TRUE(CheckMeasurement(m, d, &error)) << error;
+  EXPECT_FALSE(StackedJacobian(m, m.nominal, {d}, 1.0, &J, &error));
+  EXPECT_NE(error.find("coincide"), std::string::npos) << error;
+}
+
 TEST(PoolJacobiansTest, BadInputGivesMessages) {
   const RobotModel m = Puma560PaperModel();
   std::string error;

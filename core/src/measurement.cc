@@ -67,6 +67,9 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
     case MeasurementType::kDistance:
       if (!model.CheckJointValues(m.joints2, &why)) {
         msg << "second pose joints: " << why;
+      } else if (m.joints == m.joints2) {
+        msg << "a distance between two identical poses (the same joint "
+               "values twice) measures nothing: its Jacobian is undefined";
       } else if (!std::isfinite(m.distance) || m.distance < 0) {
         msg << "measured distance must be finite and >= 0, got " << m.distance;
       }

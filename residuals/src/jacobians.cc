@@ -145,8 +145,12 @@ bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
   for (size_t i = 0; i < measurements.size(); ++i) {
     if (!evaluator.Evaluate(measurements[i], J.data() + row * p)) {
       if (error) {
-        *error =
-            "measurement " + std::to_string(i) + ": Jacobian evaluation failed";
+        *error = "measurement " + std::to_string(i) +
+                 (measurements[i].type == MeasurementType::kDistance
+                      ? ": the distance's two poses put the measured point at "
+                        "the same place (the points coincide): its Jacobian "
+                        "is undefined"
+                      : ": Jacobian evaluation failed");
       }
       return false;
     }

@@ -90,6 +90,9 @@ class MeasurementResidual {
             MeasuredPoint<T>(*model_, blocks, m_.joints.data());
         const Vector3<T> b =
             MeasuredPoint<T>(*model_, blocks, m_.joints2.data());
+        // Coinciding points (up to rounding, 1e-12 m): the norm has no
+        // derivative there (NaN) or a meaningless one.
+        if ((a - b).squaredNorm() < T(1e-24)) return false;
         residuals[0] = (a - b).norm() - T(m_.distance);
         return true;
       }
