@@ -198,10 +198,21 @@ int Main() {
                          &J, &error)) {
       app::Fail("--measurements: " + error);
     }
-    RowMatrixXd jacobian = J;
-    auto_fixed = app::EnsureIdentifiableOrDie(
-        &model, &jacobian, FLAGS_auto_fix,
-        "the " + std::to_string(training.size()) + " measurements");
+    const std::string what =
+        "the " + std::to_string(training.size()) + " measurements";
+    const int num_free_before = model.num_free();
+    IdentifiabilityReport report;
+    std::vector<int> fixed_columns;
+    if (FLAGS_auto_fix) {
+      if (!FixUnidentifiableParameters(&model, J, options.rank_tolerance,
+                                       &report, &fixed_columns, &auto_fixed)) {
+        app::FailUnidentifiable(report, what, true);
+      }
+      app::NoteAutoFixed(auto_fixed, num_free_before, what);
+    } else {
+      report = AnalyzeIdentifiability(model, J, options.rank_tolerance);
+      if (!report.identifiable()) app::FailUnidentifiable(report, what, false);
+    }
   }
 
   IdentificationSummary summary;

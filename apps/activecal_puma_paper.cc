@@ -148,17 +148,12 @@ int Main() {
   const JointLattice lattice = app::MakeLatticeOrDie(model, 5);
   const Eigen::MatrixXd pool_joints = lattice.AllJointValues();
   double jacobian_seconds = 0;
-  CandidatePool pool;
-  {
-    std::string error;
-    if (!CandidatePool::Create(
-            app::PoolJacobiansOrDie(model, model.nominal, pool_joints,
-                                    MeasurementType::kPosition, 1.0,
-                                    FLAGS_threads, &jacobian_seconds),
-            3, &pool, &error)) {
-      app::Fail(error);
-    }
-  }
+  CandidatePoolOptions pool_options;
+  pool_options.num_threads = FLAGS_threads;
+  RobotModel pool_model = model;
+  const CandidatePool pool =
+      app::BuildPoolOrDie(&pool_model, pool_joints, pool_options, "the pool",
+                          &jacobian_seconds, nullptr);
 
   // V-C: random designs.
   RandomDesignOptions random_options;

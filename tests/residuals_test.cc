@@ -6,10 +6,12 @@
 #include <string>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
+#include "activecal/residuals/pool_builder.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -237,6 +239,65 @@ TEST(StackedJacobianTest, DistanceBetweenCoincidingPointsIsRefused) {
   ASSERT_TRUE(CheckMeasurement(m, d, &error)) << error;
   EXPECT_FALSE(StackedJacobian(m, m.nominal, {d}, 1.0, &J, &error));
   EXPECT_NE(error.find("coincide"), std::string::npos) << error;
+}
+
+TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
+  // Sampling every k-th row of a position pool with k a multiple of 3
+  // analyses only the x rows (the --levels=9 bug); whole blocks it must be.
+  RowMatrixXd stacked(12, 2);
+  for (int r = 0; r < 12; ++r) stacked.row(r) << r, 100 + r;
+  const Eigen::MatrixXd sample = SampleBlocks(stacked, 3, 6);
+  ASSERT_EQ(sample.rows(), 6);
+  for (int r = 0; r < 3; ++r) {
+    EXPECT_EQ(sample(r, 0), r);          // pose 0
+    EXPECT_EQ(sample(3 + r, 0), 6 + r);  // pose 2
+  }
+  EXPECT_EQ(SampleBlocks(stacked, 3, 12).rows(), 12);
+
+  // A 4^6 lattice analysed through at most 300 rows: 100 whole poses, all
+  // 27 parameters identifiable.
+  RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  ASSERT_TRUE(JointLattice::Create(m, 4, &lattice, &error)) << error;
+  CandidatePoolOptions options;
+  options.check_identifiability = true;
+  options.max_analysis_rows = 300;
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+                                 options, &pool, &summary))
+      << summary.message;
+  EXPECT_EQ(summary.identifiability.num_equations, 300);
+  EXPECT_EQ(summary.identifiability.rank, 27);
+  EXPECT_EQ(pool.size(), 4096);
+  EXPECT_TRUE(summary.fixed_names.empty());
+}
+
+TEST(BuildCandidatePoolTest, AutoFixHoldsTheRedundantParameterFixed) {
+  // Base z offset free as well: B.d and L1.d move the point alike.
+  RobotModel m = Puma560PaperModel();
+  m.SetFree(kD, true);
+  JointLattice lattice;
+  std::string error;
+  ASSERT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+  CandidatePoolOptions options;
+  options.check_identifiability = true;
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  RobotModel refused = m;
+  EXPECT_FALSE(BuildCandidatePool(&refused, m.nominal, lattice.AllJointValues(),
+                                  options, &pool, &summary));
+  EXPECT_NE(summary.message.find("not identifiable"), std::string::npos)
+      << summary.message;
+  EXPECT_EQ(refused.num_free(), 28);
+  options.auto_fix = true;
+  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+                                 options, &pool, &summary))
+      << summary.message;
+  EXPECT_EQ(summary.fixed_names.size(), 1u);
+  EXPECT_EQ(m.num_free(), 27);
+  EXPECT_EQ(pool.num_parameters(), 27);
 }
 
 TEST(PoolJacobiansTest, BadInputGivesMessages) {

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <ceres/covariance.h>
 #include <ceres/manifold.h>
+#include <glog/logging.h>
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -179,6 +180,31 @@ std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
   }
   std::sort(to_fix.begin(), to_fix.end());
   return to_fix;
+}
+
+bool FixUnidentifiableParameters(RobotModel* model,
+                                 const Eigen::MatrixXd& jacobian,
+                                 double rank_tolerance,
+                                 IdentifiabilityReport* report,
+                                 std::vector<int>* fixed_columns,
+                                 std::vector<std::string>* fixed_names) {
+  CHECK(model != nullptr);
+  CHECK(report != nullptr);
+  CHECK(fixed_columns != nullptr);
+  CHECK_EQ(jacobian.cols(), model->num_free());
+  fixed_columns->clear();
+  if (fixed_names) fixed_names->clear();
+  *report = AnalyzeIdentifiability(*model, jacobian, rank_tolerance);
+  if (report->identifiable()) return true;
+  if (report->num_equations < report->num_free) return false;
+  *fixed_columns = SuggestParametersToFix(jacobian, rank_tolerance);
+  const std::vector<std::string> names = model->FreeParameterNames();
+  const std::vector<int> free = model->FreeParameterIndices();
+  for (int c : *fixed_columns) {
+    model->SetFree(free[c], false);
+    if (fixed_names) fixed_names->push_back(names[c]);
+  }
+  return true;
 }
 
 namespace {

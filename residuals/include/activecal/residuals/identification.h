@@ -102,6 +102,26 @@ IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
 std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
                                         double rank_tolerance = 1e-10);
 
+// The auto-fix policy: analyses `jacobian` (m x num_free, columns in
+// model->FreeParameterNames() order) into *report and, when it does not
+// identify every free parameter but has at least as many rows as columns,
+// holds fixed in *model (SetFree(i, false)) the parameters
+// SuggestParametersToFix names. The rule is deterministic: columns with no
+// effect first, then QR with column pivoting on the unit-norm columns keeps
+// the rank-many columns it pivots first (the largest remaining norm; on a
+// tie the earlier parameter in free-parameter order) and fixes the rest.
+// *fixed_columns gets their positions among the free parameters before
+// fixing (ascending), *fixed_names their names (may be null). Returns true
+// when the remaining free parameters are identifiable (nothing fixed if
+// they all were); false, with *model unchanged, when there are too few
+// rows.
+bool FixUnidentifiableParameters(RobotModel* model,
+                                 const Eigen::MatrixXd& jacobian,
+                                 double rank_tolerance,
+                                 IdentifiabilityReport* report,
+                                 std::vector<int>* fixed_columns,
+                                 std::vector<std::string>* fixed_names);
+
 struct IdentificationSummary {
   // True when the problem was identifiable, the solver converged and the
   // covariance was computed. Otherwise `message` says why.
