@@ -35,9 +35,19 @@ void Init(int* argc, char*** argv, const char* usage) {
   if (slash != std::string::npos) g_program = g_program.substr(slash + 1);
   gflags::SetUsageMessage(usage);
   gflags::SetVersionString("0.1.0");
+  // --help lists the program's own flags (those defined under apps/), not
+  // the ~100 of glog and gflags; --helpfull still lists them all.
+  static char help_flag[] = "--helpmatch=/apps/";
+  for (int i = 1; i < *argc; ++i) {
+    const std::string arg = (*argv)[i];
+    if (arg == "--help" || arg == "-help") (*argv)[i] = help_flag;
+  }
   gflags::ParseCommandLineFlags(argc, argv, true);
   FLAGS_logtostderr = true;
-  FLAGS_minloglevel = 1;
+  // Below FATAL, glog stays silent: a failing run prints exactly one line
+  // (ours), never Ceres' own LOG(ERROR) beside it, e.g. from
+  // ceres::Covariance on a rank-deficient Jacobian.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   google::InitGoogleLogging((*argv)[0]);
   if (*argc > 1) {
     Fail(std::string("unexpected argument '") + (*argv)[1] +

@@ -109,6 +109,19 @@ for f in random_designs.csv eae_history.csv identification.csv certificate.csv; 
   expect_same paper_t1/$f paper_t2/$f
 done
 
+# --- --help shows the program's own flags (and --robot), not glog's. ---
+for prog in activecal_select activecal_simulate activecal_identify \
+  activecal_monte_carlo activecal_puma_paper; do
+  "$apps/$prog" --help >help.txt 2>&1
+  if grep -q -- "-robot" help.txt && ! grep -q -- "-logtostderr" help.txt &&
+    [ "$(wc -l <help.txt)" -lt 80 ]; then
+    echo "ok   [$prog --help: $(wc -l <help.txt) lines]"
+  else
+    echo "FAIL [$prog --help]: $(wc -l <help.txt) lines, glog flags or no --robot"
+    failures=$((failures + 1))
+  fi
+done
+
 # --- Bad flags. ---
 expect_fail "levels=1" "--levels=1" activecal_select --levels=1
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
