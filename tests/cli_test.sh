@@ -124,6 +124,10 @@ done
 
 # --- Bad flags. ---
 expect_fail "levels=1" "--levels=1" activecal_select --levels=1
+sed 's/limits: \[-4.363323129985824, 1.2217304763960306\]/limits: [-6.283185307179586, 6.283185307179586]/' \
+  "$data/puma560.yaml" >turn.yaml
+expect_fail "lattice levels that are the same angle" "levels 1 and 2 (-360 and 0 deg) are the same angle modulo 360 deg" \
+  activecal_select --robot=turn.yaml --levels=3
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
 expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
   activecal_select --num_poses=20000

@@ -263,6 +263,25 @@ TEST(LatticeTest, RejectsBadLevels) {
   EXPECT_NE(error.find("expected 6"), std::string::npos) << error;
 }
 
+TEST(LatticeTest, RejectsLevelsThatAreTheSameAngle) {
+  // Limits of +-360 deg and 3 levels: -360, 0 and 360 deg, one angle.
+  RobotModel m = Puma560PaperModel();
+  m.links[0].joint_min = -2 * M_PI;
+  m.links[0].joint_max = 2 * M_PI;
+  JointLattice lattice;
+  std::string error;
+  EXPECT_FALSE(JointLattice::Create(m, 3, &lattice, &error));
+  EXPECT_NE(error.find("joint 1 (L1): levels 1 and 2 (-360 and 0 deg) are "
+                       "the same angle"),
+            std::string::npos)
+      << error;
+  // 4 levels (-360, -120, 120, 360 deg): the ends still coincide.
+  EXPECT_FALSE(JointLattice::Create(m, 4, &lattice, &error));
+  // A range of 350 deg: fine.
+  m.links[0].joint_max = -2 * M_PI + 350 * M_PI / 180;
+  EXPECT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+}
+
 TEST(RandomTest, ReproducibleAndDistinctSamples) {
   Random a(42), b(42);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(a.Uniform(), b.Uniform());
