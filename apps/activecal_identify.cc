@@ -224,8 +224,10 @@ int Main() {
 
   const bool has_truth = robot.true_parameters.size() == model.num_parameters();
   const std::vector<int> free = model.FreeParameterIndices();
-  std::printf("%-10s %12s %12s %12s", "parameter", "nominal", "estimate",
-              "std");
+  // The table is in the robot file's units (angles in deg when its
+  // angle_unit is deg), as --model_out writes them; the JSON stays SI.
+  std::printf("%-10s %-4s %12s %12s %12s", "parameter", "unit", "nominal",
+              "estimate", "std");
   if (has_truth) std::printf(" %12s %12s %8s", "true", "error", "err/std");
   std::printf("\n");
   int outside = 0;
@@ -233,8 +235,12 @@ int Main() {
   for (size_t k = 0; k < free.size(); ++k) {
     const int i = free[k];
     const double sd = summary.standard_deviations[k];
-    std::printf("%-10s %12.6f %12.6f %12.6f", summary.names[k].c_str(),
-                model.nominal[i], summary.estimates[k], sd);
+    const bool degrees = std::string(model.ParameterUnit(i)) == "rad" &&
+                         robot.angle_unit == AngleUnit::kDegree;
+    const double u = degrees ? 180.0 / M_PI : 1.0;
+    std::printf("%-10s %-4s %12.6f %12.6f %12.6f", summary.names[k].c_str(),
+                degrees ? "deg" : model.ParameterUnit(i), u * model.nominal[i],
+                u * summary.estimates[k], u * sd);
     nlohmann::json entry = {{"name", summary.names[k]},
                             {"nominal", model.nominal[i]},
                             {"estimate", summary.estimates[k]},
@@ -243,7 +249,7 @@ int Main() {
       const double truth = robot.true_parameters[i];
       const double err = summary.estimates[k] - truth;
       if (std::abs(err) > 4 * sd) ++outside;
-      std::printf(" %12.6f %12.6f %8.2f", truth, err, err / sd);
+      std::printf(" %12.6f %12.6f %8.2f", u * truth, u * err, err / sd);
       entry["true"] = truth;
     }
     std::printf("\n");
@@ -262,6 +268,16 @@ int Main() {
         validation_errors.rms_calibrated_m, validation_errors.max_nominal_m,
         validation_errors.max_calibrated_m);
   }
+  std::string fixed_note;
+  if (!auto_fixed.empty()) {
+    fixed_note =
+        "--auto_fix: held fixed at their nominal values (not in "
+        "'free'";
+    fixed_note += FLAGS_model_out.empty() ? "" : " of --model_out";
+    fixed_note += "):";
+    for (const std::string& name : auto_fixed) fixed_note += " " + name;
+    std::printf("  %s\n", fixed_note.c_str());
+  }
   if (!summary.outliers.empty()) {
     std::printf("  outliers (measurement index in the input):");
     for (int o : summary.outliers) std::printf(" %d", training_index[o]);
@@ -276,7 +292,8 @@ int Main() {
                                       : FLAGS_measurements) +
                            "\n" + std::to_string(summary.num_measurements) +
                            " measurements, RMS residual " +
-                           std::to_string(summary.rms_m) + " m";
+                           std::to_string(summary.rms_m) + " m" +
+                           (fixed_note.empty() ? "" : "\n" + fixed_note);
     app::WriteTextOrDie(FLAGS_model_out,
                         RobotFileText(model, summary.parameters, file_options));
   }

@@ -201,6 +201,28 @@ else
   echo "FAIL [--auto_fix]"; cat err.txt; failures=$((failures + 1))
 fi
 
+# --auto_fix with --model_out: the fixed parameters are named in the output
+# and in a comment of the file (they are no longer in its 'free').
+"$apps/activecal_identify" --robot=based.yaml --measurements=measurements_yaml.csv \
+  --auto_fix --model_out=autofix.yaml >autofix.txt 2>/dev/null
+if grep -q "^# .*held fixed at their nominal values.*B.d" autofix.yaml &&
+  grep -q "held fixed at their nominal values.*B.d" autofix.txt; then
+  echo "ok   [--auto_fix names B.d in --model_out and the output]"
+else
+  echo "FAIL [--auto_fix --model_out]"; head -3 autofix.yaml; failures=$((failures + 1))
+fi
+# A robot file in degrees: the table shows angles in degrees, unit named.
+perl -pe 's/angle_unit: rad/angle_unit: deg/;
+  s/\b(gamma|alpha|beta|rx|ry|rz): (-?[0-9.eE+-]+)/"$1: ".($2*45\/atan2(1,1))/ge;
+  s/limits: \[(\S+), (\S+)\]/"limits: [".($1*45\/atan2(1,1)).", ".($2*45\/atan2(1,1))."]"/e' \
+  "$data/puma560.yaml" >deg.yaml
+"$apps/activecal_identify" --robot=deg.yaml --measurements=measurements_yaml.csv >deg.txt 2>&1
+if grep -q "^B.gamma *deg *93.73" deg.txt && grep -q "^B.a *m *19.88" deg.txt; then
+  echo "ok   [table in the robot file's angle unit]"
+else
+  echo "FAIL [table in the robot file's angle unit]"; head -3 deg.txt; failures=$((failures + 1))
+fi
+
 # --- No half-written output: a failing write leaves the old file alone. ---
 echo "keep me" >kept.json
 mkdir -p kept.json.tmp  # the temporary name is taken: the write must fail
