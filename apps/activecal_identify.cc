@@ -216,7 +216,8 @@ int Main() {
   }
 
   IdentificationSummary summary;
-  if (!Identify(model, training, model.nominal, options, &summary)) {
+  Identify(model, training, model.nominal, options, &summary);
+  if (summary.termination_type != TerminationType::kConvergence) {
     app::Fail("identification failed: " + summary.message);
   }
   const ValidationErrors validation_errors =
@@ -323,7 +324,8 @@ int Main() {
     j["rms_residual_m"] = summary.rms_m;
     j["sigma_m"] = summary.sigma_m;
     j["iterations"] = summary.iterations;
-    j["converged"] = summary.converged;
+    j["converged"] = summary.termination_type == TerminationType::kConvergence;
+    j["termination_type"] = TerminationTypeToString(summary.termination_type);
     j["num_measurements"] = summary.num_measurements;
     j["auto_fixed"] = auto_fixed;
     j["robust_loss"] = FLAGS_robust_loss;

@@ -157,11 +157,7 @@ TEST(KinematicsTest, SingleJointRotationRotatesPointAboutAxis) {
   // its distance to the axis stays the same.
   const RobotModel m = Puma560PaperModel();
   const Eigen::VectorXd p = Puma560TrueParameters();
-  Eigen::Matrix3d R0;
-  Vector3d t0;
   // Frame 0 of joint 1 is the base frame: its z axis is the joint axis.
-  Eigen::VectorXd base_only = p;
-  ForwardKinematics(m, p, Eigen::VectorXd::Zero(6), &R0, &t0);
   Eigen::Matrix3d Rb;
   Vector3d tb;
   LinkTransform<double>(m.base, p.data(), 0.0, &Rb, &tb);

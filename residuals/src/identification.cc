@@ -21,6 +21,20 @@ namespace {
 constexpr double kNoEffectTolerance = 1e-12;
 }  // namespace
 
+const char* TerminationTypeToString(TerminationType type) {
+  switch (type) {
+    case TerminationType::kConvergence:
+      return "CONVERGENCE";
+    case TerminationType::kNoConvergence:
+      return "NO_CONVERGENCE";
+    case TerminationType::kFailure:
+      return "FAILURE";
+    case TerminationType::kUserFailure:
+      return "USER_FAILURE";
+  }
+  return "UNKNOWN";
+}
+
 const char* RobustLossName(RobustLoss loss) {
   switch (loss) {
     case RobustLoss::kNone:
@@ -257,11 +271,12 @@ Eigen::VectorXd RawResiduals(const std::vector<ceres::CostFunction*>& costs,
 
 }  // namespace
 
-bool Identify(const RobotModel& model,
+void Identify(const RobotModel& model,
               const std::vector<Measurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
               IdentificationSummary* summary) {
+  CHECK(summary != nullptr);
   *summary = IdentificationSummary();
   summary->initial = initial;
   summary->names = model.FreeParameterNames();
@@ -272,24 +287,32 @@ bool Identify(const RobotModel& model,
     summary->num_residuals += m.dimension();
   }
   std::string error;
-  auto fail = [summary](const std::string& why) {
-    summary->success = false;
+  auto end = [summary](TerminationType type, const std::string& why) {
+    summary->termination_type = type;
     summary->message = why;
-    return false;
   };
-  if (!options.IsValid(&error)) return fail("invalid options: " + error);
-  if (!model.Validate(&error)) return fail(error);
+  auto fail = [&end](const std::string& why) {
+    end(TerminationType::kFailure, why);
+  };
+  auto user_failure = [&end](const std::string& why) {
+    end(TerminationType::kUserFailure, why);
+  };
+  if (!options.IsValid(&error))
+    return user_failure("invalid options: " + error);
+  if (!model.Validate(&error)) return user_failure(error);
   if (!model.CheckParameters(initial, &error)) {
-    return fail("initial values: " + error);
+    return user_failure("initial values: " + error);
   }
-  if (summary->num_free == 0) return fail("no free parameters to identify");
+  if (summary->num_free == 0) {
+    return user_failure("no free parameters to identify");
+  }
   const int p = summary->num_free;
   // Identifiability at the starting point, before any solving (this also
   // checks every measurement).
   Eigen::MatrixXd stacked;
   if (!StackedJacobian(model, initial, measurements,
                        options.rotation_weight_m_per_rad, &stacked, &error)) {
-    return fail(error);
+    return user_failure(error);
   }
   summary->identifiability =
       AnalyzeIdentifiability(model, stacked, options.rank_tolerance);
@@ -361,7 +384,6 @@ bool Identify(const RobotModel& model,
   // Not iterations.size() - 1, which is -1 when Ceres stops before its
   // first iteration.
   summary->iterations = ss.num_successful_steps + ss.num_unsuccessful_steps;
-  summary->converged = ss.termination_type == ceres::CONVERGENCE;
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
   summary->residuals = RawResiduals(costs, blocks);
@@ -405,8 +427,12 @@ bool Identify(const RobotModel& model,
         << " degrees of freedom: the standard deviations cannot be estimated";
     return fail(msg.str());
   }
-  if (!summary->converged) {
-    return fail("the solver did not converge: " + ss.message);
+  if (ss.termination_type == ceres::NO_CONVERGENCE) {
+    return end(TerminationType::kNoConvergence,
+               "the solver did not converge: " + ss.message);
+  }
+  if (ss.termination_type != ceres::CONVERGENCE) {
+    return fail("the solver failed: " + ss.message);
   }
   if (!summary->parameters.allFinite()) {
     return fail("the solver produced non-finite estimates");
@@ -443,15 +469,14 @@ bool Identify(const RobotModel& model,
           denom > 0 ? summary->covariance(i, j) / denom : 0.0;
     }
   }
-  summary->success = true;
+  summary->termination_type = TerminationType::kConvergence;
   std::ostringstream msg;
   msg << "identified " << p << " parameters from " << summary->num_measurements
       << " measurements in " << summary->iterations << " iterations";
   summary->message = msg.str();
-  return true;
 }
 
-bool Identify(const RobotModel& model,
+void Identify(const RobotModel& model,
               const std::vector<PositionMeasurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
@@ -461,13 +486,13 @@ bool Identify(const RobotModel& model,
     general[i].joints = measurements[i].joints;
     general[i].position = measurements[i].position;
   }
-  return Identify(model, general, initial, options, summary);
+  Identify(model, general, initial, options, summary);
 }
 
 std::string IdentificationSummary::BriefReport() const {
   std::ostringstream out;
-  out << "activecal identification: " << (success ? "SUCCESS" : "FAILURE")
-      << "\n  " << message << "\n";
+  out << "activecal identification: "
+      << TerminationTypeToString(termination_type) << "\n  " << message << "\n";
   out << "  measurements: " << num_measurements << " (" << num_residuals
       << " equations), free parameters: " << num_free << "\n";
   out << "  RMS residual: " << initial_rms_m << " m at start -> " << rms_m

@@ -4,7 +4,8 @@
 //
 //   IdentificationOptions options;
 //   IdentificationSummary summary;
-//   if (!Identify(model, measurements, model.nominal, options, &summary)) {
+//   Identify(model, measurements, model.nominal, options, &summary);
+//   if (summary.termination_type != TerminationType::kConvergence) {
 //     LOG(ERROR) << summary.message;  // e.g. which parameters are not
 //   }                                 // identifiable from these poses
 //   std::cout << summary.BriefReport();
@@ -31,6 +32,21 @@
 #include "activecal/core/simulation.h"
 
 namespace activecal {
+
+// How an identification (or a Monte Carlo run) ended, after Ceres'
+// TerminationType. Only kConvergence comes with standard deviations.
+enum class TerminationType {
+  kConvergence,    // converged; estimates, std, covariance are set
+  kNoConvergence,  // the solver stopped at max_num_iterations; estimates so
+                   // far, no covariance
+  kFailure,        // valid input that cannot answer: too few equations,
+                   // unidentifiable parameters, 0 degrees of freedom, the
+                   // covariance failed, non-finite estimates
+  kUserFailure,    // invalid input: options, model, initial values or a
+                   // measurement
+};
+// "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE".
+const char* TerminationTypeToString(TerminationType type);
 
 enum class RobustLoss {
   kNone,    // plain least squares
@@ -123,9 +139,9 @@ bool FixUnidentifiableParameters(RobotModel* model,
                                  std::vector<std::string>* fixed_names);
 
 struct IdentificationSummary {
-  // True when the problem was identifiable, the solver converged and the
-  // covariance was computed. Otherwise `message` says why.
-  bool success = false;
+  // kConvergence when the problem was identifiable, the solver converged
+  // and the covariance was computed. Otherwise `message` says why.
+  TerminationType termination_type = TerminationType::kFailure;
   std::string message;
 
   std::vector<std::string> names;       // free parameters, in order
@@ -150,7 +166,6 @@ struct IdentificationSummary {
   double rms_m = 0.0;          // ... at the estimate
   double sigma_m = 0.0;        // s = sqrt(SSR / (m - p)), per residual row
   int iterations = 0;
-  bool converged = false;
   IdentifiabilityReport identifiability;
   ceres::Solver::Summary solver_summary;
 
@@ -159,16 +174,17 @@ struct IdentificationSummary {
 
 // Identifies the free parameters of `model` from `measurements`, starting
 // from the full parameter vector `initial` (usually model.nominal).
-// Returns summary->success; on failure summary->message names the problem:
-// bad input, too few equations, unidentifiable parameters, no convergence.
-bool Identify(const RobotModel& model,
+// summary->termination_type says how it ended; unless kConvergence,
+// summary->message names the problem: bad input, too few equations,
+// unidentifiable parameters, no convergence. `summary` must not be null.
+void Identify(const RobotModel& model,
               const std::vector<Measurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
               IdentificationSummary* summary);
 
 // The same for position measurements.
-bool Identify(const RobotModel& model,
+void Identify(const RobotModel& model,
               const std::vector<PositionMeasurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
