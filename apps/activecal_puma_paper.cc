@@ -262,11 +262,13 @@ int Main() {
   for (size_t i = 0; i < eae.design.size(); ++i) {
     joints.row(i) = lattice.JointValues(eae.design[i]).transpose();
   }
-  std::vector<PositionMeasurement> measurements;
+  std::vector<Measurement> measurements;
   std::string error;
-  if (!SimulatePositionMeasurements(model, truth, joints, FLAGS_noise_m,
-                                    Random::StreamSeed(FLAGS_seed, 3),
-                                    &measurements, &error)) {
+  SimulationNoise noise;
+  noise.position_m = FLAGS_noise_m;
+  if (!SimulateMeasurements(model, truth, MeasurementPlan(joints), noise,
+                            Random::StreamSeed(FLAGS_seed, 3), &measurements,
+                            &error)) {
     app::Fail(error);
   }
   IdentificationSummary id;

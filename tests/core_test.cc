@@ -308,28 +308,29 @@ TEST(SimulationTest, NoiseFreeMatchesKinematicsAndSeedReproduces) {
   Eigen::MatrixXd joints = Eigen::MatrixXd::Zero(3, 6);
   joints(1, 0) = 0.5;
   joints(2, 4) = -1.0;
-  std::vector<PositionMeasurement> clean, noisy1, noisy2;
+  std::vector<Measurement> clean, noisy1, noisy2;
   std::string error;
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.0, 1, &clean, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                   {0.0, 0.0}, 1, &clean, &error));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(clean[i].position,
               MeasuredPoint(m, truth, joints.row(i).transpose()));
   }
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy2, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                   {0.01, 0.0}, 5, &noisy1, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                   {0.01, 0.0}, 5, &noisy2, &error));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(noisy1[i].position, noisy2[i].position);
     EXPECT_LT((noisy1[i].position - clean[i].position).norm(), 0.1);
   }
   joints(0, 3) = std::nan("");
-  EXPECT_FALSE(
-      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
+  EXPECT_FALSE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                    {0.01, 0.0}, 5, &noisy1, &error));
   EXPECT_NE(error.find("measurement 0"), std::string::npos) << error;
-  EXPECT_FALSE(SimulatePositionMeasurements(m, truth, joints.leftCols(4), 0.01,
-                                            5, &noisy1, &error));
+  EXPECT_FALSE(SimulateMeasurements(m, truth,
+                                    MeasurementPlan(joints.leftCols(4)),
+                                    {0.01, 0.0}, 5, &noisy1, &error));
 }
 
 }  // namespace

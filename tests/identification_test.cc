@@ -14,8 +14,8 @@
 namespace activecal {
 namespace {
 
-std::vector<PositionMeasurement> PumaMeasurements(int num_poses, double noise,
-                                                  uint64_t seed) {
+std::vector<Measurement> PumaMeasurements(int num_poses, double noise,
+                                          uint64_t seed) {
   const RobotModel m = Puma560PaperModel();
   JointLattice lattice;
   std::string error;
@@ -27,9 +27,10 @@ std::vector<PositionMeasurement> PumaMeasurements(int num_poses, double noise,
   for (int i = 0; i < num_poses; ++i) {
     joints.row(i) = lattice.JointValues(poses[i]).transpose();
   }
-  std::vector<PositionMeasurement> out;
-  EXPECT_TRUE(SimulatePositionMeasurements(m, Puma560TrueParameters(), joints,
-                                           noise, seed + 1000, &out, &error))
+  std::vector<Measurement> out;
+  EXPECT_TRUE(SimulateMeasurements(m, Puma560TrueParameters(),
+                                   MeasurementPlan(joints), {noise, 0.0},
+                                   seed + 1000, &out, &error))
       << error;
   return out;
 }
@@ -134,7 +135,7 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
 
 TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   const RobotModel m = Puma560PaperModel();
-  std::vector<PositionMeasurement> data = PumaMeasurements(30, 0.01, 1);
+  std::vector<Measurement> data = PumaMeasurements(30, 0.01, 1);
   IdentificationSummary summary;
   data[4].position[1] = std::nan("");
   Identify(m, data, m.nominal, IdentificationOptions(), &summary);
@@ -180,10 +181,10 @@ TEST(IdentificationTest, JointGainsAreRecovered) {
   for (int i = 0; i < 60; ++i) {
     joints.row(i) = testing::RandomJoints(m, &random).transpose();
   }
-  std::vector<PositionMeasurement> data;
+  std::vector<Measurement> data;
   std::string error;
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.0, 1, &data, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints), {}, 1,
+                                   &data, &error));
   IdentificationSummary summary;
   Identify(m, data, m.nominal, IdentificationOptions(), &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
@@ -202,10 +203,10 @@ TEST(IdentificationTest, MixedModelRedundanciesAreNamed) {
   for (int i = 0; i < 60; ++i) {
     joints.row(i) = testing::RandomJoints(m, &random).transpose();
   }
-  std::vector<PositionMeasurement> data;
+  std::vector<Measurement> data;
   std::string error;
-  ASSERT_TRUE(SimulatePositionMeasurements(m, m.nominal, joints, 0.0, 1, &data,
-                                           &error));
+  ASSERT_TRUE(SimulateMeasurements(m, m.nominal, MeasurementPlan(joints), {}, 1,
+                                   &data, &error));
   IdentificationSummary summary;
   Identify(m, data, m.nominal, IdentificationOptions(), &summary);
   EXPECT_NE(summary.termination_type, TerminationType::kConvergence);

@@ -181,8 +181,11 @@ TEST(MeasurementResidualTest, ResidualIsPredictedMinusMeasured) {
   Eigen::VectorXd q(6);
   q << 0.1, 0.2, -0.3, 0.4, 0.5, -0.6;
   const Eigen::Vector3d measured(1.0, 2.0, 3.0);
+  Measurement position;
+  position.joints = q;
+  position.position = measured;
   std::unique_ptr<ceres::CostFunction> cost(
-      MeasurementResidual::CreatePosition(shared, q, measured));
+      MeasurementResidual::Create(shared, position));
   ASSERT_EQ(cost->parameter_block_sizes().size(), 8u);
   ASSERT_EQ(cost->num_residuals(), 3);
   const std::vector<const double*> blocks = BlockPointers(m, m.nominal.data());
@@ -201,21 +204,19 @@ TEST(PoolJacobiansTest, SameResultForAnyThreadCount) {
   RowMatrixXd one, two, five;
   PoolJacobianOptions options;
   options.num_threads = 1;
-  ASSERT_TRUE(
-      PoolPositionJacobians(m, m.nominal, joints, options, &one, &error));
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &one, &error));
   options.num_threads = 2;
-  ASSERT_TRUE(
-      PoolPositionJacobians(m, m.nominal, joints, options, &two, &error));
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &two, &error));
   options.num_threads = 5;
-  ASSERT_TRUE(
-      PoolPositionJacobians(m, m.nominal, joints, options, &five, &error));
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &five, &error));
   EXPECT_EQ(one.rows(), 3 * 729);
   EXPECT_TRUE(one == two);
   EXPECT_TRUE(one == five);
   // And each block equals the single-pose Jacobian.
   Eigen::MatrixXd J;
-  ASSERT_TRUE(
-      PositionJacobian(m, m.nominal, joints.row(100).transpose(), &J, &error));
+  ASSERT_TRUE(MeasurementJacobian(m, m.nominal,
+                                  MeasurementPlan(joints.middleRows(100, 1))[0],
+                                  1.0, &J, &error));
   EXPECT_TRUE(Eigen::MatrixXd(one.middleRows(300, 3)) == J);
 }
 
@@ -306,15 +307,16 @@ TEST(PoolJacobiansTest, BadInputGivesMessages) {
   RowMatrixXd out;
   Eigen::MatrixXd joints = Eigen::MatrixXd::Zero(4, 6);
   joints(2, 1) = std::numeric_limits<double>::infinity();
-  EXPECT_FALSE(PoolPositionJacobians(m, m.nominal, joints,
-                                     PoolJacobianOptions(), &out, &error));
+  EXPECT_FALSE(
+      PoolJacobians(m, m.nominal, joints, PoolJacobianOptions(), &out, &error));
   EXPECT_NE(error.find("pool pose 2"), std::string::npos) << error;
-  EXPECT_FALSE(PoolPositionJacobians(m, m.nominal, joints.leftCols(5),
-                                     PoolJacobianOptions(), &out, &error));
+  EXPECT_FALSE(PoolJacobians(m, m.nominal, joints.leftCols(5),
+                             PoolJacobianOptions(), &out, &error));
   EXPECT_NE(error.find("expected 6 joint values"), std::string::npos) << error;
   Eigen::MatrixXd J;
-  EXPECT_FALSE(PositionJacobian(m, m.nominal.head(20), Eigen::VectorXd::Zero(6),
-                                &J, &error));
+  EXPECT_FALSE(MeasurementJacobian(m, m.nominal.head(20),
+                                   MeasurementPlan(joints.topRows(1))[0], 1.0,
+                                   &J, &error));
   EXPECT_NE(error.find("expected 48 parameter values, got 20"),
             std::string::npos)
       << error;

@@ -80,6 +80,16 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
   return false;
 }
 
+std::vector<Measurement> MeasurementPlan(const Eigen::MatrixXd& joints,
+                                         MeasurementType type) {
+  std::vector<Measurement> plan(joints.rows());
+  for (int i = 0; i < joints.rows(); ++i) {
+    plan[i].type = type;
+    plan[i].joints = joints.row(i).transpose();
+  }
+  return plan;
+}
+
 Measurement PredictMeasurement(const RobotModel& model,
                                const Eigen::VectorXd& parameters,
                                const Measurement& like) {

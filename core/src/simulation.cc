@@ -86,28 +86,4 @@ bool SimulateMeasurements(const RobotModel& model,
   return true;
 }
 
-bool SimulatePositionMeasurements(const RobotModel& model,
-                                  const Eigen::VectorXd& true_parameters,
-                                  const Eigen::MatrixXd& joints, double noise_m,
-                                  uint64_t seed,
-                                  std::vector<PositionMeasurement>* out,
-                                  std::string* error) {
-  std::vector<Measurement> plan(joints.rows());
-  for (int i = 0; i < joints.rows(); ++i) {
-    plan[i].joints = joints.row(i).transpose();
-  }
-  SimulationNoise noise;
-  noise.position_m = noise_m;
-  std::vector<Measurement> measured;
-  if (!SimulateMeasurements(model, true_parameters, plan, noise, seed,
-                            &measured, error)) {
-    return false;
-  }
-  out->clear();
-  for (Measurement& m : measured) {
-    out->push_back({std::move(m.joints), m.position});
-  }
-  return true;
-}
-
 }  // namespace activecal

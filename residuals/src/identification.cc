@@ -476,19 +476,6 @@ void Identify(const RobotModel& model,
   summary->message = msg.str();
 }
 
-void Identify(const RobotModel& model,
-              const std::vector<PositionMeasurement>& measurements,
-              const Eigen::VectorXd& initial,
-              const IdentificationOptions& options,
-              IdentificationSummary* summary) {
-  std::vector<Measurement> general(measurements.size());
-  for (size_t i = 0; i < measurements.size(); ++i) {
-    general[i].joints = measurements[i].joints;
-    general[i].position = measurements[i].position;
-  }
-  Identify(model, general, initial, options, summary);
-}
-
 std::string IdentificationSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal identification: "

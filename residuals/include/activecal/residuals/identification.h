@@ -183,13 +183,6 @@ void Identify(const RobotModel& model,
               const IdentificationOptions& options,
               IdentificationSummary* summary);
 
-// The same for position measurements.
-void Identify(const RobotModel& model,
-              const std::vector<PositionMeasurement>& measurements,
-              const Eigen::VectorXd& initial,
-              const IdentificationOptions& options,
-              IdentificationSummary* summary);
-
 }  // namespace activecal
 
 #endif  // ACTIVECAL_RESIDUALS_IDENTIFICATION_H_

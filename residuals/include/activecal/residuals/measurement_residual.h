@@ -116,16 +116,6 @@ class MeasurementResidual {
     return cost;
   }
 
-  // A position measurement's cost function.
-  static CostFunction* CreatePosition(std::shared_ptr<const RobotModel> model,
-                                      Eigen::VectorXd joints,
-                                      const Eigen::Vector3d& measured) {
-    Measurement m;
-    m.joints = std::move(joints);
-    m.position = measured;
-    return Create(std::move(model), std::move(m));
-  }
-
  private:
   std::shared_ptr<const RobotModel> model_;
   Measurement m_;
