@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <vector>
 
+#include "activecal/core/csv_files.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -295,14 +295,12 @@ bool ParseRobotDescription(const std::string& text, const std::string& source,
 
 bool LoadRobotFile(const std::string& path, RobotDescription* robot,
                    std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::string text;
+  if (!ReadTextFile(path, &text, nullptr)) {
     if (error) *error = path + ": cannot open the robot file";
     return false;
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseRobotDescription(text.str(), path, robot, error);
+  return ParseRobotDescription(text, path, robot, error);
 }
 
 std::string RobotFileText(const RobotModel& model,
