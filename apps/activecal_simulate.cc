@@ -81,6 +81,12 @@ int Main() {
   std::vector<Measurement> measurements;
   if (!SimulateMeasurements(model, robot.true_parameters, plan, noise,
                             FLAGS_seed, &measurements, &error)) {
+    if (type == MeasurementType::kDistance) {
+      error +=
+          " (measurement i is the distance between poses i + 1 and "
+          "i + 2 of " +
+          FLAGS_poses_csv + ", data rows)";
+    }
     app::Fail(error);
   }
   app::WriteTextOrDie(FLAGS_out, MeasurementsCsvText(model, measurements));

@@ -177,6 +177,9 @@ expect_fail "joint out of range" "range.csv:2: joint 6 (L6) value 6.98132 rad (4
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0\n10,0,0,0,0,0\n10,0,0,0,0,0\n' >same.csv
 expect_fail "distance between identical poses" "--type=distance: poses 2 and 3 of same.csv (data rows) are identical" \
   activecal_simulate --poses_csv=same.csv --out=x.csv --type=distance
+printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0\n0,0,0,0,0,-60\n0,0,0,0,0,300\n' >turn6.csv
+expect_fail "distance between coinciding points" "measurement 1: its two poses put the measured point at the same place" \
+  activecal_simulate --poses_csv=turn6.csv --out=x.csv --type=distance
 printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m,q1_rad_2,q2_rad_2,q3_rad_2,q4_rad_2,q5_rad_2,q6_rad_2,distance_m\ndistance,0,0,0,0,0,0,,,,0,0,0,0,0,0,0.5\n' >samed.csv
 expect_fail "measured distance between identical poses" "samed.csv:2: a distance between two identical poses" \
   activecal_identify --measurements=samed.csv

@@ -278,6 +278,25 @@ TEST(LatticeTest, RejectsLevelsThatAreTheSameAngle) {
   EXPECT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
 }
 
+TEST(SimulationTest, DistanceBetweenCoincidingPointsIsRefused) {
+  // Joint 6 one turn apart: different joint values, the same point.
+  const RobotModel m = Puma560PaperModel();
+  Measurement d;
+  d.type = MeasurementType::kDistance;
+  d.joints = Eigen::VectorXd::Zero(6);
+  d.joints[5] = -1.0;
+  d.joints2 = d.joints;
+  d.joints2[5] = -1.0 + 2 * M_PI;
+  std::vector<Measurement> out;
+  std::string error;
+  EXPECT_FALSE(SimulateMeasurements(m, Puma560TrueParameters(), {d}, {}, 1,
+                                    &out, &error));
+  EXPECT_NE(error.find("measurement 0: its two poses put the measured point "
+                       "at the same place"),
+            std::string::npos)
+      << error;
+}
+
 TEST(RandomTest, ReproducibleAndDistinctSamples) {
   Random a(42), b(42);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(a.Uniform(), b.Uniform());

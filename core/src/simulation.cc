@@ -49,6 +49,15 @@ bool SimulateMeasurements(const RobotModel& model,
       return false;
     }
     Measurement m = PredictMeasurement(model, true_parameters, like);
+    if (m.type == MeasurementType::kDistance && m.distance < 1e-12) {
+      if (error) {
+        *error = "simulation: measurement " + std::to_string(i) +
+                 ": its two poses put the measured point at the same place "
+                 "(e.g. a joint one turn apart): a distance between them "
+                 "measures nothing";
+      }
+      return false;
+    }
     switch (m.type) {
       case MeasurementType::kPosition:
         for (int k = 0; k < 3; ++k) {
