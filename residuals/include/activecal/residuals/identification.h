@@ -128,9 +128,10 @@ std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
 // tie the earlier parameter in free-parameter order) and fixes the rest.
 // *fixed_columns gets their positions among the free parameters before
 // fixing (ascending), *fixed_names their names (may be null). Returns true
-// when the remaining free parameters are identifiable (nothing fixed if
-// they all were); false, with *model unchanged, when there are too few
-// rows.
+// when every free parameter was identifiable (nothing fixed) or the
+// parameters were fixed (the rest then have a full-rank Jacobian by
+// construction of the rank-revealing QR); false, with *model unchanged,
+// when there are fewer rows than free parameters.
 bool FixUnidentifiableParameters(RobotModel* model,
                                  const Eigen::MatrixXd& jacobian,
                                  double rank_tolerance,
