@@ -28,6 +28,7 @@ DEFINE_string(model_out, "",
               "--robot, identified values as nominal) here.");
 DEFINE_string(json_out, "",
               "If set, write the report here: estimates, std, correlation "
+              "and covariance "
               "matrix, residual per measurement, RMS before and after, "
               "outliers, validation errors.");
 DEFINE_double(validation_fraction, 0.0,
@@ -93,6 +94,18 @@ std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
     app::Fail(error);
   }
   return measurements;
+}
+
+// A matrix as a JSON array of its rows (element by element: Eigen matrices
+// are column-major, so a row is not contiguous in memory).
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < m.rows(); ++r) {
+    std::vector<double> row(m.cols());
+    for (int c = 0; c < m.cols(); ++c) row[c] = m(r, c);
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 struct ValidationErrors {
@@ -185,14 +198,26 @@ int Main() {
                          &J, &error)) {
       app::Fail("--measurements: " + error);
     }
-    RowMatrixXd jacobian = J;
-    auto_fixed = app::EnsureIdentifiableOrDie(
-        &model, &jacobian, FLAGS_auto_fix,
-        "the " + std::to_string(training.size()) + " measurements");
+    const std::string what =
+        "the " + std::to_string(training.size()) + " measurements";
+    const int num_free_before = model.num_free();
+    IdentifiabilityReport report;
+    std::vector<int> fixed_columns;
+    if (FLAGS_auto_fix) {
+      if (!FixUnidentifiableParameters(&model, J, options.rank_tolerance,
+                                       &report, &fixed_columns, &auto_fixed)) {
+        app::FailUnidentifiable(report, what, true);
+      }
+      app::NoteAutoFixed(auto_fixed, num_free_before, what);
+    } else {
+      report = AnalyzeIdentifiability(model, J, options.rank_tolerance);
+      if (!report.identifiable()) app::FailUnidentifiable(report, what, false);
+    }
   }
 
   IdentificationSummary summary;
-  if (!Identify(model, training, model.nominal, options, &summary)) {
+  Identify(model, training, model.nominal, options, &summary);
+  if (summary.termination_type != TerminationType::kConvergence) {
     app::Fail("identification failed: " + summary.message);
   }
   const ValidationErrors validation_errors =
@@ -200,8 +225,10 @@ int Main() {
 
   const bool has_truth = robot.true_parameters.size() == model.num_parameters();
   const std::vector<int> free = model.FreeParameterIndices();
-  std::printf("%-10s %12s %12s %12s", "parameter", "nominal", "estimate",
-              "std");
+  // The table is in the robot file's units (angles in deg when its
+  // angle_unit is deg), as --model_out writes them; the JSON stays SI.
+  std::printf("%-10s %-4s %12s %12s %12s", "parameter", "unit", "nominal",
+              "estimate", "std");
   if (has_truth) std::printf(" %12s %12s %8s", "true", "error", "err/std");
   std::printf("\n");
   int outside = 0;
@@ -209,8 +236,12 @@ int Main() {
   for (size_t k = 0; k < free.size(); ++k) {
     const int i = free[k];
     const double sd = summary.standard_deviations[k];
-    std::printf("%-10s %12.6f %12.6f %12.6f", summary.names[k].c_str(),
-                model.nominal[i], summary.estimates[k], sd);
+    const bool degrees = std::string(model.ParameterUnit(i)) == "rad" &&
+                         robot.angle_unit == AngleUnit::kDegree;
+    const double u = degrees ? 180.0 / M_PI : 1.0;
+    std::printf("%-10s %-4s %12.6f %12.6f %12.6f", summary.names[k].c_str(),
+                degrees ? "deg" : model.ParameterUnit(i), u * model.nominal[i],
+                u * summary.estimates[k], u * sd);
     nlohmann::json entry = {{"name", summary.names[k]},
                             {"nominal", model.nominal[i]},
                             {"estimate", summary.estimates[k]},
@@ -219,7 +250,7 @@ int Main() {
       const double truth = robot.true_parameters[i];
       const double err = summary.estimates[k] - truth;
       if (std::abs(err) > 4 * sd) ++outside;
-      std::printf(" %12.6f %12.6f %8.2f", truth, err, err / sd);
+      std::printf(" %12.6f %12.6f %8.2f", u * truth, u * err, err / sd);
       entry["true"] = truth;
     }
     std::printf("\n");
@@ -238,6 +269,16 @@ int Main() {
         validation_errors.rms_calibrated_m, validation_errors.max_nominal_m,
         validation_errors.max_calibrated_m);
   }
+  std::string fixed_note;
+  if (!auto_fixed.empty()) {
+    fixed_note =
+        "--auto_fix: held fixed at their nominal values (not in "
+        "'free'";
+    fixed_note += FLAGS_model_out.empty() ? "" : " of --model_out";
+    fixed_note += "):";
+    for (const std::string& name : auto_fixed) fixed_note += " " + name;
+    std::printf("  %s\n", fixed_note.c_str());
+  }
   if (!summary.outliers.empty()) {
     std::printf("  outliers (measurement index in the input):");
     for (int o : summary.outliers) std::printf(" %d", training_index[o]);
@@ -252,7 +293,8 @@ int Main() {
                                       : FLAGS_measurements) +
                            "\n" + std::to_string(summary.num_measurements) +
                            " measurements, RMS residual " +
-                           std::to_string(summary.rms_m) + " m";
+                           std::to_string(summary.rms_m) + " m" +
+                           (fixed_note.empty() ? "" : "\n" + fixed_note);
     app::WriteTextOrDie(FLAGS_model_out,
                         RobotFileText(model, summary.parameters, file_options));
   }
@@ -261,13 +303,8 @@ int Main() {
     j["robot"] = model.name;
     j["measurements"] = simulated ? "simulated" : FLAGS_measurements;
     j["parameters"] = params;
-    nlohmann::json correlation = nlohmann::json::array();
-    for (int r = 0; r < summary.correlation.rows(); ++r) {
-      correlation.push_back(std::vector<double>(
-          summary.correlation.row(r).data(),
-          summary.correlation.row(r).data() + summary.correlation.cols()));
-    }
-    j["correlation"] = correlation;
+    j["correlation"] = MatrixJson(summary.correlation);
+    j["covariance"] = MatrixJson(summary.covariance);
     nlohmann::json residuals = nlohmann::json::array();
     std::vector<int> outlier_inputs;
     for (int o : summary.outliers) outlier_inputs.push_back(training_index[o]);
@@ -287,7 +324,8 @@ int Main() {
     j["rms_residual_m"] = summary.rms_m;
     j["sigma_m"] = summary.sigma_m;
     j["iterations"] = summary.iterations;
-    j["converged"] = summary.converged;
+    j["converged"] = summary.termination_type == TerminationType::kConvergence;
+    j["termination_type"] = TerminationTypeToString(summary.termination_type);
     j["num_measurements"] = summary.num_measurements;
     j["auto_fixed"] = auto_fixed;
     j["robust_loss"] = FLAGS_robust_loss;

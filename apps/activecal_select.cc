@@ -107,19 +107,16 @@ int Main() {
               std::to_string(FLAGS_num_poses));
   }
   double jacobian_seconds = 0;
-  RowMatrixXd stacked = app::PoolJacobiansOrDie(
-      model, model.nominal, pool_joints, type, FLAGS_rotation_weight,
-      FLAGS_threads, &jacobian_seconds);
-  const std::vector<std::string> auto_fixed = app::EnsureIdentifiableOrDie(
-      &model, &stacked, FLAGS_auto_fix, "the pool");
-  CandidatePool pool;
-  {
-    std::string error;
-    if (!CandidatePool::Create(std::move(stacked), MeasurementDimension(type),
-                               &pool, &error)) {
-      app::Fail(error);
-    }
-  }
+  CandidatePoolOptions pool_options;
+  pool_options.type = type;
+  pool_options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
+  pool_options.num_threads = FLAGS_threads;
+  pool_options.check_identifiability = true;
+  pool_options.auto_fix = FLAGS_auto_fix;
+  std::vector<std::string> auto_fixed;
+  const CandidatePool pool =
+      app::BuildPoolOrDie(&model, pool_joints, pool_options, "the pool",
+                          &jacobian_seconds, &auto_fixed);
 
   static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
                                             "detmax", "greedy", "approx"};

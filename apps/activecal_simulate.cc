@@ -55,6 +55,12 @@ int Main() {
   if (type == MeasurementType::kDistance) {
     if (n < 2) app::Fail("--type=distance needs at least 2 poses, got 1");
     for (int i = 0; i + 1 < n; ++i) {
+      if (poses.joints.row(i) == poses.joints.row(i + 1)) {
+        app::Fail("--type=distance: poses " + std::to_string(i + 1) + " and " +
+                  std::to_string(i + 2) + " of " + FLAGS_poses_csv +
+                  " (data rows) are identical: a distance between them "
+                  "measures nothing; remove one");
+      }
       Measurement m;
       m.type = type;
       m.joints = poses.joints.row(i).transpose();
@@ -75,6 +81,12 @@ int Main() {
   std::vector<Measurement> measurements;
   if (!SimulateMeasurements(model, robot.true_parameters, plan, noise,
                             FLAGS_seed, &measurements, &error)) {
+    if (type == MeasurementType::kDistance) {
+      error +=
+          " (measurement i is the distance between poses i + 1 and "
+          "i + 2 of " +
+          FLAGS_poses_csv + ", data rows)";
+    }
     app::Fail(error);
   }
   app::WriteTextOrDie(FLAGS_out, MeasurementsCsvText(model, measurements));

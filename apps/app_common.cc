@@ -12,7 +12,6 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/robot_loader.h"
 #include "activecal/residuals/identification.h"
-#include "activecal/residuals/jacobians.h"
 #include "activecal/selection/criteria.h"
 
 DEFINE_string(robot, "",
@@ -47,9 +46,19 @@ void Init(int* argc, char*** argv, const char* usage) {
   if (slash != std::string::npos) g_program = g_program.substr(slash + 1);
   gflags::SetUsageMessage(usage);
   gflags::SetVersionString("0.1.0");
+  // --help lists the program's own flags (those defined under apps/), not
+  // the ~100 of glog and gflags; --helpfull still lists them all.
+  static char help_flag[] = "--helpmatch=/apps/";
+  for (int i = 1; i < *argc; ++i) {
+    const std::string arg = (*argv)[i];
+    if (arg == "--help" || arg == "-help") (*argv)[i] = help_flag;
+  }
   gflags::ParseCommandLineFlags(argc, argv, true);
   FLAGS_logtostderr = true;
-  FLAGS_minloglevel = 1;
+  // Below FATAL, glog stays silent: a failing run prints exactly one line
+  // (ours), never Ceres' own LOG(ERROR) beside it, e.g. from
+  // ceres::Covariance on a rank-deficient Jacobian.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   google::InitGoogleLogging((*argv)[0]);
   if (*argc > 1) {
     Fail(std::string("unexpected argument '") + (*argv)[1] +
@@ -124,77 +133,48 @@ RobotDescription LoadRobotOrDie() {
   return robot;
 }
 
-RowMatrixXd PoolJacobiansOrDie(const RobotModel& model,
-                               const Eigen::VectorXd& parameters,
-                               const Eigen::MatrixXd& joints,
-                               MeasurementType type, double rotation_weight,
-                               int num_threads, double* seconds) {
-  const int64_t start = NowNs();
+CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
+                             CandidatePoolOptions options,
+                             const std::string& what, double* seconds,
+                             std::vector<std::string>* fixed) {
   ProgressLine line("Jacobians of the pool poses");
-  RowMatrixXd stacked;
-  std::string error;
-  PoolJacobianOptions options;
   options.progress = line.callback();
-  options.num_threads = num_threads;
-  options.type = type;
-  options.rotation_weight_m_per_rad = rotation_weight;
-  if (!PoolJacobians(model, parameters, joints, options, &stacked, &error)) {
-    Fail(error);
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  if (!BuildCandidatePool(model, model->nominal, joints, options, &pool,
+                          &summary)) {
+    if (options.check_identifiability &&
+        !summary.identifiability.identifiable() &&
+        summary.identifiability.num_free > 0) {
+      FailUnidentifiable(summary.identifiability, what, options.auto_fix);
+    }
+    Fail(summary.message);
   }
-  if (seconds) *seconds = Seconds(start);
-  return stacked;
+  NoteAutoFixed(summary.fixed_names, summary.num_free_before, what);
+  if (seconds) *seconds = summary.jacobian_seconds;
+  if (fixed) *fixed = summary.fixed_names;
+  return pool;
 }
 
-std::vector<std::string> EnsureIdentifiableOrDie(RobotModel* model,
-                                                 RowMatrixXd* jacobian,
-                                                 bool auto_fix,
-                                                 const std::string& what) {
-  // A tall Jacobian is analysed through a deterministic subset of its rows
-  // (every k-th block of rows), enough to expose structural rank loss.
-  const int64_t max_rows = 300000;
-  const int64_t rows = jacobian->rows();
-  Eigen::MatrixXd sample;
-  if (rows <= max_rows) {
-    sample = *jacobian;
-  } else {
-    const int64_t stride = (rows + max_rows - 1) / max_rows;
-    const int64_t n = rows / stride;
-    sample.resize(n, jacobian->cols());
-    for (int64_t i = 0; i < n; ++i) sample.row(i) = jacobian->row(i * stride);
-  }
-  const IdentifiabilityReport report = AnalyzeIdentifiability(*model, sample);
-  if (report.identifiable()) return {};
-  if (report.num_equations < report.num_free)
+void FailUnidentifiable(const IdentifiabilityReport& report,
+                        const std::string& what, bool auto_fix) {
+  if (auto_fix || report.num_equations < report.num_free) {
     Fail(what + ": " + report.Message());
-  if (!auto_fix) {
-    Fail(what + ": " + report.Message() +
-         ". Fix them in the robot file (remove them from 'free') or pass "
-         "--auto_fix");
   }
-  const std::vector<int> drop = SuggestParametersToFix(sample);
-  const std::vector<std::string> names = model->FreeParameterNames();
-  const std::vector<int> free = model->FreeParameterIndices();
-  std::vector<std::string> fixed;
-  std::vector<int> keep;
-  for (int c = 0, d = 0; c < static_cast<int>(free.size()); ++c) {
-    if (d < static_cast<int>(drop.size()) && drop[d] == c) {
-      model->SetFree(free[c], false);
-      fixed.push_back(names[c]);
-      ++d;
-    } else {
-      keep.push_back(c);
-    }
-  }
-  RowMatrixXd kept(jacobian->rows(), keep.size());
-  for (size_t k = 0; k < keep.size(); ++k) kept.col(k) = jacobian->col(keep[k]);
-  *jacobian = std::move(kept);
+  Fail(what + ": " + report.Message() +
+       ". Fix them in the robot file (remove them from 'free') or pass "
+       "--auto_fix");
+}
+
+void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
+                   const std::string& what) {
+  if (fixed.empty()) return;
   std::string list;
   for (const std::string& f : fixed) list += (list.empty() ? "" : ", ") + f;
   std::cerr << g_program << ": --auto_fix: " << what << " cannot identify "
-            << fixed.size() << " of " << free.size()
+            << fixed.size() << " of " << num_free_before
             << " free parameters; holding them at their nominal values: "
             << list << std::endl;
-  return fixed;
 }
 
 nlohmann::json SelectionJson(const SelectionSummary& summary,

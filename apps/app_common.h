@@ -17,6 +17,8 @@
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_file.h"
 #include "activecal/core/robot_model.h"
+#include "activecal/residuals/identification.h"
+#include "activecal/residuals/pool_builder.h"
 #include "activecal/selection/design.h"
 
 // --robot (with --base_link, --tip_link, --frames), shared by every program.
@@ -49,23 +51,21 @@ void WriteTextOrDie(const std::string& path, const std::string& text);
 // message on bad input.
 JointLattice MakeLatticeOrDie(const RobotModel& model, int levels);
 
-// The stacked Jacobians of every pose (a row of `joints`) for measurements
-// of `type`, at `parameters`. Dies with a message on bad input.
-RowMatrixXd PoolJacobiansOrDie(const RobotModel& model,
-                               const Eigen::VectorXd& parameters,
-                               const Eigen::MatrixXd& joints,
-                               MeasurementType type, double rotation_weight,
-                               int num_threads, double* seconds);
+// BuildCandidatePool with a progress line, the identifiability check on
+// (options->check_identifiability) and auto_fix as given; fails naming the
+// unidentifiable combinations ("<what>: ...") and prints the --auto_fix
+// note on stderr. *fixed (may be null): the parameters held fixed.
+CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
+                             CandidatePoolOptions options,
+                             const std::string& what, double* seconds,
+                             std::vector<std::string>* fixed);
 
-// Checks that `jacobian` (columns: the model's free parameters) identifies
-// every free parameter. If not: with auto_fix, marks the parameters
-// SuggestParametersToFix names as fixed in *model, drops their columns from
-// *jacobian, says so on stderr and returns their names; without it, dies
-// naming the unidentifiable combinations.
-std::vector<std::string> EnsureIdentifiableOrDie(RobotModel* model,
-                                                 RowMatrixXd* jacobian,
-                                                 bool auto_fix,
-                                                 const std::string& what);
+// Prints (for a failed identifiability check) or notes on stderr (for
+// --auto_fix) what the library reported.
+[[noreturn]] void FailUnidentifiable(const IdentifiabilityReport& report,
+                                     const std::string& what, bool auto_fix);
+void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
+                   const std::string& what);
 
 // JSON for a selection result: algorithm, pool_size, pose_indices (labels
 // of the chosen pool rows), joint_angles_rad, log10_det, oi,

@@ -13,6 +13,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/pool_builder.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
 
@@ -23,15 +24,14 @@ const CandidatePool& Pool(int levels) {
   static std::map<int, CandidatePool> pools;
   auto it = pools.find(levels);
   if (it != pools.end()) return it->second;
-  const RobotModel model = Puma560PaperModel();
+  RobotModel model = Puma560PaperModel();
   JointLattice lattice;
   std::string error;
   JointLattice::Create(model, levels, &lattice, &error);
-  RowMatrixXd stacked;
-  PoolPositionJacobians(model, model.nominal, lattice.AllJointValues(),
-                        PoolJacobianOptions(), &stacked, &error);
   CandidatePool pool;
-  CandidatePool::Create(std::move(stacked), 3, &pool, &error);
+  CandidatePoolSummary summary;
+  BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(),
+                     CandidatePoolOptions(), &pool, &summary);
   return pools.emplace(levels, std::move(pool)).first->second;
 }
 
@@ -113,8 +113,7 @@ void BM_PoolJacobians(benchmark::State& state) {
   options.num_threads = state.range(0);
   RowMatrixXd stacked;
   for (auto _ : state) {
-    PoolPositionJacobians(model, model.nominal, joints, options, &stacked,
-                          &error);
+    PoolJacobians(model, model.nominal, joints, options, &stacked, &error);
   }
   state.SetItemsProcessed(state.iterations() * joints.rows());
 }

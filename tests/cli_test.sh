@@ -4,10 +4,11 @@
 # bad input ends with status 1 and one clear line on stderr, leaving no
 # half-written output.
 #
-#   tests/cli_test.sh <build/apps dir> <data dir>
+#   tests/cli_test.sh <build/apps dir> <data dir> <check_report_json>
 set -uo pipefail
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
+check_report="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -74,6 +75,16 @@ expect_same a.json b.json
   echo "ok   [calibrated model reloads]" ||
   { echo "FAIL [calibrated model reloads]"; failures=$((failures + 1)); }
 
+# The report's correlation matrix, read back: unit diagonal, symmetric,
+# covariance / (std std^T), positive semi-definite.
+for r in report_yaml.json; do
+  if out=$("$check_report" "$r"); then echo "ok   [correlation of $r]"; else
+    echo "FAIL [correlation of $r]: $out" | head -5; failures=$((failures + 1)); fi
+done
+"$apps/activecal_identify" --json_out=report_sim.json >/dev/null 2>&1
+if out=$("$check_report" report_sim.json); then echo "ok   [correlation of report_sim.json]"; else
+  echo "FAIL [correlation of report_sim.json]: $out" | head -5; failures=$((failures + 1)); fi
+
 # --- Determinism: every program's JSON is byte-identical for 1 and 2
 # threads, apart from the wall-clock times kept under "timing". ---
 strip_timing() { sed '/"timing": {/,/}/d' "$1"; }
@@ -98,8 +109,25 @@ for f in random_designs.csv eae_history.csv identification.csv certificate.csv; 
   expect_same paper_t1/$f paper_t2/$f
 done
 
+# --- --help shows the program's own flags (and --robot), not glog's. ---
+for prog in activecal_select activecal_simulate activecal_identify \
+  activecal_monte_carlo activecal_puma_paper; do
+  "$apps/$prog" --help >help.txt 2>&1
+  if grep -q -- "-robot" help.txt && ! grep -q -- "-logtostderr" help.txt &&
+    [ "$(wc -l <help.txt)" -lt 80 ]; then
+    echo "ok   [$prog --help: $(wc -l <help.txt) lines]"
+  else
+    echo "FAIL [$prog --help]: $(wc -l <help.txt) lines, glog flags or no --robot"
+    failures=$((failures + 1))
+  fi
+done
+
 # --- Bad flags. ---
 expect_fail "levels=1" "--levels=1" activecal_select --levels=1
+sed 's/limits: \[-4.363323129985824, 1.2217304763960306\]/limits: [-6.283185307179586, 6.283185307179586]/' \
+  "$data/puma560.yaml" >turn.yaml
+expect_fail "lattice levels that are the same angle" "levels 1 and 2 (-360 and 0 deg) are the same angle modulo 360 deg" \
+  activecal_select --robot=turn.yaml --levels=3
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
 expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
   activecal_select --num_poses=20000
@@ -137,12 +165,24 @@ expect_fail "bad measurement value" "bad.csv:5:" activecal_identify --measuremen
 head -5 measurements_yaml.csv >few.csv
 expect_fail "too few measurements" "the 4 measurements: too few equations: 12 measurement rows for 27 free parameters" \
   activecal_identify --measurements=few.csv
+head -10 measurements_yaml.csv >nine.csv
+expect_fail "zero degrees of freedom" "27 measurement rows for 27 free parameters leave 0 degrees of freedom" \
+  activecal_identify --measurements=nine.csv
 printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n' >dup.csv
 expect_fail "duplicate pool poses" "dup.csv:3: duplicate pose: the same joint values as line 2" \
   activecal_select --pool_csv=dup.csv --num_poses=1
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,400\n' >range.csv
 expect_fail "joint out of range" "range.csv:2: joint 6 (L6) value 6.98132 rad (400 deg) is outside its range [-176, 356] deg" \
   activecal_simulate --poses_csv=range.csv --out=x.csv
+printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0\n10,0,0,0,0,0\n10,0,0,0,0,0\n' >same.csv
+expect_fail "distance between identical poses" "--type=distance: poses 2 and 3 of same.csv (data rows) are identical" \
+  activecal_simulate --poses_csv=same.csv --out=x.csv --type=distance
+printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0\n0,0,0,0,0,-60\n0,0,0,0,0,300\n' >turn6.csv
+expect_fail "distance between coinciding points" "measurement 1: its two poses put the measured point at the same place" \
+  activecal_simulate --poses_csv=turn6.csv --out=x.csv --type=distance
+printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m,q1_rad_2,q2_rad_2,q3_rad_2,q4_rad_2,q5_rad_2,q6_rad_2,distance_m\ndistance,0,0,0,0,0,0,,,,0,0,0,0,0,0,0.5\n' >samed.csv
+expect_fail "measured distance between identical poses" "samed.csv:2: a distance between two identical poses" \
+  activecal_identify --measurements=samed.csv
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n' >empty.csv
 expect_fail "empty pool" "empty.csv:1: no poses after the header" \
   activecal_select --pool_csv=empty.csv
@@ -162,6 +202,28 @@ if "$apps/activecal_identify" --robot=based.yaml --measurements=measurements_yam
   echo "ok   [--auto_fix]: $(cat err.txt)"
 else
   echo "FAIL [--auto_fix]"; cat err.txt; failures=$((failures + 1))
+fi
+
+# --auto_fix with --model_out: the fixed parameters are named in the output
+# and in a comment of the file (they are no longer in its 'free').
+"$apps/activecal_identify" --robot=based.yaml --measurements=measurements_yaml.csv \
+  --auto_fix --model_out=autofix.yaml >autofix.txt 2>/dev/null
+if grep -q "^# .*held fixed at their nominal values.*B.d" autofix.yaml &&
+  grep -q "held fixed at their nominal values.*B.d" autofix.txt; then
+  echo "ok   [--auto_fix names B.d in --model_out and the output]"
+else
+  echo "FAIL [--auto_fix --model_out]"; head -3 autofix.yaml; failures=$((failures + 1))
+fi
+# A robot file in degrees: the table shows angles in degrees, unit named.
+perl -pe 's/angle_unit: rad/angle_unit: deg/;
+  s/\b(gamma|alpha|beta|rx|ry|rz): (-?[0-9.eE+-]+)/"$1: ".($2*45\/atan2(1,1))/ge;
+  s/limits: \[(\S+), (\S+)\]/"limits: [".($1*45\/atan2(1,1)).", ".($2*45\/atan2(1,1))."]"/e' \
+  "$data/puma560.yaml" >deg.yaml
+"$apps/activecal_identify" --robot=deg.yaml --measurements=measurements_yaml.csv >deg.txt 2>&1
+if grep -q "^B.gamma *deg *93.73" deg.txt && grep -q "^B.a *m *19.88" deg.txt; then
+  echo "ok   [table in the robot file's angle unit]"
+else
+  echo "FAIL [table in the robot file's angle unit]"; head -3 deg.txt; failures=$((failures + 1))
 fi
 
 # --- No half-written output: a failing write leaves the old file alone. ---

@@ -19,8 +19,13 @@ cmake -S "$src/tests/consumer" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
 cmake --build "$work/build" -j 2 >/dev/null
 "$work/build/calibrate_my_arm" "$src/data/puma560.yaml" "$work/calibrated.yaml"
 grep -q "^name: puma560_sun_hollerbach" "$work/calibrated.yaml"
-# The installed programs run too.
-"$work/prefix/bin/activecal_select" --help >/dev/null 2>&1 || true
+# The installed programs run too. --help exits with status 1 (gflags) and
+# lists the program's flags.
+status=0
+"$work/prefix/bin/activecal_select" --help >"$work/help.txt" 2>&1 || status=$?
+[ "$status" -eq 1 ] || { echo "activecal_select --help: status $status"; exit 1; }
+grep -q -- "-algorithm" "$work/help.txt" ||
+  { echo "activecal_select --help does not list -algorithm"; exit 1; }
 "$work/prefix/bin/activecal_select" --algorithm=greedy --certificate=false \
   --levels=3 >/dev/null
 echo "consumer built against the installed package and ran"

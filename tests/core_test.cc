@@ -157,11 +157,7 @@ TEST(KinematicsTest, SingleJointRotationRotatesPointAboutAxis) {
   // its distance to the axis stays the same.
   const RobotModel m = Puma560PaperModel();
   const Eigen::VectorXd p = Puma560TrueParameters();
-  Eigen::Matrix3d R0;
-  Vector3d t0;
   // Frame 0 of joint 1 is the base frame: its z axis is the joint axis.
-  Eigen::VectorXd base_only = p;
-  ForwardKinematics(m, p, Eigen::VectorXd::Zero(6), &R0, &t0);
   Eigen::Matrix3d Rb;
   Vector3d tb;
   LinkTransform<double>(m.base, p.data(), 0.0, &Rb, &tb);
@@ -263,6 +259,44 @@ TEST(LatticeTest, RejectsBadLevels) {
   EXPECT_NE(error.find("expected 6"), std::string::npos) << error;
 }
 
+TEST(LatticeTest, RejectsLevelsThatAreTheSameAngle) {
+  // Limits of +-360 deg and 3 levels: -360, 0 and 360 deg, one angle.
+  RobotModel m = Puma560PaperModel();
+  m.links[0].joint_min = -2 * M_PI;
+  m.links[0].joint_max = 2 * M_PI;
+  JointLattice lattice;
+  std::string error;
+  EXPECT_FALSE(JointLattice::Create(m, 3, &lattice, &error));
+  EXPECT_NE(error.find("joint 1 (L1): levels 1 and 2 (-360 and 0 deg) are "
+                       "the same angle"),
+            std::string::npos)
+      << error;
+  // 4 levels (-360, -120, 120, 360 deg): the ends still coincide.
+  EXPECT_FALSE(JointLattice::Create(m, 4, &lattice, &error));
+  // A range of 350 deg: fine.
+  m.links[0].joint_max = -2 * M_PI + 350 * M_PI / 180;
+  EXPECT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+}
+
+TEST(SimulationTest, DistanceBetweenCoincidingPointsIsRefused) {
+  // Joint 6 one turn apart: different joint values, the same point.
+  const RobotModel m = Puma560PaperModel();
+  Measurement d;
+  d.type = MeasurementType::kDistance;
+  d.joints = Eigen::VectorXd::Zero(6);
+  d.joints[5] = -1.0;
+  d.joints2 = d.joints;
+  d.joints2[5] = -1.0 + 2 * M_PI;
+  std::vector<Measurement> out;
+  std::string error;
+  EXPECT_FALSE(SimulateMeasurements(m, Puma560TrueParameters(), {d}, {}, 1,
+                                    &out, &error));
+  EXPECT_NE(error.find("measurement 0: its two poses put the measured point "
+                       "at the same place"),
+            std::string::npos)
+      << error;
+}
+
 TEST(RandomTest, ReproducibleAndDistinctSamples) {
   Random a(42), b(42);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(a.Uniform(), b.Uniform());
@@ -293,28 +327,29 @@ TEST(SimulationTest, NoiseFreeMatchesKinematicsAndSeedReproduces) {
   Eigen::MatrixXd joints = Eigen::MatrixXd::Zero(3, 6);
   joints(1, 0) = 0.5;
   joints(2, 4) = -1.0;
-  std::vector<PositionMeasurement> clean, noisy1, noisy2;
+  std::vector<Measurement> clean, noisy1, noisy2;
   std::string error;
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.0, 1, &clean, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                   {0.0, 0.0}, 1, &clean, &error));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(clean[i].position,
               MeasuredPoint(m, truth, joints.row(i).transpose()));
   }
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy2, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                   {0.01, 0.0}, 5, &noisy1, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                   {0.01, 0.0}, 5, &noisy2, &error));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(noisy1[i].position, noisy2[i].position);
     EXPECT_LT((noisy1[i].position - clean[i].position).norm(), 0.1);
   }
   joints(0, 3) = std::nan("");
-  EXPECT_FALSE(
-      SimulatePositionMeasurements(m, truth, joints, 0.01, 5, &noisy1, &error));
+  EXPECT_FALSE(SimulateMeasurements(m, truth, MeasurementPlan(joints),
+                                    {0.01, 0.0}, 5, &noisy1, &error));
   EXPECT_NE(error.find("measurement 0"), std::string::npos) << error;
-  EXPECT_FALSE(SimulatePositionMeasurements(m, truth, joints.leftCols(4), 0.01,
-                                            5, &noisy1, &error));
+  EXPECT_FALSE(SimulateMeasurements(m, truth,
+                                    MeasurementPlan(joints.leftCols(4)),
+                                    {0.01, 0.0}, 5, &noisy1, &error));
 }
 
 }  // namespace

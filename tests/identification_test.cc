@@ -14,8 +14,8 @@
 namespace activecal {
 namespace {
 
-std::vector<PositionMeasurement> PumaMeasurements(int num_poses, double noise,
-                                                  uint64_t seed) {
+std::vector<Measurement> PumaMeasurements(int num_poses, double noise,
+                                          uint64_t seed) {
   const RobotModel m = Puma560PaperModel();
   JointLattice lattice;
   std::string error;
@@ -27,9 +27,10 @@ std::vector<PositionMeasurement> PumaMeasurements(int num_poses, double noise,
   for (int i = 0; i < num_poses; ++i) {
     joints.row(i) = lattice.JointValues(poses[i]).transpose();
   }
-  std::vector<PositionMeasurement> out;
-  EXPECT_TRUE(SimulatePositionMeasurements(m, Puma560TrueParameters(), joints,
-                                           noise, seed + 1000, &out, &error))
+  std::vector<Measurement> out;
+  EXPECT_TRUE(SimulateMeasurements(m, Puma560TrueParameters(),
+                                   MeasurementPlan(joints), {noise, 0.0},
+                                   seed + 1000, &out, &error))
       << error;
   return out;
 }
@@ -38,10 +39,11 @@ TEST(IdentificationTest, NoiseFreeRecoversTrueValues) {
   const RobotModel m = Puma560PaperModel();
   const Eigen::VectorXd truth = Puma560TrueParameters();
   IdentificationSummary summary;
-  ASSERT_TRUE(Identify(m, PumaMeasurements(30, 0.0, 3), m.nominal,
-                       IdentificationOptions(), &summary))
+  Identify(m, PumaMeasurements(30, 0.0, 3), m.nominal, IdentificationOptions(),
+           &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
-  EXPECT_TRUE(summary.converged);
+  EXPECT_EQ(summary.termination_type, TerminationType::kConvergence);
   EXPECT_LT((summary.parameters - truth).cwiseAbs().maxCoeff(), 1e-8)
       << summary.BriefReport();
   EXPECT_LT(summary.rms_m, 1e-9);
@@ -52,8 +54,9 @@ TEST(IdentificationTest, NoisyEstimatesWithinFourStd) {
   const Eigen::VectorXd truth = ExtractFree(m, Puma560TrueParameters());
   for (uint64_t seed : {1, 2, 3, 4}) {
     IdentificationSummary summary;
-    ASSERT_TRUE(Identify(m, PumaMeasurements(30, 0.01, seed), m.nominal,
-                         IdentificationOptions(), &summary))
+    Identify(m, PumaMeasurements(30, 0.01, seed), m.nominal,
+             IdentificationOptions(), &summary);
+    ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
         << summary.message;
     ASSERT_EQ(summary.estimates.size(), 27);
     for (int k = 0; k < 27; ++k) {
@@ -70,11 +73,49 @@ TEST(IdentificationTest, NoisyEstimatesWithinFourStd) {
 TEST(IdentificationTest, TooFewPosesIsReported) {
   const RobotModel m = Puma560PaperModel();
   IdentificationSummary summary;
-  EXPECT_FALSE(Identify(m, PumaMeasurements(8, 0.01, 1), m.nominal,
-                        IdentificationOptions(), &summary));
+  Identify(m, PumaMeasurements(8, 0.01, 1), m.nominal, IdentificationOptions(),
+           &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kFailure);
   EXPECT_NE(summary.message.find("too few equations: 24"), std::string::npos)
       << summary.message;
   EXPECT_EQ(summary.estimates.size(), 0);
+}
+
+TEST(IdentificationTest, ZeroDegreesOfFreedomIsRefused) {
+  // 9 position poses, 27 rows for 27 parameters: the estimates fit the data
+  // exactly and nothing is left to estimate the noise; never std 0.
+  const RobotModel m = Puma560PaperModel();
+  IdentificationSummary summary;
+  Identify(m, PumaMeasurements(9, 0.01, 1), m.nominal, IdentificationOptions(),
+           &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
+  EXPECT_NE(summary.message.find("0 degrees of freedom"), std::string::npos)
+      << summary.message;
+  EXPECT_EQ(summary.standard_deviations.size(), 0);
+}
+
+TEST(IdentificationTest, ExactDataFlagsNoOutliers) {
+  // Noise-free data: the median residual row is ~0, which must not make
+  // every rounding-level residual an outlier.
+  const RobotModel m = Puma560PaperModel();
+  IdentificationSummary summary;
+  IdentificationOptions options;
+  options.robust_loss = RobustLoss::kHuber;
+  options.robust_scale_m = 0.001;
+  Identify(m, PumaMeasurements(30, 0.0, 3), m.nominal, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_TRUE(summary.outliers.empty()) << summary.outliers.size();
+}
+
+TEST(IdentificationTest, StartingAtTheSolutionCountsZeroIterations) {
+  const RobotModel m = Puma560PaperModel();
+  IdentificationSummary summary;
+  Identify(m, PumaMeasurements(30, 0.0, 3), Puma560TrueParameters(),
+           IdentificationOptions(), &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_GE(summary.iterations, 0);
 }
 
 TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
@@ -83,8 +124,9 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
   RobotModel m = Puma560PaperModel();
   m.markers[0].free[2] = true;
   IdentificationSummary summary;
-  EXPECT_FALSE(Identify(m, PumaMeasurements(30, 0.01, 1), m.nominal,
-                        IdentificationOptions(), &summary));
+  Identify(m, PumaMeasurements(30, 0.01, 1), m.nominal, IdentificationOptions(),
+           &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
   EXPECT_NE(summary.message.find("rank 27 < 28"), std::string::npos)
       << summary.message;
   EXPECT_NE(summary.message.find("L6.d"), std::string::npos);
@@ -93,30 +135,35 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
 
 TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   const RobotModel m = Puma560PaperModel();
-  std::vector<PositionMeasurement> data = PumaMeasurements(30, 0.01, 1);
+  std::vector<Measurement> data = PumaMeasurements(30, 0.01, 1);
   IdentificationSummary summary;
   data[4].position[1] = std::nan("");
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
+  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
   EXPECT_NE(summary.message.find("measurement 4"), std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
   data[7].joints.resize(5);
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
+  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
   EXPECT_NE(
       summary.message.find("measurement 7: joints: expected 6 joint values"),
       std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
   data[2].joints[0] = std::nan("");
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
+  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
   EXPECT_NE(summary.message.find("measurement 2"), std::string::npos);
   Eigen::VectorXd initial = m.nominal;
   initial[5] = std::numeric_limits<double>::infinity();
-  EXPECT_FALSE(Identify(m, PumaMeasurements(30, 0.01, 1), initial,
-                        IdentificationOptions(), &summary));
+  Identify(m, PumaMeasurements(30, 0.01, 1), initial, IdentificationOptions(),
+           &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
   EXPECT_NE(summary.message.find("initial values"), std::string::npos);
-  EXPECT_FALSE(Identify(m, std::vector<Measurement>{}, m.nominal,
-                        IdentificationOptions(), &summary));
+  Identify(m, std::vector<Measurement>{}, m.nominal, IdentificationOptions(),
+           &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
   EXPECT_NE(summary.message.find("too few equations: 0"), std::string::npos)
       << summary.message;
 }
@@ -134,12 +181,13 @@ TEST(IdentificationTest, JointGainsAreRecovered) {
   for (int i = 0; i < 60; ++i) {
     joints.row(i) = testing::RandomJoints(m, &random).transpose();
   }
-  std::vector<PositionMeasurement> data;
+  std::vector<Measurement> data;
   std::string error;
-  ASSERT_TRUE(
-      SimulatePositionMeasurements(m, truth, joints, 0.0, 1, &data, &error));
+  ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints), {}, 1,
+                                   &data, &error));
   IdentificationSummary summary;
-  ASSERT_TRUE(Identify(m, data, m.nominal, IdentificationOptions(), &summary))
+  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
   EXPECT_EQ(summary.num_free, 33);
   EXPECT_LT((summary.parameters - truth).cwiseAbs().maxCoeff(), 1e-8)
@@ -155,12 +203,13 @@ TEST(IdentificationTest, MixedModelRedundanciesAreNamed) {
   for (int i = 0; i < 60; ++i) {
     joints.row(i) = testing::RandomJoints(m, &random).transpose();
   }
-  std::vector<PositionMeasurement> data;
+  std::vector<Measurement> data;
   std::string error;
-  ASSERT_TRUE(SimulatePositionMeasurements(m, m.nominal, joints, 0.0, 1, &data,
-                                           &error));
+  ASSERT_TRUE(SimulateMeasurements(m, m.nominal, MeasurementPlan(joints), {}, 1,
+                                   &data, &error));
   IdentificationSummary summary;
-  EXPECT_FALSE(Identify(m, data, m.nominal, IdentificationOptions(), &summary));
+  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
   EXPECT_NE(summary.message.find("not identifiable"), std::string::npos);
   EXPECT_GT(summary.identifiability.unidentifiable.size(), 0u);
   EXPECT_EQ(summary.identifiability.num_free - summary.identifiability.rank,

@@ -34,9 +34,8 @@ TEST(MonteCarloTest, EmpiricalCovarianceMatchesPrediction) {
   options.noise.position_m = 1e-3;
   options.num_threads = 2;
   MonteCarloSummary s;
-  ASSERT_TRUE(
-      RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 1), options, &s))
-      << s.message;
+  RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 1), options, &s);
+  ASSERT_EQ(s.termination_type, TerminationType::kConvergence) << s.message;
   EXPECT_EQ(s.num_failed, 0);
   for (int i = 0; i < s.std_ratio.size(); ++i) {
     EXPECT_NEAR(s.std_ratio[i], 1.0, 5 * s.std_ratio_sd) << s.names[i];
@@ -58,11 +57,11 @@ TEST(MonteCarloTest, SameResultForAnyThreadCount) {
   options.num_trials = 40;
   MonteCarloSummary one, two;
   options.num_threads = 1;
-  ASSERT_TRUE(RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 2),
-                            options, &one));
+  RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 2), options, &one);
+  ASSERT_EQ(one.termination_type, TerminationType::kConvergence);
   options.num_threads = 2;
-  ASSERT_TRUE(RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 2),
-                            options, &two));
+  RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 2), options, &two);
+  ASSERT_EQ(two.termination_type, TerminationType::kConvergence);
   EXPECT_EQ(one.empirical_covariance, two.empirical_covariance);
 }
 
@@ -71,12 +70,12 @@ TEST(MonteCarloTest, BadRequestsAreRefused) {
   MonteCarloOptions options;
   options.num_trials = 2;
   MonteCarloSummary s;
-  EXPECT_FALSE(
-      RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 1), options, &s));
+  RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(30, 1), options, &s);
+  EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
   EXPECT_NE(s.message.find("num_trials must be >= 3"), std::string::npos);
   options.num_trials = 10;
-  EXPECT_FALSE(
-      RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(5, 1), options, &s));
+  RunMonteCarlo(m, Puma560TrueParameters(), PumaPlan(5, 1), options, &s);
+  EXPECT_NE(s.termination_type, TerminationType::kConvergence);
   EXPECT_NE(s.message.find("too few equations"), std::string::npos)
       << s.message;
 }

@@ -6,10 +6,12 @@
 #include <string>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
+#include "activecal/residuals/pool_builder.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -205,8 +207,11 @@ TEST(MeasurementResidualTest, ResidualIsPredictedMinusMeasured) {
   Eigen::VectorXd q(6);
   q << 0.1, 0.2, -0.3, 0.4, 0.5, -0.6;
   const Eigen::Vector3d measured(1.0, 2.0, 3.0);
+  Measurement position;
+  position.joints = q;
+  position.position = measured;
   std::unique_ptr<ceres::CostFunction> cost(
-      MeasurementResidual::CreatePosition(shared, q, measured));
+      MeasurementResidual::Create(shared, position));
   ASSERT_EQ(cost->parameter_block_sizes().size(), 8u);
   ASSERT_EQ(cost->num_residuals(), 3);
   const std::vector<const double*> blocks = BlockPointers(m, m.nominal.data());
@@ -225,22 +230,101 @@ TEST(PoolJacobiansTest, SameResultForAnyThreadCount) {
   RowMatrixXd one, two, five;
   PoolJacobianOptions options;
   options.num_threads = 1;
-  ASSERT_TRUE(
-      PoolPositionJacobians(m, m.nominal, joints, options, &one, &error));
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &one, &error));
   options.num_threads = 2;
-  ASSERT_TRUE(
-      PoolPositionJacobians(m, m.nominal, joints, options, &two, &error));
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &two, &error));
   options.num_threads = 5;
-  ASSERT_TRUE(
-      PoolPositionJacobians(m, m.nominal, joints, options, &five, &error));
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &five, &error));
   EXPECT_EQ(one.rows(), 3 * 729);
   EXPECT_TRUE(one == two);
   EXPECT_TRUE(one == five);
   // And each block equals the single-pose Jacobian.
   Eigen::MatrixXd J;
-  ASSERT_TRUE(
-      PositionJacobian(m, m.nominal, joints.row(100).transpose(), &J, &error));
+  ASSERT_TRUE(MeasurementJacobian(m, m.nominal,
+                                  MeasurementPlan(joints.middleRows(100, 1))[0],
+                                  1.0, &J, &error));
   EXPECT_TRUE(Eigen::MatrixXd(one.middleRows(300, 3)) == J);
+}
+
+TEST(StackedJacobianTest, DistanceBetweenCoincidingPointsIsRefused) {
+  // The same joint values twice: bad input for every function.
+  const RobotModel m = Puma560PaperModel();
+  Measurement d;
+  d.type = MeasurementType::kDistance;
+  d.joints = Eigen::VectorXd::Zero(6);
+  d.joints2 = d.joints;
+  std::string error;
+  EXPECT_FALSE(CheckMeasurement(m, d, &error));
+  EXPECT_NE(error.find("identical"), std::string::npos) << error;
+  Eigen::MatrixXd J;
+  EXPECT_FALSE(StackedJacobian(m, m.nominal, {d}, 1.0, &J, &error));
+  EXPECT_NE(error.find("measurement 0"), std::string::npos) << error;
+  // Different joint values with the same measured point (joint 6 one turn
+  // apart): the norm's Jacobian would be NaN.
+  d.joints[5] = -1.0;
+  d.joints2[5] = -1.0 + 2 * M_PI;
+  ASSERT_TRUE(CheckMeasurement(m, d, &error)) << error;
+  EXPECT_FALSE(StackedJacobian(m, m.nominal, {d}, 1.0, &J, &error));
+  EXPECT_NE(error.find("coincide"), std::string::npos) << error;
+}
+
+TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
+  // Sampling every k-th row of a position pool with k a multiple of 3
+  // analyses only the x rows (the --levels=9 bug); whole blocks it must be.
+  RowMatrixXd stacked(12, 2);
+  for (int r = 0; r < 12; ++r) stacked.row(r) << r, 100 + r;
+  const Eigen::MatrixXd sample = SampleBlocks(stacked, 3, 6);
+  ASSERT_EQ(sample.rows(), 6);
+  for (int r = 0; r < 3; ++r) {
+    EXPECT_EQ(sample(r, 0), r);          // pose 0
+    EXPECT_EQ(sample(3 + r, 0), 6 + r);  // pose 2
+  }
+  EXPECT_EQ(SampleBlocks(stacked, 3, 12).rows(), 12);
+
+  // A 4^6 lattice analysed through at most 300 rows: 100 whole poses, all
+  // 27 parameters identifiable.
+  RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  ASSERT_TRUE(JointLattice::Create(m, 4, &lattice, &error)) << error;
+  CandidatePoolOptions options;
+  options.check_identifiability = true;
+  options.max_analysis_rows = 300;
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+                                 options, &pool, &summary))
+      << summary.message;
+  EXPECT_EQ(summary.identifiability.num_equations, 300);
+  EXPECT_EQ(summary.identifiability.rank, 27);
+  EXPECT_EQ(pool.size(), 4096);
+  EXPECT_TRUE(summary.fixed_names.empty());
+}
+
+TEST(BuildCandidatePoolTest, AutoFixHoldsTheRedundantParameterFixed) {
+  // Base z offset free as well: B.d and L1.d move the point alike.
+  RobotModel m = Puma560PaperModel();
+  m.SetFree(kD, true);
+  JointLattice lattice;
+  std::string error;
+  ASSERT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+  CandidatePoolOptions options;
+  options.check_identifiability = true;
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  RobotModel refused = m;
+  EXPECT_FALSE(BuildCandidatePool(&refused, m.nominal, lattice.AllJointValues(),
+                                  options, &pool, &summary));
+  EXPECT_NE(summary.message.find("not identifiable"), std::string::npos)
+      << summary.message;
+  EXPECT_EQ(refused.num_free(), 28);
+  options.auto_fix = true;
+  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+                                 options, &pool, &summary))
+      << summary.message;
+  EXPECT_EQ(summary.fixed_names.size(), 1u);
+  EXPECT_EQ(m.num_free(), 27);
+  EXPECT_EQ(pool.num_parameters(), 27);
 }
 
 TEST(PoolJacobiansTest, BadInputGivesMessages) {
@@ -249,15 +333,16 @@ TEST(PoolJacobiansTest, BadInputGivesMessages) {
   RowMatrixXd out;
   Eigen::MatrixXd joints = Eigen::MatrixXd::Zero(4, 6);
   joints(2, 1) = std::numeric_limits<double>::infinity();
-  EXPECT_FALSE(PoolPositionJacobians(m, m.nominal, joints,
-                                     PoolJacobianOptions(), &out, &error));
+  EXPECT_FALSE(
+      PoolJacobians(m, m.nominal, joints, PoolJacobianOptions(), &out, &error));
   EXPECT_NE(error.find("pool pose 2"), std::string::npos) << error;
-  EXPECT_FALSE(PoolPositionJacobians(m, m.nominal, joints.leftCols(5),
-                                     PoolJacobianOptions(), &out, &error));
+  EXPECT_FALSE(PoolJacobians(m, m.nominal, joints.leftCols(5),
+                             PoolJacobianOptions(), &out, &error));
   EXPECT_NE(error.find("expected 6 joint values"), std::string::npos) << error;
   Eigen::MatrixXd J;
-  EXPECT_FALSE(PositionJacobian(m, m.nominal.head(20), Eigen::VectorXd::Zero(6),
-                                &J, &error));
+  EXPECT_FALSE(MeasurementJacobian(m, m.nominal.head(20),
+                                   MeasurementPlan(joints.topRows(1))[0], 1.0,
+                                   &J, &error));
   EXPECT_NE(error.find("expected 48 parameter values, got 20"),
             std::string::npos)
       << error;

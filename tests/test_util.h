@@ -15,6 +15,7 @@
 #include "activecal/core/random.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/pool_builder.h"
 
 namespace activecal {
 namespace testing {
@@ -22,18 +23,16 @@ namespace testing {
 // The PUMA lattice pool with `levels` values per joint, Jacobians at the
 // nominal values.
 inline CandidatePool PumaPool(int levels, JointLattice* lattice_out = nullptr) {
-  const RobotModel model = Puma560PaperModel();
+  RobotModel model = Puma560PaperModel();
   JointLattice lattice;
   std::string error;
   EXPECT_TRUE(JointLattice::Create(model, levels, &lattice, &error)) << error;
-  RowMatrixXd stacked;
-  EXPECT_TRUE(PoolPositionJacobians(model, model.nominal,
-                                    lattice.AllJointValues(),
-                                    PoolJacobianOptions(), &stacked, &error))
-      << error;
   CandidatePool pool;
-  EXPECT_TRUE(CandidatePool::Create(std::move(stacked), 3, &pool, &error))
-      << error;
+  CandidatePoolSummary summary;
+  EXPECT_TRUE(BuildCandidatePool(&model, model.nominal,
+                                 lattice.AllJointValues(),
+                                 CandidatePoolOptions(), &pool, &summary))
+      << summary.message;
   if (lattice_out) *lattice_out = lattice;
   return pool;
 }

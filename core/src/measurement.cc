@@ -75,6 +75,9 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
     case MeasurementType::kDistance:
       if (!model.CheckJointValues(m.joints2, &why)) {
         msg << "second pose joints: " << why;
+      } else if (m.joints == m.joints2) {
+        msg << "a distance between two identical poses (the same joint "
+               "values twice) measures nothing: its Jacobian is undefined";
       } else if (!std::isfinite(m.distance) || m.distance < 0) {
         msg << "measured distance must be finite and >= 0, got " << m.distance;
       }
@@ -83,6 +86,16 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();
   return false;
+}
+
+std::vector<Measurement> MeasurementPlan(const Eigen::MatrixXd& joints,
+                                         MeasurementType type) {
+  std::vector<Measurement> plan(joints.rows());
+  for (int i = 0; i < joints.rows(); ++i) {
+    plan[i].type = type;
+    plan[i].joints = joints.row(i).transpose();
+  }
+  return plan;
 }
 
 Measurement PredictMeasurement(const RobotModel& model,

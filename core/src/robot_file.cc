@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <vector>
 
+#include "activecal/core/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
 
@@ -392,14 +392,12 @@ bool ParseRobotDescription(const std::string& text, const std::string& source,
 
 bool LoadRobotFile(const std::string& path, RobotDescription* robot,
                    std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::string text;
+  if (!ReadTextFile(path, &text, nullptr)) {
     if (error) *error = path + ": cannot open the robot file";
     return false;
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseRobotDescription(text.str(), path, robot, error);
+  return ParseRobotDescription(text, path, robot, error);
 }
 
 std::string RobotFileText(const RobotModel& model,

@@ -49,6 +49,15 @@ bool SimulateMeasurements(const RobotModel& model,
       return false;
     }
     Measurement m = PredictMeasurement(model, true_parameters, like);
+    if (m.type == MeasurementType::kDistance && m.distance < 1e-12) {
+      if (error) {
+        *error = "simulation: measurement " + std::to_string(i) +
+                 ": its two poses put the measured point at the same place "
+                 "(e.g. a joint one turn apart): a distance between them "
+                 "measures nothing";
+      }
+      return false;
+    }
     switch (m.type) {
       case MeasurementType::kPosition:
         for (int k = 0; k < 3; ++k) {
@@ -83,30 +92,6 @@ bool SimulateMeasurements(const RobotModel& model,
     result.push_back(std::move(m));
   }
   *out = std::move(result);
-  return true;
-}
-
-bool SimulatePositionMeasurements(const RobotModel& model,
-                                  const Eigen::VectorXd& true_parameters,
-                                  const Eigen::MatrixXd& joints, double noise_m,
-                                  uint64_t seed,
-                                  std::vector<PositionMeasurement>* out,
-                                  std::string* error) {
-  std::vector<Measurement> plan(joints.rows());
-  for (int i = 0; i < joints.rows(); ++i) {
-    plan[i].joints = joints.row(i).transpose();
-  }
-  SimulationNoise noise;
-  noise.position_m = noise_m;
-  std::vector<Measurement> measured;
-  if (!SimulateMeasurements(model, true_parameters, plan, noise, seed,
-                            &measured, error)) {
-    return false;
-  }
-  out->clear();
-  for (Measurement& m : measured) {
-    out->push_back({std::move(m.joints), m.position});
-  }
   return true;
 }
 

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <ceres/covariance.h>
 #include <ceres/manifold.h>
+#include <glog/logging.h>
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -19,6 +20,20 @@ namespace {
 // Columns shorter than this times the longest are taken as zero.
 constexpr double kNoEffectTolerance = 1e-12;
 }  // namespace
+
+const char* TerminationTypeToString(TerminationType type) {
+  switch (type) {
+    case TerminationType::kConvergence:
+      return "CONVERGENCE";
+    case TerminationType::kNoConvergence:
+      return "NO_CONVERGENCE";
+    case TerminationType::kFailure:
+      return "FAILURE";
+    case TerminationType::kUserFailure:
+      return "USER_FAILURE";
+  }
+  return "UNKNOWN";
+}
 
 const char* RobustLossName(RobustLoss loss) {
   switch (loss) {
@@ -51,6 +66,10 @@ bool IdentificationOptions::IsValid(std::string* error) const {
         << "' needs robust_scale_m > 0 (m), got " << robust_scale_m;
   } else if (!(outlier_threshold > 0)) {
     msg << "outlier_threshold must be > 0, got " << outlier_threshold;
+  } else if (!(outlier_min_sigma_m >= 0 &&
+               std::isfinite(outlier_min_sigma_m))) {
+    msg << "outlier_min_sigma_m must be finite and >= 0, got "
+        << outlier_min_sigma_m;
   } else if (!(rotation_weight_m_per_rad > 0 &&
                std::isfinite(rotation_weight_m_per_rad))) {
     msg << "rotation_weight_m_per_rad must be finite and > 0, got "
@@ -177,6 +196,31 @@ std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
   return to_fix;
 }
 
+bool FixUnidentifiableParameters(RobotModel* model,
+                                 const Eigen::MatrixXd& jacobian,
+                                 double rank_tolerance,
+                                 IdentifiabilityReport* report,
+                                 std::vector<int>* fixed_columns,
+                                 std::vector<std::string>* fixed_names) {
+  CHECK(model != nullptr);
+  CHECK(report != nullptr);
+  CHECK(fixed_columns != nullptr);
+  CHECK_EQ(jacobian.cols(), model->num_free());
+  fixed_columns->clear();
+  if (fixed_names) fixed_names->clear();
+  *report = AnalyzeIdentifiability(*model, jacobian, rank_tolerance);
+  if (report->identifiable()) return true;
+  if (report->num_equations < report->num_free) return false;
+  *fixed_columns = SuggestParametersToFix(jacobian, rank_tolerance);
+  const std::vector<std::string> names = model->FreeParameterNames();
+  const std::vector<int> free = model->FreeParameterIndices();
+  for (int c : *fixed_columns) {
+    model->SetFree(free[c], false);
+    if (fixed_names) fixed_names->push_back(names[c]);
+  }
+  return true;
+}
+
 namespace {
 
 double Rms(const Eigen::VectorXd& norms) {
@@ -227,11 +271,12 @@ Eigen::VectorXd RawResiduals(const std::vector<ceres::CostFunction*>& costs,
 
 }  // namespace
 
-bool Identify(const RobotModel& model,
+void Identify(const RobotModel& model,
               const std::vector<Measurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
               IdentificationSummary* summary) {
+  CHECK(summary != nullptr);
   *summary = IdentificationSummary();
   summary->initial = initial;
   summary->names = model.FreeParameterNames();
@@ -242,29 +287,45 @@ bool Identify(const RobotModel& model,
     summary->num_residuals += m.dimension();
   }
   std::string error;
-  auto fail = [summary](const std::string& why) {
-    summary->success = false;
+  auto end = [summary](TerminationType type, const std::string& why) {
+    summary->termination_type = type;
     summary->message = why;
-    return false;
   };
-  if (!options.IsValid(&error)) return fail("invalid options: " + error);
-  if (!model.Validate(&error)) return fail(error);
+  auto fail = [&end](const std::string& why) {
+    end(TerminationType::kFailure, why);
+  };
+  auto user_failure = [&end](const std::string& why) {
+    end(TerminationType::kUserFailure, why);
+  };
+  if (!options.IsValid(&error))
+    return user_failure("invalid options: " + error);
+  if (!model.Validate(&error)) return user_failure(error);
   if (!model.CheckParameters(initial, &error)) {
-    return fail("initial values: " + error);
+    return user_failure("initial values: " + error);
   }
-  if (summary->num_free == 0) return fail("no free parameters to identify");
+  if (summary->num_free == 0) {
+    return user_failure("no free parameters to identify");
+  }
   const int p = summary->num_free;
   // Identifiability at the starting point, before any solving (this also
   // checks every measurement).
   Eigen::MatrixXd stacked;
   if (!StackedJacobian(model, initial, measurements,
                        options.rotation_weight_m_per_rad, &stacked, &error)) {
-    return fail(error);
+    return user_failure(error);
   }
   summary->identifiability =
       AnalyzeIdentifiability(model, stacked, options.rank_tolerance);
   if (!summary->identifiability.identifiable()) {
     return fail(summary->identifiability.Message());
+  }
+  if (summary->num_residuals <= p) {
+    std::ostringstream msg;
+    msg << summary->num_residuals << " measurement rows for " << p
+        << " free parameters leave 0 degrees of freedom: the estimates would "
+           "fit the data exactly and their standard deviations cannot be "
+           "estimated; measure more poses";
+    return fail(msg.str());
   }
 
   // One block per group; constant groups fixed, partly free groups through a
@@ -320,8 +381,9 @@ bool Identify(const RobotModel& model,
   solver_options.logging_type = ceres::SILENT;
   ceres::Solve(solver_options, &problem, &summary->solver_summary);
   const ceres::Solver::Summary& ss = summary->solver_summary;
-  summary->iterations = static_cast<int>(ss.iterations.size()) - 1;
-  summary->converged = ss.termination_type == ceres::CONVERGENCE;
+  // Not iterations.size() - 1, which is -1 when Ceres stops before its
+  // first iteration.
+  summary->iterations = ss.num_successful_steps + ss.num_unsuccessful_steps;
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
   summary->residuals = RawResiduals(costs, blocks);
@@ -333,7 +395,9 @@ bool Identify(const RobotModel& model,
     for (int k = 0; k < summary->residuals.size(); ++k) {
       abs_rows[k] = std::abs(summary->residuals[k]);
     }
-    const double robust_sigma = 1.4826 * Median(abs_rows);
+    // The floor keeps exact data (median ~ 0) from flagging every row.
+    const double robust_sigma =
+        std::max(1.4826 * Median(abs_rows), options.outlier_min_sigma_m);
     int row = 0;
     for (size_t i = 0; i < measurements.size(); ++i) {
       const int t = measurements[i].dimension();
@@ -355,8 +419,20 @@ bool Identify(const RobotModel& model,
   }
   const int dof = rows_used - p;
   summary->sigma_m = dof > 0 ? std::sqrt(std::max(0.0, ssr) / dof) : 0.0;
-  if (!summary->converged) {
-    return fail("the solver did not converge: " + ss.message);
+  if (dof <= 0) {
+    std::ostringstream msg;
+    msg << "after leaving out the " << summary->outliers.size()
+        << " outlier(s), " << rows_used << " measurement rows for " << p
+        << " free parameters leave " << std::max(0, dof)
+        << " degrees of freedom: the standard deviations cannot be estimated";
+    return fail(msg.str());
+  }
+  if (ss.termination_type == ceres::NO_CONVERGENCE) {
+    return end(TerminationType::kNoConvergence,
+               "the solver did not converge: " + ss.message);
+  }
+  if (ss.termination_type != ceres::CONVERGENCE) {
+    return fail("the solver failed: " + ss.message);
   }
   if (!summary->parameters.allFinite()) {
     return fail("the solver produced non-finite estimates");
@@ -393,31 +469,17 @@ bool Identify(const RobotModel& model,
           denom > 0 ? summary->covariance(i, j) / denom : 0.0;
     }
   }
-  summary->success = true;
+  summary->termination_type = TerminationType::kConvergence;
   std::ostringstream msg;
   msg << "identified " << p << " parameters from " << summary->num_measurements
       << " measurements in " << summary->iterations << " iterations";
   summary->message = msg.str();
-  return true;
-}
-
-bool Identify(const RobotModel& model,
-              const std::vector<PositionMeasurement>& measurements,
-              const Eigen::VectorXd& initial,
-              const IdentificationOptions& options,
-              IdentificationSummary* summary) {
-  std::vector<Measurement> general(measurements.size());
-  for (size_t i = 0; i < measurements.size(); ++i) {
-    general[i].joints = measurements[i].joints;
-    general[i].position = measurements[i].position;
-  }
-  return Identify(model, general, initial, options, summary);
 }
 
 std::string IdentificationSummary::BriefReport() const {
   std::ostringstream out;
-  out << "activecal identification: " << (success ? "SUCCESS" : "FAILURE")
-      << "\n  " << message << "\n";
+  out << "activecal identification: "
+      << TerminationTypeToString(termination_type) << "\n  " << message << "\n";
   out << "  measurements: " << num_measurements << " (" << num_residuals
       << " equations), free parameters: " << num_free << "\n";
   out << "  RMS residual: " << initial_rms_m << " m at start -> " << rms_m

@@ -116,17 +116,6 @@ bool MeasurementJacobian(const RobotModel& model,
                          rotation_weight_m_per_rad, jacobian, error);
 }
 
-bool PositionJacobian(const RobotModel& model,
-                      const Eigen::VectorXd& parameters,
-                      const Eigen::VectorXd& joints, Eigen::MatrixXd* jacobian,
-                      std::string* error) {
-  Measurement m;
-  m.joints = joints;
-  if (!CheckInputs(model, parameters, 1.0, error)) return false;
-  if (!model.CheckJointValues(joints, error)) return false;
-  return MeasurementJacobian(model, parameters, m, 1.0, jacobian, error);
-}
-
 bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
                      const std::vector<Measurement>& measurements,
                      double rotation_weight_m_per_rad,
@@ -145,8 +134,12 @@ bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
   for (size_t i = 0; i < measurements.size(); ++i) {
     if (!evaluator.Evaluate(measurements[i], J.data() + row * p)) {
       if (error) {
-        *error =
-            "measurement " + std::to_string(i) + ": Jacobian evaluation failed";
+        *error = "measurement " + std::to_string(i) +
+                 (measurements[i].type == MeasurementType::kDistance
+                      ? ": the distance's two poses put the measured point at "
+                        "the same place (the points coincide): its Jacobian "
+                        "is undefined"
+                      : ": Jacobian evaluation failed");
       }
       return false;
     }

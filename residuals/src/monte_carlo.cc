@@ -1,5 +1,7 @@
 #include "activecal/residuals/monte_carlo.h"
 
+#include <glog/logging.h>
+
 #include <Eigen/Cholesky>
 #include <atomic>
 #include <chrono>
@@ -64,19 +66,24 @@ bool MonteCarloOptions::IsValid(std::string* error) const {
   return false;
 }
 
-bool RunMonteCarlo(const RobotModel& model,
+void RunMonteCarlo(const RobotModel& model,
                    const Eigen::VectorXd& true_parameters,
                    const std::vector<Measurement>& plan,
                    const MonteCarloOptions& options,
                    MonteCarloSummary* summary) {
+  CHECK(summary != nullptr);
   const auto start = std::chrono::steady_clock::now();
   *summary = MonteCarloSummary();
   auto fail = [summary](const std::string& why) {
+    summary->termination_type = TerminationType::kFailure;
     summary->message = why;
-    return false;
+  };
+  auto user_failure = [summary](const std::string& why) {
+    summary->termination_type = TerminationType::kUserFailure;
+    summary->message = why;
   };
   std::string error;
-  if (!options.IsValid(&error)) return fail(error);
+  if (!options.IsValid(&error)) return user_failure(error);
   // Every row must carry noise of one standard deviation: pose rows are
   // weighted by the rotation weight.
   for (const Measurement& m : plan) {
@@ -84,7 +91,7 @@ bool RunMonteCarlo(const RobotModel& model,
         std::abs(options.noise.rotation_rad *
                      options.identification.rotation_weight_m_per_rad -
                  options.noise.position_m) > 1e-12 * options.noise.position_m) {
-      return fail(
+      return user_failure(
           "pose measurements: set rotation_weight_m_per_rad = position noise "
           "/ rotation noise so every residual row has the same noise");
     }
@@ -93,7 +100,7 @@ bool RunMonteCarlo(const RobotModel& model,
   if (!StackedJacobian(model, true_parameters, plan,
                        options.identification.rotation_weight_m_per_rad, &J,
                        &error)) {
-    return fail(error);
+    return user_failure(error);
   }
   const IdentifiabilityReport report =
       AnalyzeIdentifiability(model, J, options.identification.rank_tolerance);
@@ -121,8 +128,10 @@ bool RunMonteCarlo(const RobotModel& model,
       IdentificationSummary s;
       if (SimulateMeasurements(model, true_parameters, plan, options.noise,
                                Random::StreamSeed(options.seed, t), &measured,
-                               &why) &&
-          Identify(model, measured, model.nominal, id_options, &s)) {
+                               &why)) {
+        Identify(model, measured, model.nominal, id_options, &s);
+      }
+      if (s.termination_type == TerminationType::kConvergence) {
         errors.col(t) = s.estimates - truth;
         reported.col(t) = s.standard_deviations;
         ok[t] = 1;
@@ -177,18 +186,17 @@ bool RunMonteCarlo(const RobotModel& model,
   summary->seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
-  summary->success = true;
+  summary->termination_type = TerminationType::kConvergence;
   std::ostringstream msg;
   msg << m << " of " << n << " identifications succeeded";
   summary->message = msg.str();
-  return true;
 }
 
 std::string MonteCarloSummary::BriefReport() const {
   std::ostringstream out;
-  out << "activecal Monte Carlo: " << (success ? "SUCCESS" : "FAILURE")
+  out << "activecal Monte Carlo: " << TerminationTypeToString(termination_type)
       << "\n  " << message << "\n";
-  if (!success) return out.str();
+  if (termination_type != TerminationType::kConvergence) return out.str();
   out << "  empirical / predicted std: min " << std_ratio.minCoeff()
       << ", mean " << std_ratio.mean() << ", max " << std_ratio.maxCoeff()
       << " (sampling sd " << std_ratio_sd << ")\n";

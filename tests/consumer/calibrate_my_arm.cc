@@ -9,7 +9,7 @@
 #include <activecal/core/robot_file.h>
 #include <activecal/core/simulation.h>
 #include <activecal/residuals/identification.h>
-#include <activecal/residuals/jacobians.h>
+#include <activecal/residuals/pool_builder.h>
 #include <activecal/selection/approximate_design.h>
 #include <activecal/selection/fedorov.h>
 
@@ -27,25 +27,23 @@ int main(int argc, char** argv) {
     std::cerr << error << "\n";
     return 1;
   }
-  const activecal::RobotModel& model = robot.model;
+  activecal::RobotModel model = robot.model;
 
-  // 1. A pool of candidate poses and its Jacobians at the nominal values.
+  // 1. A pool of candidate poses and its Jacobians at the nominal values,
+  // checked to identify every free parameter.
   activecal::JointLattice lattice;
   if (!activecal::JointLattice::Create(model, 4, &lattice, &error)) {
     std::cerr << error << "\n";
     return 1;
   }
   const Eigen::MatrixXd joints = lattice.AllJointValues();
-  activecal::RowMatrixXd stacked;
-  if (!activecal::PoolPositionJacobians(model, model.nominal, joints,
-                                        activecal::PoolJacobianOptions(),
-                                        &stacked, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
+  activecal::CandidatePoolOptions pool_options;
+  pool_options.check_identifiability = true;
   activecal::CandidatePool pool;
-  if (!activecal::CandidatePool::Create(std::move(stacked), 3, &pool, &error)) {
-    std::cerr << error << "\n";
+  activecal::CandidatePoolSummary pool_summary;
+  if (!activecal::BuildCandidatePool(&model, model.nominal, joints,
+                                     pool_options, &pool, &pool_summary)) {
+    std::cerr << pool_summary.message << "\n";
     return 1;
   }
 
@@ -80,8 +78,9 @@ int main(int argc, char** argv) {
 
   // 4. Identify and save.
   activecal::IdentificationSummary summary;
-  if (!activecal::Identify(model, measured, model.nominal,
-                           activecal::IdentificationOptions(), &summary)) {
+  activecal::Identify(model, measured, model.nominal,
+                      activecal::IdentificationOptions(), &summary);
+  if (summary.termination_type != activecal::TerminationType::kConvergence) {
     std::cerr << summary.message << "\n";
     return 1;
   }

@@ -54,6 +54,14 @@ struct Measurement {
 bool CheckMeasurement(const RobotModel& model, const Measurement& measurement,
                       std::string* error);
 
+// A plan of one measurement of `type` (kPosition or kPose: one pose each)
+// at each row of `joints` (num_poses x num_joints), measured values zero:
+// what SimulateMeasurements and the Jacobian functions take. (A distance
+// needs two poses: its joints2 stays empty, which CheckMeasurement refuses.)
+std::vector<Measurement> MeasurementPlan(
+    const Eigen::MatrixXd& joints,
+    MeasurementType type = MeasurementType::kPosition);
+
 // The measurement the device would report at `parameters` (full vector),
 // without noise, for the joints (and type) of `like`.
 Measurement PredictMeasurement(const RobotModel& model,

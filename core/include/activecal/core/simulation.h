@@ -15,24 +15,6 @@
 
 namespace activecal {
 
-// One 3D position measurement: the joint readings and the point the device
-// measured, in metres in the device's frame.
-struct PositionMeasurement {
-  Eigen::VectorXd joints;
-  Eigen::Vector3d position;
-};
-
-// Measurements at each row of `joints` (num_poses x num_joints), from the
-// full parameter vector `true_parameters`, with noise of standard deviation
-// noise_m (metres) on each axis. Returns false with a message on bad input
-// (sizes, non-finite values, joints out of range, negative noise).
-bool SimulatePositionMeasurements(const RobotModel& model,
-                                  const Eigen::VectorXd& true_parameters,
-                                  const Eigen::MatrixXd& joints, double noise_m,
-                                  uint64_t seed,
-                                  std::vector<PositionMeasurement>* out,
-                                  std::string* error);
-
 // Standard deviations of the simulated device noise.
 struct SimulationNoise {
   // On each axis of a measured point, and on a measured distance (m).

@@ -4,7 +4,8 @@
 //
 //   IdentificationOptions options;
 //   IdentificationSummary summary;
-//   if (!Identify(model, measurements, model.nominal, options, &summary)) {
+//   Identify(model, measurements, model.nominal, options, &summary);
+//   if (summary.termination_type != TerminationType::kConvergence) {
 //     LOG(ERROR) << summary.message;  // e.g. which parameters are not
 //   }                                 // identifiable from these poses
 //   std::cout << summary.BriefReport();
@@ -32,6 +33,21 @@
 
 namespace activecal {
 
+// How an identification (or a Monte Carlo run) ended, after Ceres'
+// TerminationType. Only kConvergence comes with standard deviations.
+enum class TerminationType {
+  kConvergence,    // converged; estimates, std, covariance are set
+  kNoConvergence,  // the solver stopped at max_num_iterations; estimates so
+                   // far, no covariance
+  kFailure,        // valid input that cannot answer: too few equations,
+                   // unidentifiable parameters, 0 degrees of freedom, the
+                   // covariance failed, non-finite estimates
+  kUserFailure,    // invalid input: options, model, initial values or a
+                   // measurement
+};
+// "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE".
+const char* TerminationTypeToString(TerminationType type);
+
 enum class RobustLoss {
   kNone,    // plain least squares
   kHuber,   // quadratic up to the scale, linear beyond
@@ -49,6 +65,11 @@ struct IdentificationOptions {
   // exceeds outlier_threshold robust standard deviations (1.4826 times the
   // median absolute residual row) at the estimate.
   double outlier_threshold = 4.0;
+  // Floor of that robust standard deviation (m): with exact or nearly
+  // exact data the median residual is ~0 and, without a floor, every
+  // rounding-level residual would be an outlier. A micrometre is below the
+  // noise of any calibration device.
+  double outlier_min_sigma_m = 1e-6;
   // Scales the orientation rows of 6D pose measurements (m per rad).
   double rotation_weight_m_per_rad = 1.0;
 
@@ -97,10 +118,31 @@ IdentifiabilityReport AnalyzeIdentifiability(const RobotModel& model,
 std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
                                         double rank_tolerance = 1e-10);
 
+// The auto-fix policy: analyses `jacobian` (m x num_free, columns in
+// model->FreeParameterNames() order) into *report and, when it does not
+// identify every free parameter but has at least as many rows as columns,
+// holds fixed in *model (SetFree(i, false)) the parameters
+// SuggestParametersToFix names. The rule is deterministic: columns with no
+// effect first, then QR with column pivoting on the unit-norm columns keeps
+// the rank-many columns it pivots first (the largest remaining norm; on a
+// tie the earlier parameter in free-parameter order) and fixes the rest.
+// *fixed_columns gets their positions among the free parameters before
+// fixing (ascending), *fixed_names their names (may be null). Returns true
+// when every free parameter was identifiable (nothing fixed) or the
+// parameters were fixed (the rest then have a full-rank Jacobian by
+// construction of the rank-revealing QR); false, with *model unchanged,
+// when there are fewer rows than free parameters.
+bool FixUnidentifiableParameters(RobotModel* model,
+                                 const Eigen::MatrixXd& jacobian,
+                                 double rank_tolerance,
+                                 IdentifiabilityReport* report,
+                                 std::vector<int>* fixed_columns,
+                                 std::vector<std::string>* fixed_names);
+
 struct IdentificationSummary {
-  // True when the problem was identifiable, the solver converged and the
-  // covariance was computed. Otherwise `message` says why.
-  bool success = false;
+  // kConvergence when the problem was identifiable, the solver converged
+  // and the covariance was computed. Otherwise `message` says why.
+  TerminationType termination_type = TerminationType::kFailure;
   std::string message;
 
   std::vector<std::string> names;       // free parameters, in order
@@ -125,7 +167,6 @@ struct IdentificationSummary {
   double rms_m = 0.0;          // ... at the estimate
   double sigma_m = 0.0;        // s = sqrt(SSR / (m - p)), per residual row
   int iterations = 0;
-  bool converged = false;
   IdentifiabilityReport identifiability;
   ceres::Solver::Summary solver_summary;
 
@@ -134,17 +175,11 @@ struct IdentificationSummary {
 
 // Identifies the free parameters of `model` from `measurements`, starting
 // from the full parameter vector `initial` (usually model.nominal).
-// Returns summary->success; on failure summary->message names the problem:
-// bad input, too few equations, unidentifiable parameters, no convergence.
-bool Identify(const RobotModel& model,
+// summary->termination_type says how it ended; unless kConvergence,
+// summary->message names the problem: bad input, too few equations,
+// unidentifiable parameters, no convergence. `summary` must not be null.
+void Identify(const RobotModel& model,
               const std::vector<Measurement>& measurements,
-              const Eigen::VectorXd& initial,
-              const IdentificationOptions& options,
-              IdentificationSummary* summary);
-
-// The same for position measurements.
-bool Identify(const RobotModel& model,
-              const std::vector<PositionMeasurement>& measurements,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
               IdentificationSummary* summary);

@@ -26,13 +26,6 @@ bool MeasurementJacobian(const RobotModel& model,
                          double rotation_weight_m_per_rad,
                          Eigen::MatrixXd* jacobian, std::string* error);
 
-// The 3 x num_free Jacobian of the measured point at joint readings
-// `joints`.
-bool PositionJacobian(const RobotModel& model,
-                      const Eigen::VectorXd& parameters,
-                      const Eigen::VectorXd& joints, Eigen::MatrixXd* jacobian,
-                      std::string* error);
-
 // The Jacobians of all `measurements`, stacked in order (rows: the sum of
 // their dimensions). The message names the first bad measurement.
 bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
@@ -70,6 +63,8 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
                    std::string* error);
 
 // PoolJacobians for position measurements (options.type is ignored).
+// Deprecated: use PoolJacobians or BuildCandidatePool (pool_builder.h).
+// Kept only while tests/design_algorithms_test.cc still calls it.
 bool PoolPositionJacobians(const RobotModel& model,
                            const Eigen::VectorXd& parameters,
                            const Eigen::MatrixXd& joints,

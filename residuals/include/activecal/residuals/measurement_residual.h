@@ -90,6 +90,9 @@ class MeasurementResidual {
             MeasuredPoint<T>(*model_, blocks, m_.joints.data(), m_.marker);
         const Vector3<T> b =
             MeasuredPoint<T>(*model_, blocks, m_.joints2.data(), m_.marker);
+        // Coinciding points (up to rounding, 1e-12 m): the norm has no
+        // derivative there (NaN) or a meaningless one.
+        if ((a - b).squaredNorm() < T(1e-24)) return false;
         residuals[0] = (a - b).norm() - T(m_.distance);
         return true;
       }
@@ -111,16 +114,6 @@ class MeasurementResidual {
     }
     cost->SetNumResiduals(rows);
     return cost;
-  }
-
-  // A position measurement's cost function.
-  static CostFunction* CreatePosition(std::shared_ptr<const RobotModel> model,
-                                      Eigen::VectorXd joints,
-                                      const Eigen::Vector3d& measured) {
-    Measurement m;
-    m.joints = std::move(joints);
-    m.position = measured;
-    return Create(std::move(model), std::move(m));
   }
 
  private:

@@ -42,7 +42,10 @@ struct MonteCarloOptions {
 };
 
 struct MonteCarloSummary {
-  bool success = false;
+  // kConvergence when the comparison was made; kUserFailure for invalid
+  // options or plan, kFailure when the plan cannot identify the parameters
+  // or too few trials succeeded. `message` says why.
+  TerminationType termination_type = TerminationType::kFailure;
   std::string message;
   int num_trials = 0;
   int num_failed = 0;  // identifications that did not succeed (excluded)
@@ -73,7 +76,7 @@ struct MonteCarloSummary {
 
 // Repeats the identification of `model` from measurements of `plan` (types
 // and joints; measured values ignored) simulated from `true_parameters`.
-bool RunMonteCarlo(const RobotModel& model,
+void RunMonteCarlo(const RobotModel& model,
                    const Eigen::VectorXd& true_parameters,
                    const std::vector<Measurement>& plan,
                    const MonteCarloOptions& options,

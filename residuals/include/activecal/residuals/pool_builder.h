@@ -1,0 +1,76 @@
+// BuildCandidatePool: the pipeline from joint values to the candidate pool a
+// design is selected from. The Jacobian of every pose at the given
+// parameter values (jacobians.h), optionally an identifiability check
+// with the auto-fix policy (identification.h: FixUnidentifiableParameters),
+// then the CandidatePool.
+//
+//   CandidatePoolOptions options;
+//   options.check_identifiability = true;
+//   options.auto_fix = true;
+//   CandidatePool pool;
+//   CandidatePoolSummary summary;
+//   if (!BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(),
+//                           options, &pool, &summary)) {
+//     LOG(ERROR) << summary.message;
+//   }
+//   // summary.fixed_names: the parameters now held fixed in model.
+
+#ifndef ACTIVECAL_RESIDUALS_POOL_BUILDER_H_
+#define ACTIVECAL_RESIDUALS_POOL_BUILDER_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "activecal/core/candidate_pool.h"
+#include "activecal/core/measurement.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/core/types.h"
+#include "activecal/residuals/identification.h"
+
+namespace activecal {
+
+struct CandidatePoolOptions {
+  // What is measured at each pose: kPosition (3 rows) or kPose (6 rows).
+  MeasurementType type = MeasurementType::kPosition;
+  double rotation_weight_m_per_rad = 1.0;
+  int num_threads = 1;  // for the Jacobians; the result does not depend on it
+  ProgressCallback progress;
+
+  // Check that the pool identifies every free parameter. A pool of more
+  // than max_analysis_rows rows is analysed through every k-th pose (whole
+  // blocks, all rows of each pose), enough to expose structural rank loss.
+  bool check_identifiability = false;
+  int64_t max_analysis_rows = 300000;
+  double rank_tolerance = 1e-10;
+  // When the check fails: hold the parameters FixUnidentifiableParameters
+  // names fixed (and drop their columns) instead of failing.
+  bool auto_fix = false;
+};
+
+struct CandidatePoolSummary {
+  std::string message;                    // why it failed
+  IdentifiabilityReport identifiability;  // of the pool, before any fixing
+  std::vector<std::string> fixed_names;   // held fixed by auto_fix
+  int num_free_before = 0;                // free parameters before fixing
+  double jacobian_seconds = 0.0;
+};
+
+// Builds the pool of the poses `joints` (one per row) at `parameters`.
+// With options.auto_fix, *model may lose free parameters (named in
+// summary->fixed_names). Returns false with summary->message on bad input
+// or when the pool cannot identify the free parameters.
+bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
+                        const Eigen::MatrixXd& joints,
+                        const CandidatePoolOptions& options,
+                        CandidatePool* pool, CandidatePoolSummary* summary);
+
+// Every k-th block of `block_rows` rows of `stacked`, whole, so that at
+// most max_rows rows remain (all of it when it is not taller).
+Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
+                             int64_t max_rows);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_RESIDUALS_POOL_BUILDER_H_
