@@ -10,12 +10,18 @@
 #include <iostream>
 
 #include "activecal/core/csv_files.h"
+#include "activecal/core/frames_file.h"
 #include "activecal/core/lattice.h"
+#include "activecal/core/parameter_sets.h"
 #include "activecal/core/random.h"
+#include "activecal/core/registration.h"
 #include "activecal/core/robot_file.h"
+#include "activecal/core/robot_loader.h"
 #include "activecal/core/simulation.h"
+#include "activecal/core/urdf_export.h"
 #include "activecal/residuals/identification.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/parameter_reduction.h"
 #include "app_common.h"
 
 DEFINE_string(measurements, "",
@@ -51,6 +57,25 @@ DEFINE_bool(auto_fix, false,
             "If the measurements cannot identify some free parameters, hold "
             "them at their nominal values (named on stderr and in the "
             "report) instead of failing.");
+DEFINE_string(parameter_set, "",
+              "Which parameters to identify: registration (base frame and "
+              "marker points), offsets (+ joint offsets), full (+ every "
+              "geometric correction of every link), file (the robot file's "
+              "'free' lists). Empty: full for a URDF robot, file otherwise. "
+              "Sets other than file are reduced to what the measurements "
+              "can separate; the parameters held fixed are named.");
+DEFINE_bool(register_base, true,
+            "Before the fit, register the robot's 6-DOF base frame to the "
+            "measured points in closed form (no initial guess of the "
+            "device's frame needed). Only for a 'frame' base (URDF robots).");
+DEFINE_string(urdf_out, "",
+              "If set, write the calibrated robot as URDF here: a URDF "
+              "robot's file with only the calibrated joints' origins "
+              "changed, or a YAML robot written as URDF. Reloaded and "
+              "checked against every measurement (1e-9 m).");
+DEFINE_string(frames_out, "",
+              "If set, write the identified metrology frames (base "
+              "registration, markers) here, for --frames.");
 DEFINE_int32(num_poses, 30,
              "Simulation only: distinct random lattice poses to measure.");
 DEFINE_int32(levels, 5,
@@ -189,13 +214,52 @@ int Main() {
     }
   }
 
-  // Identifiability before solving.
+  // The parameters to identify.
+  const bool urdf_robot = IsUrdfPath(FLAGS_robot);
+  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
+  if (!FLAGS_parameter_set.empty() &&
+      !ParseParameterSet(FLAGS_parameter_set, &set)) {
+    app::Fail(
+        "--parameter_set must be registration, offsets, full or file, "
+        "got '" +
+        FLAGS_parameter_set + "'");
+  }
+  bool with_orientation = false;
+  for (const Measurement& m : training) {
+    with_orientation |= m.type == MeasurementType::kPose;
+  }
+  ApplyParameterSet(set, with_orientation, &model);
+  if (model.num_free() == 0) {
+    app::Fail(
+        "--robot: nothing to identify: no parameter is free (choose "
+        "--parameter_set=registration, offsets or full, or mark "
+        "parameters free in the robot file)");
+  }
+
+  // Where the device sees the robot: closed-form registration of a 6-DOF
+  // base, so that no initial guess of the device's frame is needed.
+  Eigen::VectorXd initial = model.nominal;
+  bool registered = false;
+  if (FLAGS_register_base && model.base.convention == LinkConvention::kFrame) {
+    RegistrationSummary registration;
+    registered = RegisterBaseFrame(model, training, &initial, &registration);
+    std::printf("  %s\n", registration.message.c_str());
+  }
+
+  // Identifiability before solving. A named set is reduced to what the
+  // data separate, analysed at a generic point near the start (exact
+  // symmetries of nominal values, such as a marker on the last axis, are
+  // not redundancies of the real robot).
   std::vector<std::string> auto_fixed;
+  std::string fix_label = "--auto_fix";
+  std::vector<DroppedParameter> dropped;
   {
     Eigen::MatrixXd J;
     std::string error;
-    if (!StackedJacobian(model, model.nominal, training, FLAGS_rotation_weight,
-                         &J, &error)) {
+    const bool reduce = set != ParameterSet::kFile;
+    if (reduce) initial = GenericPoint(model, initial);
+    if (!StackedJacobian(model, initial, training, FLAGS_rotation_weight, &J,
+                         &error)) {
       app::Fail("--measurements: " + error);
     }
     const std::string what =
@@ -203,12 +267,29 @@ int Main() {
     const int num_free_before = model.num_free();
     IdentifiabilityReport report;
     std::vector<int> fixed_columns;
-    if (FLAGS_auto_fix) {
+    if (reduce) {
+      // A named set: keep what the data separate, in priority order.
+      fix_label = std::string("--parameter_set=") + ParameterSetName(set);
+      ReduceToIdentifiable(&model, J, 1e-7, &dropped);
+      for (const DroppedParameter& d : dropped) {
+        auto_fixed.push_back(d.name);
+        std::printf("  %s: %s held fixed: %s\n", fix_label.c_str(),
+                    d.name.c_str(), d.reason.c_str());
+      }
+      Eigen::MatrixXd reduced;
+      if (!StackedJacobian(model, initial, training, FLAGS_rotation_weight,
+                           &reduced, &error)) {
+        app::Fail("--measurements: " + error);
+      }
+      report = AnalyzeIdentifiability(model, reduced, options.rank_tolerance);
+      if (!report.identifiable()) app::FailUnidentifiable(report, what, true);
+      app::NoteAutoFixed(auto_fixed, num_free_before, what, fix_label);
+    } else if (FLAGS_auto_fix) {
       if (!FixUnidentifiableParameters(&model, J, options.rank_tolerance,
                                        &report, &fixed_columns, &auto_fixed)) {
         app::FailUnidentifiable(report, what, true);
       }
-      app::NoteAutoFixed(auto_fixed, num_free_before, what);
+      app::NoteAutoFixed(auto_fixed, num_free_before, what, fix_label);
     } else {
       report = AnalyzeIdentifiability(model, J, options.rank_tolerance);
       if (!report.identifiable()) app::FailUnidentifiable(report, what, false);
@@ -216,12 +297,14 @@ int Main() {
   }
 
   IdentificationSummary summary;
-  Identify(model, training, model.nominal, options, &summary);
+  Identify(model, training, initial, options, &summary);
   if (summary.termination_type != TerminationType::kConvergence) {
     app::Fail("identification failed: " + summary.message);
   }
+  // "Nominal" errors are those of the starting model: the nominal geometry,
+  // registered to the device when the base was registered.
   const ValidationErrors validation_errors =
-      Validate(model, model.nominal, summary.parameters, validation);
+      Validate(model, initial, summary.parameters, validation);
 
   const bool has_truth = robot.true_parameters.size() == model.num_parameters();
   const std::vector<int> free = model.FreeParameterIndices();
@@ -271,9 +354,9 @@ int Main() {
   }
   std::string fixed_note;
   if (!auto_fixed.empty()) {
-    fixed_note =
-        "--auto_fix: held fixed at their nominal values (not in "
-        "'free'";
+    fixed_note = fix_label +
+                 ": held fixed at their nominal values (not in "
+                 "'free'";
     fixed_note += FLAGS_model_out.empty() ? "" : " of --model_out";
     fixed_note += "):";
     for (const std::string& name : auto_fixed) fixed_note += " " + name;
@@ -298,8 +381,64 @@ int Main() {
     app::WriteTextOrDie(FLAGS_model_out,
                         RobotFileText(model, summary.parameters, file_options));
   }
+  if (!FLAGS_urdf_out.empty()) {
+    std::vector<std::string> warnings;
+    std::string text, error;
+    UrdfChainOptions chain;
+    if (urdf_robot) {
+      chain.base_link = FLAGS_base_link;
+      chain.tip_link = FLAGS_tip_link;
+      std::string xml;
+      if (!ReadTextFile(FLAGS_robot, &xml, &error) ||
+          !CalibratedUrdfText(xml, FLAGS_robot, chain, model,
+                              summary.parameters, &text, &warnings, &error)) {
+        app::Fail("--urdf_out: " + error);
+      }
+    } else {
+      text = UrdfFromModel(model, summary.parameters, &warnings);
+      chain.base_link = "base_link";
+      chain.tip_link = "tip";
+    }
+    for (const std::string& w : warnings) {
+      std::printf("  --urdf_out: %s\n", w.c_str());
+    }
+    // Reload what is written: it must predict every measured point.
+    double worst = 0.0;
+    if (!CheckUrdfAgainstModel(text, FLAGS_urdf_out, chain, model,
+                               summary.parameters, all, &worst, &error)) {
+      app::Fail("--urdf_out: the written URDF does not reload: " + error);
+    }
+    if (!(worst <= 1e-9)) {
+      app::Fail(
+          "--urdf_out: the written URDF predicts the measurements up to " +
+          std::to_string(worst) +
+          " m away from the calibrated model (more than 1e-9 m)" +
+          (warnings.empty() ? "" : ": " + warnings[0]));
+    }
+    app::WriteTextOrDie(FLAGS_urdf_out, text);
+    std::printf(
+        "  --urdf_out: wrote %s; reloaded, it predicts every "
+        "measured point within %.1e m of the calibrated model\n",
+        FLAGS_urdf_out.c_str(), worst);
+  }
+  if (!FLAGS_frames_out.empty()) {
+    app::WriteTextOrDie(
+        FLAGS_frames_out,
+        FramesFileText(model, summary.parameters,
+                       "Metrology frames identified by activecal_identify "
+                       "from " +
+                           (simulated ? std::string("simulated measurements")
+                                      : FLAGS_measurements)));
+  }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j;
+    j["parameter_set"] = ParameterSetName(set);
+    nlohmann::json held = nlohmann::json::array();
+    for (const DroppedParameter& d : dropped) {
+      held.push_back({{"name", d.name}, {"reason", d.reason}});
+    }
+    j["held_fixed"] = held;
+    j["registered_base"] = registered;
     j["robot"] = model.name;
     j["measurements"] = simulated ? "simulated" : FLAGS_measurements;
     j["parameters"] = params;

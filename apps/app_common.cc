@@ -150,7 +150,8 @@ CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
     }
     Fail(summary.message);
   }
-  NoteAutoFixed(summary.fixed_names, summary.num_free_before, what);
+  NoteAutoFixed(summary.fixed_names, summary.num_free_before, what,
+                "--auto_fix");
   if (seconds) *seconds = summary.jacobian_seconds;
   if (fixed) *fixed = summary.fixed_names;
   return pool;
@@ -167,11 +168,11 @@ void FailUnidentifiable(const IdentifiabilityReport& report,
 }
 
 void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
-                   const std::string& what) {
+                   const std::string& what, const std::string& label) {
   if (fixed.empty()) return;
   std::string list;
   for (const std::string& f : fixed) list += (list.empty() ? "" : ", ") + f;
-  std::cerr << g_program << ": --auto_fix: " << what << " cannot identify "
+  std::cerr << g_program << ": " << label << ": " << what << " cannot identify "
             << fixed.size() << " of " << num_free_before
             << " free parameters; holding them at their nominal values: "
             << list << std::endl;

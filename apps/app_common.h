@@ -24,6 +24,8 @@
 // --robot (with --base_link, --tip_link, --frames), shared by every program.
 DECLARE_string(robot);
 DECLARE_string(frames);
+DECLARE_string(base_link);
+DECLARE_string(tip_link);
 
 namespace activecal {
 namespace app {
@@ -65,7 +67,7 @@ CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
 [[noreturn]] void FailUnidentifiable(const IdentifiabilityReport& report,
                                      const std::string& what, bool auto_fix);
 void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
-                   const std::string& what);
+                   const std::string& what, const std::string& label);
 
 // JSON for a selection result: algorithm, pool_size, pose_indices (labels
 // of the chosen pool rows), joint_angles_rad, log10_det, oi,

@@ -63,7 +63,8 @@ Eigen::VectorXd GenericPoint(const RobotModel& model,
   Random random(0x5eed);
   Eigen::VectorXd p = parameters;
   for (int i : model.FreeParameterIndices()) {
-    // 1 mm, 1 mrad or 1e-3 of a gain: one scale in SI units.
+    if (!model.is_marker_block(model.BlockOf(i))) continue;
+    // 1 mm or 1 mrad: one scale in SI units.
     p[i] += 1e-3 * random.Gaussian();
   }
   return p;

@@ -39,12 +39,13 @@ void ApplyParameterSet(ParameterSet set, bool with_orientation,
                        RobotModel* model);
 
 // A generic point near `parameters` for identifiability analysis: every
-// free parameter moved by a fixed pseudo-random amount (seeded, the same on
-// every platform) of 1 mm (lengths), 1 mrad (angles) or 1e-3 (gains)
-// times a standard normal draw. Nominal values with exact symmetries (a
-// marker exactly on the last joint axis, zero corrections) make false
-// redundancies that real robots do not have; structural ones (the first
-// joint's origin against a 6-DOF base) stay.
+// free marker parameter moved by a fixed pseudo-random amount (seeded, the
+// same on every platform) of 1 mm (points) or 1 mrad (angles) times a
+// standard normal draw. A marker guessed exactly on the last joint's axis
+// (or at the tip frame's origin) makes the last offset look unidentifiable,
+// which it is not on a real end effector; the robot's own geometry is left
+// as it is, so designed symmetries (parallel axes) keep the redundancies
+// they really cause.
 Eigen::VectorXd GenericPoint(const RobotModel& model,
                              const Eigen::VectorXd& parameters);
 
