@@ -57,13 +57,6 @@ DEFINE_bool(auto_fix, false,
             "If the measurements cannot identify some free parameters, hold "
             "them at their nominal values (named on stderr and in the "
             "report) instead of failing.");
-DEFINE_string(parameter_set, "",
-              "Which parameters to identify: registration (base frame and "
-              "marker points), offsets (+ joint offsets), full (+ every "
-              "geometric correction of every link), file (the robot file's "
-              "'free' lists). Empty: full for a URDF robot, file otherwise. "
-              "Sets other than file are reduced to what the measurements "
-              "can separate; the parameters held fixed are named.");
 DEFINE_bool(register_base, true,
             "Before the fit, register the robot's 6-DOF base frame to the "
             "measured points in closed form (no initial guess of the "
@@ -216,26 +209,7 @@ int Main() {
 
   // The parameters to identify.
   const bool urdf_robot = IsUrdfPath(FLAGS_robot);
-  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
-  if (!FLAGS_parameter_set.empty() &&
-      !ParseParameterSet(FLAGS_parameter_set, &set)) {
-    app::Fail(
-        "--parameter_set must be registration, offsets, full or file, "
-        "got '" +
-        FLAGS_parameter_set + "'");
-  }
-  bool with_orientation = false;
-  for (const Measurement& m : training) {
-    with_orientation |= m.type == MeasurementType::kPose;
-  }
-  ApplyParameterSet(set, with_orientation, &model);
-  if (model.num_free() == 0) {
-    app::Fail(
-        "--robot: nothing to identify: no parameter is free (choose "
-        "--parameter_set=registration, offsets or full, or mark "
-        "parameters free in the robot file)");
-  }
-
+  const ParameterSet set = app::ParameterSetOrDie(urdf_robot);
   // Where the device sees the robot: closed-form registration of a 6-DOF
   // base, so that no initial guess of the device's frame is needed.
   Eigen::VectorXd initial = model.nominal;
@@ -247,9 +221,8 @@ int Main() {
   }
 
   // Identifiability before solving. A named set is reduced to what the
-  // data separate, analysed at a generic point near the start (exact
-  // symmetries of nominal values, such as a marker on the last axis, are
-  // not redundancies of the real robot).
+  // data separate, in a stated priority order, analysed at a generic point
+  // near the start (parameter_reduction.h).
   std::vector<std::string> auto_fixed;
   std::string fix_label = "--auto_fix";
   std::vector<DroppedParameter> dropped;
@@ -257,31 +230,29 @@ int Main() {
     Eigen::MatrixXd J;
     std::string error;
     const bool reduce = set != ParameterSet::kFile;
-    if (reduce) initial = GenericPoint(model, initial);
+    if (!ApplyAndReduceParameterSet(set, training, FLAGS_rotation_weight,
+                                    &model, &initial, &dropped, &error)) {
+      app::Fail("--parameter_set=" + std::string(ParameterSetName(set)) + ": " +
+                error);
+    }
     if (!StackedJacobian(model, initial, training, FLAGS_rotation_weight, &J,
                          &error)) {
       app::Fail("--measurements: " + error);
     }
     const std::string what =
         "the " + std::to_string(training.size()) + " measurements";
-    const int num_free_before = model.num_free();
+    const int num_free_before =
+        model.num_free() + static_cast<int>(dropped.size());
     IdentifiabilityReport report;
     std::vector<int> fixed_columns;
     if (reduce) {
-      // A named set: keep what the data separate, in priority order.
       fix_label = std::string("--parameter_set=") + ParameterSetName(set);
-      ReduceToIdentifiable(&model, J, 1e-7, &dropped);
       for (const DroppedParameter& d : dropped) {
         auto_fixed.push_back(d.name);
         std::printf("  %s: %s held fixed: %s\n", fix_label.c_str(),
                     d.name.c_str(), d.reason.c_str());
       }
-      Eigen::MatrixXd reduced;
-      if (!StackedJacobian(model, initial, training, FLAGS_rotation_weight,
-                           &reduced, &error)) {
-        app::Fail("--measurements: " + error);
-      }
-      report = AnalyzeIdentifiability(model, reduced, options.rank_tolerance);
+      report = AnalyzeIdentifiability(model, J, options.rank_tolerance);
       if (!report.identifiable()) app::FailUnidentifiable(report, what, true);
       app::NoteAutoFixed(auto_fixed, num_free_before, what, fix_label);
     } else if (FLAGS_auto_fix) {

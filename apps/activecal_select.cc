@@ -11,6 +11,8 @@
 
 #include "activecal/core/csv_files.h"
 #include "activecal/core/lattice.h"
+#include "activecal/core/robot_loader.h"
+#include "activecal/residuals/parameter_reduction.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"
@@ -106,6 +108,34 @@ int Main() {
               std::to_string(pool_joints.rows()) + "] (the pool size), got " +
               std::to_string(FLAGS_num_poses));
   }
+  // The parameters the design is for: a named set is reduced to what the
+  // pool separates (analysed on at most 2,000 of its poses, evenly spaced),
+  // and the pool is linearised at the generic point of that analysis.
+  std::vector<std::string> auto_fixed;
+  {
+    const ParameterSet set = app::ParameterSetOrDie(IsUrdfPath(FLAGS_robot));
+    const int64_t step = std::max<int64_t>(1, pool_joints.rows() / 2000);
+    Eigen::MatrixXd sample((pool_joints.rows() + step - 1) / step,
+                           pool_joints.cols());
+    for (int64_t i = 0; i < sample.rows(); ++i) {
+      sample.row(i) = pool_joints.row(i * step);
+    }
+    Eigen::VectorXd point = model.nominal;
+    std::vector<DroppedParameter> dropped;
+    std::string error;
+    if (!ApplyAndReduceParameterSet(set, MeasurementPlan(sample, type),
+                                    FLAGS_rotation_weight, &model, &point,
+                                    &dropped, &error)) {
+      app::Fail("--parameter_set=" + std::string(ParameterSetName(set)) + ": " +
+                error);
+    }
+    model.nominal = point;
+    for (const DroppedParameter& d : dropped) {
+      auto_fixed.push_back(d.name);
+      std::printf("  --parameter_set=%s: %s held fixed: %s\n",
+                  ParameterSetName(set), d.name.c_str(), d.reason.c_str());
+    }
+  }
   double jacobian_seconds = 0;
   CandidatePoolOptions pool_options;
   pool_options.type = type;
@@ -113,10 +143,11 @@ int Main() {
   pool_options.num_threads = FLAGS_threads;
   pool_options.check_identifiability = true;
   pool_options.auto_fix = FLAGS_auto_fix;
-  std::vector<std::string> auto_fixed;
+  std::vector<std::string> pool_fixed;
   const CandidatePool pool =
       app::BuildPoolOrDie(&model, pool_joints, pool_options, "the pool",
-                          &jacobian_seconds, &auto_fixed);
+                          &jacobian_seconds, &pool_fixed);
+  auto_fixed.insert(auto_fixed.end(), pool_fixed.begin(), pool_fixed.end());
 
   static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
                                             "detmax", "greedy", "approx"};

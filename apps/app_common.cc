@@ -24,6 +24,13 @@ DEFINE_string(base_link, "",
 DEFINE_string(tip_link, "",
               "URDF robots: the link the calibrated chain ends at (default: "
               "the only leaf; several leaves are listed in the error).");
+DEFINE_string(parameter_set, "",
+              "Which parameters to identify: registration (base frame and "
+              "marker points), offsets (+ joint offsets), full (+ every "
+              "geometric correction of every link), file (the robot file's "
+              "'free' lists). Empty: full for a URDF robot, file otherwise. "
+              "Sets other than file are reduced to what the measurements "
+              "(or the pool) can separate; the parameters held are named.");
 DEFINE_string(frames, "",
               "Metrology frames (YAML, docs/formats.md): the robot base in "
               "the device's frame and the markers, e.g. from "
@@ -107,6 +114,16 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
     Fail("--levels=" + std::to_string(levels) + ": " + error);
   }
   return lattice;
+}
+
+ParameterSet ParameterSetOrDie(bool urdf_robot) {
+  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
+  if (!FLAGS_parameter_set.empty() &&
+      !ParseParameterSet(FLAGS_parameter_set, &set)) {
+    Fail("--parameter_set must be registration, offsets, full or file, got '" +
+         FLAGS_parameter_set + "'");
+  }
+  return set;
 }
 
 RobotDescription LoadRobotOrDie() {

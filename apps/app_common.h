@@ -15,6 +15,7 @@
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
+#include "activecal/core/parameter_sets.h"
 #include "activecal/core/robot_file.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/residuals/identification.h"
@@ -35,6 +36,10 @@ namespace app {
 // paper (with its true values) when --robot is empty. Dies with
 // file:line:field on errors.
 RobotDescription LoadRobotOrDie();
+
+// The parameter set of --parameter_set (default: full for a URDF robot,
+// file otherwise). Dies on an unknown name.
+ParameterSet ParameterSetOrDie(bool urdf_robot);
 
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);

@@ -8,6 +8,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "activecal/residuals/jacobians.h"
+
 namespace activecal {
 
 std::vector<int> ReductionPriority(const RobotModel& model) {
@@ -105,6 +107,41 @@ int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
   }
   for (int parameter : drop) model->SetFree(parameter, false);
   return static_cast<int>(kept_columns.size());
+}
+
+bool ApplyAndReduceParameterSet(ParameterSet set,
+                                const std::vector<Measurement>& measurements,
+                                double rotation_weight_m_per_rad,
+                                RobotModel* model, Eigen::VectorXd* point,
+                                std::vector<DroppedParameter>* dropped,
+                                std::string* error) {
+  CHECK(model != nullptr);
+  CHECK(point != nullptr);
+  CHECK(dropped != nullptr);
+  dropped->clear();
+  bool with_orientation = false;
+  for (const Measurement& m : measurements) {
+    with_orientation |= m.type == MeasurementType::kPose;
+  }
+  ApplyParameterSet(set, with_orientation, model);
+  if (model->num_free() == 0) {
+    if (error) {
+      *error =
+          "nothing to identify: no parameter is free (choose a parameter set "
+          "registration, offsets or full, or mark parameters free in the "
+          "robot file)";
+    }
+    return false;
+  }
+  if (set == ParameterSet::kFile) return true;
+  *point = GenericPoint(*model, *point);
+  Eigen::MatrixXd J;
+  if (!StackedJacobian(*model, *point, measurements, rotation_weight_m_per_rad,
+                       &J, error)) {
+    return false;
+  }
+  ReduceToIdentifiable(model, J, 1e-7, dropped);
+  return true;
 }
 
 }  // namespace activecal

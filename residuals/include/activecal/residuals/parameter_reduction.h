@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/measurement.h"
+#include "activecal/core/parameter_sets.h"
 #include "activecal/core/robot_model.h"
 
 namespace activecal {
@@ -49,6 +51,20 @@ std::vector<int> ReductionPriority(const RobotModel& model);
 int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
                          double tolerance,
                          std::vector<DroppedParameter>* dropped);
+
+// The whole step from a named parameter set to the parameters to identify:
+// applies `set` to *model (with marker angles free when `measurements` hold
+// 6D poses) and, unless it is kFile, moves *point (a full parameter vector,
+// e.g. the nominal or registered start) to GenericPoint(*point) and reduces
+// the set to what the Jacobian of `measurements` at that point separates.
+// Returns false with *error when a Jacobian cannot be evaluated or nothing
+// is left free.
+bool ApplyAndReduceParameterSet(ParameterSet set,
+                                const std::vector<Measurement>& measurements,
+                                double rotation_weight_m_per_rad,
+                                RobotModel* model, Eigen::VectorXd* point,
+                                std::vector<DroppedParameter>* dropped,
+                                std::string* error);
 
 }  // namespace activecal
 
