@@ -71,8 +71,10 @@ TEST_F(SelectionTest, IncrementalLogDetMatchesScratchOver10000Updates) {
                      std::abs(design.log_det() - scratch) / std::abs(scratch));
   }
   EXPECT_LT(worst, 1e-9);
-  // The 3-level pool has poses that alone see some direction: a few
-  // removals must be refused, and were checked above.
+  // The 3-level pool has poses that alone see some direction: some
+  // removals must be refused (so the refusal path ran and was checked
+  // above), but only a few.
+  EXPECT_GT(removals_refused, 0);
   EXPECT_LT(removals_refused, 100);
 }
 
@@ -238,7 +240,7 @@ TEST_F(SelectionTest, SingularInitialDesignIsCompletedGreedily) {
   SelectionSummary summary;
   ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &summary))
       << summary.message;
-  EXPECT_NE(summary.message.find("was singular; completed greedily"),
+  EXPECT_NE(summary.message.find("singular start was completed greedily"),
             std::string::npos)
       << summary.message;
   EXPECT_TRUE(std::isfinite(summary.history.front().log_det));

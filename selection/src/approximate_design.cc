@@ -322,16 +322,21 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   msg << "max variance " << summary->max_variance << " (p = " << p << ") on "
       << summary->support.size() << " support poses after " << summary->rounds
       << " rounds, " << summary->inner_iterations << " inner iterations";
-  summary->success = summary->max_variance <= target;
-  if (!summary->success) msg << "; tolerance not reached (bounds still hold)";
+  summary->termination_type = summary->max_variance <= target
+                                  ? TerminationType::CONVERGENCE
+                                  : TerminationType::NO_CONVERGENCE;
+  if (summary->termination_type != TerminationType::CONVERGENCE) {
+    msg << "; tolerance not reached within the round bound (bounds still "
+           "hold)";
+  }
   summary->message = msg.str();
-  return summary->success;
+  return true;
 }
 
 std::string ApproximateDesignSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal approximate D-optimal design: "
-      << (success ? "CONVERGED" : "NOT CONVERGED") << "\n  " << message
+      << TerminationTypeToString(termination_type) << "\n  " << message
       << "\n  log10 det M(w) = " << log_det / std::log(10.0)
       << ", upper bound on log10 det M* = "
       << log_det_upper_bound / std::log(10.0)

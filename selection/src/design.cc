@@ -147,12 +147,24 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
   return false;
 }
 
+const char* TerminationTypeToString(TerminationType type) {
+  switch (type) {
+    case TerminationType::CONVERGENCE:
+      return "CONVERGENCE";
+    case TerminationType::NO_CONVERGENCE:
+      return "NO_CONVERGENCE";
+    case TerminationType::FAILURE:
+      return "FAILURE";
+  }
+  return "UNKNOWN";
+}
+
 std::string SelectionSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal selection (" << algorithm
-      << "): " << (success ? "SUCCESS" : "FAILURE") << "\n  " << message
+      << "): " << TerminationTypeToString(termination_type) << "\n  " << message
       << "\n";
-  if (success) {
+  if (IsSolutionUsable()) {
     out << "  " << design.size() << " poses from a pool of " << pool_size
         << ", " << num_parameters << " parameters\n";
     out.precision(6);

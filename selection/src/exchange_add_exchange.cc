@@ -208,7 +208,8 @@ bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
     if (!scorer->BestRemoval(is_fixed, &out, &after_removal)) break;
     if (!scorer->Remove(out)) break;
     if (!scorer->BestAddition(eligible, &in, &after_swap) || in == out ||
-        !(after_swap > current + min_improvement)) {
+        !(after_swap >
+          current + ImprovementThreshold(current, min_improvement))) {
       scorer->Add(out);  // undo
       break;
     }
@@ -251,35 +252,34 @@ bool ExchangeAddExchange(const CandidatePool& pool,
   }
   std::vector<char> is_fixed(pool.size(), 0);
   for (int64_t f : constraints.fixed) is_fixed[f] = 1;
-  std::vector<int64_t> candidates;
-  for (int64_t i = 0; i < pool.size(); ++i) {
-    if (eligible[i]) candidates.push_back(i);
-  }
 
   std::ostringstream notes;
   double best_value = -std::numeric_limits<double>::infinity();
   for (int r = 0; r < options.restarts; ++r) {
-    Random random(Random::StreamSeed(options.seed, r));
-    std::vector<int64_t> initial = constraints.fixed;
-    for (int64_t j : random.SampleWithoutReplacement(
-             candidates.size(), options.initial_poses - num_fixed)) {
-      initial.push_back(candidates[j]);
+    // A singular start is completed greedily and trimmed back to
+    // initial_poses (or as close as non-singularity allows).
+    std::string note;
+    const std::vector<int64_t> initial = internal::InitialDesign(
+        pool, constraints, eligible, options.initial_poses,
+        Random::StreamSeed(options.seed, r), nullptr, false,
+        options.num_threads, &note);
+    if (initial.empty()) {
+      summary->message =
+          "the pool's information matrix is singular: no design can "
+          "identify all " +
+          std::to_string(pool.num_parameters()) +
+          " parameters (check identifiability)";
+      return false;
     }
-    if (!std::isfinite(LogDetFromScratch(pool, initial))) {
-      const int added = internal::CompleteSingularDesign(
-          pool, eligible, options.num_threads, &initial);
-      if (added < 0) {
-        summary->message =
-            "the pool's information matrix is singular: no design can "
-            "identify all " +
-            std::to_string(pool.num_parameters()) +
-            " parameters (check identifiability)";
-        return false;
-      }
-      notes << " restart " << r << ": the initial design of "
-            << options.initial_poses << " poses was singular; completed "
-            << "greedily on M + eps I with " << added << " pose(s).";
+    if (static_cast<int>(initial.size()) > options.num_poses) {
+      summary->message = "no non-singular design of " +
+                         std::to_string(options.num_poses) +
+                         " poses was found from restart " + std::to_string(r) +
+                         "'s singular start (the smallest has " +
+                         std::to_string(initial.size()) + " poses)";
+      return false;
     }
+    if (!note.empty()) notes << " restart " << r << ": " << note << ".";
     std::unique_ptr<internal::Scorer> scorer;
     if (options.criterion == SelectionCriterion::kDeterminantUpdate) {
       scorer = std::make_unique<internal::DeterminantScorer>(
@@ -300,7 +300,9 @@ bool ExchangeAddExchange(const CandidatePool& pool,
       int64_t in;
       double after;
       if (!scorer->BestAddition(eligible, &in, &after) ||
-          !(after > scorer->Value() + options.min_improvement)) {
+          !(after >
+            scorer->Value() + internal::ImprovementThreshold(
+                                  scorer->Value(), options.min_improvement))) {
         break;
       }
       scorer->Add(in);
@@ -326,8 +328,10 @@ bool ExchangeAddExchange(const CandidatePool& pool,
   msg << summary->design.size() << " poses after " << summary->history.size()
       << " steps" << notes.str();
   summary->message = msg.str();
-  summary->success = std::isfinite(summary->log_det);
-  return summary->success;
+  summary->termination_type = std::isfinite(summary->log_det)
+                                  ? TerminationType::CONVERGENCE
+                                  : TerminationType::FAILURE;
+  return summary->IsSolutionUsable();
 }
 
 }  // namespace activecal

@@ -27,6 +27,10 @@ bool FedorovOptions::IsValid(std::string* error) const {
     msg << "max_swaps must be >= 0";
   else if (refresh_interval <= 0)
     msg << "refresh_interval must be > 0";
+  else if (reduced_pool_per_pose < 0)
+    msg << "reduced_pool_per_pose must be >= 0";
+  else if (max_polish_rounds <= 0)
+    msg << "max_polish_rounds must be > 0";
   else if (!(min_improvement >= 0))
     msg << "min_improvement must be >= 0";
   if (msg.tellp() == 0) return true;
@@ -208,7 +212,17 @@ bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
           }
         }
       }
-      if (ok && scorer.Value() > base + min_improvement) {
+      // Accepted on values recomputed from scratch: the incremental ones of
+      // a nearly singular design can drift by more than the threshold, and
+      // two excursions could then undo each other forever.
+      if (ok && scorer.Value() > base + internal::ImprovementThreshold(
+                                            base, min_improvement)) {
+        const double before = LogDetFromScratch(pool, *poses);
+        const double after = LogDetFromScratch(pool, scorer.poses());
+        if (!(after > before + internal::ImprovementThreshold(
+                                   before, min_improvement))) {
+          continue;
+        }
         *poses = scorer.poses();
         *kind =
             std::string(direction == 0 ? "excursion up " : "excursion down ") +
@@ -263,17 +277,19 @@ RestartResult FedorovRestart(const CandidatePool& pool,
         return a.trace < b.trace || (a.trace == b.trace && a.pose < b.pose);
       });
       const double min_try = ys[0].trace;
+      const double threshold0 = internal::ImprovementThreshold(
+          design.log_det(), options.min_improvement);
       std::vector<YEntry> xs;
       for (int64_t x = 0; x < m; ++x) {
         if (!eligible[x] || design.Contains(x)) continue;
         const double tr = trace_of(x);
-        if (tr - min_try > options.min_improvement) xs.push_back({tr, x});
+        if (tr - min_try > threshold0) xs.push_back({tr, x});
       }
       std::sort(xs.begin(), xs.end(), [](const YEntry& a, const YEntry& b) {
         return a.trace > b.trace || (a.trace == b.trace && a.pose < b.pose);
       });
       const Eigen::MatrixXd& V = design.information().inverse();
-      double best_lr = options.min_improvement;
+      double best_lr = threshold0;
       int64_t best_x = -1, best_y = -1;
       std::vector<double> item_lr(kBlock);
       std::vector<int64_t> item_y(kBlock);
@@ -382,7 +398,12 @@ RestartResult FedorovRestart(const CandidatePool& pool,
       });
     }
     // No single swap helps: try larger excursions, and swap again after one.
-    if (swaps >= options.max_swaps || options.max_excursion < 2) break;
+    // Each counts as a step against max_swaps.
+    if (swaps >= options.max_swaps) {
+      result.hit_bound = options.max_swaps > 0;  // 0: rounding only
+      break;
+    }
+    if (options.max_excursion < 2) break;
     std::vector<int64_t> poses = design.poses();
     std::string kind;
     if (!TryExcursion(pool, eligible, is_fixed, 2, options.max_excursion,
@@ -394,6 +415,7 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     design = std::move(next);
     refresh_all();
     since_refresh = 0;
+    ++swaps;
     result.history.push_back({kind, -1, -1, design.log_det()});
   }
   result.design = design.poses();
@@ -441,11 +463,17 @@ void Finish(const RestartResult& best, int restarts,
   summary->seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
-  summary->success = best.ok;
+  summary->termination_type = !best.ok         ? TerminationType::FAILURE
+                              : best.hit_bound ? TerminationType::NO_CONVERGENCE
+                                               : TerminationType::CONVERGENCE;
   std::ostringstream msg;
   if (best.ok) {
     msg << best.design.size() << " poses, " << best.history.size() - 1
         << " improving steps in the best restart (" << best.restart << ")";
+    if (best.hit_bound) {
+      msg << "; stopped by an iteration bound (max_swaps, max_iterations or "
+             "max_polish_rounds) before a local optimum";
+    }
   } else {
     msg << "no restart produced a non-singular design: the eligible poses "
            "(fixed and not excluded) cannot identify all "
@@ -483,7 +511,11 @@ RestartResult PolishInRounds(const CandidatePool& pool,
   RestartResult result;
   result.ok = false;
   std::vector<SelectionStep> history;
-  for (int round = 0; round < 8; ++round) {
+  for (int round = 0;; ++round) {
+    if (round >= options.max_polish_rounds) {
+      result.hit_bound = true;
+      break;
+    }
     const int p = pool.num_parameters();
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
     for (int64_t i : design) {
@@ -570,7 +602,8 @@ bool FedorovExchange(const CandidatePool& pool,
   const ApproximateDesignSummary* work_approximate = approximate;
   std::vector<char> work_eligible = eligible, work_fixed = is_fixed;
   const int64_t reduced_size = std::max<int64_t>(
-      options.reduced_pool_size, 40 * static_cast<int64_t>(options.num_poses));
+      options.reduced_pool_size,
+      options.reduced_pool_per_pose * static_cast<int64_t>(options.num_poses));
   if (approximate && !approximate->support.empty() &&
       options.reduced_pool_size > 0 && pool.size() > reduced_size) {
     const int p = pool.num_parameters();
@@ -586,7 +619,7 @@ bool FedorovExchange(const CandidatePool& pool,
         options.num_threads, &d);
     std::vector<char> keep(pool.size(), 0);
     for (int64_t f : constraints.fixed) keep[f] = 1;
-    for (int64_t i : approximate->support) keep[i] = eligible[i];
+    for (int64_t i : approximate->support) keep[i] = keep[i] || eligible[i];
     std::vector<int64_t> order;
     for (int64_t i = 0; i < pool.size(); ++i) {
       if (eligible[i]) order.push_back(i);
@@ -672,6 +705,7 @@ bool FedorovExchange(const CandidatePool& pool,
     polished.history = std::move(history);
     polished.restart = best.restart;
     const size_t reduced_steps = best.history.size();
+    polished.hit_bound = polished.hit_bound || best.hit_bound;
     if (polished.ok) best = std::move(polished);
     std::ostringstream msg;
     msg.precision(3);
@@ -693,7 +727,7 @@ bool FedorovExchange(const CandidatePool& pool,
   std::string note = NoteOf(notes, best.restart);
   if (!timing.empty()) note = note.empty() ? timing : note + "; " + timing;
   Finish(best, options.restarts, start, note, summary);
-  return summary->success;
+  return summary->IsSolutionUsable();
 }
 
 bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
@@ -719,7 +753,11 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
           for (int64_t i : poses) start_scorer.Add(i);
           result.history.push_back({"initial", -1, -1, start_scorer.Value()});
         }
-        for (int it = 0; it < options.max_iterations; ++it) {
+        for (int it = 0;; ++it) {
+          if (it >= options.max_iterations) {
+            result.hit_bound = true;
+            break;
+          }
           std::string kind;
           if (!TryExcursion(pool, eligible, is_fixed, 1, options.max_excursion,
                             options.min_improvement, threads, &poses, &kind)) {
@@ -735,7 +773,7 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
       },
       options.progress);
   Finish(best, options.restarts, start, NoteOf(notes, best.restart), summary);
-  return summary->success;
+  return summary->IsSolutionUsable();
 }
 
 bool GreedyDesign(const CandidatePool& pool,
@@ -772,7 +810,7 @@ bool GreedyDesign(const CandidatePool& pool,
   Finish(result, 1, start,
          "ridge " + std::to_string(eps) + " while the design was singular",
          summary);
-  return summary->success;
+  return summary->IsSolutionUsable();
 }
 
 }  // namespace activecal

@@ -86,7 +86,7 @@ bool SelectRandomDesigns(const CandidatePool& pool,
   msg << "best of " << options.num_designs << " random designs is number "
       << best;
   summary->message = msg.str();
-  summary->success = true;
+  summary->termination_type = TerminationType::CONVERGENCE;
   return true;
 }
 

@@ -4,6 +4,8 @@
 #define ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -99,9 +101,18 @@ bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int max_exchanges,
                   double min_improvement, std::vector<SelectionStep>* history);
 
+// The least rise of log det a step must make to be accepted: a relative
+// threshold, rel * max(1, |log_det|), so that rounding in a log det that
+// is huge or tiny cannot pass for progress.
+inline double ImprovementThreshold(double log_det, double rel) {
+  return rel * std::max(1.0, std::abs(log_det));
+}
+
 // One restart's outcome.
 struct RestartResult {
   bool ok = false;
+  // An iteration bound stopped it (the design is still valid).
+  bool hit_bound = false;
   int restart = 0;
   std::vector<int64_t> design;
   std::vector<SelectionStep> history;
