@@ -11,6 +11,7 @@
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/information_matrix.h"
 #include "selection_internal.h"
+#include "sub_pool.h"
 
 namespace activecal {
 
@@ -130,18 +131,13 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   Eigen::VectorXd d;
   ComputeVariances(pool, llt0.solve(Eigen::MatrixXd::Identity(p, p)),
                    options.num_threads, &d);
+  // The k eligible poses outside `skip` of largest variance.
   auto top_by_variance = [&](int k, const std::vector<char>& skip) {
-    std::vector<int64_t> idx;
+    std::vector<char> candidate(pool.size());
     for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i] && !skip[i]) idx.push_back(i);
+      candidate[i] = eligible[i] && !skip[i];
     }
-    k = std::min<int>(k, idx.size());
-    std::partial_sort(idx.begin(), idx.begin() + k, idx.end(),
-                      [&](int64_t a, int64_t b) {
-                        return d[a] > d[b] || (d[a] == d[b] && a < b);
-                      });
-    idx.resize(k);
-    return idx;
+    return internal::TopByVariance(d, candidate, k);
   };
   std::vector<char> in_set(pool.size(), 0);
   std::vector<int64_t> working = top_by_variance(4 * p, in_set);

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -139,6 +140,51 @@ std::vector<int64_t> InitialDesign(const CandidatePool& pool,
                                    const ApproximateDesignSummary* approximate,
                                    bool randomized, int num_threads,
                                    std::string* note);
+
+// Resets the summary, checks the options and the constraints, and marks the
+// eligible and the fixed poses.
+template <typename Options>
+bool PrepareSelection(const CandidatePool& pool,
+                      const DesignConstraints& constraints,
+                      const Options& options, const char* algorithm,
+                      SelectionSummary* summary, std::vector<char>* eligible,
+                      std::vector<char>* is_fixed) {
+  *summary = SelectionSummary();
+  summary->algorithm = algorithm;
+  summary->num_parameters = pool.num_parameters();
+  summary->pool_size = pool.size();
+  std::string error;
+  if (!options.IsValid(&error) ||
+      !PrepareCandidates(pool, options.num_poses, constraints, eligible,
+                         &error)) {
+    summary->message = error;
+    return false;
+  }
+  is_fixed->assign(pool.size(), 0);
+  for (int64_t f : constraints.fixed) (*is_fixed)[f] = 1;
+  return true;
+}
+
+// The note a restart left, if any.
+inline std::string NoteOf(const std::vector<std::string>& notes, int restart) {
+  return restart < static_cast<int>(notes.size()) ? notes[restart] : "";
+}
+
+// Fills the summary from the best restart: the design, its history, the
+// termination type (FAILURE if no restart gave a design, NO_CONVERGENCE if
+// an iteration bound stopped it) and the message, with `note` appended.
+void FinishSummary(const RestartResult& best, int restarts,
+                   std::chrono::steady_clock::time_point start,
+                   const std::string& note, SelectionSummary* summary);
+
+// Tries DETMAX excursions of size min_size..max_excursion on `poses` (add k
+// best then remove k, or remove k then add k). Returns true and updates
+// poses when one raises log det (recomputed from scratch) by more than
+// ImprovementThreshold(log det, min_improvement).
+bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
+                  const std::vector<char>& is_fixed, int min_size,
+                  int max_excursion, double min_improvement, int threads,
+                  std::vector<int64_t>* poses, std::string* kind);
 
 }  // namespace internal
 }  // namespace activecal
