@@ -79,7 +79,7 @@ void ExpectNeverBelowStart(const SelectionSummary& s) {
   ASSERT_FALSE(s.history.empty());
   for (size_t k = 1; k < s.history.size(); ++k) {
     EXPECT_GT(s.history[k].log_det, s.history[k - 1].log_det - 1e-9)
-        << s.algorithm << " step " << k << " " << s.history[k].kind;
+        << s.algorithm << " step " << k << " " << s.history[k].name();
   }
   EXPECT_GE(s.log_det, s.history.front().log_det - 1e-9) << s.algorithm;
 }

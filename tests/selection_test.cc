@@ -175,7 +175,7 @@ TEST_F(SelectionTest, ExchangeAddExchangeNeverLowersLogDetAndKeepsFixed) {
   }
   for (size_t k = 1; k < summary.history.size(); ++k) {
     EXPECT_GT(summary.history[k].log_det, summary.history[k - 1].log_det)
-        << summary.history[k].kind;
+        << summary.history[k].name();
   }
   EXPECT_NEAR(summary.log_det, LogDetFromScratch(*pool_, summary.design),
               1e-12);

@@ -147,6 +147,22 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
   return false;
 }
 
+std::string SelectionStep::name() const {
+  switch (kind) {
+    case kInitial:
+      return "initial";
+    case kExchange:
+      return "exchange";
+    case kAdd:
+      return "add";
+    case kExcursionUp:
+      return "excursion up " + std::to_string(excursion_size);
+    case kExcursionDown:
+      return "excursion down " + std::to_string(excursion_size);
+  }
+  return "unknown";
+}
+
 const char* TerminationTypeToString(TerminationType type) {
   switch (type) {
     case TerminationType::CONVERGENCE:

@@ -34,7 +34,7 @@ namespace internal {
 bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int min_size,
                   int max_excursion, double min_improvement, int threads,
-                  std::vector<int64_t>* poses, std::string* kind) {
+                  std::vector<int64_t>* poses, SelectionStep* step) {
   for (int k = min_size; k <= max_excursion; ++k) {
     for (int direction = 0; direction < 2; ++direction) {
       internal::DeterminantScorer scorer(pool, threads);
@@ -67,9 +67,9 @@ bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
           continue;
         }
         *poses = scorer.poses();
-        *kind =
-            std::string(direction == 0 ? "excursion up " : "excursion down ") +
-            std::to_string(k);
+        step->kind = direction == 0 ? SelectionStep::kExcursionUp
+                                    : SelectionStep::kExcursionDown;
+        step->excursion_size = k;
         return true;
       }
     }
@@ -100,21 +100,22 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
         {
           internal::DeterminantScorer start_scorer(pool, threads);
           for (int64_t i : poses) start_scorer.Add(i);
-          result.history.push_back({"initial", -1, -1, start_scorer.Value()});
+          result.history.push_back(
+              {SelectionStep::kInitial, -1, -1, start_scorer.Value()});
         }
         for (int it = 0;; ++it) {
           if (it >= options.max_iterations) {
             result.hit_bound = true;
             break;
           }
-          std::string kind;
+          SelectionStep step;
           if (!internal::TryExcursion(
                   pool, eligible, is_fixed, 1, options.max_excursion,
-                  options.min_improvement, threads, &poses, &kind)) {
+                  options.min_improvement, threads, &poses, &step)) {
             break;
           }
-          result.history.push_back(
-              {kind, -1, -1, LogDetFromScratch(pool, poses)});
+          step.log_det = LogDetFromScratch(pool, poses);
+          result.history.push_back(step);
         }
         result.design = poses;
         result.log_det = LogDetFromScratch(pool, result.design);

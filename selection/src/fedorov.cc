@@ -77,7 +77,7 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     return s;
   };
   refresh_all();
-  result.history.push_back({"initial", -1, -1, design.log_det()});
+  result.history.push_back({SelectionStep::kInitial, -1, -1, design.log_det()});
   int since_refresh = 0;
   constexpr int64_t kBlock = 256;
   int swaps = 0;
@@ -183,7 +183,8 @@ RestartResult FedorovRestart(const CandidatePool& pool,
         design.Remove(best_x);
         break;
       }
-      result.history.push_back({"exchange", best_x, best_y, design.log_det()});
+      result.history.push_back(
+          {SelectionStep::kExchange, best_x, best_y, design.log_det()});
       if (++since_refresh >= options.refresh_interval) {
         refresh_all();
         since_refresh = 0;
@@ -220,10 +221,10 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     }
     if (options.max_excursion < 2) break;
     std::vector<int64_t> poses = design.poses();
-    std::string kind;
+    SelectionStep step;
     if (!internal::TryExcursion(pool, eligible, is_fixed, 2,
                                 options.max_excursion, options.min_improvement,
-                                threads, &poses, &kind)) {
+                                threads, &poses, &step)) {
       break;
     }
     Design next(pool);
@@ -232,7 +233,8 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     refresh_all();
     since_refresh = 0;
     ++swaps;
-    result.history.push_back({kind, -1, -1, design.log_det()});
+    step.log_det = design.log_det();
+    result.history.push_back(step);
   }
   result.design = design.poses();
   result.log_det = LogDetFromScratch(pool, result.design);

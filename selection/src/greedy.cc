@@ -26,23 +26,16 @@ bool GreedyDesign(const CandidatePool& pool,
     return false;
   }
   const double eps = internal::RegularisingRidge(pool);
-  Design design(pool, eps);
+  internal::DeterminantScorer design(pool, options.num_threads, eps);
   for (int64_t f : constraints.fixed) design.Add(f);
   internal::RestartResult result;
-  Eigen::VectorXd gains;
   while (design.size() < options.num_poses) {
-    ComputeAddGains(pool, design.information(), options.num_threads, &gains);
-    int64_t best = -1;
-    for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i] && !design.Contains(i) &&
-          (best < 0 || gains[i] > gains[best])) {
-        best = i;
-      }
-    }
-    if (best < 0) break;
+    int64_t best;
+    double value;
+    if (!design.BestAddition(eligible, &best, &value)) break;
     design.Add(best);
-    result.history.push_back(
-        {"add", best, -1, LogDetFromScratch(pool, design.poses())});
+    result.history.push_back({SelectionStep::kAdd, best, -1,
+                              LogDetFromScratch(pool, design.poses())});
   }
   result.design = design.poses();
   result.log_det = LogDetFromScratch(pool, result.design);

@@ -70,7 +70,8 @@ bool SelectRandomDesigns(const CandidatePool& pool,
     summary->design.push_back(candidates[j]);
   }
   summary->log_det = LogDetFromScratch(pool, summary->design);
-  summary->history.push_back({"initial", -1, -1, summary->log_det});
+  summary->history.push_back(
+      {SelectionStep::kInitial, -1, -1, summary->log_det});
   summary->restarts = options.num_designs;
   summary->best_restart = best;
   if (log_dets) *log_dets = values;

@@ -48,7 +48,9 @@ class Scorer {
 
 class DeterminantScorer : public Scorer {
  public:
-  DeterminantScorer(const CandidatePool& pool, int num_threads);
+  // ridge > 0: scores on M + ridge I (a start that is still singular).
+  DeterminantScorer(const CandidatePool& pool, int num_threads,
+                    double ridge = 0.0);
   double Value() const override { return design_.log_det(); }
   int size() const override { return design_.size(); }
   const std::vector<int64_t>& poses() const override { return design_.poses(); }
@@ -97,7 +99,8 @@ int CompleteSingularDesign(const CandidatePool& pool,
                            const std::vector<char>& eligible, int num_threads,
                            std::vector<int64_t>* poses);
 
-// The paper's exchange step. Returns whether any swap was made.
+// The paper's exchange step: swaps while one raises log det. Returns
+// whether max_exchanges stopped it (rather than no swap helping).
 bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int max_exchanges,
                   double min_improvement, std::vector<SelectionStep>* history);
@@ -184,7 +187,7 @@ void FinishSummary(const RestartResult& best, int restarts,
 bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int min_size,
                   int max_excursion, double min_improvement, int threads,
-                  std::vector<int64_t>* poses, std::string* kind);
+                  std::vector<int64_t>* poses, SelectionStep* step);
 
 }  // namespace internal
 }  // namespace activecal

@@ -88,10 +88,22 @@ const char* TerminationTypeToString(TerminationType type);
 
 // One accepted step of a selection algorithm.
 struct SelectionStep {
-  std::string kind;      // "initial", "exchange", "add", "remove", "restart"
+  enum Kind {
+    kInitial,        // the starting design
+    kExchange,       // one pose swapped for another
+    kAdd,            // one pose added
+    kExcursionUp,    // DETMAX: excursion_size poses added, then removed
+    kExcursionDown,  // DETMAX: excursion_size poses removed, then added
+  };
+  Kind kind = kInitial;
   int64_t added = -1;    // pool index, or -1
   int64_t removed = -1;  // pool index, or -1
   double log_det = 0.0;  // natural log det X^T X after the step
+  int excursion_size = 0;
+
+  // "initial", "exchange", "add", "excursion up 2", "excursion down 3":
+  // for printing, CSV and JSON.
+  std::string name() const;
 };
 
 struct SelectionSummary {
