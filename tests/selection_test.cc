@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <thread>
 
+#include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
@@ -260,6 +262,33 @@ TEST_F(SelectionTest, DeterminantAndEigenvalueCriteriaPickTheSamePoses) {
     EXPECT_NEAR(det.history[k].log_det, eig.history[k].log_det,
                 1e-8 * std::abs(det.history[k].log_det));
   }
+}
+
+// The swap loops call ParallelFor once per swap on a reused thread pool:
+// every index exactly once with the static partition, also when calls
+// nest or come from several threads at once.
+TEST(ParallelForTest, PoolCoversEveryIndexOnceNestedAndConcurrent) {
+  auto check = [](int threads) {
+    std::vector<int> hits(1000, 0);
+    std::vector<int> owner(1000, -1);
+    ParallelFor(1000, threads, [&](int64_t b, int64_t e, int t) {
+      for (int64_t i = b; i < e; ++i) {
+        ++hits[i];
+        owner[i] = t;
+        // Nested: inline or threads of its own, never a deadlock.
+        if (i == b) ParallelFor(4, 2, [](int64_t, int64_t, int) {});
+      }
+    });
+    const int64_t chunk = (1000 + threads - 1) / threads;
+    for (int i = 0; i < 1000; ++i) {
+      EXPECT_EQ(hits[i], 1) << i;
+      EXPECT_EQ(owner[i], i / chunk) << i;
+    }
+  };
+  for (int threads : {1, 2, 3, 8}) check(threads);
+  std::thread other([&] { check(3); });
+  check(2);
+  other.join();
 }
 
 TEST_F(SelectionTest, BadRequestsGiveMessages) {
