@@ -138,6 +138,14 @@ TEST_F(SelectionTest, RemovalThatWouldMakeSingularIsRefused) {
             -std::numeric_limits<double>::infinity());
 }
 
+TEST_F(SelectionTest, ProgrammerErrorsOnADesignAreChecked) {
+  Design design(*pool_);
+  design.Add(3);
+  EXPECT_DEATH(design.Remove(4), "pose 4 is not in the design");
+  EXPECT_DEATH(design.Add(3), "already in the design");
+  EXPECT_DEATH(design.Add(pool_->size()), "is not in the pool");
+}
+
 TEST_F(SelectionTest, ObservabilityIndicesAgreeWithLogDet) {
   const CandidatePool& pool = *pool_;
   const std::vector<int64_t> design =

@@ -1,5 +1,7 @@
 #include "activecal/selection/exchange_add_exchange.h"
 
+#include <glog/logging.h>
+
 #include <Eigen/SVD>
 #include <chrono>
 #include <cmath>
@@ -101,6 +103,7 @@ void EigenvalueScorer::Add(int64_t pose) {
 }
 
 bool EigenvalueScorer::Remove(int64_t pose) {
+  CHECK(member_[pose]) << "pose " << pose << " is not in the design";
   std::vector<int64_t> rest = poses_;
   rest.erase(std::find(rest.begin(), rest.end(), pose));
   const double v = LogDetBySvd(pool_->Stack(rest));

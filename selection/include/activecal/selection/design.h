@@ -29,10 +29,11 @@ class Design {
   const InformationMatrix& information() const { return info_; }
   double log_det() const { return info_.log_det(); }
 
-  // Adds a pose not yet in the design.
+  // Adds a pose of the pool not yet in the design (CHECK-fails otherwise:
+  // a programmer error).
   void Add(int64_t pose);
-  // Removes a pose of the design; refused (false) if the information matrix
-  // would stop being positive definite.
+  // Removes a pose of the design (CHECK-fails for one not in it); refused
+  // (false) if the information matrix would stop being positive definite.
   bool Remove(int64_t pose);
   // Recomputes the information matrix from the design's blocks.
   void Rebuild();
