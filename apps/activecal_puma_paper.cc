@@ -88,14 +88,14 @@ std::string HistoryCsv(const SelectionSummary& s, int p) {
     if (k == 0) {
       n = static_cast<int>(s.design.size());
       for (size_t j = 1; j < s.history.size(); ++j) {
-        if (s.history[j].kind == "add") --n;
+        if (s.history[j].kind == SelectionStep::kAdd) --n;
       }
-    } else if (h.kind == "add") {
+    } else if (h.kind == SelectionStep::kAdd) {
       ++n;
     }
     const double l10 = h.log_det / std::log(10.0);
-    csv << k << "," << h.kind << "," << h.added << "," << h.removed << "," << n
-        << "," << l10 << "," << OiFromLogDet(h.log_det, p) << "," << -l10
+    csv << k << "," << h.name() << "," << h.added << "," << h.removed << ","
+        << n << "," << l10 << "," << OiFromLogDet(h.log_det, p) << "," << -l10
         << "\n";
   }
   return csv.str();

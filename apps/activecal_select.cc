@@ -300,7 +300,8 @@ int Main() {
                           {"log10_det_upper_bound",
                            approx.log_det_upper_bound / std::log(10.0)},
                           {"tolerance", FLAGS_approx_tolerance},
-                          {"converged", approx.success}};
+                          {"converged", approx.termination_type ==
+                                            TerminationType::CONVERGENCE}};
     }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }

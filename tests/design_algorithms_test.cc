@@ -11,6 +11,7 @@
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
+#include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "test_util.h"
 
@@ -78,7 +79,7 @@ void ExpectNeverBelowStart(const SelectionSummary& s) {
   ASSERT_FALSE(s.history.empty());
   for (size_t k = 1; k < s.history.size(); ++k) {
     EXPECT_GT(s.history[k].log_det, s.history[k - 1].log_det - 1e-9)
-        << s.algorithm << " step " << k << " " << s.history[k].kind;
+        << s.algorithm << " step " << k << " " << s.history[k].name();
   }
   EXPECT_GE(s.log_det, s.history.front().log_det - 1e-9) << s.algorithm;
 }
@@ -142,6 +143,138 @@ TEST_F(DesignAlgorithmsTest, FedorovRespectsConstraintsAndThreads) {
       EXPECT_NE(i % 7, 0) << i;
     }
   }
+}
+
+// Issue #15 (3): fixed poses that are also in the approximate design's
+// support, on a pool above the reduced size (and above the polish size).
+TEST_F(DesignAlgorithmsTest, FedorovKeepsFixedPosesOfTheApproximateSupport) {
+  ApproximateDesignSummary approx;
+  ASSERT_TRUE(
+      SolveApproximateDesign(*puma_, {}, ApproximateDesignOptions(), &approx))
+      << approx.message;
+  ASSERT_GE(approx.support.size(), 2u);
+  DesignConstraints c;
+  c.fixed = {approx.support[0], approx.support[1]};
+  for (int64_t polish : {int64_t{200}, int64_t{100000}}) {
+    FedorovOptions fo;
+    fo.num_poses = 12;
+    fo.restarts = 3;
+    fo.reduced_pool_size = 100;
+    fo.reduced_pool_per_pose = 0;
+    fo.polish_pool_size = polish;
+    ASSERT_LT(fo.reduced_pool_size, puma_->size());
+    SelectionSummary s;
+    ASSERT_TRUE(FedorovExchange(*puma_, c, fo, &approx, &s)) << s.message;
+    EXPECT_NE(s.message.find("reduced pool of"), std::string::npos)
+        << s.message;
+    ASSERT_EQ(s.design.size(), 12u);
+    for (int64_t f : c.fixed) {
+      EXPECT_EQ(std::count(s.design.begin(), s.design.end(), f), 1) << f;
+    }
+    EXPECT_NEAR(s.log_det, LogDetFromScratch(*puma_, s.design), 1e-9);
+  }
+}
+
+// A pool of random blocks in which one parameter is nearly a combination
+// of the others (a DH base yaw seen from the robot's origin).
+CandidatePool NearlyUnidentifiablePool(int64_t size, int p, uint64_t seed,
+                                       double eps = 1e-4) {
+  Random random(seed);
+  RowMatrixXd rows(size * 3, p);
+  for (int64_t r = 0; r < rows.rows(); ++r) {
+    for (int c = 0; c < p - 1; ++c) rows(r, c) = 2 * random.Uniform() - 1;
+    rows(r, p - 1) =
+        rows(r, 0) - 0.5 * rows(r, 1) + eps * (2 * random.Uniform() - 1);
+  }
+  CandidatePool pool;
+  std::string error;
+  EXPECT_TRUE(CandidatePool::Create(std::move(rows), 3, &pool, &error))
+      << error;
+  return pool;
+}
+
+// Issue #15 (2): Fedorov (swaps and excursions) and DETMAX must end on a
+// small pool with a nearly unidentifiable parameter, for any restart count.
+TEST(ExchangeLoopsTest, EndOnANearlyUnidentifiablePool) {
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const CandidatePool pool = NearlyUnidentifiablePool(23, 12, seed);
+    FedorovOptions fo;
+    fo.num_poses = 20;
+    fo.restarts = 8;
+    SelectionSummary s;
+    ASSERT_TRUE(FedorovExchange(pool, {}, fo, nullptr, &s)) << s.message;
+    EXPECT_EQ(s.design.size(), 20u);
+    EXPECT_TRUE(std::isfinite(s.log_det));
+    ExpectNeverBelowStart(s);
+    DetmaxOptions d;
+    d.num_poses = 20;
+    d.restarts = 8;
+    ASSERT_TRUE(Detmax(pool, {}, d, &s)) << s.message;
+    EXPECT_EQ(s.design.size(), 20u);
+    ExpectNeverBelowStart(s);
+  }
+  // One notch closer to singular, the pool cannot identify every parameter
+  // (by InformationMatrix's pivot tolerance): a FAILURE, not an endless loop.
+  const CandidatePool singular = NearlyUnidentifiablePool(23, 12, 1, 1e-5);
+  FedorovOptions fo;
+  fo.num_poses = 20;
+  fo.restarts = 8;
+  SelectionSummary s;
+  EXPECT_FALSE(FedorovExchange(singular, {}, fo, nullptr, &s));
+  EXPECT_EQ(s.termination_type, TerminationType::FAILURE) << s.message;
+}
+
+TEST_F(DesignAlgorithmsTest, IterationBoundsGiveNoConvergenceAndAValidDesign) {
+  FedorovOptions fo;
+  fo.num_poses = 20;
+  fo.restarts = 2;
+  fo.max_swaps = 1;
+  SelectionSummary s;
+  ASSERT_TRUE(FedorovExchange(*puma_, {}, fo, nullptr, &s)) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::NO_CONVERGENCE) << s.message;
+  EXPECT_NE(s.message.find("iteration bound"), std::string::npos);
+  EXPECT_EQ(s.design.size(), 20u);
+  EXPECT_TRUE(std::isfinite(s.log_det));
+  DetmaxOptions d;
+  d.num_poses = 20;
+  d.restarts = 1;
+  d.max_iterations = 1;
+  ASSERT_TRUE(Detmax(*puma_, {}, d, &s)) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::NO_CONVERGENCE) << s.message;
+  EXPECT_EQ(s.design.size(), 20u);
+  fo.max_swaps = 100000;
+  ASSERT_TRUE(FedorovExchange(*puma_, {}, fo, nullptr, &s)) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::CONVERGENCE) << s.message;
+}
+
+// Issue #15 (4): a singular start with initial_poses == num_poses is
+// completed and trimmed back, never returned larger than asked.
+TEST(ExchangeAddExchangeTest, SingularStartNeverGivesMorePosesThanAsked) {
+  // Six parameters, three rows per pose: poses 0..34 see only the first
+  // three parameters, so most random 3-pose starts are singular.
+  Random random(5);
+  RowMatrixXd rows = RowMatrixXd::Zero(40 * 3, 6);
+  for (int64_t r = 0; r < rows.rows(); ++r) {
+    const int cols = r < 35 * 3 ? 3 : 6;
+    for (int c = 0; c < cols; ++c) rows(r, c) = 2 * random.Uniform() - 1;
+  }
+  CandidatePool pool;
+  std::string error;
+  ASSERT_TRUE(CandidatePool::Create(std::move(rows), 3, &pool, &error))
+      << error;
+  int singular_starts = 0;
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    ExchangeAddExchangeOptions o;
+    o.num_poses = 3;
+    o.initial_poses = 3;
+    o.seed = seed;
+    SelectionSummary s;
+    ASSERT_TRUE(ExchangeAddExchange(pool, {}, o, &s)) << s.message;
+    EXPECT_EQ(s.design.size(), 3u) << "seed " << seed << ": " << s.message;
+    EXPECT_TRUE(std::isfinite(s.log_det));
+    if (s.message.find("singular") != std::string::npos) ++singular_starts;
+  }
+  EXPECT_GT(singular_starts, 0);
 }
 
 TEST_F(DesignAlgorithmsTest, ApproximateDesignSatisfiesEquivalenceTheorem) {

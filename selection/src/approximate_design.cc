@@ -11,6 +11,7 @@
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/information_matrix.h"
 #include "selection_internal.h"
+#include "sub_pool.h"
 
 namespace activecal {
 
@@ -130,18 +131,13 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   Eigen::VectorXd d;
   ComputeVariances(pool, llt0.solve(Eigen::MatrixXd::Identity(p, p)),
                    options.num_threads, &d);
+  // The k eligible poses outside `skip` of largest variance.
   auto top_by_variance = [&](int k, const std::vector<char>& skip) {
-    std::vector<int64_t> idx;
+    std::vector<char> candidate(pool.size());
     for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i] && !skip[i]) idx.push_back(i);
+      candidate[i] = eligible[i] && !skip[i];
     }
-    k = std::min<int>(k, idx.size());
-    std::partial_sort(idx.begin(), idx.begin() + k, idx.end(),
-                      [&](int64_t a, int64_t b) {
-                        return d[a] > d[b] || (d[a] == d[b] && a < b);
-                      });
-    idx.resize(k);
-    return idx;
+    return internal::TopByVariance(d, candidate, k);
   };
   std::vector<char> in_set(pool.size(), 0);
   std::vector<int64_t> working = top_by_variance(4 * p, in_set);
@@ -322,16 +318,21 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   msg << "max variance " << summary->max_variance << " (p = " << p << ") on "
       << summary->support.size() << " support poses after " << summary->rounds
       << " rounds, " << summary->inner_iterations << " inner iterations";
-  summary->success = summary->max_variance <= target;
-  if (!summary->success) msg << "; tolerance not reached (bounds still hold)";
+  summary->termination_type = summary->max_variance <= target
+                                  ? TerminationType::CONVERGENCE
+                                  : TerminationType::NO_CONVERGENCE;
+  if (summary->termination_type != TerminationType::CONVERGENCE) {
+    msg << "; tolerance not reached within the round bound (bounds still "
+           "hold)";
+  }
   summary->message = msg.str();
-  return summary->success;
+  return true;
 }
 
 std::string ApproximateDesignSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal approximate D-optimal design: "
-      << (success ? "CONVERGED" : "NOT CONVERGED") << "\n  " << message
+      << TerminationTypeToString(termination_type) << "\n  " << message
       << "\n  log10 det M(w) = " << log_det / std::log(10.0)
       << ", upper bound on log10 det M* = "
       << log_det_upper_bound / std::log(10.0)

@@ -1,5 +1,7 @@
 #include "activecal/selection/design.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -16,12 +18,17 @@ Design::Design(const CandidatePool& pool, double ridge)
       info_(pool.num_parameters(), ridge) {}
 
 void Design::Add(int64_t pose) {
+  CHECK(pose >= 0 && pose < pool_->size())
+      << "pose " << pose << " is not in the pool of " << pool_->size();
+  CHECK(!member_[pose]) << "pose " << pose << " is already in the design";
   member_[pose] = 1;
   poses_.push_back(pose);
   info_.Add(pool_->block(pose));
 }
 
 bool Design::Remove(int64_t pose) {
+  CHECK(pose >= 0 && pose < pool_->size() && member_[pose])
+      << "pose " << pose << " is not in the design";
   if (!info_.Remove(pool_->block(pose))) return false;
   member_[pose] = 0;
   poses_.erase(std::find(poses_.begin(), poses_.end(), pose));
@@ -147,12 +154,40 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
   return false;
 }
 
+std::string SelectionStep::name() const {
+  switch (kind) {
+    case kInitial:
+      return "initial";
+    case kExchange:
+      return "exchange";
+    case kAdd:
+      return "add";
+    case kExcursionUp:
+      return "excursion up " + std::to_string(excursion_size);
+    case kExcursionDown:
+      return "excursion down " + std::to_string(excursion_size);
+  }
+  return "unknown";
+}
+
+const char* TerminationTypeToString(TerminationType type) {
+  switch (type) {
+    case TerminationType::CONVERGENCE:
+      return "CONVERGENCE";
+    case TerminationType::NO_CONVERGENCE:
+      return "NO_CONVERGENCE";
+    case TerminationType::FAILURE:
+      return "FAILURE";
+  }
+  return "UNKNOWN";
+}
+
 std::string SelectionSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal selection (" << algorithm
-      << "): " << (success ? "SUCCESS" : "FAILURE") << "\n  " << message
+      << "): " << TerminationTypeToString(termination_type) << "\n  " << message
       << "\n";
-  if (success) {
+  if (IsSolutionUsable()) {
     out << "  " << design.size() << " poses from a pool of " << pool_size
         << ", " << num_parameters << " parameters\n";
     out.precision(6);

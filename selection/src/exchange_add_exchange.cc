@@ -1,5 +1,7 @@
 #include "activecal/selection/exchange_add_exchange.h"
 
+#include <glog/logging.h>
+
 #include <Eigen/SVD>
 #include <chrono>
 #include <cmath>
@@ -37,8 +39,9 @@ namespace internal {
 // ---------------------------------------------------------------------------
 // Determinant-update scorer.
 
-DeterminantScorer::DeterminantScorer(const CandidatePool& pool, int num_threads)
-    : design_(pool), num_threads_(num_threads) {}
+DeterminantScorer::DeterminantScorer(const CandidatePool& pool, int num_threads,
+                                     double ridge)
+    : design_(pool, ridge), num_threads_(num_threads) {}
 
 bool DeterminantScorer::BestAddition(const std::vector<char>& eligible,
                                      int64_t* pose, double* value) {
@@ -100,6 +103,7 @@ void EigenvalueScorer::Add(int64_t pose) {
 }
 
 bool EigenvalueScorer::Remove(int64_t pose) {
+  CHECK(member_[pose]) << "pose " << pose << " is not in the design";
   std::vector<int64_t> rest = poses_;
   rest.erase(std::find(rest.begin(), rest.end(), pose));
   const double v = LogDetBySvd(pool_->Stack(rest));
@@ -172,23 +176,16 @@ double RegularisingRidge(const CandidatePool& pool) {
 int CompleteSingularDesign(const CandidatePool& pool,
                            const std::vector<char>& eligible, int num_threads,
                            std::vector<int64_t>* poses) {
-  const int p = pool.num_parameters();
-  Design design(pool, RegularisingRidge(pool));
+  DeterminantScorer design(pool, num_threads, RegularisingRidge(pool));
   for (int64_t i : *poses) design.Add(i);
-  InformationMatrix plain(p);
+  InformationMatrix plain(pool.num_parameters());
   for (int64_t i : *poses) plain.Add(pool.block(i));
   int added = 0;
-  Eigen::VectorXd gains;
   while (!plain.positive_definite()) {
-    ComputeAddGains(pool, design.information(), num_threads, &gains);
-    int64_t best = -1;
-    for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i] && !design.Contains(i) &&
-          (best < 0 || gains[i] > gains[best])) {
-        best = i;
-      }
-    }
-    if (best < 0) return -1;  // the pool itself is rank deficient
+    int64_t best;
+    double value;
+    // None left: the pool itself is rank deficient.
+    if (!design.BestAddition(eligible, &best, &value)) return -1;
     design.Add(best);
     plain.Add(pool.block(best));
     poses->push_back(best);
@@ -200,23 +197,22 @@ int CompleteSingularDesign(const CandidatePool& pool,
 bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int max_exchanges,
                   double min_improvement, std::vector<SelectionStep>* history) {
-  bool changed = false;
   for (int k = 0; k < max_exchanges; ++k) {
     const double current = scorer->Value();
     int64_t out, in;
     double after_removal, after_swap;
-    if (!scorer->BestRemoval(is_fixed, &out, &after_removal)) break;
-    if (!scorer->Remove(out)) break;
+    if (!scorer->BestRemoval(is_fixed, &out, &after_removal)) return false;
+    if (!scorer->Remove(out)) return false;
     if (!scorer->BestAddition(eligible, &in, &after_swap) || in == out ||
-        !(after_swap > current + min_improvement)) {
+        !(after_swap >
+          current + ImprovementThreshold(current, min_improvement))) {
       scorer->Add(out);  // undo
-      break;
+      return false;
     }
     scorer->Add(in);
-    history->push_back({"exchange", in, out, scorer->Value()});
-    changed = true;
+    history->push_back({SelectionStep::kExchange, in, out, scorer->Value()});
   }
-  return changed;
+  return max_exchanges > 0;
 }
 
 }  // namespace internal
@@ -251,83 +247,65 @@ bool ExchangeAddExchange(const CandidatePool& pool,
   }
   std::vector<char> is_fixed(pool.size(), 0);
   for (int64_t f : constraints.fixed) is_fixed[f] = 1;
-  std::vector<int64_t> candidates;
-  for (int64_t i = 0; i < pool.size(); ++i) {
-    if (eligible[i]) candidates.push_back(i);
-  }
 
-  std::ostringstream notes;
-  double best_value = -std::numeric_limits<double>::infinity();
-  for (int r = 0; r < options.restarts; ++r) {
-    Random random(Random::StreamSeed(options.seed, r));
-    std::vector<int64_t> initial = constraints.fixed;
-    for (int64_t j : random.SampleWithoutReplacement(
-             candidates.size(), options.initial_poses - num_fixed)) {
-      initial.push_back(candidates[j]);
-    }
-    if (!std::isfinite(LogDetFromScratch(pool, initial))) {
-      const int added = internal::CompleteSingularDesign(
-          pool, eligible, options.num_threads, &initial);
-      if (added < 0) {
-        summary->message =
-            "the pool's information matrix is singular: no design can "
-            "identify all " +
-            std::to_string(pool.num_parameters()) +
-            " parameters (check identifiability)";
-        return false;
-      }
-      notes << " restart " << r << ": the initial design of "
-            << options.initial_poses << " poses was singular; completed "
-            << "greedily on M + eps I with " << added << " pose(s).";
-    }
-    std::unique_ptr<internal::Scorer> scorer;
-    if (options.criterion == SelectionCriterion::kDeterminantUpdate) {
-      scorer = std::make_unique<internal::DeterminantScorer>(
-          pool, options.num_threads);
-    } else {
-      scorer = std::make_unique<internal::EigenvalueScorer>(
-          pool, options.num_threads);
-    }
-    for (int64_t i : initial) scorer->Add(i);
-    std::vector<SelectionStep> history;
-    history.push_back({"initial", -1, -1, scorer->Value()});
-
-    internal::ExchangeStep(scorer.get(), eligible, is_fixed,
-                           options.max_exchanges, options.min_improvement,
-                           &history);
-    while (scorer->size() < options.num_poses &&
-           scorer->Value() < options.target_log_det) {
-      int64_t in;
-      double after;
-      if (!scorer->BestAddition(eligible, &in, &after) ||
-          !(after > scorer->Value() + options.min_improvement)) {
-        break;
-      }
-      scorer->Add(in);
-      history.push_back({"add", in, -1, scorer->Value()});
-    }
-    internal::ExchangeStep(scorer.get(), eligible, is_fixed,
-                           options.max_exchanges, options.min_improvement,
-                           &history);
-    const double value = LogDetFromScratch(pool, scorer->poses());
-    if (value > best_value) {
-      best_value = value;
-      summary->design = scorer->poses();
-      summary->history = history;
-      summary->best_restart = r;
-    }
-  }
-  summary->restarts = options.restarts;
-  summary->log_det = best_value;
-  summary->seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-          .count();
-  std::ostringstream msg;
-  msg << summary->design.size() << " poses after " << summary->history.size()
-      << " steps" << notes.str();
-  summary->message = msg.str();
-  summary->success = std::isfinite(summary->log_det);
-  return summary->success;
+  std::vector<std::string> notes(options.restarts);
+  const internal::RestartResult best = internal::BestOfRestarts(
+      options.restarts, options.num_threads,
+      [&](int r, int threads) {
+        internal::RestartResult result;
+        // A singular start is completed greedily and trimmed back to
+        // initial_poses (or as close as non-singularity allows).
+        const std::vector<int64_t> initial = internal::InitialDesign(
+            pool, constraints, eligible, options.initial_poses,
+            Random::StreamSeed(options.seed, r), nullptr, false, threads,
+            &notes[r]);
+        if (initial.empty()) return result;
+        if (static_cast<int>(initial.size()) > options.num_poses) {
+          notes[r] = "no non-singular design of " +
+                     std::to_string(options.num_poses) +
+                     " poses was found from a singular start (the smallest "
+                     "has " +
+                     std::to_string(initial.size()) + " poses)";
+          return result;
+        }
+        std::unique_ptr<internal::Scorer> scorer;
+        if (options.criterion == SelectionCriterion::kDeterminantUpdate) {
+          scorer = std::make_unique<internal::DeterminantScorer>(pool, threads);
+        } else {
+          scorer = std::make_unique<internal::EigenvalueScorer>(pool, threads);
+        }
+        for (int64_t i : initial) scorer->Add(i);
+        result.history.push_back(
+            {SelectionStep::kInitial, -1, -1, scorer->Value()});
+        result.hit_bound |= internal::ExchangeStep(
+            scorer.get(), eligible, is_fixed, options.max_exchanges,
+            options.min_improvement, &result.history);
+        while (scorer->size() < options.num_poses &&
+               scorer->Value() < options.target_log_det) {
+          int64_t in;
+          double after;
+          if (!scorer->BestAddition(eligible, &in, &after) ||
+              !(after > scorer->Value() +
+                            internal::ImprovementThreshold(
+                                scorer->Value(), options.min_improvement))) {
+            break;
+          }
+          scorer->Add(in);
+          result.history.push_back(
+              {SelectionStep::kAdd, in, -1, scorer->Value()});
+        }
+        result.hit_bound |= internal::ExchangeStep(
+            scorer.get(), eligible, is_fixed, options.max_exchanges,
+            options.min_improvement, &result.history);
+        result.design = scorer->poses();
+        result.log_det = LogDetFromScratch(pool, result.design);
+        result.ok = std::isfinite(result.log_det);
+        return result;
+      },
+      options.progress);
+  internal::FinishSummary(best, options.restarts, start,
+                          internal::NoteOf(notes, best.restart), summary);
+  return summary->IsSolutionUsable();
 }
 
 }  // namespace activecal

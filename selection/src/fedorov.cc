@@ -1,19 +1,21 @@
+// Fedorov exchange (fast form of Nguyen & Miller 1992), with the reduced
+// pool and the polish over the whole pool.
+
 #include "activecal/selection/fedorov.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <numeric>
 #include <sstream>
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/selection/criteria.h"
 #include "selection_internal.h"
+#include "sub_pool.h"
 
 namespace activecal {
 
@@ -27,150 +29,16 @@ bool FedorovOptions::IsValid(std::string* error) const {
     msg << "max_swaps must be >= 0";
   else if (refresh_interval <= 0)
     msg << "refresh_interval must be > 0";
+  else if (reduced_pool_per_pose < 0)
+    msg << "reduced_pool_per_pose must be >= 0";
+  else if (max_polish_rounds <= 0)
+    msg << "max_polish_rounds must be > 0";
   else if (!(min_improvement >= 0))
     msg << "min_improvement must be >= 0";
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();
   return false;
 }
-
-bool GreedyOptions::IsValid(std::string* error) const {
-  if (num_poses > 0) return true;
-  if (error) *error = "num_poses must be > 0, got " + std::to_string(num_poses);
-  return false;
-}
-
-bool DetmaxOptions::IsValid(std::string* error) const {
-  std::ostringstream msg;
-  if (num_poses <= 0)
-    msg << "num_poses must be > 0, got " << num_poses;
-  else if (restarts <= 0)
-    msg << "restarts must be > 0, got " << restarts;
-  else if (max_excursion <= 0)
-    msg << "max_excursion must be > 0";
-  else if (max_iterations < 0)
-    msg << "max_iterations must be >= 0";
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
-}
-
-namespace internal {
-
-RestartResult BestOfRestarts(
-    int restarts, int num_threads,
-    const std::function<RestartResult(int restart, int inner_threads)>& run,
-    const ProgressCallback& progress) {
-  std::vector<RestartResult> results(restarts);
-  const int threads = ResolveNumThreads(num_threads);
-  std::atomic<int64_t> done{0};
-  if (progress) progress(0, restarts);
-  if (restarts >= threads) {
-    ParallelFor(restarts, threads, [&](int64_t b, int64_t e, int) {
-      for (int64_t r = b; r < e; ++r) {
-        results[r] = run(r, 1);
-        if (progress) progress(++done, restarts);
-      }
-    });
-  } else {
-    for (int r = 0; r < restarts; ++r) {
-      results[r] = run(r, threads);
-      if (progress) progress(++done, restarts);
-    }
-  }
-  int best = -1;
-  for (int r = 0; r < restarts; ++r) {
-    results[r].restart = r;
-    if (!results[r].ok) continue;
-    if (best < 0 || results[r].log_det > results[best].log_det) best = r;
-  }
-  if (best < 0) return results[0];
-  return results[best];
-}
-
-std::vector<int64_t> InitialDesign(const CandidatePool& pool,
-                                   const DesignConstraints& constraints,
-                                   const std::vector<char>& eligible,
-                                   int num_poses, uint64_t seed,
-                                   const ApproximateDesignSummary* approximate,
-                                   bool randomized, int num_threads,
-                                   std::string* note) {
-  std::vector<int64_t> design = constraints.fixed;
-  const int want = num_poses - static_cast<int>(constraints.fixed.size());
-  if (approximate) {
-    // Round the approximate design: restart 0 (randomized == false) takes
-    // its heaviest poses; later restarts draw poses without replacement
-    // with probability proportional to their weights.
-    std::vector<int64_t> support;
-    std::vector<double> weights;
-    for (size_t k = 0; k < approximate->support.size(); ++k) {
-      if (eligible[approximate->support[k]]) {
-        support.push_back(approximate->support[k]);
-        weights.push_back(approximate->weights[k]);
-      }
-    }
-    if (randomized) {
-      Random random(Random::StreamSeed(seed, 1));
-      for (int n = 0; n < want && !support.empty(); ++n) {
-        const double total =
-            std::accumulate(weights.begin(), weights.end(), 0.0);
-        double u = random.Uniform() * total;
-        size_t k = 0;
-        while (k + 1 < weights.size() && u >= weights[k]) u -= weights[k++];
-        design.push_back(support[k]);
-        support.erase(support.begin() + k);
-        weights.erase(weights.begin() + k);
-      }
-    } else {
-      std::vector<size_t> order(support.size());
-      std::iota(order.begin(), order.end(), 0);
-      std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-        return weights[a] > weights[b];
-      });
-      for (size_t k = 0; k < order.size() && k < static_cast<size_t>(want);
-           ++k) {
-        design.push_back(support[order[k]]);
-      }
-    }
-  }
-  std::vector<int64_t> candidates;
-  std::vector<char> taken(pool.size(), 0);
-  for (int64_t i : design) taken[i] = 1;
-  for (int64_t i = 0; i < pool.size(); ++i) {
-    if (eligible[i] && !taken[i]) candidates.push_back(i);
-  }
-  const int missing = num_poses - static_cast<int>(design.size());
-  if (missing > 0) {
-    Random random(seed);
-    for (int64_t j :
-         random.SampleWithoutReplacement(candidates.size(), missing)) {
-      design.push_back(candidates[j]);
-    }
-  }
-  if (!std::isfinite(LogDetFromScratch(pool, design))) {
-    const int added =
-        CompleteSingularDesign(pool, eligible, num_threads, &design);
-    if (added < 0) return {};
-    // Back to num_poses: drop the non-fixed poses that cost least.
-    DeterminantScorer d(pool, num_threads);
-    for (int64_t i : design) d.Add(i);
-    std::vector<char> is_fixed(pool.size(), 0);
-    for (int64_t f : constraints.fixed) is_fixed[f] = 1;
-    while (d.size() > num_poses) {
-      int64_t worst;
-      double value;
-      if (!d.BestRemoval(is_fixed, &worst, &value) || !d.Remove(worst)) break;
-    }
-    design = d.poses();
-    if (note) {
-      *note = "a singular start was completed greedily on M + eps I (" +
-              std::to_string(added) + " poses) and trimmed back";
-    }
-  }
-  return design;
-}
-
-}  // namespace internal
 
 namespace {
 
@@ -181,51 +49,12 @@ struct YEntry {
   int64_t pose;
 };
 
-// Tries DETMAX excursions of size min_size..max_excursion on `poses` (add k
-// best then remove k, or remove k then add k). Returns true and updates poses
-// when one raises log det by more than min_improvement.
-bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
-                  const std::vector<char>& is_fixed, int min_size,
-                  int max_excursion, double min_improvement, int threads,
-                  std::vector<int64_t>* poses, std::string* kind) {
-  for (int k = min_size; k <= max_excursion; ++k) {
-    for (int direction = 0; direction < 2; ++direction) {
-      internal::DeterminantScorer scorer(pool, threads);
-      for (int64_t i : *poses) scorer.Add(i);
-      const double base = scorer.Value();
-      bool ok = true;
-      for (int phase = 0; phase < 2 && ok; ++phase) {
-        const bool adding = (phase == 0) == (direction == 0);
-        for (int j = 0; j < k && ok; ++j) {
-          int64_t pose;
-          double value;
-          if (adding) {
-            ok = scorer.BestAddition(eligible, &pose, &value);
-            if (ok) scorer.Add(pose);
-          } else {
-            ok = scorer.BestRemoval(is_fixed, &pose, &value) &&
-                 scorer.Remove(pose);
-          }
-        }
-      }
-      if (ok && scorer.Value() > base + min_improvement) {
-        *poses = scorer.poses();
-        *kind =
-            std::string(direction == 0 ? "excursion up " : "excursion down ") +
-            std::to_string(k);
-        return true;
-      }
-    }
-  }
-  return false;
-}
-
 RestartResult FedorovRestart(const CandidatePool& pool,
                              const std::vector<char>& eligible,
                              const std::vector<char>& is_fixed,
                              std::vector<int64_t> initial,
                              const FedorovOptions& options, int threads) {
-  RestartResult result;
+  internal::RestartResult result;
   const int t = pool.block_rows();
   const int p = pool.num_parameters();
   const int tt = t * t;
@@ -248,7 +77,7 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     return s;
   };
   refresh_all();
-  result.history.push_back({"initial", -1, -1, design.log_det()});
+  result.history.push_back({SelectionStep::kInitial, -1, -1, design.log_det()});
   int since_refresh = 0;
   constexpr int64_t kBlock = 256;
   int swaps = 0;
@@ -263,17 +92,19 @@ RestartResult FedorovRestart(const CandidatePool& pool,
         return a.trace < b.trace || (a.trace == b.trace && a.pose < b.pose);
       });
       const double min_try = ys[0].trace;
+      const double threshold0 = internal::ImprovementThreshold(
+          design.log_det(), options.min_improvement);
       std::vector<YEntry> xs;
       for (int64_t x = 0; x < m; ++x) {
         if (!eligible[x] || design.Contains(x)) continue;
         const double tr = trace_of(x);
-        if (tr - min_try > options.min_improvement) xs.push_back({tr, x});
+        if (tr - min_try > threshold0) xs.push_back({tr, x});
       }
       std::sort(xs.begin(), xs.end(), [](const YEntry& a, const YEntry& b) {
         return a.trace > b.trace || (a.trace == b.trace && a.pose < b.pose);
       });
       const Eigen::MatrixXd& V = design.information().inverse();
-      double best_lr = options.min_improvement;
+      double best_lr = threshold0;
       int64_t best_x = -1, best_y = -1;
       std::vector<double> item_lr(kBlock);
       std::vector<int64_t> item_y(kBlock);
@@ -352,7 +183,8 @@ RestartResult FedorovRestart(const CandidatePool& pool,
         design.Remove(best_x);
         break;
       }
-      result.history.push_back({"exchange", best_x, best_y, design.log_det()});
+      result.history.push_back(
+          {SelectionStep::kExchange, best_x, best_y, design.log_det()});
       if (++since_refresh >= options.refresh_interval) {
         refresh_all();
         since_refresh = 0;
@@ -382,11 +214,17 @@ RestartResult FedorovRestart(const CandidatePool& pool,
       });
     }
     // No single swap helps: try larger excursions, and swap again after one.
-    if (swaps >= options.max_swaps || options.max_excursion < 2) break;
+    // Each counts as a step against max_swaps.
+    if (swaps >= options.max_swaps) {
+      result.hit_bound = options.max_swaps > 0;  // 0: rounding only
+      break;
+    }
+    if (options.max_excursion < 2) break;
     std::vector<int64_t> poses = design.poses();
-    std::string kind;
-    if (!TryExcursion(pool, eligible, is_fixed, 2, options.max_excursion,
-                      options.min_improvement, threads, &poses, &kind)) {
+    SelectionStep step;
+    if (!internal::TryExcursion(pool, eligible, is_fixed, 2,
+                                options.max_excursion, options.min_improvement,
+                                threads, &poses, &step)) {
       break;
     }
     Design next(pool);
@@ -394,7 +232,9 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     design = std::move(next);
     refresh_all();
     since_refresh = 0;
-    result.history.push_back({kind, -1, -1, design.log_det()});
+    ++swaps;
+    step.log_det = design.log_det();
+    result.history.push_back(step);
   }
   result.design = design.poses();
   result.log_det = LogDetFromScratch(pool, result.design);
@@ -402,142 +242,53 @@ RestartResult FedorovRestart(const CandidatePool& pool,
   return result;
 }
 
-// Resets the summary, checks the options and the constraints, and marks the
-// eligible and the fixed poses.
-template <typename Options>
-bool Prepare(const CandidatePool& pool, const DesignConstraints& constraints,
-             const Options& options, const char* algorithm,
-             SelectionSummary* summary, std::vector<char>* eligible,
-             std::vector<char>* is_fixed) {
-  *summary = SelectionSummary();
-  summary->algorithm = algorithm;
-  summary->num_parameters = pool.num_parameters();
-  summary->pool_size = pool.size();
-  std::string error;
-  if (!options.IsValid(&error) ||
-      !PrepareCandidates(pool, options.num_poses, constraints, eligible,
-                         &error)) {
-    summary->message = error;
-    return false;
-  }
-  is_fixed->assign(pool.size(), 0);
-  for (int64_t f : constraints.fixed) (*is_fixed)[f] = 1;
-  return true;
-}
-
-// The note a restart left, if any.
-std::string NoteOf(const std::vector<std::string>& notes, int restart) {
-  return restart < static_cast<int>(notes.size()) ? notes[restart] : "";
-}
-
-void Finish(const RestartResult& best, int restarts,
-            std::chrono::steady_clock::time_point start,
-            const std::string& note, SelectionSummary* summary) {
-  summary->design = best.design;
-  summary->history = best.history;
-  summary->log_det = best.log_det;
-  summary->restarts = restarts;
-  summary->best_restart = best.restart;
-  summary->seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-          .count();
-  summary->success = best.ok;
-  std::ostringstream msg;
-  if (best.ok) {
-    msg << best.design.size() << " poses, " << best.history.size() - 1
-        << " improving steps in the best restart (" << best.restart << ")";
-  } else {
-    msg << "no restart produced a non-singular design: the eligible poses "
-           "(fixed and not excluded) cannot identify all "
-        << summary->num_parameters << " parameters";
-  }
-  if (!note.empty()) msg << "; " << note;
-  summary->message = msg.str();
-}
-
-}  // namespace
-
-namespace {
-
-// The poses of `keep` (pool indices, ascending) as a pool of their own.
-CandidatePool SubPool(const CandidatePool& pool,
-                      const std::vector<int64_t>& keep) {
-  const int t = pool.block_rows();
-  RowMatrixXd rows(keep.size() * t, pool.num_parameters());
-  for (size_t n = 0; n < keep.size(); ++n) {
-    rows.middleRows(n * t, t) = pool.block(keep[n]);
-  }
-  CandidatePool sub;
-  std::string unused;  // rows of a valid pool: Create cannot fail here
-  CandidatePool::Create(std::move(rows), t, &sub, &unused);
-  return sub;
-}
-
 // Swaps over the polish_pool_size poses of largest variance under the
-// current design, re-ranked after each round, until a round makes no swap.
+// current design, re-ranked after each round, until a round makes no swap
+// or max_polish_rounds have run.
 RestartResult PolishInRounds(const CandidatePool& pool,
                              const std::vector<char>& eligible,
-                             const DesignConstraints& constraints,
+                             const std::vector<char>& is_fixed,
                              std::vector<int64_t> design,
                              const FedorovOptions& options) {
   RestartResult result;
-  result.ok = false;
   std::vector<SelectionStep> history;
-  for (int round = 0; round < 8; ++round) {
+  for (int round = 0;; ++round) {
+    if (round >= options.max_polish_rounds) {
+      result.hit_bound = true;
+      break;
+    }
     const int p = pool.num_parameters();
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
     for (int64_t i : design) {
       const auto X = pool.block(i);
       M.noalias() += X.transpose() * X;
     }
-    const Eigen::LLT<Eigen::MatrixXd> llt(M);
-    if (llt.info() != Eigen::Success) break;
     Eigen::VectorXd d;
-    ComputeVariances(pool, llt.solve(Eigen::MatrixXd::Identity(p, p)),
-                     options.num_threads, &d);
-    std::vector<char> keep(pool.size(), 0);
+    if (!internal::VariancesUnder(pool, M, options.num_threads, &d)) break;
+    // The design, the fixed poses and the eligible poses of largest
+    // variance outside them.
+    std::vector<char> keep = is_fixed, candidate(pool.size());
     for (int64_t i : design) keep[i] = 1;
-    for (int64_t f : constraints.fixed) keep[f] = 1;
-    std::vector<int64_t> order;
     for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i] && !keep[i]) order.push_back(i);
+      candidate[i] = eligible[i] && !keep[i];
     }
-    const int64_t k = std::min<int64_t>(options.polish_pool_size, order.size());
-    std::partial_sort(order.begin(), order.begin() + k, order.end(),
-                      [&](int64_t a, int64_t b) {
-                        return d[a] > d[b] || (d[a] == d[b] && a < b);
-                      });
-    for (int64_t n = 0; n < k; ++n) keep[order[n]] = 1;
-    std::vector<int64_t> to_full, to_sub(pool.size(), -1);
-    for (int64_t i = 0; i < pool.size(); ++i) {
-      if (keep[i]) {
-        to_sub[i] = static_cast<int64_t>(to_full.size());
-        to_full.push_back(i);
-      }
+    for (int64_t i :
+         internal::TopByVariance(d, candidate, options.polish_pool_size)) {
+      keep[i] = 1;
     }
-    const CandidatePool sub = SubPool(pool, to_full);
-    std::vector<char> sub_eligible(sub.size(), 1), sub_fixed(sub.size(), 0);
-    for (int64_t f : constraints.fixed) {
-      sub_eligible[to_sub[f]] = 0;
-      sub_fixed[to_sub[f]] = 1;
-    }
-    std::vector<int64_t> initial;
-    for (int64_t i : design) initial.push_back(to_sub[i]);
-    RestartResult r = FedorovRestart(sub, sub_eligible, sub_fixed, initial,
+    const internal::SubPool sub(pool, keep);
+    RestartResult r = FedorovRestart(sub.pool(), sub.Restrict(eligible),
+                                     sub.Restrict(is_fixed), sub.ToSub(design),
                                      options, options.num_threads);
     if (!r.ok) break;
-    for (int64_t& i : r.design) i = to_full[i];
-    for (size_t n = 1; n < r.history.size(); ++n) {
-      SelectionStep step = r.history[n];
-      if (step.added >= 0) step.added = to_full[step.added];
-      if (step.removed >= 0) step.removed = to_full[step.removed];
-      history.push_back(step);
-    }
+    r.design = sub.ToFull(r.design);
+    sub.ToFull(&r.history);
     const bool changed = r.history.size() > 1;
+    history.insert(history.end(), r.history.begin() + 1, r.history.end());
     design = r.design;
     r.history.clear();
     r.history.push_back(SelectionStep());  // the caller skips entry 0
-    for (const SelectionStep& step : history) r.history.push_back(step);
+    r.history.insert(r.history.end(), history.begin(), history.end());
     result = std::move(r);
     if (!changed) break;
   }
@@ -553,8 +304,8 @@ bool FedorovExchange(const CandidatePool& pool,
                      SelectionSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<char> eligible, is_fixed;
-  if (!Prepare(pool, constraints, options, "fedorov", summary, &eligible,
-               &is_fixed)) {
+  if (!internal::PrepareSelection(pool, constraints, options, "fedorov",
+                                  summary, &eligible, &is_fixed)) {
     return false;
   }
   // With an approximate design and a large pool, the restarts swap within
@@ -562,15 +313,11 @@ bool FedorovExchange(const CandidatePool& pool,
   // largest variance under it, where good exact designs live. The best
   // result is then polished by swaps over the whole pool, so it is a local
   // optimum of the full problem either way.
-  const CandidatePool* work_pool = &pool;
-  CandidatePool reduced;
-  std::vector<int64_t> to_full;  // reduced index -> pool index
-  DesignConstraints work_constraints = constraints;
-  ApproximateDesignSummary work_approx;
-  const ApproximateDesignSummary* work_approximate = approximate;
-  std::vector<char> work_eligible = eligible, work_fixed = is_fixed;
   const int64_t reduced_size = std::max<int64_t>(
-      options.reduced_pool_size, 40 * static_cast<int64_t>(options.num_poses));
+      options.reduced_pool_size,
+      options.reduced_pool_per_pose * static_cast<int64_t>(options.num_poses));
+  std::unique_ptr<internal::SubPool> reduced;
+  ApproximateDesignSummary reduced_approximate;
   if (approximate && !approximate->support.empty() &&
       options.reduced_pool_size > 0 && pool.size() > reduced_size) {
     const int p = pool.num_parameters();
@@ -580,102 +327,67 @@ bool FedorovExchange(const CandidatePool& pool,
       M.noalias() += approximate->weights[k] * X.transpose() * X;
     }
     Eigen::VectorXd d;
-    ComputeVariances(
-        pool,
-        Eigen::LLT<Eigen::MatrixXd>(M).solve(Eigen::MatrixXd::Identity(p, p)),
-        options.num_threads, &d);
-    std::vector<char> keep(pool.size(), 0);
-    for (int64_t f : constraints.fixed) keep[f] = 1;
-    for (int64_t i : approximate->support) keep[i] = eligible[i];
-    std::vector<int64_t> order;
-    for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i]) order.push_back(i);
-    }
-    const int64_t k = std::min<int64_t>(reduced_size, order.size());
-    std::partial_sort(order.begin(), order.begin() + k, order.end(),
-                      [&](int64_t a, int64_t b) {
-                        return d[a] > d[b] || (d[a] == d[b] && a < b);
-                      });
-    for (int64_t n = 0; n < k; ++n) keep[order[n]] = 1;
-    std::vector<int64_t> to_reduced(pool.size(), -1);
-    for (int64_t i = 0; i < pool.size(); ++i) {
-      if (keep[i]) {
-        to_reduced[i] = static_cast<int64_t>(to_full.size());
-        to_full.push_back(i);
+    if (internal::VariancesUnder(pool, M, options.num_threads, &d)) {
+      // The fixed poses, the eligible support and the eligible poses of
+      // largest variance.
+      std::vector<char> keep = is_fixed;
+      for (int64_t i : approximate->support) keep[i] = keep[i] || eligible[i];
+      for (int64_t i : internal::TopByVariance(d, eligible, reduced_size)) {
+        keep[i] = 1;
       }
-    }
-    const int t = pool.block_rows();
-    RowMatrixXd rows(to_full.size() * t, p);
-    for (size_t n = 0; n < to_full.size(); ++n) {
-      rows.middleRows(n * t, t) = pool.block(to_full[n]);
-    }
-    // Rows of a valid pool: Create cannot fail here.
-    std::string unused;
-    CandidatePool::Create(std::move(rows), t, &reduced, &unused);
-    work_pool = &reduced;
-    work_constraints = DesignConstraints();
-    for (int64_t f : constraints.fixed) {
-      work_constraints.fixed.push_back(to_reduced[f]);
-    }
-    work_approx = *approximate;
-    work_approx.support.clear();
-    work_approx.weights.clear();
-    for (size_t n = 0; n < approximate->support.size(); ++n) {
-      const int64_t r = to_reduced[approximate->support[n]];
-      if (r >= 0) {
-        work_approx.support.push_back(r);
-        work_approx.weights.push_back(approximate->weights[n]);
-      }
-    }
-    work_approximate = &work_approx;
-    work_eligible.assign(reduced.size(), 1);
-    work_fixed.assign(reduced.size(), 0);
-    for (int64_t f : work_constraints.fixed) {
-      work_eligible[f] = 0;
-      work_fixed[f] = 1;
+      reduced = std::make_unique<internal::SubPool>(pool, keep);
+      reduced_approximate = reduced->Restrict(*approximate);
     }
   }
+  const CandidatePool& work_pool = reduced ? reduced->pool() : pool;
+  DesignConstraints work_constraints;
+  work_constraints.fixed =
+      reduced ? reduced->ToSub(constraints.fixed) : constraints.fixed;
+  const std::vector<char> work_eligible =
+      reduced ? reduced->Restrict(eligible) : eligible;
+  const std::vector<char> work_fixed =
+      reduced ? reduced->Restrict(is_fixed) : is_fixed;
+  const ApproximateDesignSummary* work_approximate =
+      reduced ? &reduced_approximate : approximate;
   std::vector<std::string> notes(options.restarts);
   RestartResult best = internal::BestOfRestarts(
       options.restarts, options.num_threads,
       [&](int r, int threads) {
         const std::vector<int64_t> initial = internal::InitialDesign(
-            *work_pool, work_constraints, work_eligible, options.num_poses,
+            work_pool, work_constraints, work_eligible, options.num_poses,
             Random::StreamSeed(options.seed, r), work_approximate, r > 0,
             threads, &notes[r]);
         if (initial.empty()) return RestartResult();
-        return FedorovRestart(*work_pool, work_eligible, work_fixed, initial,
+        return FedorovRestart(work_pool, work_eligible, work_fixed, initial,
                               options, threads);
       },
       options.progress);
   const auto restarts_done = std::chrono::steady_clock::now();
   std::string timing;
-  if (work_pool != &pool && best.ok) {
-    std::vector<int64_t> initial;
-    for (int64_t i : best.design) initial.push_back(to_full[i]);
+  if (reduced && best.ok) {
+    const std::vector<int64_t> initial = reduced->ToFull(best.design);
     RestartResult polished;
     if (options.polish_pool_size <= 0 ||
         pool.size() <= options.polish_pool_size) {
       polished = FedorovRestart(pool, eligible, is_fixed, initial, options,
                                 options.num_threads);
     } else {
-      polished = PolishInRounds(pool, eligible, constraints, initial, options);
+      polished = PolishInRounds(pool, eligible, is_fixed, initial, options);
     }
     std::vector<SelectionStep> history = best.history;
-    for (SelectionStep& step : history) {
-      if (step.added >= 0) step.added = to_full[step.added];
-      if (step.removed >= 0) step.removed = to_full[step.removed];
-    }
-    for (size_t n = 1; n < polished.history.size(); ++n) {
-      history.push_back(polished.history[n]);
+    reduced->ToFull(&history);
+    if (!polished.history.empty()) {
+      history.insert(history.end(), polished.history.begin() + 1,
+                     polished.history.end());
     }
     polished.history = std::move(history);
     polished.restart = best.restart;
     const size_t reduced_steps = best.history.size();
+    polished.hit_bound = polished.hit_bound || best.hit_bound;
     if (polished.ok) best = std::move(polished);
     std::ostringstream msg;
     msg.precision(3);
-    msg << "restarts on a reduced pool of " << reduced.size() << " poses "
+    msg << "restarts on a reduced pool of " << reduced->size() << " poses "
         << std::chrono::duration<double>(restarts_done - start).count()
         << " s, then " << best.history.size() - reduced_steps
         << (pool.size() <= options.polish_pool_size ||
@@ -690,89 +402,10 @@ bool FedorovExchange(const CandidatePool& pool,
         << " s";
     timing = msg.str();
   }
-  std::string note = NoteOf(notes, best.restart);
+  std::string note = internal::NoteOf(notes, best.restart);
   if (!timing.empty()) note = note.empty() ? timing : note + "; " + timing;
-  Finish(best, options.restarts, start, note, summary);
-  return summary->success;
-}
-
-bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
-            const DetmaxOptions& options, SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
-  if (!Prepare(pool, constraints, options, "detmax", summary, &eligible,
-               &is_fixed)) {
-    return false;
-  }
-  std::vector<std::string> notes(options.restarts);
-  const RestartResult best = internal::BestOfRestarts(
-      options.restarts, options.num_threads,
-      [&](int r, int threads) {
-        RestartResult result;
-        std::vector<int64_t> poses = internal::InitialDesign(
-            pool, constraints, eligible, options.num_poses,
-            Random::StreamSeed(options.seed, r), nullptr, false, threads,
-            &notes[r]);
-        if (poses.empty()) return result;
-        {
-          internal::DeterminantScorer start_scorer(pool, threads);
-          for (int64_t i : poses) start_scorer.Add(i);
-          result.history.push_back({"initial", -1, -1, start_scorer.Value()});
-        }
-        for (int it = 0; it < options.max_iterations; ++it) {
-          std::string kind;
-          if (!TryExcursion(pool, eligible, is_fixed, 1, options.max_excursion,
-                            options.min_improvement, threads, &poses, &kind)) {
-            break;
-          }
-          result.history.push_back(
-              {kind, -1, -1, LogDetFromScratch(pool, poses)});
-        }
-        result.design = poses;
-        result.log_det = LogDetFromScratch(pool, result.design);
-        result.ok = std::isfinite(result.log_det);
-        return result;
-      },
-      options.progress);
-  Finish(best, options.restarts, start, NoteOf(notes, best.restart), summary);
-  return summary->success;
-}
-
-bool GreedyDesign(const CandidatePool& pool,
-                  const DesignConstraints& constraints,
-                  const GreedyOptions& options, SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
-  if (!Prepare(pool, constraints, options, "greedy", summary, &eligible,
-               &is_fixed)) {
-    return false;
-  }
-  const double eps = internal::RegularisingRidge(pool);
-  Design design(pool, eps);
-  for (int64_t f : constraints.fixed) design.Add(f);
-  RestartResult result;
-  Eigen::VectorXd gains;
-  while (design.size() < options.num_poses) {
-    ComputeAddGains(pool, design.information(), options.num_threads, &gains);
-    int64_t best = -1;
-    for (int64_t i = 0; i < pool.size(); ++i) {
-      if (eligible[i] && !design.Contains(i) &&
-          (best < 0 || gains[i] > gains[best])) {
-        best = i;
-      }
-    }
-    if (best < 0) break;
-    design.Add(best);
-    result.history.push_back(
-        {"add", best, -1, LogDetFromScratch(pool, design.poses())});
-  }
-  result.design = design.poses();
-  result.log_det = LogDetFromScratch(pool, result.design);
-  result.ok = std::isfinite(result.log_det);
-  Finish(result, 1, start,
-         "ridge " + std::to_string(eps) + " while the design was singular",
-         summary);
-  return summary->success;
+  internal::FinishSummary(best, options.restarts, start, note, summary);
+  return summary->IsSolutionUsable();
 }
 
 }  // namespace activecal

@@ -70,7 +70,8 @@ bool SelectRandomDesigns(const CandidatePool& pool,
     summary->design.push_back(candidates[j]);
   }
   summary->log_det = LogDetFromScratch(pool, summary->design);
-  summary->history.push_back({"initial", -1, -1, summary->log_det});
+  summary->history.push_back(
+      {SelectionStep::kInitial, -1, -1, summary->log_det});
   summary->restarts = options.num_designs;
   summary->best_restart = best;
   if (log_dets) *log_dets = values;
@@ -86,7 +87,7 @@ bool SelectRandomDesigns(const CandidatePool& pool,
   msg << "best of " << options.num_designs << " random designs is number "
       << best;
   summary->message = msg.str();
-  summary->success = true;
+  summary->termination_type = TerminationType::CONVERGENCE;
   return true;
 }
 

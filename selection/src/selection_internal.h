@@ -4,6 +4,9 @@
 #define ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -45,7 +48,9 @@ class Scorer {
 
 class DeterminantScorer : public Scorer {
  public:
-  DeterminantScorer(const CandidatePool& pool, int num_threads);
+  // ridge > 0: scores on M + ridge I (a start that is still singular).
+  DeterminantScorer(const CandidatePool& pool, int num_threads,
+                    double ridge = 0.0);
   double Value() const override { return design_.log_det(); }
   int size() const override { return design_.size(); }
   const std::vector<int64_t>& poses() const override { return design_.poses(); }
@@ -94,14 +99,24 @@ int CompleteSingularDesign(const CandidatePool& pool,
                            const std::vector<char>& eligible, int num_threads,
                            std::vector<int64_t>* poses);
 
-// The paper's exchange step. Returns whether any swap was made.
+// The paper's exchange step: swaps while one raises log det. Returns
+// whether max_exchanges stopped it (rather than no swap helping).
 bool ExchangeStep(Scorer* scorer, const std::vector<char>& eligible,
                   const std::vector<char>& is_fixed, int max_exchanges,
                   double min_improvement, std::vector<SelectionStep>* history);
 
+// The least rise of log det a step must make to be accepted: a relative
+// threshold, rel * max(1, |log_det|), so that rounding in a log det that
+// is huge or tiny cannot pass for progress.
+inline double ImprovementThreshold(double log_det, double rel) {
+  return rel * std::max(1.0, std::abs(log_det));
+}
+
 // One restart's outcome.
 struct RestartResult {
   bool ok = false;
+  // An iteration bound stopped it (the design is still valid).
+  bool hit_bound = false;
   int restart = 0;
   std::vector<int64_t> design;
   std::vector<SelectionStep> history;
@@ -128,6 +143,51 @@ std::vector<int64_t> InitialDesign(const CandidatePool& pool,
                                    const ApproximateDesignSummary* approximate,
                                    bool randomized, int num_threads,
                                    std::string* note);
+
+// Resets the summary, checks the options and the constraints, and marks the
+// eligible and the fixed poses.
+template <typename Options>
+bool PrepareSelection(const CandidatePool& pool,
+                      const DesignConstraints& constraints,
+                      const Options& options, const char* algorithm,
+                      SelectionSummary* summary, std::vector<char>* eligible,
+                      std::vector<char>* is_fixed) {
+  *summary = SelectionSummary();
+  summary->algorithm = algorithm;
+  summary->num_parameters = pool.num_parameters();
+  summary->pool_size = pool.size();
+  std::string error;
+  if (!options.IsValid(&error) ||
+      !PrepareCandidates(pool, options.num_poses, constraints, eligible,
+                         &error)) {
+    summary->message = error;
+    return false;
+  }
+  is_fixed->assign(pool.size(), 0);
+  for (int64_t f : constraints.fixed) (*is_fixed)[f] = 1;
+  return true;
+}
+
+// The note a restart left, if any.
+inline std::string NoteOf(const std::vector<std::string>& notes, int restart) {
+  return restart < static_cast<int>(notes.size()) ? notes[restart] : "";
+}
+
+// Fills the summary from the best restart: the design, its history, the
+// termination type (FAILURE if no restart gave a design, NO_CONVERGENCE if
+// an iteration bound stopped it) and the message, with `note` appended.
+void FinishSummary(const RestartResult& best, int restarts,
+                   std::chrono::steady_clock::time_point start,
+                   const std::string& note, SelectionSummary* summary);
+
+// Tries DETMAX excursions of size min_size..max_excursion on `poses` (add k
+// best then remove k, or remove k then add k). Returns true and updates
+// poses when one raises log det (recomputed from scratch) by more than
+// ImprovementThreshold(log det, min_improvement).
+bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
+                  const std::vector<char>& is_fixed, int min_size,
+                  int max_excursion, double min_improvement, int threads,
+                  std::vector<int64_t>* poses, SelectionStep* step);
 
 }  // namespace internal
 }  // namespace activecal

@@ -1,6 +1,9 @@
 // A minimal static-partition parallel for. Each index is handled by exactly
 // one call, and work is split into contiguous ranges, so results written per
-// index do not depend on the thread count.
+// index do not depend on the thread count. The threads are kept in a pool
+// for the life of the process and reused by every call (the selection
+// loops call it once per swap); a call nested in another, or made while
+// another thread's call holds the pool, starts threads of its own.
 
 #ifndef ACTIVECAL_CORE_PARALLEL_H_
 #define ACTIVECAL_CORE_PARALLEL_H_
@@ -14,8 +17,9 @@ namespace activecal {
 // is, anything else means all hardware threads.
 int ResolveNumThreads(int num_threads);
 
-// Calls fn(begin, end, thread_id) over disjoint ranges covering [0, n).
-// Runs inline when one thread is asked for or n is small.
+// Calls fn(begin, end, thread_id) over disjoint ranges covering [0, n):
+// range t = [t * ceil(n / threads), ...) goes to thread_id t. Runs inline
+// when one thread is asked for or n is 1.
 void ParallelFor(int64_t n, int num_threads,
                  const std::function<void(int64_t, int64_t, int)>& fn);
 

@@ -56,7 +56,10 @@ struct ApproximateDesignOptions {
 };
 
 struct ApproximateDesignSummary {
-  bool success = false;
+  // CONVERGENCE: max_i d_i(w) <= p (1 + tolerance); NO_CONVERGENCE: a round
+  // or iteration bound came first (w and the bounds are still valid);
+  // FAILURE: bad input or a pool that cannot identify every parameter.
+  TerminationType termination_type = TerminationType::FAILURE;
   std::string message;
   int num_parameters = 0;
   // The design: poses with positive weight and their weights (sum 1).
@@ -72,11 +75,14 @@ struct ApproximateDesignSummary {
   int64_t inner_iterations = 0;
   double seconds = 0.0;
 
+  bool IsSolutionUsable() const {
+    return termination_type != TerminationType::FAILURE;
+  }
   std::string BriefReport() const;
 };
 
 // Solves over the pool's eligible poses (fixed poses included, excluded
-// poses left out).
+// poses left out). Returns summary->IsSolutionUsable().
 bool SolveApproximateDesign(const CandidatePool& pool,
                             const DesignConstraints& constraints,
                             const ApproximateDesignOptions& options,

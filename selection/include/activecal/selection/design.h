@@ -29,10 +29,11 @@ class Design {
   const InformationMatrix& information() const { return info_; }
   double log_det() const { return info_.log_det(); }
 
-  // Adds a pose not yet in the design.
+  // Adds a pose of the pool not yet in the design (CHECK-fails otherwise:
+  // a programmer error).
   void Add(int64_t pose);
-  // Removes a pose of the design; refused (false) if the information matrix
-  // would stop being positive definite.
+  // Removes a pose of the design (CHECK-fails for one not in it); refused
+  // (false) if the information matrix would stop being positive definite.
   bool Remove(int64_t pose);
   // Recomputes the information matrix from the design's blocks.
   void Rebuild();
@@ -73,16 +74,42 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
                        const DesignConstraints& constraints,
                        std::vector<char>* eligible, std::string* error);
 
+// How a selection algorithm ended (after Ceres' TerminationType).
+enum class TerminationType {
+  // The algorithm reached its stopping rule (a local optimum, the target
+  // size, the tolerance).
+  CONVERGENCE,
+  // An iteration bound stopped it first; the design returned is still
+  // valid (non-singular, of the requested size), only perhaps improvable.
+  NO_CONVERGENCE,
+  // Bad input or a pool that cannot identify every parameter: no design.
+  FAILURE,
+};
+const char* TerminationTypeToString(TerminationType type);
+
 // One accepted step of a selection algorithm.
 struct SelectionStep {
-  std::string kind;      // "initial", "exchange", "add", "remove", "restart"
+  enum Kind {
+    kInitial,        // the starting design
+    kExchange,       // one pose swapped for another
+    kAdd,            // one pose added
+    kExcursionUp,    // DETMAX: excursion_size poses added, then removed
+    kExcursionDown,  // DETMAX: excursion_size poses removed, then added
+  };
+  Kind kind = kInitial;
   int64_t added = -1;    // pool index, or -1
   int64_t removed = -1;  // pool index, or -1
   double log_det = 0.0;  // natural log det X^T X after the step
+  int excursion_size = 0;
+
+  // "initial", "exchange", "add", "excursion up 2", "excursion down 3":
+  // for printing, CSV and JSON.
+  std::string name() const;
 };
 
 struct SelectionSummary {
-  bool success = false;
+  TerminationType termination_type = TerminationType::FAILURE;
+  // What happened, and on FAILURE why.
   std::string message;
   std::string algorithm;
   int num_parameters = 0;
@@ -96,12 +123,17 @@ struct SelectionSummary {
   int restarts = 0;
   int best_restart = 0;
   double seconds = 0.0;
-  // Filled by CertifyDesign (certificate.h): a certified lower bound on the
-  // D-efficiency against the best possible design of the same size, and the
+  // Filled by CertifyDesign (approximate_design.h): a certified lower bound on
+  // the D-efficiency against the best possible design of the same size, and the
   // upper bound on log det it comes from. NaN when not computed.
   double efficiency_lower_bound = std::numeric_limits<double>::quiet_NaN();
   double log_det_upper_bound = std::numeric_limits<double>::quiet_NaN();
 
+  // A design was returned (CONVERGENCE or NO_CONVERGENCE): what every
+  // selection function returns.
+  bool IsSolutionUsable() const {
+    return termination_type != TerminationType::FAILURE;
+  }
   double log10_det() const { return log_det / 2.302585092994046; }
   std::string BriefReport() const;
 };

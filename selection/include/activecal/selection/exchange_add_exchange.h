@@ -42,16 +42,22 @@ enum class SelectionCriterion {
 };
 
 struct ExchangeAddExchangeOptions {
-  int num_poses = 30;        // the maximum design size n1 (fixed included)
-  int initial_poses = 12;    // the random initial design size n
-  int max_exchanges = 1000;  // per exchange step
+  int num_poses = 30;      // the maximum design size n1 (fixed included)
+  int initial_poses = 12;  // the random initial design size n
+  // Per exchange step; when reached, the summary says NO_CONVERGENCE.
+  int max_exchanges = 1000;
   // Stop adding once log det X^T X (natural log) reaches this.
   double target_log_det = std::numeric_limits<double>::infinity();
-  // A step must raise log det by more than this to count as an increase.
+  // A step must raise log det by more than
+  // min_improvement * max(1, |log det|) to count as an increase.
   double min_improvement = 1e-10;
+  // Restarts run in parallel (see BestOfRestarts); the best by log det
+  // wins, the lowest restart on ties.
   int restarts = 1;
   uint64_t seed = 1;
   int num_threads = 0;  // <= 0: all; results do not depend on it
+  // Called as restarts finish (done, total = restarts).
+  ProgressCallback progress;
   SelectionCriterion criterion = SelectionCriterion::kDeterminantUpdate;
 
   bool IsValid(std::string* error) const;

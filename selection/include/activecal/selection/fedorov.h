@@ -37,8 +37,12 @@ namespace activecal {
 struct FedorovOptions {
   int num_poses = 30;
   int restarts = 16;
-  int max_swaps = 100000;  // per restart
-  // A swap must raise log det by more than this.
+  // Swaps and excursions per restart (and per polish); when it is reached
+  // the summary says NO_CONVERGENCE. 0: no swaps (only the start).
+  int max_swaps = 100000;
+  // A swap or excursion must raise log det by more than
+  // min_improvement * max(1, |log det|) (relative: rounding in a log det
+  // of any size cannot pass for progress).
   double min_improvement = 1e-9;
   // Swaps between from-scratch refreshes of every candidate's block.
   int refresh_interval = 20;
@@ -46,16 +50,21 @@ struct FedorovOptions {
   // are tried, and swapping resumes after one succeeds (< 2: none).
   int max_excursion = 2;
   // With an approximate design, restarts swap first within a reduced pool
-  // of this many poses (those of largest variance under the approximate
-  // design, plus its support); the best result is then polished by swaps
-  // over the whole pool. <= 0: always the whole pool.
+  // of max(reduced_pool_size, reduced_pool_per_pose * num_poses) poses
+  // (those of largest variance under the approximate design, plus its
+  // support and the fixed poses) when the pool is larger than that; the
+  // best result is then polished by swaps over the whole pool.
+  // reduced_pool_size <= 0: always the whole pool.
   int64_t reduced_pool_size = 3000;
+  int64_t reduced_pool_per_pose = 40;
   // The polish swaps over the whole pool when it has at most this many
   // poses. A larger pool is polished in rounds over this many poses of
   // largest variance under the current design (re-ranked after each
-  // round, until a round makes no swap): not a proof of local optimality
-  // over every pose, which the efficiency certificate makes up for.
+  // round), until a round makes no swap or max_polish_rounds rounds have
+  // run (then NO_CONVERGENCE): not a proof of local optimality over every
+  // pose, which the efficiency certificate makes up for.
   int64_t polish_pool_size = 20000;
+  int max_polish_rounds = 8;
   // Scan the weakest design poses against the strongest candidates first
   // (KL exchange) and all pairs only when that finds no improving swap.
   bool kl_exchange = true;
@@ -68,6 +77,7 @@ struct FedorovOptions {
 };
 
 // `approximate` (may be null): the restarts start from its roundings.
+// Every function here returns summary->IsSolutionUsable().
 bool FedorovExchange(const CandidatePool& pool,
                      const DesignConstraints& constraints,
                      const FedorovOptions& options,
@@ -77,7 +87,9 @@ bool FedorovExchange(const CandidatePool& pool,
 struct DetmaxOptions {
   int num_poses = 30;
   int max_excursion = 4;
+  // Excursions per restart; when reached, NO_CONVERGENCE.
   int max_iterations = 10000;
+  // Relative, as FedorovOptions::min_improvement.
   double min_improvement = 1e-9;
   int restarts = 4;
   uint64_t seed = 1;

@@ -1,0 +1,50 @@
+// Greedy: add the best pose until the design has num_poses.
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "activecal/selection/criteria.h"
+#include "activecal/selection/fedorov.h"
+#include "selection_internal.h"
+
+namespace activecal {
+
+bool GreedyOptions::IsValid(std::string* error) const {
+  if (num_poses > 0) return true;
+  if (error) *error = "num_poses must be > 0, got " + std::to_string(num_poses);
+  return false;
+}
+
+bool GreedyDesign(const CandidatePool& pool,
+                  const DesignConstraints& constraints,
+                  const GreedyOptions& options, SelectionSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<char> eligible, is_fixed;
+  if (!internal::PrepareSelection(pool, constraints, options, "greedy", summary,
+                                  &eligible, &is_fixed)) {
+    return false;
+  }
+  const double eps = internal::RegularisingRidge(pool);
+  internal::DeterminantScorer design(pool, options.num_threads, eps);
+  for (int64_t f : constraints.fixed) design.Add(f);
+  internal::RestartResult result;
+  while (design.size() < options.num_poses) {
+    int64_t best;
+    double value;
+    if (!design.BestAddition(eligible, &best, &value)) break;
+    design.Add(best);
+    result.history.push_back({SelectionStep::kAdd, best, -1,
+                              LogDetFromScratch(pool, design.poses())});
+  }
+  result.design = design.poses();
+  result.log_det = LogDetFromScratch(pool, result.design);
+  result.ok = std::isfinite(result.log_det);
+  internal::FinishSummary(
+      result, 1, start,
+      "ridge " + std::to_string(eps) + " while the design was singular",
+      summary);
+  return summary->IsSolutionUsable();
+}
+
+}  // namespace activecal
