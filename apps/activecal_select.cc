@@ -301,7 +301,7 @@ int Main() {
                            approx.log_det_upper_bound / std::log(10.0)},
                           {"tolerance", FLAGS_approx_tolerance},
                           {"converged", approx.termination_type ==
-                                            TerminationType::CONVERGENCE}};
+                                            TerminationType::kConvergence}};
     }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }

@@ -44,8 +44,8 @@ CandidatePool PlanarPool() {
   std::string error;
   EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error)) << error;
   RowMatrixXd stacked;
-  EXPECT_TRUE(PoolPositionJacobians(m, m.nominal, lattice.AllJointValues(),
-                                    PoolJacobianOptions(), &stacked, &error))
+  EXPECT_TRUE(PoolJacobians(m, m.nominal, lattice.AllJointValues(),
+                            PoolJacobianOptions(), &stacked, &error))
       << error;
   CandidatePool pool;
   EXPECT_TRUE(CandidatePool::Create(std::move(stacked), 3, &pool, &error));
@@ -221,7 +221,7 @@ TEST(ExchangeLoopsTest, EndOnANearlyUnidentifiablePool) {
   fo.restarts = 8;
   SelectionSummary s;
   EXPECT_FALSE(FedorovExchange(singular, {}, fo, nullptr, &s));
-  EXPECT_EQ(s.termination_type, TerminationType::FAILURE) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::kFailure) << s.message;
 }
 
 TEST_F(DesignAlgorithmsTest, IterationBoundsGiveNoConvergenceAndAValidDesign) {
@@ -231,7 +231,7 @@ TEST_F(DesignAlgorithmsTest, IterationBoundsGiveNoConvergenceAndAValidDesign) {
   fo.max_swaps = 1;
   SelectionSummary s;
   ASSERT_TRUE(FedorovExchange(*puma_, {}, fo, nullptr, &s)) << s.message;
-  EXPECT_EQ(s.termination_type, TerminationType::NO_CONVERGENCE) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::kNoConvergence) << s.message;
   EXPECT_NE(s.message.find("iteration bound"), std::string::npos);
   EXPECT_EQ(s.design.size(), 20u);
   EXPECT_TRUE(std::isfinite(s.log_det));
@@ -240,11 +240,11 @@ TEST_F(DesignAlgorithmsTest, IterationBoundsGiveNoConvergenceAndAValidDesign) {
   d.restarts = 1;
   d.max_iterations = 1;
   ASSERT_TRUE(Detmax(*puma_, {}, d, &s)) << s.message;
-  EXPECT_EQ(s.termination_type, TerminationType::NO_CONVERGENCE) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::kNoConvergence) << s.message;
   EXPECT_EQ(s.design.size(), 20u);
   fo.max_swaps = 100000;
   ASSERT_TRUE(FedorovExchange(*puma_, {}, fo, nullptr, &s)) << s.message;
-  EXPECT_EQ(s.termination_type, TerminationType::CONVERGENCE) << s.message;
+  EXPECT_EQ(s.termination_type, TerminationType::kConvergence) << s.message;
 }
 
 // Issue #15 (4): a singular start with initial_poses == num_poses is

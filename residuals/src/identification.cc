@@ -21,20 +21,6 @@ namespace {
 constexpr double kNoEffectTolerance = 1e-12;
 }  // namespace
 
-const char* TerminationTypeToString(TerminationType type) {
-  switch (type) {
-    case TerminationType::kConvergence:
-      return "CONVERGENCE";
-    case TerminationType::kNoConvergence:
-      return "NO_CONVERGENCE";
-    case TerminationType::kFailure:
-      return "FAILURE";
-    case TerminationType::kUserFailure:
-      return "USER_FAILURE";
-  }
-  return "UNKNOWN";
-}
-
 const char* RobustLossName(RobustLoss loss) {
   switch (loss) {
     case RobustLoss::kNone:

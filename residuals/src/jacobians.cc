@@ -240,14 +240,4 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
   return true;
 }
 
-bool PoolPositionJacobians(const RobotModel& model,
-                           const Eigen::VectorXd& parameters,
-                           const Eigen::MatrixXd& joints,
-                           const PoolJacobianOptions& options,
-                           RowMatrixXd* stacked, std::string* error) {
-  PoolJacobianOptions position = options;
-  position.type = MeasurementType::kPosition;
-  return PoolJacobians(model, parameters, joints, position, stacked, error);
-}
-
 }  // namespace activecal

@@ -319,9 +319,9 @@ bool SolveApproximateDesign(const CandidatePool& pool,
       << summary->support.size() << " support poses after " << summary->rounds
       << " rounds, " << summary->inner_iterations << " inner iterations";
   summary->termination_type = summary->max_variance <= target
-                                  ? TerminationType::CONVERGENCE
-                                  : TerminationType::NO_CONVERGENCE;
-  if (summary->termination_type != TerminationType::CONVERGENCE) {
+                                  ? TerminationType::kConvergence
+                                  : TerminationType::kNoConvergence;
+  if (summary->termination_type != TerminationType::kConvergence) {
     msg << "; tolerance not reached within the round bound (bounds still "
            "hold)";
   }

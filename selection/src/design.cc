@@ -170,18 +170,6 @@ std::string SelectionStep::name() const {
   return "unknown";
 }
 
-const char* TerminationTypeToString(TerminationType type) {
-  switch (type) {
-    case TerminationType::CONVERGENCE:
-      return "CONVERGENCE";
-    case TerminationType::NO_CONVERGENCE:
-      return "NO_CONVERGENCE";
-    case TerminationType::FAILURE:
-      return "FAILURE";
-  }
-  return "UNKNOWN";
-}
-
 std::string SelectionSummary::BriefReport() const {
   std::ostringstream out;
   out << "activecal selection (" << algorithm

@@ -87,7 +87,7 @@ bool SelectRandomDesigns(const CandidatePool& pool,
   msg << "best of " << options.num_designs << " random designs is number "
       << best;
   summary->message = msg.str();
-  summary->termination_type = TerminationType::CONVERGENCE;
+  summary->termination_type = TerminationType::kConvergence;
   return true;
 }
 

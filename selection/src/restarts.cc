@@ -138,9 +138,9 @@ void FinishSummary(const RestartResult& best, int restarts,
   summary->seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
-  summary->termination_type = !best.ok         ? TerminationType::FAILURE
-                              : best.hit_bound ? TerminationType::NO_CONVERGENCE
-                                               : TerminationType::CONVERGENCE;
+  summary->termination_type = !best.ok         ? TerminationType::kFailure
+                              : best.hit_bound ? TerminationType::kNoConvergence
+                                               : TerminationType::kConvergence;
   std::ostringstream msg;
   if (best.ok) {
     msg << best.design.size() << " poses, " << best.history.size() - 1

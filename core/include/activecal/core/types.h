@@ -18,6 +18,39 @@ using RowMatrixXd =
 // be thread-safe; it never changes a result. Empty: no reports.
 using ProgressCallback = std::function<void(int64_t done, int64_t total)>;
 
+// How an algorithm ended (after Ceres' TerminationType), in every Summary
+// of the library: identification, Monte Carlo, every selection algorithm
+// and the approximate design.
+enum class TerminationType {
+  // The algorithm reached its stopping rule (converged, a local optimum,
+  // the tolerance); its results are complete.
+  kConvergence,
+  // An iteration bound stopped it first: the result returned is valid but
+  // perhaps improvable (selection: a non-singular design of the requested
+  // size; identification: the estimates so far, no covariance).
+  kNoConvergence,
+  // Valid input that cannot give an answer: too few equations,
+  // unidentifiable parameters, a singular pool, a failed covariance.
+  kFailure,
+  // Invalid input: options, model, initial values, a measurement.
+  kUserFailure,
+};
+
+// "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE".
+inline const char* TerminationTypeToString(TerminationType type) {
+  switch (type) {
+    case TerminationType::kConvergence:
+      return "CONVERGENCE";
+    case TerminationType::kNoConvergence:
+      return "NO_CONVERGENCE";
+    case TerminationType::kFailure:
+      return "FAILURE";
+    case TerminationType::kUserFailure:
+      return "USER_FAILURE";
+  }
+  return "UNKNOWN";
+}
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CORE_TYPES_H_

@@ -30,23 +30,9 @@
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/simulation.h"
+#include "activecal/core/types.h"
 
 namespace activecal {
-
-// How an identification (or a Monte Carlo run) ended, after Ceres'
-// TerminationType. Only kConvergence comes with standard deviations.
-enum class TerminationType {
-  kConvergence,    // converged; estimates, std, covariance are set
-  kNoConvergence,  // the solver stopped at max_num_iterations; estimates so
-                   // far, no covariance
-  kFailure,        // valid input that cannot answer: too few equations,
-                   // unidentifiable parameters, 0 degrees of freedom, the
-                   // covariance failed, non-finite estimates
-  kUserFailure,    // invalid input: options, model, initial values or a
-                   // measurement
-};
-// "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE".
-const char* TerminationTypeToString(TerminationType type);
 
 enum class RobustLoss {
   kNone,    // plain least squares

@@ -62,15 +62,6 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
                    const PoolJacobianOptions& options, RowMatrixXd* stacked,
                    std::string* error);
 
-// PoolJacobians for position measurements (options.type is ignored).
-// Deprecated: use PoolJacobians or BuildCandidatePool (pool_builder.h).
-// Kept only while tests/design_algorithms_test.cc still calls it.
-bool PoolPositionJacobians(const RobotModel& model,
-                           const Eigen::VectorXd& parameters,
-                           const Eigen::MatrixXd& joints,
-                           const PoolJacobianOptions& options,
-                           RowMatrixXd* stacked, std::string* error);
-
 }  // namespace activecal
 
 #endif  // ACTIVECAL_RESIDUALS_JACOBIANS_H_

@@ -59,7 +59,7 @@ struct ApproximateDesignSummary {
   // CONVERGENCE: max_i d_i(w) <= p (1 + tolerance); NO_CONVERGENCE: a round
   // or iteration bound came first (w and the bounds are still valid);
   // FAILURE: bad input or a pool that cannot identify every parameter.
-  TerminationType termination_type = TerminationType::FAILURE;
+  TerminationType termination_type = TerminationType::kFailure;
   std::string message;
   int num_parameters = 0;
   // The design: poses with positive weight and their weights (sum 1).
@@ -76,7 +76,7 @@ struct ApproximateDesignSummary {
   double seconds = 0.0;
 
   bool IsSolutionUsable() const {
-    return termination_type != TerminationType::FAILURE;
+    return termination_type != TerminationType::kFailure;
   }
   std::string BriefReport() const;
 };

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/types.h"
 #include "activecal/selection/information_matrix.h"
 
 namespace activecal {
@@ -74,19 +75,6 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
                        const DesignConstraints& constraints,
                        std::vector<char>* eligible, std::string* error);
 
-// How a selection algorithm ended (after Ceres' TerminationType).
-enum class TerminationType {
-  // The algorithm reached its stopping rule (a local optimum, the target
-  // size, the tolerance).
-  CONVERGENCE,
-  // An iteration bound stopped it first; the design returned is still
-  // valid (non-singular, of the requested size), only perhaps improvable.
-  NO_CONVERGENCE,
-  // Bad input or a pool that cannot identify every parameter: no design.
-  FAILURE,
-};
-const char* TerminationTypeToString(TerminationType type);
-
 // One accepted step of a selection algorithm.
 struct SelectionStep {
   enum Kind {
@@ -108,7 +96,7 @@ struct SelectionStep {
 };
 
 struct SelectionSummary {
-  TerminationType termination_type = TerminationType::FAILURE;
+  TerminationType termination_type = TerminationType::kFailure;
   // What happened, and on FAILURE why.
   std::string message;
   std::string algorithm;
@@ -132,7 +120,7 @@ struct SelectionSummary {
   // A design was returned (CONVERGENCE or NO_CONVERGENCE): what every
   // selection function returns.
   bool IsSolutionUsable() const {
-    return termination_type != TerminationType::FAILURE;
+    return termination_type != TerminationType::kFailure;
   }
   double log10_det() const { return log_det / 2.302585092994046; }
   std::string BriefReport() const;
