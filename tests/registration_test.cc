@@ -16,6 +16,8 @@
 #include "activecal/core/simulation.h"
 #include "activecal/core/urdf_robot.h"
 #include "activecal/residuals/identification.h"
+#include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/parameter_reduction.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -182,6 +184,106 @@ TEST(ParameterSetTest, GenericPointMovesOnlyFreeMarkerParameters) {
       EXPECT_EQ(g[i], m.nominal[i]) << m.ParameterNames()[i];
     }
   }
+}
+
+}  // namespace
+}  // namespace activecal
+
+namespace activecal {
+namespace {
+
+TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
+  // Columns: a, b, 2a - b (a combination), 0 (no effect), c.
+  RobotModel m = testing::UrdfStyleModel();
+  for (Link& l : m.links) l.free.fill(false);
+  m.markers[0].free.fill(false);
+  m.markers[1].free.fill(false);
+  m.base.free = {true, true, true, true, true, false};
+  Random random(3);
+  Eigen::MatrixXd J(12, 5);
+  for (int r = 0; r < 12; ++r) {
+    J(r, 0) = random.Gaussian();
+    J(r, 1) = random.Gaussian();
+    J(r, 4) = random.Gaussian();
+  }
+  J.col(2) = 2 * J.col(0) - J.col(1);
+  J.col(3).setZero();
+  std::vector<DroppedParameter> dropped;
+  RobotModel reduced = m;
+  EXPECT_EQ(ReduceToIdentifiable(&reduced, J, 1e-7, &dropped), 3);
+  ASSERT_EQ(dropped.size(), 2u);
+  EXPECT_EQ(dropped[0].name, "B.z");
+  EXPECT_NE(dropped[0].reason.find("a combination of B.x, B.y"),
+            std::string::npos)
+      << dropped[0].reason;
+  EXPECT_EQ(dropped[1].name, "B.rx");
+  EXPECT_EQ(dropped[1].reason, "has no effect on these measurements");
+  EXPECT_EQ(reduced.FreeParameterNames(),
+            (std::vector<std::string>{"B.x", "B.y", "B.ry"}));
+  // A weak but real direction stays: B.z is kept, and then B.ry, which
+  // now closes the combination, is the one held.
+  J.col(2) += 1e-4 * J.col(4);
+  reduced = m;
+  EXPECT_EQ(ReduceToIdentifiable(&reduced, J, 1e-7, &dropped), 3);
+  EXPECT_EQ(reduced.FreeParameterNames(),
+            (std::vector<std::string>{"B.x", "B.y", "B.z"}));
+  ASSERT_EQ(dropped.size(), 2u);
+  EXPECT_EQ(dropped[1].name, "B.ry");
+  EXPECT_EQ(dropped[1].reason.rfind("a combination of B.z", 0), 0u)
+      << dropped[1].reason;
+}
+
+TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {
+  RobotDescription robot;
+  UrdfChainOptions chain;
+  chain.tip_link = "tool0";
+  std::string error;
+  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10e.urdf",
+                            chain, &robot, &error))
+      << error;
+  RobotModel model = robot.model;
+  Random random(8);
+  std::vector<Measurement> plan(40);
+  for (Measurement& m : plan) {
+    m.type = MeasurementType::kPosition;
+    m.joints = Eigen::VectorXd(6);
+    for (int j = 0; j < 6; ++j) m.joints[j] = 2.5 * (2 * random.Uniform() - 1);
+  }
+  Eigen::VectorXd point = model.nominal;
+  std::vector<DroppedParameter> dropped;
+  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, plan, 1.0, &model,
+                                         &point, &dropped, &error))
+      << error;
+  // Position measurements of one point on a 6R arm: base (6) and marker
+  // point (3) stay; the first joint's origin and offset go to the base; the
+  // last joint's offset turns the point about the last axis, which the
+  // marker's own x and y do too.
+  for (const char* name :
+       {"B.x", "B.y", "B.z", "B.rx", "B.ry", "B.rz", "tool.x", "tool.y",
+        "tool.z", "wrist_2_joint.offset"}) {
+    EXPECT_TRUE(model.IsFree(model.ParameterIndex(name))) << name;
+  }
+  for (const char* name :
+       {"shoulder_pan_joint.offset", "shoulder_pan_joint.x",
+        "shoulder_pan_joint.rz", "wrist_3_joint.offset", "tool.rx"}) {
+    EXPECT_FALSE(model.IsFree(model.ParameterIndex(name))) << name;
+  }
+  for (const DroppedParameter& d : dropped) {
+    if (d.name == "wrist_3_joint.offset") {
+      EXPECT_NE(d.reason.find("tool.x"), std::string::npos) << d.reason;
+    }
+    if (d.name == "shoulder_pan_joint.offset") {
+      EXPECT_NE(d.reason.find("B.rz"), std::string::npos) << d.reason;
+    }
+  }
+  // What is left is identifiable at the point the analysis used.
+  Eigen::MatrixXd J;
+  ASSERT_TRUE(StackedJacobian(model, point, plan, 1.0, &J, &error)) << error;
+  EXPECT_TRUE(AnalyzeIdentifiability(model, J).identifiable());
+  // The marker moved off its guess by about 1 mm, nothing else did.
+  const int tool = model.block_offset(model.marker_block(0));
+  EXPECT_GT(point.segment(tool, 3).norm(), 1e-5);
+  EXPECT_EQ(point.head(tool), robot.model.nominal.head(tool));
 }
 
 }  // namespace

@@ -14,6 +14,8 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebI
   -DACTIVECAL_BUILD_TESTS=OFF -DACTIVECAL_BUILD_BENCHMARKS=OFF \
   -DACTIVECAL_INSTALL=OFF >/dev/null
 cmake --build "$build" -j "${JOBS:-$(nproc)}" >/dev/null
+# Leaks inside urdfdom itself are suppressed (lsan.supp says which).
+export LSAN_OPTIONS="suppressions=$here/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 for target in robot_yaml poses_csv measurements_csv urdf frames_yaml; do
   fuzzer="$build/tests/fuzz/fuzz_$target"
   regressions="$here/regressions/$target"

@@ -41,11 +41,12 @@ void ApplyParameterSet(ParameterSet set, bool with_orientation,
 // A generic point near `parameters` for identifiability analysis: every
 // free marker parameter moved by a fixed pseudo-random amount (seeded, the
 // same on every platform) of 1 mm (points) or 1 mrad (angles) times a
-// standard normal draw. A marker guessed exactly on the last joint's axis
-// (or at the tip frame's origin) makes the last offset look unidentifiable,
-// which it is not on a real end effector; the robot's own geometry is left
-// as it is, so designed symmetries (parallel axes) keep the redundancies
-// they really cause.
+// standard normal draw. A marker guessed at the tip frame's origin sits on
+// the last joint's axis and at its origin, where that joint's rotation
+// corrections do not move it: at the guess they would look like they have
+// no effect, which they do on a real end effector. The robot's own geometry
+// is left as it is, so designed symmetries (parallel axes) keep the
+// redundancies they really cause.
 Eigen::VectorXd GenericPoint(const RobotModel& model,
                              const Eigen::VectorXd& parameters);
 
