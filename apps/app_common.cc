@@ -147,6 +147,16 @@ RobotDescription LoadRobotOrDie() {
   if (!LoadRobot(FLAGS_robot, options, &robot, &error)) {
     Fail("--robot: " + error);
   }
+  if (IsUrdfPath(FLAGS_robot)) {
+    // The CSV files name joints q1..qn in chain order: say which is which.
+    std::string names;
+    for (int j = 0; j < robot.model.num_joints(); ++j) {
+      names += (j ? ", " : "") + std::string("q") + std::to_string(j + 1) +
+               " " + robot.model.links[j].name;
+    }
+    std::printf("robot '%s': %d joints: %s\n", robot.model.name.c_str(),
+                robot.model.num_joints(), names.c_str());
+  }
   return robot;
 }
 
