@@ -217,8 +217,14 @@ int Main() {
   if (FLAGS_register_base && model.base.convention == LinkConvention::kFrame) {
     RegistrationSummary registration;
     registered = RegisterBaseFrame(model, training, &initial, &registration);
+    if (!registered) {
+      app::Fail(registration.message +
+                " (or give the base in a --frames file and pass "
+                "--register_base=false)");
+    }
     std::printf("  %s\n", registration.message.c_str());
   }
+  const Eigen::VectorXd registered_start = initial;
 
   // Identifiability before solving. A named set is reduced to what the
   // data separate, in a stated priority order, analysed at a generic point
@@ -272,10 +278,10 @@ int Main() {
   if (summary.termination_type != TerminationType::kConvergence) {
     app::Fail("identification failed: " + summary.message);
   }
-  // "Nominal" errors are those of the starting model: the nominal geometry,
-  // registered to the device when the base was registered.
+  // "Nominal" errors are those of the nominal geometry, registered to the
+  // device when the base was registered.
   const ValidationErrors validation_errors =
-      Validate(model, initial, summary.parameters, validation);
+      Validate(model, registered_start, summary.parameters, validation);
 
   const bool has_truth = robot.true_parameters.size() == model.num_parameters();
   const std::vector<int> free = model.FreeParameterIndices();

@@ -168,10 +168,20 @@ TEST(ModelConventionsTest, RpyRoundTripIncludingGimbalLock) {
     const Eigen::Vector3d back = RotationToRpy(R);
     EXPECT_LT((Rpy(back[0], back[1], back[2]) - R).norm(), 1e-12);
   }
-  for (double pitch : {M_PI / 2, -M_PI / 2}) {
-    const Eigen::Matrix3d R = Rpy(0.3, pitch, -0.7);
-    const Eigen::Vector3d back = RotationToRpy(R);
-    EXPECT_LT((Rpy(back[0], back[1], back[2]) - R).norm(), 1e-12);
+  // At and near gimbal lock, where the small entries R21, R22 carry the
+  // roll: 1.57079632679 is a common way to write pi/2 in a URDF.
+  for (double sign : {1.0, -1.0}) {
+    for (double gap : {0.0, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-6,
+                       M_PI / 2 - 1.57079632679}) {
+      for (int trial = 0; trial < 20; ++trial) {
+        const double r = M_PI * (2 * random.Uniform() - 1);
+        const double y = M_PI * (2 * random.Uniform() - 1);
+        const Eigen::Matrix3d R = Rpy(r, sign * (M_PI / 2 - gap), y);
+        const Eigen::Vector3d back = RotationToRpy(R);
+        EXPECT_LT((Rpy(back[0], back[1], back[2]) - R).norm(), 1e-14)
+            << "gap " << gap;
+      }
+    }
   }
 }
 
@@ -261,6 +271,25 @@ TEST(FramesFileTest, RoundTripAndMarkerList) {
       back.model
           .nominal[back.model.block_offset(back.model.marker_block(2)) + 4],
       M_PI);
+}
+
+TEST(FramesFileTest, TrueMarkerValuesStayWithoutAMarkerList) {
+  RobotDescription robot;
+  robot.model = testing::UrdfStyleModel();
+  robot.true_parameters = robot.model.nominal;
+  robot.true_parameters.tail(12).setConstant(0.07);
+  const Eigen::VectorXd truth = robot.true_parameters;
+  std::string error;
+  ASSERT_TRUE(
+      ParseFramesFile("base: {xyz: [1, 2, 3]}\n", "f.yaml", &robot, &error))
+      << error;
+  EXPECT_EQ(robot.true_parameters.tail(12), truth.tail(12));
+  EXPECT_EQ(robot.true_parameters.head(3), Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(robot.model.nominal.head(3), Eigen::Vector3d(1, 2, 3));
+  // A base takes no name.
+  EXPECT_FALSE(ParseFramesFile("base: {name: b, xyz: [1, 2, 3]}\n", "f.yaml",
+                               &robot, &error));
+  EXPECT_NE(error.find("base.name: unknown field"), std::string::npos) << error;
 }
 
 TEST(FramesFileTest, BadFramesAreNamed) {

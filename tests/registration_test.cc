@@ -52,6 +52,11 @@ TEST(RegistrationTest, RigidTransformRecoversAKnownFrame) {
   }
   EXPECT_FALSE(RigidTransformBetween(line, image, &R_fit, &t_fit, &error));
   EXPECT_NE(error.find("lie on a line"), std::string::npos) << error;
+  // Spread predictions, measured points all in one place.
+  std::vector<Eigen::Vector3d> same(a.size(), Eigen::Vector3d(1, 2, 3));
+  EXPECT_FALSE(RigidTransformBetween(a, same, &R_fit, &t_fit, &error));
+  EXPECT_NE(error.find("the measured points lie on a line"), std::string::npos)
+      << error;
   a.resize(2);
   b.resize(2);
   EXPECT_FALSE(RigidTransformBetween(a, b, &R_fit, &t_fit, &error));

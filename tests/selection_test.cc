@@ -2,7 +2,9 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -297,6 +299,29 @@ TEST(ParallelForTest, PoolCoversEveryIndexOnceNestedAndConcurrent) {
   std::thread other([&] { check(3); });
   check(2);
   other.join();
+}
+
+// An exception in any part reaches the caller after every part has
+// finished (no thread left on a dead stack; ASan checks that), and the pool
+// works afterwards.
+TEST(ParallelForTest, ExceptionsReachTheCallerAfterEveryPartEnds) {
+  for (int thrower : {0, 1}) {
+    std::vector<int> done(4, 0);
+    EXPECT_THROW(ParallelFor(4, 4,
+                             [&](int64_t b, int64_t, int t) {
+                               if (t == thrower) throw std::runtime_error("x");
+                               std::this_thread::sleep_for(
+                                   std::chrono::milliseconds(20));
+                               done[b] = 1;
+                             }),
+                 std::runtime_error);
+    EXPECT_EQ(std::count(done.begin(), done.end(), 1), 3);
+  }
+  std::vector<int> hits(100, 0);
+  ParallelFor(100, 4, [&](int64_t b, int64_t e, int) {
+    for (int64_t i = b; i < e; ++i) ++hits[i];
+  });
+  EXPECT_EQ(std::count(hits.begin(), hits.end(), 1), 100);
 }
 
 TEST_F(SelectionTest, BadRequestsGiveMessages) {

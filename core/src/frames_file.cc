@@ -59,6 +59,7 @@ class FramesParser {
       }
       Eigen::Vector3d xyz, rpy;
       if (!Pose(base, "base", scale, &xyz, &rpy)) return false;
+      if (!Keys(base, "base", {"xyz", "rpy"})) return false;
       head.head(3) = xyz;
       head.segment(3, 3) = rpy;
       if (has_truth) truth_head.head(6) = head.head(6);
@@ -99,12 +100,19 @@ class FramesParser {
         marker_values.segment(kMarkerBlockSize * k + 3, 3) = rpy;
       }
     }
+    // The true marker values stay the robot file's unless the frames file
+    // lists the markers (then they are its values: it has no true ones).
+    const Eigen::VectorXd truth_markers =
+        root["markers"] || !has_truth
+            ? marker_values
+            : Eigen::VectorXd(robot->true_parameters.tail(m.num_parameters() -
+                                                          head.size()));
     m.markers = markers;
     m.nominal.resize(head.size() + marker_values.size());
     m.nominal << head, marker_values;
     if (has_truth) {
       robot->true_parameters.resize(m.nominal.size());
-      robot->true_parameters << truth_head, marker_values;
+      robot->true_parameters << truth_head, truth_markers;
     }
     std::string why;
     if (!m.Validate(&why)) return Fail(root.Mark(), "", why);
@@ -160,7 +168,6 @@ class FramesParser {
     if (!node.IsMap()) {
       return Fail(node.Mark(), field, "expected {xyz: [..], rpy: [..]}");
     }
-    if (!Keys(node, field, {"name", "xyz", "rpy"})) return false;
     xyz->setZero();
     rpy->setZero();
     if (node["xyz"] && !Triple(node["xyz"], field + ".xyz", xyz)) return false;

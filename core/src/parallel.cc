@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -9,9 +10,11 @@
 namespace activecal {
 namespace {
 
-// Set in the threads of the pool: a ParallelFor inside one does not wait
-// for the pool it runs on.
+// Set in the threads of the pool, and in a caller while it runs its share
+// of a pool job: a ParallelFor inside either does not wait for the pool it
+// runs on (and never locks the run mutex its own thread may hold).
 thread_local bool tl_in_pool_worker = false;
+thread_local bool tl_owns_pool = false;
 
 // Threads kept for the life of the process; Run hands them one job at a
 // time. Created on first use and never destroyed (no static destructor to
@@ -93,24 +96,36 @@ void ParallelFor(int64_t n, int num_threads,
   // Static partition: thread t gets [t * chunk, (t + 1) * chunk) whoever
   // runs it, so results written per index do not depend on the threads.
   const int64_t chunk = (n + threads - 1) / threads;
+  // An exception in any part is kept (the first one) and rethrown once every
+  // part has finished, so no thread is left running on a dead stack.
+  std::mutex error_mutex;
+  std::exception_ptr error;
   const auto run_part = [&](int t) {
-    const int64_t begin = std::min(n, t * chunk);
-    const int64_t end = std::min(n, begin + chunk);
-    fn(begin, end, t);
+    try {
+      const int64_t begin = std::min(n, t * chunk);
+      const int64_t end = std::min(n, begin + chunk);
+      fn(begin, end, t);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
   };
   WorkerPool& pool = Pool();
   std::unique_lock<std::mutex> owner(pool.run_mutex(), std::defer_lock);
-  if (!tl_in_pool_worker && owner.try_lock()) {
+  if (!tl_in_pool_worker && !tl_owns_pool && owner.try_lock()) {
+    tl_owns_pool = true;
     pool.Run(threads, run_part);
-    return;
+    tl_owns_pool = false;
+  } else {
+    // Nested in a pool job, or the pool busy with another caller's loop:
+    // threads of our own, as many as asked.
+    std::vector<std::thread> workers;
+    workers.reserve(threads - 1);
+    for (int t = 1; t < threads; ++t) workers.emplace_back(run_part, t);
+    run_part(0);
+    for (std::thread& w : workers) w.join();
   }
-  // Nested in a pool job, or the pool busy with another caller's loop:
-  // threads of our own, as many as asked.
-  std::vector<std::thread> workers;
-  workers.reserve(threads - 1);
-  for (int t = 1; t < threads; ++t) workers.emplace_back(run_part, t);
-  run_part(0);
-  for (std::thread& w : workers) w.join();
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace activecal

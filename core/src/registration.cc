@@ -26,16 +26,19 @@ bool RigidTransformBetween(const std::vector<Eigen::Vector3d>& from,
     a.col(i) = from[i];
     b.col(i) = to[i];
   }
-  // The spread of the points: a frame needs them off a line.
-  const Eigen::Vector3d mean = a.rowwise().mean();
-  const Eigen::Matrix3Xd centred = a.colwise() - mean;
-  const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(centred);
-  const Eigen::Vector3d s = svd.singularValues();
-  if (!(s[1] > 1e-6 * std::max(1.0, s[0]))) {
+  // The spread of both point sets: a frame needs them off a line.
+  auto off_a_line = [](const Eigen::Matrix3Xd& p) {
+    const Eigen::Matrix3Xd centred = p.colwise() - p.rowwise().mean();
+    const Eigen::Vector3d s =
+        Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
+    return s[1] > 1e-6 * std::max(1.0, s[0]);
+  };
+  if (!off_a_line(a) || !off_a_line(b)) {
     if (error) {
-      *error =
-          "registration: the measured points lie on a line (or coincide): "
-          "they cannot fix the device's frame; measure poses spread in space";
+      *error = std::string("registration: the ") +
+               (off_a_line(a) ? "measured" : "predicted") +
+               " points lie on a line (or coincide): they cannot fix the "
+               "device's frame; measure poses spread in space";
     }
     return false;
   }

@@ -398,14 +398,18 @@ bool RobotModel::CheckJointValues(const Eigen::VectorXd& q,
 }
 
 Eigen::Vector3d RotationToRpy(const Eigen::Matrix3d& R) {
+  // Yaw first (at gimbal lock only yaw -+ roll is defined: roll = 0), then
+  // roll and pitch from Rz(-yaw) R = Ry(pitch) Rx(roll), whose entries stay
+  // well conditioned near pitch = +-pi/2 (atan2 of the small entries
+  // R21, R22 alone would turn their rounding into radian-size errors).
   const double cp = std::hypot(R(0, 0), R(1, 0));
-  const double pitch = std::atan2(-R(2, 0), cp);
-  if (cp < 1e-12) {
-    // Gimbal lock: only yaw - roll (pitch > 0) or yaw + roll is defined.
-    return Eigen::Vector3d(0.0, pitch, std::atan2(-R(0, 1), R(1, 1)));
-  }
-  return Eigen::Vector3d(std::atan2(R(2, 1), R(2, 2)), pitch,
-                         std::atan2(R(1, 0), R(0, 0)));
+  const double yaw =
+      cp < 1e-15 ? std::atan2(-R(0, 1), R(1, 1)) : std::atan2(R(1, 0), R(0, 0));
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double roll =
+      std::atan2(s * R(0, 2) - c * R(1, 2), c * R(1, 1) - s * R(0, 1));
+  const double pitch = std::atan2(-R(2, 0), c * R(0, 0) + s * R(1, 0));
+  return Eigen::Vector3d(roll, pitch, yaw);
 }
 
 Eigen::VectorXd ExtractFree(const RobotModel& model,

@@ -134,13 +134,20 @@ bool ApplyAndReduceParameterSet(ParameterSet set,
     return false;
   }
   if (set == ParameterSet::kFile) return true;
-  *point = GenericPoint(*model, *point);
+  const Eigen::VectorXd given = *point;
+  *point = GenericPoint(*model, given);
   Eigen::MatrixXd J;
   if (!StackedJacobian(*model, *point, measurements, rotation_weight_m_per_rad,
                        &J, error)) {
+    *point = given;
     return false;
   }
   ReduceToIdentifiable(model, J, 1e-7, dropped);
+  // What is held keeps exactly the value it was given; only parameters the
+  // fit will estimate start from the generic point.
+  for (int i = 0; i < model->num_parameters(); ++i) {
+    if (!model->IsFree(i)) (*point)[i] = given[i];
+  }
   return true;
 }
 

@@ -54,9 +54,11 @@ int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
 
 // The whole step from a named parameter set to the parameters to identify:
 // applies `set` to *model (with marker angles free when `measurements` hold
-// 6D poses) and, unless it is kFile, moves *point (a full parameter vector,
-// e.g. the nominal or registered start) to GenericPoint(*point) and reduces
-// the set to what the Jacobian of `measurements` at that point separates.
+// 6D poses) and, unless it is kFile, reduces the set to what the Jacobian
+// of `measurements` at GenericPoint(*point) separates. *point (a full
+// parameter vector, e.g. the nominal or registered start) keeps every held
+// parameter exactly; the free marker parameters move to the generic point
+// (about 1 mm), the start the fit needs to see every kept direction.
 // Returns false with *error when a Jacobian cannot be evaluated or nothing
 // is left free.
 bool ApplyAndReduceParameterSet(ParameterSet set,
