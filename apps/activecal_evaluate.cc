@@ -42,6 +42,12 @@ int Main() {
     app::Fail("--measurements: " + summary.message);
   }
   std::printf("%s", summary.BriefReport().c_str());
+  if (model.base.convention == LinkConvention::kFrame &&
+      model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {
+    std::printf(
+        "  note: the robot's base frame is the identity (no --frames): the "
+        "errors include where the device stands relative to the robot\n");
+  }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j;
     j["robot"] = model.name;

@@ -320,6 +320,12 @@ int Main() {
   if (has_truth) {
     std::printf("  %d of %zu estimates lie more than 4 std from the truth\n",
                 outside, free.size());
+    if (!auto_fixed.empty()) {
+      std::printf(
+          "  (parameters held fixed keep their nominal values, so the kept "
+          "ones that explain them also take up their true errors: compare "
+          "those with care)\n");
+    }
   }
   if (!validation.empty()) {
     std::printf(

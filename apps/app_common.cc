@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "activecal/core/frames_file.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/robot_loader.h"
 #include "activecal/residuals/identification.h"
@@ -113,6 +114,15 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
   if (!JointLattice::Create(model, levels, &lattice, &error)) {
     Fail("--levels=" + std::to_string(levels) + ": " + error);
   }
+  for (int j = 0; j < model.num_joints(); ++j) {
+    if (lattice.one_turn(j)) {
+      std::printf(
+          "note: joint %d (%s) spans a full turn: its %d levels cover one "
+          "turn from %.6g deg (both ends would repeat a pose)\n",
+          j + 1, model.block_name(j + 1).c_str(), levels,
+          model.links[j].joint_min * 180 / M_PI);
+    }
+  }
   return lattice;
 }
 
@@ -142,10 +152,12 @@ RobotDescription LoadRobotOrDie() {
   RobotLoadOptions options;
   options.chain.base_link = FLAGS_base_link;
   options.chain.tip_link = FLAGS_tip_link;
-  options.frames_path = FLAGS_frames;
   std::string error;
   if (!LoadRobot(FLAGS_robot, options, &robot, &error)) {
     Fail("--robot: " + error);
+  }
+  if (!FLAGS_frames.empty() && !LoadFramesFile(FLAGS_frames, &robot, &error)) {
+    Fail("--frames: " + error);
   }
   if (IsUrdfPath(FLAGS_robot)) {
     // The CSV files name joints q1..qn in chain order: say which is which.
@@ -199,7 +211,8 @@ void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
   if (fixed.empty()) return;
   std::string list;
   for (const std::string& f : fixed) list += (list.empty() ? "" : ", ") + f;
-  std::cerr << g_program << ": " << label << ": " << what << " cannot identify "
+  // On stdout: a note, not an error (stderr keeps one line for errors).
+  std::cout << g_program << ": " << label << ": " << what << " cannot identify "
             << fixed.size() << " of " << num_free_before
             << " free parameters; holding them at their nominal values: "
             << list << std::endl;

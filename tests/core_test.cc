@@ -259,23 +259,42 @@ TEST(LatticeTest, RejectsBadLevels) {
   EXPECT_NE(error.find("expected 6"), std::string::npos) << error;
 }
 
-TEST(LatticeTest, RejectsLevelsThatAreTheSameAngle) {
-  // Limits of +-360 deg and 3 levels: -360, 0 and 360 deg, one angle.
+TEST(LatticeTest, AFullTurnRangeIsSampledOverOneTurn) {
+  // Limits of +-360 deg: with both ends, 3 levels would be -360, 0 and 360
+  // deg, one angle. The joint is sampled over one turn instead: -360, -240,
+  // -120 deg, three different poses; the PUMA's joint 6 (532 deg, no repeat
+  // at 5 levels) keeps both ends.
   RobotModel m = Puma560PaperModel();
   m.links[0].joint_min = -2 * M_PI;
   m.links[0].joint_max = 2 * M_PI;
   JointLattice lattice;
   std::string error;
-  EXPECT_FALSE(JointLattice::Create(m, 3, &lattice, &error));
-  EXPECT_NE(error.find("joint 1 (L1): levels 1 and 2 (-360 and 0 deg) are "
-                       "the same angle"),
-            std::string::npos)
-      << error;
-  // 4 levels (-360, -120, 120, 360 deg): the ends still coincide.
-  EXPECT_FALSE(JointLattice::Create(m, 4, &lattice, &error));
-  // A range of 350 deg: fine.
+  ASSERT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+  EXPECT_TRUE(lattice.one_turn(0));
+  EXPECT_FALSE(lattice.one_turn(5));
+  EXPECT_DOUBLE_EQ(lattice.Angle(0, 0), -2 * M_PI);
+  EXPECT_DOUBLE_EQ(lattice.Angle(0, 1), -2 * M_PI + 2 * M_PI / 3);
+  EXPECT_DOUBLE_EQ(lattice.Angle(0, 2), -2 * M_PI + 4 * M_PI / 3);
+  for (int levels : {2, 3, 4, 5, 6, 8}) {
+    ASSERT_TRUE(JointLattice::Create(m, levels, &lattice, &error)) << error;
+    for (int a = 0; a < levels; ++a) {
+      EXPECT_GE(lattice.Angle(0, a), m.links[0].joint_min);
+      EXPECT_LE(lattice.Angle(0, a), m.links[0].joint_max);
+      for (int b = a + 1; b < levels; ++b) {
+        EXPECT_GT(std::abs(std::remainder(
+                      lattice.Angle(0, b) - lattice.Angle(0, a), 2 * M_PI)),
+                  1e-6)
+            << levels << " levels: " << a << ", " << b;
+      }
+    }
+  }
+  ASSERT_TRUE(JointLattice::Create(m, 5, &lattice, &error));
+  EXPECT_EQ(lattice.Angle(5, 4), m.links[5].joint_max);  // both ends kept
+  // A range of 350 deg keeps both ends.
   m.links[0].joint_max = -2 * M_PI + 350 * M_PI / 180;
-  EXPECT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+  ASSERT_TRUE(JointLattice::Create(m, 3, &lattice, &error)) << error;
+  EXPECT_FALSE(lattice.one_turn(0));
+  EXPECT_EQ(lattice.Angle(0, 2), m.links[0].joint_max);
 }
 
 TEST(SimulationTest, DistanceBetweenCoincidingPointsIsRefused) {

@@ -1,5 +1,6 @@
 #include "activecal/core/csv_files.h"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -79,6 +80,7 @@ class Table {
   }
 
   bool Has(const std::string& column) const { return columns_.count(column); }
+  const std::vector<std::string>& header() const { return header_; }
   int Column(const std::string& column) const {
     const auto it = columns_.find(column);
     return it == columns_.end() ? -1 : it->second;
@@ -184,6 +186,34 @@ bool ReadJoints(const Table& table, const Row& row, const RobotModel& model,
   return true;
 }
 
+// A joint column (q<k>_rad, _deg, _m, _mm, with an optional _2) for a joint
+// the robot does not have: a file for another robot, not a column to skip.
+bool CheckNoExtraJoints(const Table& table, const RobotModel& model,
+                        std::string* error) {
+  for (const std::string& name : table.header()) {
+    if (name.size() < 3 || name[0] != 'q' || !std::isdigit(name[1])) continue;
+    size_t end = 1;
+    while (end < name.size() && std::isdigit(name[end])) ++end;
+    std::string unit = name.substr(end);
+    if (unit.size() > 2 && unit.compare(unit.size() - 2, 2, "_2") == 0) {
+      unit.resize(unit.size() - 2);
+    }
+    if (unit != "_rad" && unit != "_deg" && unit != "_m" && unit != "_mm") {
+      continue;
+    }
+    const int k = std::stoi(name.substr(1, std::min<size_t>(end - 1, 6)));
+    if (k > model.num_joints() || k < 1) {
+      return table.Fail(table.header_line(),
+                        "column '" + name + "' is for joint " +
+                            std::to_string(k) + ", but robot '" + model.name +
+                            "' has " + std::to_string(model.num_joints()) +
+                            " joints (a file for another robot?)",
+                        error);
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string JointColumn(const RobotModel& model, int j) {
@@ -232,6 +262,7 @@ bool ParsePosesCsv(const std::string& text, const std::string& source,
                    PoseList* poses, std::string* error) {
   Table table;
   if (!table.Parse(text, source, error)) return false;
+  if (!CheckNoExtraJoints(table, model, error)) return false;
   const int n = static_cast<int>(table.rows().size());
   if (n == 0) {
     return table.Fail(table.header_line(), "no poses after the header", error);
@@ -333,6 +364,7 @@ bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
                           std::string* error) {
   Table table;
   if (!table.Parse(text, source, error)) return false;
+  if (!CheckNoExtraJoints(table, model, error)) return false;
   if (!table.RequireColumn("type", error)) return false;
   if (table.rows().empty()) {
     return table.Fail(table.header_line(), "no measurements after the header",

@@ -7,33 +7,26 @@ namespace activecal {
 
 namespace {
 
-// Says in *msg when two of the `levels` values of revolute joint j are the
-// same angle modulo 2 pi (e.g. -360, 0, 360 deg): the lattice would list
-// one pose several times.
-void RepeatedAngle(const RobotModel& model, int j, int levels,
-                   std::ostringstream* msg) {
-  const Link& l = model.links[j];
+// True when two of the `levels` values of revolute joint j, spread over its
+// range with both ends included, are the same angle modulo 2 pi (e.g. -360,
+// 0, 360 deg): the lattice would list one pose several times.
+bool RepeatsAnAngle(const Link& l, int levels) {
   constexpr double kTolerance = 1e-9;  // rad
   auto value = [&](int k) {
     if (k == levels - 1) return l.joint_max;
     return l.joint_min + (l.joint_max - l.joint_min) * k / (levels - 1);
   };
-  // Far apart levels can only coincide when the range reaches a full turn.
-  if (l.joint_max - l.joint_min < 2 * M_PI - kTolerance) return;
+  // Levels can only coincide when the range reaches a full turn.
+  if (l.joint_max - l.joint_min < 2 * M_PI - kTolerance) return false;
   for (int a = 0; a < levels; ++a) {
     for (int b = a + 1; b < levels; ++b) {
-      const double d = std::remainder(value(b) - value(a), 2 * M_PI);
-      if (std::abs(d) <= kTolerance) {
-        *msg << "lattice: joint " << j + 1 << " (" << model.block_name(j + 1)
-             << "): levels " << a + 1 << " and " << b + 1 << " ("
-             << value(a) * 180 / M_PI << " and " << value(b) * 180 / M_PI
-             << " deg) are the same angle modulo 360 deg, so the lattice "
-                "would repeat poses; use another number of levels or a "
-                "range under 360 deg";
-        return;
+      if (std::abs(std::remainder(value(b) - value(a), 2 * M_PI)) <=
+          kTolerance) {
+        return true;
       }
     }
   }
+  return false;
 }
 
 }  // namespace
@@ -57,9 +50,6 @@ bool JointLattice::Create(const RobotModel& model,
           << ") has no finite range";
     }
     size *= levels[j];
-    if (msg.tellp() == 0 && l.joint_type == JointType::kRevolute) {
-      RepeatedAngle(model, static_cast<int>(j), levels[j], &msg);
-    }
   }
   if (msg.tellp() == 0 && size > 1e9) {
     msg << "lattice: " << size << " poses is more than the 1e9 supported";
@@ -71,9 +61,13 @@ bool JointLattice::Create(const RobotModel& model,
   lattice->levels_ = levels;
   lattice->min_.clear();
   lattice->max_.clear();
-  for (const Link& l : model.links) {
+  lattice->one_turn_.clear();
+  for (size_t j = 0; j < model.links.size(); ++j) {
+    const Link& l = model.links[j];
     lattice->min_.push_back(l.joint_min);
     lattice->max_.push_back(l.joint_max);
+    lattice->one_turn_.push_back(l.joint_type == JointType::kRevolute &&
+                                 RepeatsAnAngle(l, levels[j]));
   }
   lattice->size_ = static_cast<int64_t>(size);
   return true;
@@ -101,6 +95,9 @@ int64_t JointLattice::Index(const std::vector<int>& levels) const {
 }
 
 double JointLattice::Angle(int joint, int level) const {
+  if (one_turn_[joint]) {
+    return min_[joint] + 2 * M_PI * level / levels_[joint];
+  }
   if (level == levels_[joint] - 1) return max_[joint];
   return min_[joint] +
          (max_[joint] - min_[joint]) * level / (levels_[joint] - 1);

@@ -1,5 +1,7 @@
 #include "activecal/core/robot_model.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -169,6 +171,8 @@ void RobotModel::SetFree(int parameter_index, bool free) {
 ParameterKind RobotModel::Kind(int parameter_index) const {
   int within = 0;
   const int block = BlockOf(parameter_index, &within);
+  CHECK_GE(block, 0) << "parameter index " << parameter_index
+                     << " is outside the model's " << num_parameters();
   if (is_marker_block(block)) {
     return within < 3 ? ParameterKind::kLength : ParameterKind::kAngle;
   }
@@ -308,6 +312,14 @@ bool RobotModel::Validate(std::string* error) const {
     }
     if (msg.tellp() == 0 && markers.empty()) {
       msg << "robot '" << name << "': no markers (measured points)";
+    }
+    for (int k = 0; k < num_markers() && msg.tellp() == 0; ++k) {
+      const std::string& n = markers[k].name;
+      if (!n.empty() &&
+          n.find_first_not_of("0123456789") == std::string::npos) {
+        msg << "marker '" << n << "': a marker name must not be a number "
+            << "(numbers name markers by position: 1, 2, ...)";
+      }
     }
     if (msg.tellp() == 0 &&
         (!tip.rotation.allFinite() || !tip.translation.allFinite())) {

@@ -32,6 +32,30 @@ Eigen::Isometry3d LinkAt(const Link& link, const double* p) {
   return Iso(R, t);
 }
 
+// Text for an XML attribute value.
+std::string Escaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
 std::string Triple(const Eigen::Vector3d& v) {
   return ShortestText(v[0]) + " " + ShortestText(v[1]) + " " +
          ShortestText(v[2]);
@@ -182,6 +206,10 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
                           ShortestText(p[kUrdfGain]) +
                           ", which a URDF cannot hold: the URDF uses 1");
     }
+    // A joint the calibration left at its nominal origin keeps its bytes.
+    bool unchanged = p[kUrdfOffset] == 0.0;
+    for (int k = kUrdfX; k <= kUrdfRz; ++k) unchanged &= p[k] == 0.0;
+    if (unchanged) continue;
     const double s = p[kUrdfOffset];
     Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
     if (link.joint_type == JointType::kRevolute) {
@@ -237,9 +265,8 @@ std::string UrdfFromModel(const RobotModel& model,
   const std::vector<const double*> blocks = BlockPointers(model, values.data());
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n"
-      << "<!-- " << model.name
-      << " written by activecal from its kinematic model -->\n"
-      << "<robot name=\"" << model.name << "\">\n"
+      << "<!-- written by activecal from a kinematic model -->\n"
+      << "<robot name=\"" << Escaped(model.name) << "\">\n"
       << "  <link name=\"base_link\"/>\n";
   for (int i = 1; i <= model.num_joints(); ++i) {
     out << "  <link name=\"link" << i << "\"/>\n";
@@ -249,7 +276,8 @@ std::string UrdfFromModel(const RobotModel& model,
                    const std::string& parent, const std::string& child,
                    const Eigen::Isometry3d& origin, const Eigen::Vector3d& axis,
                    const Link* link) {
-    out << "  <joint name=\"" << name << "\" type=\"" << type << "\">\n"
+    out << "  <joint name=\"" << Escaped(name) << "\" type=\"" << type
+        << "\">\n"
         << "    <parent link=\"" << parent << "\"/>\n"
         << "    <child link=\"" << child << "\"/>\n"
         << "    <origin xyz=\"" << Triple(origin.translation()) << "\" rpy=\""

@@ -5,8 +5,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <sstream>
 
 #include "activecal/core/csv_files.h"
@@ -28,6 +30,46 @@ Eigen::Matrix3d Rotation(const urdf::Rotation& r) {
 Eigen::Vector3d Vec(const urdf::Vector3& v) {
   return Eigen::Vector3d(v.x, v.y, v.z);
 }
+
+// Collects urdfdom's console_bridge errors while it lives (one parse at a
+// time: console_bridge's handler is process-wide).
+class UrdfdomErrors : public console_bridge::OutputHandler {
+ public:
+  UrdfdomErrors() {
+    Mutex().lock();
+    level_ = console_bridge::getLogLevel();
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_ERROR);
+    console_bridge::useOutputHandler(this);
+  }
+  ~UrdfdomErrors() override {
+    console_bridge::restorePreviousOutputHandler();
+    console_bridge::setLogLevel(level_);
+    Mutex().unlock();
+  }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*,
+           int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_.empty()) {
+      first_ = text;
+      while (!first_.empty() &&
+             std::isspace(static_cast<unsigned char>(first_.back()))) {
+        first_.pop_back();
+      }
+      // One line.
+      for (char& c : first_) {
+        if (c == '\n' || c == '\r') c = ' ';
+      }
+    }
+  }
+  const std::string& first() const { return first_; }
+
+ private:
+  static std::mutex& Mutex() {
+    static std::mutex mutex;
+    return mutex;
+  }
+  console_bridge::LogLevel level_;
+  std::string first_;
+};
 
 bool Moving(const urdf::Joint& j) {
   return j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::CONTINUOUS ||
@@ -61,8 +103,9 @@ bool FindChain(const std::string& xml, const std::string& source,
     if (error) *error = source + ": " + what;
     return false;
   };
-  // urdfdom reports through console_bridge on stderr; our message says it.
-  console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+  // urdfdom reports through console_bridge on stderr: its first error is
+  // kept for our one-line message instead.
+  UrdfdomErrors errors;
   urdf::ModelInterfaceSharedPtr model;
   try {
     model = urdf::parseURDF(xml);
@@ -70,9 +113,12 @@ bool FindChain(const std::string& xml, const std::string& source,
     return fail(std::string("not a valid URDF: ") + e.what());
   }
   if (!model || !model->getRoot()) {
-    return fail(
-        "not a valid URDF (malformed XML, a missing <robot> element, or "
-        "links and joints that do not form one tree)");
+    return fail("not a valid URDF: " +
+                (errors.first().empty()
+                     ? std::string("malformed XML, a missing <robot> "
+                                   "element, or links and joints that do "
+                                   "not form one tree")
+                     : errors.first()));
   }
   chain->robot_name = model->getName();
   chain->base_link =

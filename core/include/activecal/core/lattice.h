@@ -42,9 +42,16 @@ class JointLattice {
   // All poses, one row each (size() x num_joints()).
   Eigen::MatrixXd AllJointValues() const;
 
+  // True for a revolute joint whose range spans a full turn so that levels
+  // with both ends included would repeat an angle (limits of +-360 deg):
+  // its levels then cover one turn from the lower limit, upper end left out
+  // (min + 2 pi k / levels), every one a different pose.
+  bool one_turn(int joint) const { return one_turn_[joint] != 0; }
+
  private:
   std::vector<int> levels_;
   std::vector<double> min_, max_;
+  std::vector<char> one_turn_;
   int64_t size_ = 0;
 };
 
