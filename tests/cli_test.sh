@@ -6,6 +6,7 @@
 #
 #   tests/cli_test.sh <build/apps dir> <data dir> <check_report_json>
 set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 check_report="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
@@ -14,28 +15,7 @@ trap 'rm -rf "$work"' EXIT
 cd "$work"
 failures=0
 
-# expect_fail <name> <text expected on stderr> <program> [flags...]
-expect_fail() {
-  local name="$1" want="$2"
-  shift 2
-  local prog="$1"
-  shift
-  "$apps/$prog" "$@" >out.txt 2>err.txt
-  local status=$?
-  local lines
-  lines=$(wc -l <err.txt)
-  if [ "$status" -ne 1 ]; then
-    echo "FAIL [$name]: exit status $status, expected 1"; failures=$((failures + 1))
-  elif [ "$lines" -ne 1 ]; then
-    echo "FAIL [$name]: $lines lines on stderr, expected 1:"; cat err.txt
-    failures=$((failures + 1))
-  elif ! grep -qF -- "$want" err.txt; then
-    echo "FAIL [$name]: stderr lacks '$want':"; cat err.txt
-    failures=$((failures + 1))
-  else
-    echo "ok   [$name]: $(cat err.txt)"
-  fi
-}
+source "$here/cli_lib.sh"
 
 expect_same() {
   [ -s "$1" ] || { echo "FAIL [same]: $1 is empty or missing"; failures=$((failures + 1)); return; }

@@ -6,6 +6,7 @@
 #
 #   tests/urdf_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 work="$(mktemp -d)"
@@ -15,22 +16,7 @@ failures=0
 ok() { echo "ok   [$1]"; }
 fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
 
-# expect_fail <name> <text expected on stderr> <program> [flags...]
-expect_fail() {
-  local name="$1" want="$2"
-  shift 2
-  local prog="$1"
-  shift
-  "$apps/$prog" "$@" >out.txt 2>err.txt
-  local status=$?
-  if [ "$status" -ne 1 ] || [ "$(wc -l <err.txt)" -ne 1 ] ||
-    ! grep -qF -- "$want" err.txt; then
-    echo "FAIL [$name]: status $status, stderr:"; cat err.txt
-    failures=$((failures + 1))
-  else
-    echo "ok   [$name]: $(cat err.txt)"
-  fi
-}
+source "$here/cli_lib.sh"
 
 m="$data/figaroh_ur10e/measurements.csv"
 # Identify the UR10e: registration of the unknown camera frame in closed

@@ -9,6 +9,7 @@
 #include "activecal/core/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
+#include "yaml_reader.h"
 
 namespace activecal {
 namespace {
@@ -16,10 +17,9 @@ namespace {
 using internal::kDegree;
 using internal::ShortestText;
 
-class FramesParser {
+class FramesParser : public internal::YamlReader {
  public:
-  explicit FramesParser(std::string source) : source_(std::move(source)) {}
-  const std::string& error() const { return error_; }
+  using YamlReader::YamlReader;
 
   bool Parse(const std::string& text, RobotDescription* robot) {
     YAML::Node root;
@@ -31,7 +31,7 @@ class FramesParser {
     if (!root.IsMap()) {
       return Fail(root.Mark(), "", "expected a mapping with base and markers");
     }
-    if (!Keys(root, "", {"angle_unit", "base", "markers"})) return false;
+    if (!CheckKeys(root, "", {"angle_unit", "base", "markers"})) return false;
     double scale = 1.0;
     if (const YAML::Node unit = root["angle_unit"]) {
       const std::string u = unit.IsScalar() ? unit.Scalar() : "";
@@ -59,7 +59,7 @@ class FramesParser {
       }
       Eigen::Vector3d xyz, rpy;
       if (!Pose(base, "base", scale, &xyz, &rpy)) return false;
-      if (!Keys(base, "base", {"xyz", "rpy"})) return false;
+      if (!CheckKeys(base, "base", {"xyz", "rpy"})) return false;
       head.head(3) = xyz;
       head.segment(3, 3) = rpy;
       if (has_truth) truth_head.head(6) = head.head(6);
@@ -81,7 +81,7 @@ class FramesParser {
         const YAML::Node node = list[k];
         if (!node.IsMap())
           return Fail(node.Mark(), field, "expected a mapping");
-        if (!Keys(node, field, {"name", "xyz", "rpy"})) return false;
+        if (!CheckKeys(node, field, {"name", "xyz", "rpy"})) return false;
         markers[k].free = free;
         markers[k].name = k == 0 ? "tool" : "marker" + std::to_string(k + 1);
         if (const YAML::Node name = node["name"]) {
@@ -118,66 +118,6 @@ class FramesParser {
     if (!m.Validate(&why)) return Fail(root.Mark(), "", why);
     return true;
   }
-
- private:
-  bool Fail(const YAML::Mark& mark, const std::string& field,
-            const std::string& what) {
-    std::ostringstream msg;
-    msg << source_;
-    if (!mark.is_null()) msg << ":" << mark.line + 1 << ":" << mark.column + 1;
-    msg << ": ";
-    if (!field.empty()) msg << field << ": ";
-    msg << what;
-    error_ = msg.str();
-    return false;
-  }
-
-  bool Keys(const YAML::Node& map, const std::string& field,
-            const std::set<std::string>& allowed) {
-    for (const auto& kv : map) {
-      const std::string key = kv.first.Scalar();
-      if (!allowed.count(key)) {
-        std::string list;
-        for (const std::string& a : allowed)
-          list += (list.empty() ? "" : ", ") + a;
-        return Fail(kv.first.Mark(), field.empty() ? key : field + "." + key,
-                    "unknown field (expected one of: " + list + ")");
-      }
-    }
-    return true;
-  }
-
-  bool Triple(const YAML::Node& node, const std::string& field,
-              Eigen::Vector3d* out) {
-    if (!node.IsSequence() || node.size() != 3) {
-      return Fail(node.Mark(), field, "expected [x, y, z]");
-    }
-    for (int k = 0; k < 3; ++k) {
-      std::string why;
-      if (!node[k].IsScalar() ||
-          !internal::ParseFiniteNumber(node[k].Scalar(), &(*out)[k], &why)) {
-        return Fail(node[k].Mark(), field + "[" + std::to_string(k) + "]",
-                    why.empty() ? "expected a number" : why);
-      }
-    }
-    return true;
-  }
-
-  bool Pose(const YAML::Node& node, const std::string& field, double scale,
-            Eigen::Vector3d* xyz, Eigen::Vector3d* rpy) {
-    if (!node.IsMap()) {
-      return Fail(node.Mark(), field, "expected {xyz: [..], rpy: [..]}");
-    }
-    xyz->setZero();
-    rpy->setZero();
-    if (node["xyz"] && !Triple(node["xyz"], field + ".xyz", xyz)) return false;
-    if (node["rpy"] && !Triple(node["rpy"], field + ".rpy", rpy)) return false;
-    *rpy *= scale;
-    return true;
-  }
-
-  std::string source_;
-  std::string error_;
 };
 
 }  // namespace

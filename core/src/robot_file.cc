@@ -11,6 +11,7 @@
 #include "activecal/core/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
+#include "yaml_reader.h"
 
 namespace activecal {
 namespace {
@@ -18,11 +19,9 @@ namespace {
 using internal::kDegree;
 using internal::ShortestText;
 
-class Parser {
+class Parser : public internal::YamlReader {
  public:
-  explicit Parser(std::string source) : source_(std::move(source)) {}
-
-  const std::string& error() const { return error_; }
+  using YamlReader::YamlReader;
 
   bool Parse(const std::string& text, RobotDescription* robot) {
     YAML::Node root;
@@ -132,50 +131,6 @@ class Parser {
   }
 
  private:
-  bool Fail(const YAML::Mark& mark, const std::string& field,
-            const std::string& what) {
-    std::ostringstream msg;
-    msg << source_;
-    if (!mark.is_null()) msg << ":" << mark.line + 1 << ":" << mark.column + 1;
-    msg << ": ";
-    if (!field.empty()) msg << field << ": ";
-    msg << what;
-    error_ = msg.str();
-    return false;
-  }
-
-  bool CheckKeys(const YAML::Node& map, const std::string& field,
-                 std::set<std::string> allowed) {
-    for (const auto& kv : map) {
-      const std::string key = kv.first.Scalar();
-      if (!allowed.count(key)) {
-        std::string list;
-        for (const std::string& a : allowed) {
-          list += (list.empty() ? "" : ", ") + a;
-        }
-        return Fail(kv.first.Mark(), field.empty() ? key : field + "." + key,
-                    "unknown field (expected one of: " + list + ")");
-      }
-    }
-    return true;
-  }
-
-  bool String(const YAML::Node& map, const char* key, const std::string& field,
-              std::string* out) {
-    const YAML::Node node = map[key];
-    if (!node) return Fail(map.Mark(), field, "missing");
-    if (!node.IsScalar()) return Fail(node.Mark(), field, "expected a text");
-    *out = node.Scalar();
-    return true;
-  }
-
-  bool Number(const YAML::Node& node, const std::string& field, double* out) {
-    if (!node.IsScalar()) return Fail(node.Mark(), field, "expected a number");
-    std::string why;
-    return internal::ParseFiniteNumber(node.Scalar(), out, &why) ||
-           Fail(node.Mark(), field, why);
-  }
-
   // Reads a link's convention (the structure that decides its block size).
   bool Convention(const YAML::Node& node, const std::string& field,
                   Link* link) {
@@ -199,34 +154,11 @@ class Parser {
                     convention + "'");
   }
 
-  // A three-number list.
-  bool Vector(const YAML::Node& node, const std::string& field,
-              Eigen::Vector3d* out) {
-    if (!node.IsSequence() || node.size() != 3) {
-      return Fail(node.Mark(), field, "expected [x, y, z]");
-    }
-    for (int k = 0; k < 3; ++k) {
-      if (!Number(node[k], field + "[" + std::to_string(k) + "]", &(*out)[k])) {
-        return false;
-      }
-    }
-    return true;
-  }
-
   // {xyz: [..], rpy: [..]}, rpy in the file's angle unit; both optional.
   bool Origin(const YAML::Node& node, const std::string& field,
               Eigen::Vector3d* xyz, Eigen::Vector3d* rpy) {
-    if (!node.IsMap()) {
-      return Fail(node.Mark(), field,
-                  "expected {xyz: [x, y, z], rpy: [r, p, y]}");
-    }
-    if (!CheckKeys(node, field, {"xyz", "rpy"})) return false;
-    xyz->setZero();
-    rpy->setZero();
-    if (node["xyz"] && !Vector(node["xyz"], field + ".xyz", xyz)) return false;
-    if (node["rpy"] && !Vector(node["rpy"], field + ".rpy", rpy)) return false;
-    *rpy *= angle_scale_;
-    return true;
+    return Pose(node, field, angle_scale_, xyz, rpy) &&
+           CheckKeys(node, field, {"xyz", "rpy"});
   }
 
   // One block: base (0), link (1..n) or marker (n+1..).
@@ -369,8 +301,6 @@ class Parser {
     return true;
   }
 
-  std::string source_;
-  std::string error_;
   double angle_scale_ = 1.0;
   Eigen::VectorXd truth_;
   bool has_truth_ = false;
