@@ -23,6 +23,15 @@
 namespace activecal {
 namespace {
 
+// data/<name>.urdf, the chain from base_link to tool0.
+bool LoadShippedUr(const std::string& name, RobotDescription* robot,
+                   std::string* error) {
+  UrdfChainOptions chain;
+  chain.tip_link = "tool0";
+  return LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + name + ".urdf",
+                       chain, robot, error);
+}
+
 Eigen::Vector3d RandomUnit(Random* random) {
   Eigen::Vector3d v(random->Gaussian(), random->Gaussian(), random->Gaussian());
   return v.normalized();
@@ -64,13 +73,9 @@ TEST(RegistrationTest, RigidTransformRecoversAKnownFrame) {
 }
 
 TEST(RegistrationTest, UnknownFrameConvergesFromTwentyRandomFrames) {
-  RobotDescription robot;
-  UrdfChainOptions chain;
-  chain.tip_link = "tool0";
   std::string error;
-  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10.urdf",
-                            chain, &robot, &error))
-      << error;
+  RobotDescription robot;
+  ASSERT_TRUE(LoadShippedUr("ur10", &robot, &error)) << error;
   RobotModel model = robot.model;
   ApplyParameterSet(ParameterSet::kRegistration, false, &model);
   ASSERT_EQ(model.num_free(), 9);
@@ -139,13 +144,9 @@ namespace activecal {
 namespace {
 
 TEST(ParameterSetTest, SetsFreeWhatTheyName) {
-  RobotDescription robot;
-  UrdfChainOptions chain;
-  chain.tip_link = "tool0";
   std::string error;
-  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10.urdf",
-                            chain, &robot, &error))
-      << error;
+  RobotDescription robot;
+  ASSERT_TRUE(LoadShippedUr("ur10", &robot, &error)) << error;
   RobotModel m = robot.model;
   ApplyParameterSet(ParameterSet::kRegistration, false, &m);
   EXPECT_EQ(m.num_free(), 6 + 3);
@@ -239,13 +240,9 @@ TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
 }
 
 TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {
-  RobotDescription robot;
-  UrdfChainOptions chain;
-  chain.tip_link = "tool0";
   std::string error;
-  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10e.urdf",
-                            chain, &robot, &error))
-      << error;
+  RobotDescription robot;
+  ASSERT_TRUE(LoadShippedUr("ur10e", &robot, &error)) << error;
   RobotModel model = robot.model;
   Random random(8);
   std::vector<Measurement> plan(40);

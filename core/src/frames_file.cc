@@ -23,14 +23,7 @@ class FramesParser : public internal::YamlReader {
 
   bool Parse(const std::string& text, RobotDescription* robot) {
     YAML::Node root;
-    try {
-      root = YAML::Load(text);
-    } catch (const YAML::ParserException& e) {
-      return Fail(e.mark, "", "not valid YAML: " + e.msg);
-    }
-    if (!root.IsMap()) {
-      return Fail(root.Mark(), "", "expected a mapping with base and markers");
-    }
+    if (!LoadMap(text, "with base and markers", &root)) return false;
     if (!CheckKeys(root, "", {"angle_unit", "base", "markers"})) return false;
     double scale = 1.0;
     if (const YAML::Node unit = root["angle_unit"]) {

@@ -25,15 +25,7 @@ class Parser : public internal::YamlReader {
 
   bool Parse(const std::string& text, RobotDescription* robot) {
     YAML::Node root;
-    try {
-      root = YAML::Load(text);
-    } catch (const YAML::ParserException& e) {
-      return Fail(e.mark, "", "not valid YAML: " + e.msg);
-    }
-    if (!root.IsMap()) {
-      return Fail(root.Mark(), "",
-                  "expected a mapping of robot fields at the top");
-    }
+    if (!LoadMap(text, "of robot fields at the top", &root)) return false;
     if (!CheckKeys(root, "",
                    {"name", "angle_unit", "base", "links", "tip", "tool",
                     "markers"})) {

@@ -23,6 +23,21 @@ class YamlReader {
   const std::string& error() const { return error_; }
 
  protected:
+  // Parses `text` into *root, which must be a mapping (`what` says of
+  // what, for the message).
+  bool LoadMap(const std::string& text, const std::string& what,
+               YAML::Node* root) {
+    try {
+      *root = YAML::Load(text);
+    } catch (const YAML::ParserException& e) {
+      return Fail(e.mark, "", "not valid YAML: " + e.msg);
+    }
+    if (!root->IsMap()) {
+      return Fail(root->Mark(), "", "expected a mapping " + what);
+    }
+    return true;
+  }
+
   // Sets the message and returns false.
   bool Fail(const YAML::Mark& mark, const std::string& field,
             const std::string& what) {
