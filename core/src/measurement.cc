@@ -59,6 +59,15 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
     return false;
   }
   std::ostringstream msg;
+  if (!m.sigma_m.allFinite() || (m.sigma_m.array() < 0).any()) {
+    msg << "measurement standard deviation (sigma_m) must be finite and >= 0";
+  } else if (!std::isfinite(m.sigma_rad) || m.sigma_rad < 0) {
+    msg << "measurement standard deviation (sigma_rad) must be finite and >= 0";
+  }
+  if (msg.tellp() != 0) {
+    if (error) *error = msg.str();
+    return false;
+  }
   switch (m.type) {
     case MeasurementType::kPosition:
     case MeasurementType::kPose:

@@ -45,6 +45,13 @@ struct Measurement {
   // The marker (measured point) of the model this measurement sees,
   // 0-based; a distance is between two positions of the same marker.
   int marker = 0;
+  // Standard deviations of the measured values when the device reports them
+  // (zero: not given; the identification then uses its own noise options).
+  // Position and pose: of the point's x, y, z (m); distance: sigma_m[0] is
+  // the distance's (m).
+  Eigen::Vector3d sigma_m = Eigen::Vector3d::Zero();
+  // Pose only: of each rotation-vector component (rad); zero: not given.
+  double sigma_rad = 0.0;
 
   int dimension() const { return MeasurementDimension(type); }
 };
