@@ -32,11 +32,8 @@ int Main() {
   if (FLAGS_measurements.empty()) app::Fail("--measurements is required");
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
-  std::vector<Measurement> measurements;
-  std::string error;
-  if (!ReadMeasurementsCsv(FLAGS_measurements, model, &measurements, &error)) {
-    app::Fail("--measurements: " + error);
-  }
+  const std::vector<Measurement> measurements =
+      app::ReadMeasurementsOrDie(FLAGS_measurements, model);
   EvaluationSummary summary;
   if (!EvaluateModel(model, model.nominal, measurements, &summary)) {
     app::Fail("--measurements: " + summary.message);

@@ -163,10 +163,7 @@ int Main() {
   if (simulated) {
     all = SimulateOrDie(robot, &simulated_poses);
   } else {
-    std::string error;
-    if (!ReadMeasurementsCsv(FLAGS_measurements, model, &all, &error)) {
-      app::Fail("--measurements: " + error);
-    }
+    all = app::ReadMeasurementsOrDie(FLAGS_measurements, model);
   }
   if (!(FLAGS_validation_fraction >= 0 && FLAGS_validation_fraction <= 0.9)) {
     app::Fail("--validation_fraction must be in [0, 0.9], got " +

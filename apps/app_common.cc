@@ -37,6 +37,16 @@ DEFINE_string(frames, "",
               "the device's frame and the markers, e.g. from "
               "activecal_identify --frames_out.");
 
+DEFINE_bool(strict_limits, false,
+            "Refuse a measurements file whose joint readings lie beyond the "
+            "robot's joint limits. Default: readings within 5 deg (revolute) "
+            "or 10 mm (prismatic) of a limit are accepted with one warning "
+            "per file; farther out they are always an error.");
+DEFINE_bool(columns_strict, false,
+            "Refuse a measurements file with columns activecal does not read "
+            "(a device's temperature, timestamps, ...). Default: they are "
+            "ignored and listed in a note.");
+
 namespace activecal {
 namespace app {
 namespace {
@@ -46,6 +56,28 @@ std::string g_program = "activecal";
 void Fail(const std::string& message) {
   std::cerr << g_program << ": error: " << message << std::endl;
   std::exit(1);
+}
+
+std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
+                                               const RobotModel& model) {
+  MeasurementsCsvOptions options;
+  options.strict_limits = FLAGS_strict_limits;
+  options.columns_strict = FLAGS_columns_strict;
+  std::vector<Measurement> measurements;
+  MeasurementsCsvReport report;
+  std::string error;
+  if (!ReadMeasurementsCsv(path, model, options, &measurements, &report,
+                           &error)) {
+    Fail("--measurements: " + error);
+  }
+  // On stdout: stderr keeps one line for an error.
+  for (const std::string& w : report.warnings) {
+    std::cout << g_program << ": warning: " << w << std::endl;
+  }
+  for (const std::string& n : report.notes) {
+    std::cout << g_program << ": note: " << n << std::endl;
+  }
+  return measurements;
 }
 
 void Init(int* argc, char*** argv, const char* usage) {

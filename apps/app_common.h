@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/csv_files.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
@@ -40,6 +41,13 @@ RobotDescription LoadRobotOrDie();
 // The parameter set of --parameter_set (default: full for a URDF robot,
 // file otherwise). Dies on an unknown name.
 ParameterSet ParameterSetOrDie(bool urdf_robot);
+
+// The measurements file `path` read with --strict_limits and
+// --columns_strict. Prints the reader's warning ("<program>: warning: ...",
+// joint readings beyond the limits) and notes (ignored columns, markers not
+// seen) on stdout; dies with "--measurements: file:line: ..." on errors.
+std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
+                                               const RobotModel& model);
 
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);

@@ -4,13 +4,19 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "activecal/core/csv_files.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_file.h"
+#include "activecal/core/kinematics.h"
 #include "activecal/core/simulation.h"
+#include "activecal/residuals/identification.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -314,7 +320,12 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
       "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,"
       "q1_rad_2,q2_rad_2,q3_m_2,q4_rad_2,distance_m\n";
   const std::vector<BadCsv> cases = {
-      {"no type column", "q1_rad,q2_rad,q3_m,q4_rad\n0,0,0.1,0\n",
+      {"no type column, no point", "q1_rad,q2_rad,q3_m,q4_rad\n0,0,0.1,0\n",
+       "m.csv:1: a position row needs a measured point: the header has none "
+       "of x_m,y_m,z_m; x_mm,y_mm,z_mm"},
+      {"distance columns without a type column",
+       "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,q1_rad_2,q2_rad_2,q3_m_2,"
+       "q4_rad_2,distance_m\n0,0,0.1,0,1,2,3,,,,,\n",
        "m.csv:1: the header has no column 'type'"},
       {"no rows", h, "m.csv:1: no measurements after the header"},
       {"bad type", h + "laser,0,0,0.1,0,1,2,3,,,,,,,,\n",
@@ -325,12 +336,14 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
        "m.csv:2: distance_m: a position measurement has no such value"},
       {"pose without rotation columns",
        "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m\npose,0,0,0.1,0,1,2,3\n",
-       "m.csv:1: the header has no column 'rx_rad'"},
+       "m.csv:1: a pose row needs an orientation: the header has none of "
+       "rx_rad,ry_rad,rz_rad; qw,qx,qy,qz"},
       {"rotation angle above pi", h + "pose,0,0,0.1,0,1,2,3,4,0,0,,,,,\n",
        "m.csv:2: measured rotation vector has angle 4 rad > pi"},
       {"second pose out of range",
        h + "distance,0,0,0.1,0,,,,,,,0,0,0.9,0,0.5\n",
-       "m.csv:2: second pose: joint 3 (L3) value 0.9 m is outside its range"},
+       "m.csv:2: second pose: q3_m_2: 0.9 m is 0.5 m beyond joint 3 (L3)'s "
+       "range [0, 0.4] m, more than the tolerance of 0.01 m"},
       {"negative distance", h + "distance,0,0,0.1,0,,,,,,,0,0,0.1,1,-0.5\n",
        "m.csv:2: measured distance must be finite and >= 0, got -0.5"},
       {"infinite", h + "position,0,0,0.1,0,1,2,inf,,,,,,,,\n",
@@ -340,6 +353,617 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
     std::vector<Measurement> out;
     std::string error;
     EXPECT_FALSE(ParseMeasurementsCsv(c.text, "m.csv", m, &out, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Measurement files as devices export them (issue 18).
+
+// Position, pose and distance measurements of the mixed model with
+// standard deviations: isotropic, per axis, a distance's, a pose's sigma_rad.
+std::vector<Measurement> MixedMeasurements(const RobotModel& m, int n,
+                                           uint64_t seed) {
+  Random random(seed);
+  std::vector<Measurement> plan;
+  for (int i = 0; i < n; ++i) {
+    Measurement x;
+    x.type = i % 3 == 0   ? MeasurementType::kPose
+             : i % 3 == 1 ? MeasurementType::kPosition
+                          : MeasurementType::kDistance;
+    x.joints = testing::RandomJoints(m, &random);
+    if (x.type == MeasurementType::kDistance) {
+      x.joints2 = testing::RandomJoints(m, &random);
+    }
+    plan.push_back(x);
+  }
+  SimulationNoise noise;
+  noise.position_m = 0.001;
+  noise.rotation_rad = 0.001;
+  std::vector<Measurement> data;
+  std::string error;
+  EXPECT_TRUE(SimulateMeasurements(m, m.nominal, plan, noise, seed, &data,
+                                   &error))
+      << error;
+  for (size_t i = 0; i < data.size(); ++i) {
+    Measurement& x = data[i];
+    if (i % 4 == 0) continue;  // not given
+    if (x.type == MeasurementType::kDistance) {
+      x.sigma_m = Eigen::Vector3d(2e-5, 0, 0);
+    } else if (i % 4 == 1) {
+      x.sigma_m = Eigen::Vector3d::Constant(1e-5 * (1 + i % 5));
+    } else {
+      x.sigma_m = Eigen::Vector3d(1e-5, 2e-5, 3.5e-5);
+    }
+    if (x.type == MeasurementType::kPose) x.sigma_rad = 1e-4;
+  }
+  return data;
+}
+
+std::vector<MeasurementsCsvFormat> AllFormats() {
+  std::vector<MeasurementsCsvFormat> formats;
+  for (OrientationFormat o :
+       {OrientationFormat::kRotationVector, OrientationFormat::kQuaternion,
+        OrientationFormat::kRpyRad, OrientationFormat::kRpyDeg}) {
+    for (int bits = 0; bits < 8; ++bits) {
+      MeasurementsCsvFormat f;
+      f.orientation = o;
+      f.millimetres = bits & 1;
+      f.joint_degrees = bits & 2;
+      f.joint_names = bits & 4;
+      formats.push_back(f);
+    }
+  }
+  return formats;
+}
+
+double RotationDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  auto R = [](const Eigen::Vector3d& v) {
+    const double angle = v.norm();
+    return angle == 0 ? Eigen::Matrix3d::Identity()
+                      : Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+  };
+  return Eigen::AngleAxisd(R(a).transpose() * R(b)).angle();
+}
+
+TEST(MeasurementFormatsTest, EveryFormatRoundTrips) {
+  const RobotModel m = testing::MixedModel();
+  const std::vector<Measurement> data = MixedMeasurements(m, 24, 7);
+  // SI: bit for bit, sigmas included.
+  {
+    std::vector<Measurement> back;
+    std::string error;
+    const std::string text = MeasurementsCsvText(m, data);
+    EXPECT_NE(text.find(",sigma_m,sigma_x_m,sigma_y_m,sigma_z_m,sigma_rad\n"),
+              std::string::npos)
+        << text.substr(0, text.find('\n'));
+    ASSERT_TRUE(ParseMeasurementsCsv(text, "m.csv", m, &back, &error)) << error;
+    ASSERT_EQ(back.size(), data.size());
+    for (size_t i = 0; i < data.size(); ++i) {
+      EXPECT_EQ(back[i].sigma_m, data[i].sigma_m) << i;
+      EXPECT_EQ(back[i].sigma_rad, data[i].sigma_rad) << i;
+      EXPECT_EQ(back[i].position, data[i].position) << i;
+      EXPECT_EQ(back[i].rotation, data[i].rotation) << i;
+    }
+  }
+  for (const MeasurementsCsvFormat& f : AllFormats()) {
+    const std::string text = MeasurementsCsvText(m, data, f);
+    const std::string header = text.substr(0, text.find('\n'));
+    const std::string what = header;
+    EXPECT_NE(header.find(f.millimetres ? ",x_mm,y_mm,z_mm" : ",x_m,y_m,z_m"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(header.find(f.joint_names
+                              ? (f.joint_degrees ? ",L1_deg" : ",L1_rad")
+                              : (f.joint_degrees ? ",q1_deg" : ",q1_rad")),
+              std::string::npos)
+        << what;
+    const char* orientation[] = {",rx_rad,", ",qw,qx,qy,qz,", ",roll_rad,",
+                                 ",roll_deg,"};
+    EXPECT_NE(header.find(orientation[static_cast<int>(f.orientation)]),
+              std::string::npos)
+        << what;
+    std::vector<Measurement> back;
+    MeasurementsCsvReport report;
+    std::string error;
+    ASSERT_TRUE(ParseMeasurementsCsv(text, "m.csv", m, {}, &back, &report,
+                                     &error))
+        << what << ": " << error;
+    EXPECT_TRUE(report.warnings.empty() && report.notes.empty()) << what;
+    ASSERT_EQ(back.size(), data.size()) << what;
+    for (size_t i = 0; i < data.size(); ++i) {
+      const Measurement& a = data[i];
+      const Measurement& b = back[i];
+      ASSERT_EQ(b.type, a.type) << what;
+      EXPECT_LT((b.joints - a.joints).cwiseAbs().maxCoeff(), 1e-14) << what;
+      EXPECT_LT((b.position - a.position).cwiseAbs().maxCoeff(), 1e-14)
+          << what;
+      EXPECT_LT((b.sigma_m - a.sigma_m).cwiseAbs().maxCoeff(), 1e-18) << what;
+      EXPECT_NEAR(b.sigma_rad, a.sigma_rad, 1e-18) << what;
+      EXPECT_NEAR(b.distance, a.distance, 1e-14) << what;
+      if (a.type == MeasurementType::kPose) {
+        EXPECT_LT(RotationDistance(a.rotation, b.rotation), 1e-14) << what;
+      }
+      if (a.type == MeasurementType::kDistance) {
+        EXPECT_LT((b.joints2 - a.joints2).cwiseAbs().maxCoeff(), 1e-14)
+            << what;
+      }
+    }
+  }
+}
+
+TEST(MeasurementFormatsTest, EveryFormatGivesTheSameEstimates) {
+  // The PUMA's 27 parameters from 6D poses and points, each written in
+  // every format and identified: the same estimates to 1e-12.
+  const RobotModel m = Puma560PaperModel();
+  Random random(11);
+  std::vector<Measurement> plan;
+  for (int i = 0; i < 40; ++i) {
+    Measurement x;
+    x.type = i % 2 ? MeasurementType::kPose : MeasurementType::kPosition;
+    x.joints = testing::RandomJoints(m, &random);
+    plan.push_back(x);
+  }
+  SimulationNoise noise;
+  noise.position_m = 1e-4;
+  noise.rotation_rad = 1e-4;
+  std::vector<Measurement> data;
+  std::string error;
+  ASSERT_TRUE(SimulateMeasurements(m, Puma560TrueParameters(), plan, noise, 5,
+                                   &data, &error))
+      << error;
+  IdentificationOptions options;
+  options.rotation_weight_m_per_rad = 0.1;
+  IdentificationSummary reference;
+  Identify(m, data, m.nominal, options, &reference);
+  ASSERT_EQ(reference.termination_type, TerminationType::kConvergence)
+      << reference.message;
+  // The fit recovers the truth to the noise: a real identification.
+  EXPECT_LT((reference.parameters - Puma560TrueParameters())
+                .cwiseAbs()
+                .maxCoeff(),
+            0.01);
+  double worst[4] = {0, 0, 0, 0};
+  for (const MeasurementsCsvFormat& f : AllFormats()) {
+    const std::string text = MeasurementsCsvText(m, data, f);
+    const std::string what = text.substr(0, text.find('\n'));
+    std::vector<Measurement> back;
+    ASSERT_TRUE(ParseMeasurementsCsv(text, "m.csv", m, &back, &error))
+        << what << ": " << error;
+    IdentificationSummary summary;
+    Identify(m, back, m.nominal, options, &summary);
+    ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+        << what << ": " << summary.message;
+    // Units and joint names change the data by rounding of the positions
+    // (1e-16 m): the estimates agree to 1e-12. A quaternion or RPY
+    // orientation goes through trigonometric conversions on both sides,
+    // ~1e-15 rad per rotation, which this 27-parameter problem's
+    // conditioning turns into 3.7e-12 (measured): 1e-11 is checked there.
+    const double tolerance =
+        f.orientation == OrientationFormat::kRotationVector ? 1e-12 : 1e-11;
+    worst[static_cast<int>(f.orientation)] = std::max(
+        worst[static_cast<int>(f.orientation)],
+        (summary.estimates - reference.estimates).cwiseAbs().maxCoeff());
+    EXPECT_LT((summary.estimates - reference.estimates).cwiseAbs().maxCoeff(),
+              tolerance)
+        << what;
+  }
+  std::printf("largest estimate difference from the SI file: rotation "
+              "vector %.3g, quaternion %.3g, RPY rad %.3g, RPY deg %.3g\n",
+              worst[0], worst[1], worst[2], worst[3]);
+}
+
+TEST(MeasurementFormatsTest, QuaternionAndRpyFollowTheirConventions) {
+  const RobotModel m = testing::MixedModel();
+  const std::string joints = "0,0,0.1,0";
+  const double roll = 0.3, pitch = -0.7, yaw = 2.9;
+  const Eigen::Matrix3d R =
+      (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+       Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  const Eigen::AngleAxisd expected(R);
+  const Eigen::Quaterniond quat(R);
+  std::vector<Measurement> out;
+  std::string error;
+  const std::string rpy = "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,roll_deg,"
+                          "pitch_deg,yaw_deg\n" + joints + ",1,2,3," +
+                          std::to_string(roll * 180 / M_PI) + "," +
+                          std::to_string(pitch * 180 / M_PI) + "," +
+                          std::to_string(yaw * 180 / M_PI) + "\n";
+  // No type column and orientation columns: pose rows.
+  ASSERT_TRUE(ParseMeasurementsCsv(rpy, "m.csv", m, &out, &error)) << error;
+  ASSERT_EQ(out[0].type, MeasurementType::kPose);
+  EXPECT_LT(RotationDistance(out[0].rotation, expected.angle() *
+                                                  expected.axis()),
+            1e-7);  // std::to_string keeps 6 decimals of a degree
+  // A quaternion: -q is the same rotation; a norm within 1e-3 of 1 is
+  // normalised, beyond it refused.
+  const std::string head = "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,qw,qx,"
+                           "qy,qz\n";
+  for (double sign : {1.0, -1.0}) {
+    for (double norm : {1.0, 1.0009, 0.9991}) {
+      char row[256];
+      std::snprintf(row, sizeof(row), "pose,%s,1,2,3,%.17g,%.17g,%.17g,%.17g\n",
+                    joints.c_str(), sign * norm * quat.w(),
+                    sign * norm * quat.x(), sign * norm * quat.y(),
+                    sign * norm * quat.z());
+      ASSERT_TRUE(ParseMeasurementsCsv(head + row, "m.csv", m, &out, &error))
+          << error;
+      EXPECT_LT(RotationDistance(out[0].rotation,
+                                 expected.angle() * expected.axis()),
+                1e-14)
+          << sign << " " << norm;
+      EXPECT_LE(out[0].rotation.norm(), M_PI);
+    }
+    for (double norm : {1.0011, 0.9989, 0.0}) {
+      char row[256];
+      std::snprintf(row, sizeof(row), "pose,%s,1,2,3,%.17g,%.17g,%.17g,%.17g\n",
+                    joints.c_str(), sign * norm * quat.w(),
+                    sign * norm * quat.x(), sign * norm * quat.y(),
+                    sign * norm * quat.z());
+      EXPECT_FALSE(ParseMeasurementsCsv(head + row, "m.csv", m, &out, &error));
+      EXPECT_NE(error.find("m.csv:2: qw,qx,qy,qz: the quaternion's norm is "),
+                std::string::npos)
+          << error;
+      EXPECT_NE(error.find("not 1 (to 0.001): not a unit quaternion"),
+                std::string::npos)
+          << error;
+    }
+  }
+}
+
+TEST(MeasurementFormatsTest, WideMocapFormatEqualsItsLongForm) {
+  const RobotModel m = testing::UrdfStyleModel();
+  Random random(3);
+  // Four frames, two markers each; marker 2 not seen in frame 2 and marker
+  // 1 not seen in frame 4.
+  std::string wide = "frame,time_s,q1_rad,q2_rad,q3_m,q4_rad,x1_mm,y1_mm,"
+                     "z1_mm,x2_mm,y2_mm,z2_mm\n";
+  std::vector<Measurement> plan;
+  for (int frame = 1; frame <= 4; ++frame) {
+    const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+    wide += std::to_string(frame) + ",0." + std::to_string(frame);
+    for (int j = 0; j < 4; ++j) wide += "," + std::to_string(q[j]);
+    for (int k = 0; k < 2; ++k) {
+      Measurement x;
+      x.joints = Eigen::VectorXd(4);
+      for (int j = 0; j < 4; ++j) x.joints[j] = std::stod(std::to_string(q[j]));
+      x.marker = k;
+      const Eigen::Vector3d p =
+          MeasuredPoint(m, m.nominal, x.joints, k) * 1000.0;
+      if ((frame == 2 && k == 1) || (frame == 4 && k == 0)) {
+        wide += ",,,";
+        continue;
+      }
+      char cells[128];
+      std::snprintf(cells, sizeof(cells), ",%.4f,%.4f,%.4f", p.x(), p.y(),
+                    p.z());
+      wide += cells;
+      for (int a = 0; a < 3; ++a) {
+        x.position[a] = std::round(p[a] * 1e4) / 1e4 * 1e-3;
+      }
+      plan.push_back(x);
+    }
+    wide += "\n";
+  }
+  std::vector<Measurement> from_wide, from_long;
+  MeasurementsCsvReport report;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementsCsv(wide, "mocap.csv", m, {}, &from_wide,
+                                   &report, &error))
+      << error;
+  ASSERT_EQ(from_wide.size(), 6u);
+  EXPECT_EQ(report.lines, std::vector<int>({2, 2, 3, 4, 4, 5}));
+  ASSERT_EQ(report.notes.size(), 2u);
+  EXPECT_EQ(report.notes[0],
+            "mocap.csv: ignored 2 columns activecal does not read: frame, "
+            "time_s");
+  EXPECT_EQ(report.notes[1],
+            "mocap.csv: 2 marker positions left empty (not seen) skipped: "
+            "marker 1 in 1 row, marker 2 in 1 row");
+  // The long form: one row per marker position, the marker column.
+  const std::string long_text = MeasurementsCsvText(m, plan);
+  EXPECT_EQ(long_text.rfind("type,marker,", 0), 0u);
+  ASSERT_TRUE(ParseMeasurementsCsv(long_text, "long.csv", m, &from_long,
+                                   &error))
+      << error;
+  ASSERT_EQ(from_long.size(), from_wide.size());
+  for (size_t i = 0; i < from_wide.size(); ++i) {
+    EXPECT_EQ(from_wide[i].type, MeasurementType::kPosition);
+    EXPECT_EQ(from_wide[i].marker, from_long[i].marker) << i;
+    EXPECT_EQ(from_wide[i].joints, from_long[i].joints) << i;
+    EXPECT_LT((from_wide[i].position - from_long[i].position)
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-15)
+        << i;
+  }
+}
+
+// The mixed model's joint 3 is prismatic in [0, 0.4] m; the others revolute
+// in [-2.5, 2.5] rad.
+TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
+  const RobotModel m = testing::MixedModel();
+  const std::string head = "q1_rad,q2_rad,q3_m,q4_deg,x_m,y_m,z_m\n";
+  auto parse = [&](const std::string& rows, const MeasurementsCsvOptions& o,
+                   MeasurementsCsvReport* report, std::string* error) {
+    std::vector<Measurement> out;
+    return ParseMeasurementsCsv(head + rows, "s.csv", m, o, &out, report,
+                                error);
+  };
+  const double deg = 180 / M_PI;
+  char rows[512];
+  // Just inside: 9.99 mm above joint 3's upper limit in two rows, joint 4
+  // 4.99 deg below its lower limit in one.
+  std::snprintf(rows, sizeof(rows),
+                "0,0,0.40999,0,1,2,3\n0,0,0.4005,%.17g,1,2,3\n0,0,0.2,0,1,2,3\n",
+                -2.5 * deg - 4.99);
+  MeasurementsCsvReport report;
+  std::string error;
+  ASSERT_TRUE(parse(rows, {}, &report, &error)) << error;
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_EQ(report.warnings[0],
+            "s.csv: 2 of 3 rows have joint readings beyond the joint limits, "
+            "accepted within the tolerance (5 deg, 10 mm; strict limits "
+            "refuse them): q3_m (joint 3 (L3)) up to 0.00999 m above its upper "
+            "limit 0.4 m in 2 rows (first: line 2); q4_deg (joint 4 (L4)) up "
+            "to 4.99 deg below its lower limit -143.239 deg in 1 row (first: "
+            "line 3)");
+  // Strict: the first reading beyond a limit is an error.
+  MeasurementsCsvOptions strict;
+  strict.strict_limits = true;
+  EXPECT_FALSE(parse(rows, strict, &report, &error));
+  EXPECT_EQ(error,
+            "s.csv:2: q3_m: 0.40999 m is 0.00999 m beyond joint 3 (L3)'s "
+            "range [0, 0.4] m (strict limits: no reading may lie outside the "
+            "range)");
+  // Just outside the tolerance.
+  EXPECT_FALSE(parse("0,0,0.41001,0,1,2,3\n", {}, &report, &error));
+  EXPECT_EQ(error,
+            "s.csv:2: q3_m: 0.41001 m is 0.01001 m beyond joint 3 (L3)'s "
+            "range [0, 0.4] m, more than the tolerance of 0.01 m for joint "
+            "readings (wrong units, or a file of another robot?)");
+  std::snprintf(rows, sizeof(rows), "0,0,0.2,%.17g,1,2,3\n", 2.5 * deg + 5.01);
+  EXPECT_FALSE(parse(rows, {}, &report, &error));
+  EXPECT_NE(error.find("s.csv:2: q4_deg: 148.249 deg is 5.01 deg beyond "
+                       "joint 4 (L4)'s range [-143.239, 143.239] deg, more "
+                       "than the tolerance of 5 deg"),
+            std::string::npos)
+      << error;
+  // A tighter tolerance from the options; a bad one is refused.
+  MeasurementsCsvOptions tight;
+  tight.limit_tolerance_m = 0.005;
+  EXPECT_FALSE(parse("0,0,0.4051,0,1,2,3\n", tight, &report, &error));
+  EXPECT_NE(error.find("more than the tolerance of 0.005 m"),
+            std::string::npos)
+      << error;
+  for (double bad : {-1.0, 0.02, std::nan("")}) {
+    tight.limit_tolerance_m = bad;  // a wider tolerance is refused too
+    EXPECT_FALSE(parse("0,0,0.2,0,1,2,3\n", tight, &report, &error));
+    EXPECT_NE(error.find("joint limit tolerances must be in [0, 0.0872665] "
+                         "rad and [0, 0.01] m"),
+              std::string::npos)
+        << error;
+  }
+  // Within the ranges: no warning.
+  ASSERT_TRUE(parse("0,0,0.4,0,1,2,3\n", {}, &report, &error)) << error;
+  EXPECT_TRUE(report.warnings.empty());
+  // The second pose of a distance is held to the same rule.
+  const std::string dh =
+      "type,q1_rad,q2_rad,q3_m,q4_rad,q1_rad_2,q2_rad_2,q3_m_2,q4_rad_2,"
+      "distance_m\n";
+  std::vector<Measurement> out;
+  ASSERT_TRUE(ParseMeasurementsCsv(dh + "distance,0,0,0.1,0,0,0,0.405,0,0.5\n",
+                                   "d.csv", m, {}, &out, &report, &error))
+      << error;
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("up to 0.005 m above"), std::string::npos)
+      << report.warnings[0];
+  EXPECT_FALSE(ParseMeasurementsCsv(dh + "distance,0,0,0.1,0,0,0,0.42,0,0.5\n",
+                                    "d.csv", m, {}, &out, &report, &error));
+  EXPECT_NE(error.find("d.csv:2: second pose: q3_m_2: 0.42 m is 0.02 m "
+                       "beyond"),
+            std::string::npos)
+      << error;
+  // CheckMeasurement (what Identify, EvaluateModel and the Jacobians apply)
+  // holds joint readings to the same tolerance: the accepted reading goes
+  // through, one just beyond the tolerance does not, nor NaN.
+  Measurement beyond;
+  beyond.joints = Eigen::Vector4d(0, 0, 0.40999, -2.5 - 4.99 * M_PI / 180);
+  EXPECT_TRUE(CheckMeasurement(m, beyond, &error)) << error;
+  beyond.joints[2] = 0.41001;
+  EXPECT_FALSE(CheckMeasurement(m, beyond, &error));
+  EXPECT_NE(error.find("joints: joint 3 (L3) value 0.41001 m is outside its "
+                       "range [0, 0.4] m by more than the 0.01 m a measured "
+                       "joint may lie beyond it"),
+            std::string::npos)
+      << error;
+  beyond.joints[2] = 0.2;
+  beyond.joints[3] = -2.5 - 5.01 * M_PI / 180;
+  EXPECT_FALSE(CheckMeasurement(m, beyond, &error));
+  EXPECT_NE(error.find("by more than the 5 deg a measured joint may lie"),
+            std::string::npos)
+      << error;
+  beyond.joints[2] = NAN;
+  EXPECT_FALSE(CheckMeasurement(m, beyond, &error));
+  EXPECT_NE(error.find("joints: joint 3 (L3) value is not finite"),
+            std::string::npos)
+      << error;
+}
+
+TEST(MeasurementFormatsTest, UncertaintyColumns) {
+  const RobotModel m = testing::MixedModel();
+  std::vector<Measurement> out;
+  std::string error;
+  // U95 in mm: sigma = U95 / 2, on every axis.
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      "q1_rad,q2_rad,q3_m,q4_rad,x_mm,y_mm,z_mm,u95_mm\n"
+      "0,0,0.1,0,1000,2000,3000,0.03\n0,0,0.1,0,1000,2000,3000,\n",
+      "m.csv", m, &out, &error))
+      << error;
+  EXPECT_LT((out[0].sigma_m - Eigen::Vector3d::Constant(0.015e-3)).norm(),
+            1e-20);
+  EXPECT_EQ(out[0].position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(out[1].sigma_m, Eigen::Vector3d::Zero());  // empty: not given
+  // Per axis in mm; sigma_deg on a pose.
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,sigma_x_mm,"
+      "sigma_y_mm,sigma_z_mm,sigma_deg\n0,0,0.1,0,1,2,3,0,0,0.1,0.01,0.02,0.04,"
+      "0.5\n",
+      "m.csv", m, &out, &error))
+      << error;
+  EXPECT_LT((out[0].sigma_m - Eigen::Vector3d(1e-5, 2e-5, 4e-5)).norm(), 1e-20);
+  EXPECT_DOUBLE_EQ(out[0].sigma_rad, 0.5 * M_PI / 180);
+  const std::string h =
+      "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,"
+      "q1_rad_2,q2_rad_2,q3_m_2,q4_rad_2,distance_m,sigma_m,sigma_x_m,"
+      "sigma_y_m,sigma_z_m,sigma_rad\n";
+  // A distance's sigma_m is its own.
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      h + "distance,0,0,0.1,0,,,,,,,0,0,0.2,0,0.5,0.00002,,,,\n", "m.csv", m,
+      &out, &error))
+      << error;
+  EXPECT_EQ(out[0].sigma_m, Eigen::Vector3d(2e-5, 0, 0));
+  const std::vector<BadCsv> cases = {
+      {"zero sigma", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,0,,,,\n",
+       "m.csv:2: sigma_m: a standard deviation must be > 0, got 0 (leave the "
+       "cell empty when it is not known)"},
+      {"negative sigma", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,,1,-1,1,\n",
+       "m.csv:2: sigma_y_m: a standard deviation must be > 0, got -1"},
+      {"infinite sigma", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,inf,,,,\n",
+       "m.csv:2: sigma_m: must be finite"},
+      {"NaN sigma_rad", h + "pose,0,0,0.1,0,1,2,3,0,0,0,,,,,,,,,,nan\n",
+       "m.csv:2: sigma_rad: must be finite, got 'nan'"},
+      {"zero sigma_rad", h + "pose,0,0,0.1,0,1,2,3,0,0,0,,,,,,,,,,0\n",
+       "m.csv:2: sigma_rad: a standard deviation must be > 0, got 0"},
+      {"sigma_rad on a position", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,,,,,1\n",
+       "m.csv:2: sigma_rad: a position measurement has no such value"},
+      {"per-axis sigma on a distance",
+       h + "distance,0,0,0.1,0,,,,,,,0,0,0.2,0,0.5,,1,1,1,\n",
+       "m.csv:2: sigma_x_m: a distance measurement has no such value"},
+      {"two sigmas in a row", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,1,1,1,1,\n",
+       "m.csv:2: sigma_m and sigma_x_m,sigma_y_m,sigma_z_m: the row gives its "
+       "standard deviation twice"},
+      {"part of the axes", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,,1,,1,\n",
+       "m.csv:2: sigma_y_m: empty, but the row gives the rest of "
+       "sigma_x_m,sigma_y_m,sigma_z_m; fill all or none"},
+      {"U95 beside sigma",
+       "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,u95_m,sigma_m\n0,0,0.1,0,1,2,3,1,"
+       "\n",
+       "m.csv:1: the standard deviation is given both as sigma_m and as u95_m"},
+      {"sigma in m beside axes in mm",
+       "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,sigma_m,sigma_x_mm,sigma_y_mm,"
+       "sigma_z_mm\n0,0,0.1,0,1,2,3,1,,,\n",
+       "m.csv:1: the standard deviation is given both as sigma_m and as "
+       "sigma_x_mm,sigma_y_mm,sigma_z_mm"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "m.csv", m, &out, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
+TEST(MeasurementFormatsTest, ColumnsADeviceAddsAreListedOrRefused) {
+  const RobotModel m = testing::MixedModel();
+  const std::string text =
+      "target,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,temperature_C,humidity\n"
+      "P1,0,0,0.1,0,1,2,3,20.5,40\nP2,0,0,0.2,0,1,2,3,20.6,41\n";
+  std::vector<Measurement> out;
+  MeasurementsCsvReport report;
+  std::string error;
+  ASSERT_TRUE(
+      ParseMeasurementsCsv(text, "t.csv", m, {}, &out, &report, &error))
+      << error;
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[1].joints[2], 0.2);
+  ASSERT_EQ(report.notes.size(), 1u);
+  EXPECT_EQ(report.notes[0],
+            "t.csv: ignored 3 columns activecal does not read: target, "
+            "temperature_C, humidity");
+  MeasurementsCsvOptions strict;
+  strict.columns_strict = true;
+  EXPECT_FALSE(
+      ParseMeasurementsCsv(text, "t.csv", m, strict, &out, &report, &error));
+  EXPECT_EQ(error,
+            "t.csv:1: columns 'target', 'temperature_C', 'humidity' "
+            "activecal does not read (strict columns: every column must be "
+            "one activecal reads)");
+  // A known column the row's type does not use stays an error.
+  EXPECT_FALSE(ParseMeasurementsCsv(
+      "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,distance_m\n0,0,0.1,0,1,2,3,4\n",
+      "t.csv", m, &out, &error));
+  EXPECT_NE(error.find("t.csv:2: distance_m: a position measurement has no "
+                       "such value; leave it empty"),
+            std::string::npos)
+      << error;
+}
+
+TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
+  const RobotModel m = testing::UrdfStyleModel();  // joint1..joint4
+  std::vector<Measurement> out;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      "joint1_rad,joint2_deg,joint3_mm,joint4_rad,x_m,y_m,z_m\n"
+      "0.1,90,50,0.2,1,2,3\n",
+      "n.csv", m, &out, &error))
+      << error;
+  EXPECT_EQ(out[0].joints[0], 0.1);
+  EXPECT_DOUBLE_EQ(out[0].joints[1], M_PI / 2);
+  EXPECT_DOUBLE_EQ(out[0].joints[2], 0.05);
+  const std::string j = "q1_rad,q2_rad,q3_m,q4_rad,";
+  const std::vector<BadCsv> cases = {
+      {"joint names mixed", "q1_rad,joint2_rad,q3_m,q4_rad,x_m,y_m,z_m\n",
+       "n.csv:1: joints are named both q<j> ('q1_rad') and by joint name "
+       "('joint2_rad'): a file uses one of the two"},
+      {"metres and millimetres", j + "x_m,y_m,z_m,x_mm,y_mm,z_mm\n",
+       "n.csv:1: the measured point is given both as x_m,y_m,z_m and as "
+       "x_mm,y_mm,z_mm: a file holds one representation of each quantity"},
+      {"part of a form", j + "x_mm,y_mm\n",
+       "n.csv:1: the header has x_mm,y_mm but not z_mm (the measured point)"},
+      {"rotation vector and quaternion",
+       j + "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,qw,qx,qy,qz\n",
+       "n.csv:1: the orientation is given both as rx_rad,ry_rad,rz_rad and as "
+       "qw,qx,qy,qz"},
+      {"rpy in rad and deg",
+       j + "x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,roll_deg,pitch_deg,"
+           "yaw_deg\n",
+       "n.csv:1: the orientation is given both as roll_rad,pitch_rad,yaw_rad "
+       "and as roll_deg,pitch_deg,yaw_deg"},
+      {"distance in m and mm",
+       "type," + j + "x_m,y_m,z_m,distance_m,distance_mm\n",
+       "n.csv:1: the distance is given both as distance_m and as "
+       "distance_mm"},
+      {"wide and long point", j + "x_m,y_m,z_m,x1_m,y1_m,z1_m\n",
+       "n.csv:1: the measured point is given both as x_m,y_m,z_m and as "
+       "numbered markers (x1_m, ...)"},
+      {"wide in m and mm", j + "x1_m,y1_m,z1_m,x2_mm,y2_mm,z2_mm\n",
+       "n.csv:1: marker positions are given both in m and in mm ('x2_mm')"},
+      {"wide marker the model lacks", j + "x1_m,y1_m,z1_m,x3_m,y3_m,z3_m\n",
+       "n.csv:1: column 'x3_m' is for marker 3, but the model has 2 "
+       "marker(s)"},
+      {"wide marker without z", j + "x1_m,y1_m,z1_m,x2_m,y2_m\n",
+       "n.csv:1: marker 2 has no column 'z2_m'"},
+      {"wide with a marker column", "marker," + j + "x1_m,y1_m,z1_m\n",
+       "n.csv:1: a 'marker' column and numbered marker columns (x1_m, ...)"},
+      {"wide pose row",
+       "type," + j + "x1_m,y1_m,z1_m,rx_rad,ry_rad,rz_rad\npose,0,0,0,0,1,2,3,"
+                     "0,0,0\n",
+       "n.csv:2: type: a file of numbered marker columns (x1_m, ...) holds "
+       "position rows only, got 'pose'"},
+      {"wide marker half seen", j + "x1_m,y1_m,z1_m\n0,0,0,0,1,,3\n",
+       "n.csv:2: y1_m: empty, but marker 1's other coordinates are given"},
+      {"no marker seen anywhere", j + "x1_m,y1_m,z1_m\n0,0,0,0,,,\n",
+       "n.csv:1: no measurements: no marker was seen in any row"},
+      {"joint named for a missing joint", "q5_rad," + j + "x_m,y_m,z_m\n",
+       "n.csv:1: column 'q5_rad' is for joint 5"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "n.csv", m, &out, &error))
         << c.what;
     EXPECT_NE(error.find(c.message), std::string::npos)
         << c.what << "\n  got: " << error << "\n  want: " << c.message;

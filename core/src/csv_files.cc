@@ -1,11 +1,16 @@
 #include "activecal/core/csv_files.h"
 
+#include <Eigen/Geometry>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
+#include "activecal/core/kinematics.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -139,13 +144,24 @@ double DisplayScale(const RobotModel& model, int j) {
   return Revolute(model, j) ? kDegree : 1e-3;
 }
 
-// Reads joint j of a row from its SI column or its display column (suffix
-// appended to both names); checks agreement when both are present.
+// The two columns joint j may be read from: SI (q1_rad, q3_m) and display
+// (q1_deg, q3_mm), or the same after the URDF joint's name.
+struct JointColumnPair {
+  std::string si, display;
+};
+
+JointColumnPair QColumns(const RobotModel& model, int j,
+                         const std::string& suffix) {
+  return {JointColumn(model, j) + suffix, DisplayColumn(model, j) + suffix};
+}
+
+// Reads joint j of a row from its SI column or its display column; checks
+// agreement when both are present.
 bool ReadJoint(const Table& table, const Row& row, const RobotModel& model,
-               int j, const std::string& suffix, double* q,
+               int j, const JointColumnPair& columns, double* q,
                std::string* error) {
-  const std::string si = JointColumn(model, j) + suffix;
-  const std::string display = DisplayColumn(model, j) + suffix;
+  const std::string& si = columns.si;
+  const std::string& display = columns.display;
   const bool has_si = table.Has(si), has_display = table.Has(display);
   if (!has_si && !has_display) {
     return table.Fail(table.header_line(),
@@ -176,7 +192,10 @@ bool ReadJoints(const Table& table, const Row& row, const RobotModel& model,
                 std::string* error) {
   q->resize(model.num_joints());
   for (int j = 0; j < model.num_joints(); ++j) {
-    if (!ReadJoint(table, row, model, j, suffix, &(*q)[j], error)) return false;
+    if (!ReadJoint(table, row, model, j, QColumns(model, j, suffix), &(*q)[j],
+                   error)) {
+      return false;
+    }
   }
   std::string why;
   if (!model.CheckJointValues(*q, &why)) {
@@ -310,48 +329,882 @@ bool ReadPosesCsv(const std::string& path, const RobotModel& model,
          ParsePosesCsv(text, path, model, reject_duplicates, poses, error);
 }
 
+
+// ---------------------------------------------------------------------------
+// Measurements.
+
+namespace {
+
+// A quaternion is a unit quaternion up to this much (|norm - 1|); it is
+// normalised. Files print 4 to 17 digits: 1e-3 lets any of them through
+// and catches a column of another quantity.
+constexpr double kQuaternionNormTolerance = 1e-3;
+
+std::string Join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+  return out;
+}
+
+std::string Number6(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+  return buffer;
+}
+
+// One representation of a quantity: its columns and their factor to SI,
+// value * scale / divisor (a division by 1000 turns "1.5" mm into exactly
+// the double of "0.0015" m).
+struct Form {
+  std::vector<std::string> columns;
+  double scale = 1.0;
+  double divisor = 1.0;
+};
+
+// Which of a quantity's forms the header holds (-1: none). Part of a form,
+// or two forms, are errors.
+bool ChooseForm(const Table& table, const std::string& quantity,
+                const std::vector<Form>& forms, int* chosen,
+                std::string* error) {
+  *chosen = -1;
+  for (size_t f = 0; f < forms.size(); ++f) {
+    std::vector<std::string> present, missing;
+    for (const std::string& c : forms[f].columns) {
+      (table.Has(c) ? present : missing).push_back(c);
+    }
+    if (present.empty()) continue;
+    if (!missing.empty()) {
+      return table.Fail(table.header_line(),
+                        "the header has " + Join(present) + " but not " +
+                            Join(missing) + " (" + quantity + ")",
+                        error);
+    }
+    if (*chosen >= 0) {
+      return table.Fail(
+          table.header_line(),
+          quantity + " is given both as " + Join(forms[*chosen].columns) +
+              " and as " + Join(forms[f].columns) +
+              ": a file holds one representation of each quantity",
+          error);
+    }
+    *chosen = static_cast<int>(f);
+  }
+  return true;
+}
+
+// The forms of each quantity.
+const std::vector<Form>& PositionForms() {
+  static const std::vector<Form> forms = {{{"x_m", "y_m", "z_m"}, 1.0},
+                                          {{"x_mm", "y_mm", "z_mm"}, 1.0, 1e3}};
+  return forms;
+}
+enum OrientationForm { kRotvec, kQuat, kRpyRad, kRpyDeg };
+const std::vector<Form>& OrientationForms() {
+  static const std::vector<Form> forms = {
+      {{"rx_rad", "ry_rad", "rz_rad"}, 1.0},
+      {{"qw", "qx", "qy", "qz"}, 1.0},
+      {{"roll_rad", "pitch_rad", "yaw_rad"}, 1.0},
+      {{"roll_deg", "pitch_deg", "yaw_deg"}, kDegree}};
+  return forms;
+}
+const std::vector<Form>& DistanceForms() {
+  static const std::vector<Form> forms = {{{"distance_m"}, 1.0},
+                                          {{"distance_mm"}, 1.0, 1e3}};
+  return forms;
+}
+// Isotropic standard deviation, or a 95% expanded uncertainty (k = 2).
+enum SigmaForm { kSigmaM, kSigmaMm, kU95M, kU95Mm };
+const std::vector<Form>& SigmaForms() {
+  static const std::vector<Form> forms = {{{"sigma_m"}, 1.0, 1.0},
+                                          {{"sigma_mm"}, 1.0, 1e3},
+                                          {{"u95_m"}, 1.0, 2.0},
+                                          {{"u95_mm"}, 1.0, 2e3}};
+  return forms;
+}
+const std::vector<Form>& SigmaAxesForms() {
+  static const std::vector<Form> forms = {
+      {{"sigma_x_m", "sigma_y_m", "sigma_z_m"}, 1.0},
+      {{"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}, 1.0, 1e3}};
+  return forms;
+}
+const std::vector<Form>& SigmaRotationForms() {
+  static const std::vector<Form> forms = {{{"sigma_rad"}, 1.0},
+                                          {{"sigma_deg"}, kDegree}};
+  return forms;
+}
+
+// A position column of the wide (motion capture) form: x2_m -> axis 0,
+// marker 2, scale 1; false for other names.
+bool WideColumn(const std::string& name, int* axis, int* marker,
+                double* scale) {
+  if (name.size() < 4 || (name[0] != 'x' && name[0] != 'y' && name[0] != 'z'))
+    return false;
+  size_t end = 1;
+  while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end])))
+    ++end;
+  if (end == 1 || end > 7) return false;
+  const std::string unit = name.substr(end);
+  if (unit != "_m" && unit != "_mm") return false;
+  *axis = name[0] - 'x';
+  *marker = std::stoi(name.substr(1, end - 1));
+  *scale = unit == "_m" ? 1.0 : 1e-3;
+  return true;
+}
+
+// The unit of joint j's readings in the file, for messages.
+struct JointUnit {
+  std::string column;  // the column the value came from
+  std::string name;    // "rad", "deg", "m", "mm"
+  double scale;        // file unit to SI
+};
+
+// Readings beyond a joint's range, gathered for the file's warning.
+struct LimitExcess {
+  double max_excess = 0.0;  // SI
+  bool above = true;        // the largest excess is above the upper limit
+  int rows = 0;
+  int first_line = 0;
+  int last_counted_line = 0;
+};
+
+class MeasurementsReader {
+ public:
+  MeasurementsReader(const Table& table, const std::string& source,
+                     const RobotModel& model,
+                     const MeasurementsCsvOptions& options)
+      : table_(table), source_(source), model_(model), options_(options) {}
+
+  bool Read(std::vector<Measurement>* out, MeasurementsCsvReport* report,
+            std::string* error);
+
+ private:
+  bool ResolveHeader(std::string* error);
+  bool ResolveJoints(std::string* error);
+  bool ReadRow(const Row& row, std::vector<Measurement>* out,
+               std::vector<int>* lines, std::string* error);
+  bool ReadJointsOf(const Row& row, const std::vector<JointColumnPair>& cols,
+                    bool second, Eigen::VectorXd* q, std::string* error);
+  bool CheckLimits(const Row& row, const std::vector<JointColumnPair>& cols,
+                   bool second, const Eigen::VectorXd& q, std::string* error);
+  bool ReadForm(const Row& row, const std::vector<Form>& forms, int form,
+                bool used, const std::string& what, const std::string& type,
+                double* values, bool* given, std::string* error);
+  bool Known(const std::string& column) const { return known_.count(column); }
+  std::string JointLabel(int j) const {
+    return "joint " + std::to_string(j + 1) + " (" + model_.links[j].name +
+           ")";
+  }
+  JointUnit UnitOf(const JointColumnPair& cols, int j) const;
+  std::string Warning(int num_rows) const;
+
+  const Table& table_;
+  const std::string source_;
+  const RobotModel& model_;
+  const MeasurementsCsvOptions& options_;
+
+  std::map<std::string, int> known_;
+  std::vector<JointColumnPair> joints_, joints2_;
+  bool has_second_ = false;
+  int position_ = -1, orientation_ = -1, distance_ = -1;
+  int sigma_ = -1, sigma_axes_ = -1, sigma_rad_ = -1;
+  // Wide form: marker (1-based) -> column index of x, y, z.
+  std::map<int, std::array<int, 3>> wide_;
+  double wide_divisor_ = 1.0;  // 1000 for mm
+  std::vector<LimitExcess> excess_;
+  std::map<int, int> unseen_;  // marker (1-based) -> empty positions
+  int rows_beyond_ = 0;
+  int last_beyond_line_ = 0;
+};
+
+bool MeasurementsReader::ResolveJoints(std::string* error) {
+  const int n = model_.num_joints();
+  // q<j> columns, or the URDF joint names: one scheme per file.
+  std::vector<JointColumnPair> q1, q2, n1, n2;
+  bool any_q = false, any_name = false;
+  std::string a_q, a_name;
+  static const std::set<std::string> kFixed = {
+      "type", "marker", "x_m", "y_m", "z_m", "x_mm", "y_mm", "z_mm",
+      "distance_m", "distance_mm", "sigma_m", "sigma_mm", "sigma_rad",
+      "sigma_deg", "u95_m", "u95_mm"};
+  for (int j = 0; j < n; ++j) {
+    const bool rev = Revolute(model_, j);
+    for (const std::string& suffix : {std::string(""), std::string("_2")}) {
+      const JointColumnPair q = QColumns(model_, j, suffix);
+      const std::string& name = model_.links[j].name;
+      const JointColumnPair by_name = {
+          name + (rev ? "_rad" : "_m") + suffix,
+          name + (rev ? "_deg" : "_mm") + suffix};
+      (suffix.empty() ? q1 : q2).push_back(q);
+      (suffix.empty() ? n1 : n2).push_back(by_name);
+      for (const std::string& c : {q.si, q.display}) {
+        if (table_.Has(c)) {
+          any_q = true;
+          if (a_q.empty()) a_q = c;
+        }
+      }
+      for (const std::string& c : {by_name.si, by_name.display}) {
+        if (table_.Has(c) && !kFixed.count(c) && name != "q" + std::to_string(j + 1)) {
+          any_name = true;
+          if (a_name.empty()) a_name = c;
+        }
+      }
+    }
+  }
+  if (any_q && any_name) {
+    return table_.Fail(table_.header_line(),
+                       "joints are named both q<j> ('" + a_q +
+                           "') and by joint name ('" + a_name +
+                           "'): a file uses one of the two",
+                       error);
+  }
+  joints_ = any_name ? n1 : q1;
+  joints2_ = any_name ? n2 : q2;
+  for (int j = 0; j < n; ++j) {
+    for (const JointColumnPair* p : {&joints_[j], &joints2_[j]}) {
+      for (const std::string& c : {p->si, p->display}) {
+        if (table_.Has(c)) {
+          known_[c] = 1;
+          if (p == &joints2_[j]) has_second_ = true;
+        }
+      }
+    }
+  }
+  excess_.assign(n, LimitExcess());
+  return true;
+}
+
+bool MeasurementsReader::ResolveHeader(std::string* error) {
+  if (!ResolveJoints(error)) return false;
+  struct Quantity {
+    const char* name;
+    const std::vector<Form>* forms;
+    int* chosen;
+  };
+  const Quantity quantities[] = {
+      {"the measured point", &PositionForms(), &position_},
+      {"the orientation", &OrientationForms(), &orientation_},
+      {"the distance", &DistanceForms(), &distance_},
+      {"the standard deviation", &SigmaForms(), &sigma_},
+      {"the standard deviation per axis", &SigmaAxesForms(), &sigma_axes_},
+      {"the orientation's standard deviation", &SigmaRotationForms(),
+       &sigma_rad_},
+  };
+  for (const Quantity& q : quantities) {
+    if (!ChooseForm(table_, q.name, *q.forms, q.chosen, error)) return false;
+    if (*q.chosen >= 0) {
+      for (const std::string& c : (*q.forms)[*q.chosen].columns) known_[c] = 1;
+    }
+  }
+  if (sigma_ >= 0 && sigma_axes_ >= 0) {
+    const bool mm = sigma_ == kSigmaMm || sigma_ == kU95Mm;
+    if (sigma_ == kU95M || sigma_ == kU95Mm || mm != (sigma_axes_ == 1)) {
+      return table_.Fail(
+          table_.header_line(),
+          "the standard deviation is given both as " +
+              SigmaForms()[sigma_].columns[0] + " and as " +
+              Join(SigmaAxesForms()[sigma_axes_].columns) +
+              ": a file holds one representation of each quantity",
+          error);
+    }
+  }
+  if (table_.Has("type")) known_["type"] = 1;
+  if (table_.Has("marker")) known_["marker"] = 1;
+  // The wide form of motion capture: x1_m, y1_m, z1_m, x2_m, ...
+  std::string unit;
+  for (size_t c = 0; c < table_.header().size(); ++c) {
+    const std::string& name = table_.header()[c];
+    int axis, marker;
+    double scale;
+    if (Known(name) || !WideColumn(name, &axis, &marker, &scale)) continue;
+    const std::string this_unit = scale == 1.0 ? "_m" : "_mm";
+    if (!unit.empty() && unit != this_unit) {
+      return table_.Fail(table_.header_line(),
+                         "marker positions are given both in " + unit.substr(1) +
+                             " and in " + this_unit.substr(1) + " ('" + name +
+                             "'): a file holds one unit of each quantity",
+                         error);
+    }
+    unit = this_unit;
+    wide_divisor_ = scale == 1.0 ? 1.0 : 1e3;
+    if (marker < 1 || marker > model_.num_markers()) {
+      return table_.Fail(
+          table_.header_line(),
+          "column '" + name + "' is for marker " + std::to_string(marker) +
+              ", but the model has " + std::to_string(model_.num_markers()) +
+              " marker(s) (numbered from 1; add markers with --frames or "
+              "the robot file)",
+          error);
+    }
+    wide_.emplace(marker, std::array<int, 3>{-1, -1, -1});
+    wide_[marker][axis] = static_cast<int>(c);
+    known_[name] = 1;
+  }
+  for (const auto& [marker, columns] : wide_) {
+    static const char kAxis[] = "xyz";
+    for (int a = 0; a < 3; ++a) {
+      if (columns[a] < 0) {
+        return table_.Fail(table_.header_line(),
+                           "marker " + std::to_string(marker) +
+                               " has no column '" + kAxis[a] +
+                               std::to_string(marker) + unit + "'",
+                           error);
+      }
+    }
+  }
+  if (!wide_.empty()) {
+    if (position_ >= 0) {
+      return table_.Fail(table_.header_line(),
+                         "the measured point is given both as " +
+                             Join(PositionForms()[position_].columns) +
+                             " and as numbered markers (x1" + unit +
+                             ", ...): a file holds one representation of "
+                             "each quantity",
+                         error);
+    }
+    if (table_.Has("marker")) {
+      return table_.Fail(table_.header_line(),
+                         "a 'marker' column and numbered marker columns (x1" +
+                             unit + ", ...): the numbers already say which "
+                             "marker each column is",
+                         error);
+    }
+  }
+  return true;
+}
+
+JointUnit MeasurementsReader::UnitOf(const JointColumnPair& cols,
+                                     int j) const {
+  const bool rev = Revolute(model_, j);
+  if (table_.Has(cols.si)) return {cols.si, rev ? "rad" : "m", 1.0};
+  return {cols.display, rev ? "deg" : "mm", DisplayScale(model_, j)};
+}
+
+bool MeasurementsReader::ReadJointsOf(const Row& row,
+                                      const std::vector<JointColumnPair>& cols,
+                                      bool second, Eigen::VectorXd* q,
+                                      std::string* error) {
+  q->resize(model_.num_joints());
+  for (int j = 0; j < model_.num_joints(); ++j) {
+    if (!ReadJoint(table_, row, model_, j, cols[j], &(*q)[j], error)) {
+      return false;
+    }
+  }
+  return CheckLimits(row, cols, second, *q, error);
+}
+
+bool MeasurementsReader::CheckLimits(const Row& row,
+                                     const std::vector<JointColumnPair>& cols,
+                                     bool second, const Eigen::VectorXd& q,
+                                     std::string* error) {
+  for (int j = 0; j < model_.num_joints(); ++j) {
+    const Link& l = model_.links[j];
+    // As RobotModel::CheckJointValues: a few ulps let end points through.
+    const double slack =
+        1e-9 *
+        std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
+    const bool above = q[j] > l.joint_max;
+    const double excess = above ? q[j] - l.joint_max : l.joint_min - q[j];
+    if (excess <= slack) continue;
+    const JointUnit unit = UnitOf(cols[j], j);
+    const double tolerance =
+        Revolute(model_, j) ? options_.limit_tolerance_rad
+                            : options_.limit_tolerance_m;
+    if (options_.strict_limits || excess > tolerance) {
+      auto in_unit = [&](double v) {
+        return Number6(v / unit.scale) + " " + unit.name;
+      };
+      std::string what = unit.column + ": " + in_unit(q[j]) + " is " +
+                         in_unit(excess) + " beyond " + JointLabel(j) +
+                         "'s range [" + Number6(l.joint_min / unit.scale) +
+                         ", " + Number6(l.joint_max / unit.scale) + "] " +
+                         unit.name;
+      if (options_.strict_limits) {
+        what += " (strict limits: no reading may lie outside the range)";
+      } else {
+        what += ", more than the tolerance of " + in_unit(tolerance) +
+                " for joint readings (wrong units, or a file of another "
+                "robot?)";
+      }
+      return table_.Fail(row.line, (second ? "second pose: " : "") + what,
+                         error);
+    }
+    LimitExcess& e = excess_[j];
+    if (excess > e.max_excess) {
+      e.max_excess = excess;
+      e.above = above;
+    }
+    if (e.last_counted_line != row.line) {
+      ++e.rows;
+      e.last_counted_line = row.line;
+      if (e.first_line == 0) e.first_line = row.line;
+    }
+    if (last_beyond_line_ != row.line) {
+      ++rows_beyond_;
+      last_beyond_line_ = row.line;
+    }
+  }
+  return true;
+}
+
+// Reads the chosen form of a quantity into values (scaled to SI). A used
+// quantity must be there and filled (`given` null) or may be empty
+// (`given` set to whether it was filled); an unused one must be empty.
+bool MeasurementsReader::ReadForm(const Row& row,
+                                  const std::vector<Form>& forms, int form,
+                                  bool used, const std::string& what,
+                                  const std::string& type, double* values,
+                                  bool* given, std::string* error) {
+  if (given) *given = false;
+  if (form < 0) {
+    if (!used || given) return true;
+    std::string list;
+    for (const Form& f : forms) list += (list.empty() ? "" : "; ") + Join(f.columns);
+    return table_.Fail(table_.header_line(),
+                       "a " + type + " row needs " + what + ": the header has "
+                       "none of " + list,
+                       error);
+  }
+  const Form& f = forms[form];
+  int filled = 0;
+  for (const std::string& c : f.columns) filled += !table_.Empty(row, c);
+  if (!used) {
+    for (const std::string& c : f.columns) {
+      if (!table_.Empty(row, c)) {
+        return table_.Fail(row.line,
+                           c + ": a " + type +
+                               " measurement has no such value; leave it empty",
+                           error);
+      }
+    }
+    return true;
+  }
+  if (given) {
+    if (filled == 0) return true;
+    if (filled != static_cast<int>(f.columns.size())) {
+      for (const std::string& c : f.columns) {
+        if (table_.Empty(row, c)) {
+          return table_.Fail(row.line,
+                             c + ": empty, but the row gives the rest of " +
+                                 Join(f.columns) + "; fill all or none",
+                             error);
+        }
+      }
+    }
+    *given = true;
+  }
+  for (size_t k = 0; k < f.columns.size(); ++k) {
+    if (!table_.Number(row, f.columns[k], &values[k], error)) return false;
+    values[k] = values[k] * f.scale / f.divisor;
+  }
+  return true;
+}
+
+bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
+                                 std::vector<int>* lines, std::string* error) {
+  Measurement m;
+  std::string type;
+  if (table_.Has("type")) {
+    type = row.fields[table_.Column("type")];
+    if (!ParseMeasurementType(type, &m.type)) {
+      return table_.Fail(
+          row.line,
+          "type: expected position, pose or distance, got '" + type + "'",
+          error);
+    }
+  } else {
+    m.type = orientation_ >= 0 ? MeasurementType::kPose
+                               : MeasurementType::kPosition;
+    type = MeasurementTypeName(m.type);
+  }
+  if (!wide_.empty() && m.type != MeasurementType::kPosition) {
+    return table_.Fail(row.line,
+                       "type: a file of numbered marker columns (x1_m, ...) "
+                       "holds position rows only, got '" +
+                           type + "'",
+                       error);
+  }
+  if (!ReadJointsOf(row, joints_, false, &m.joints, error)) return false;
+  if (table_.Has("marker") && !table_.Empty(row, "marker")) {
+    const std::string name = row.fields[table_.Column("marker")];
+    m.marker = model_.MarkerIndex(name);
+    if (m.marker < 0) {
+      std::string list;
+      for (int k = 0; k < model_.num_markers(); ++k) {
+        list += (k ? ", " : "") + model_.block_name(model_.marker_block(k));
+      }
+      return table_.Fail(row.line,
+                         "marker: '" + name +
+                             "' is not a marker of the model (its markers: " +
+                             list + ", or their numbers 1.." +
+                             std::to_string(model_.num_markers()) + ")",
+                         error);
+    }
+  }
+  const bool pose = m.type == MeasurementType::kPose;
+  const bool distance = m.type == MeasurementType::kDistance;
+  double v[4];
+  if (wide_.empty() &&
+      !ReadForm(row, PositionForms(), position_, !distance, "a measured point",
+                type, v, nullptr, error)) {
+    return false;
+  }
+  if (wide_.empty() && !distance) m.position = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (!ReadForm(row, OrientationForms(), orientation_, pose,
+                "an orientation", type, v, nullptr, error)) {
+    return false;
+  }
+  if (pose) {
+    Eigen::Matrix3d R;
+    switch (orientation_) {
+      case kRotvec:
+        m.rotation = Eigen::Vector3d(v[0], v[1], v[2]);
+        break;
+      case kQuat: {
+        Eigen::Quaterniond quat(v[0], v[1], v[2], v[3]);
+        const double norm = quat.norm();
+        if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+          return table_.Fail(
+              row.line,
+              "qw,qx,qy,qz: the quaternion's norm is " + Number6(norm) +
+                  ", not 1 (to " + Number6(kQuaternionNormTolerance) +
+                  "): not a unit quaternion",
+              error);
+        }
+        const Eigen::AngleAxisd aa(quat.normalized());
+        m.rotation = aa.angle() * aa.axis();
+        break;
+      }
+      default: {
+        R = RpyRotation(v[0], v[1], v[2]);
+        const Eigen::AngleAxisd aa(R);
+        m.rotation = aa.angle() * aa.axis();
+        break;
+      }
+    }
+  }
+  if (!ReadForm(row, DistanceForms(), distance_, distance, "a distance", type,
+                &m.distance, nullptr, error)) {
+    return false;
+  }
+  if (distance) {
+    if (!ReadJointsOf(row, joints2_, true, &m.joints2, error)) return false;
+  } else {
+    for (const JointColumnPair& p : joints2_) {
+      for (const std::string& c : {p.si, p.display}) {
+        if (!table_.Empty(row, c)) {
+          return table_.Fail(row.line,
+                             c + ": a " + type +
+                                 " measurement has no such value; leave it "
+                                 "empty",
+                             error);
+        }
+      }
+    }
+  }
+  // Standard deviations: empty cells are "not given".
+  bool iso_given = false, axes_given = false, rad_given = false;
+  double sigma = 0, axes[3] = {0, 0, 0}, sigma_rad = 0;
+  if (!ReadForm(row, SigmaForms(), sigma_, true, "", type, &sigma, &iso_given,
+                error) ||
+      !ReadForm(row, SigmaAxesForms(), sigma_axes_, !distance, "", type, axes,
+                &axes_given, error) ||
+      !ReadForm(row, SigmaRotationForms(), sigma_rad_, pose, "", type,
+                &sigma_rad, &rad_given, error)) {
+    return false;
+  }
+  if (iso_given && axes_given) {
+    return table_.Fail(row.line,
+                       SigmaForms()[sigma_].columns[0] + " and " +
+                           Join(SigmaAxesForms()[sigma_axes_].columns) +
+                           ": the row gives its standard deviation twice; "
+                           "leave one empty",
+                       error);
+  }
+  auto positive = [&](const std::string& column, double value) {
+    if (value > 0) return true;
+    return table_.Fail(row.line,
+                       column + ": a standard deviation must be > 0, got " +
+                           ShortestText(value) +
+                           " (leave the cell empty when it is not known)",
+                       error);
+  };
+  if (iso_given) {
+    if (!positive(SigmaForms()[sigma_].columns[0], sigma)) return false;
+    m.sigma_m = distance ? Eigen::Vector3d(sigma, 0, 0)
+                         : Eigen::Vector3d::Constant(sigma);
+  }
+  if (axes_given) {
+    for (int k = 0; k < 3; ++k) {
+      if (!positive(SigmaAxesForms()[sigma_axes_].columns[k], axes[k])) {
+        return false;
+      }
+    }
+    m.sigma_m = Eigen::Vector3d(axes[0], axes[1], axes[2]);
+  }
+  if (rad_given) {
+    if (!positive(SigmaRotationForms()[sigma_rad_].columns[0], sigma_rad)) {
+      return false;
+    }
+    m.sigma_rad = sigma_rad;
+  }
+  std::vector<Measurement> row_out;
+  if (wide_.empty()) {
+    row_out.push_back(std::move(m));
+  } else {
+    for (const auto& [marker, columns] : wide_) {
+      int filled = 0;
+      for (int c : columns) filled += !row.fields[c].empty();
+      if (filled == 0) {
+        ++unseen_[marker];
+        continue;
+      }
+      Measurement mk = m;
+      mk.marker = marker - 1;
+      for (int a = 0; a < 3; ++a) {
+        const std::string& column = table_.header()[columns[a]];
+        if (filled != 3 && row.fields[columns[a]].empty()) {
+          return table_.Fail(row.line,
+                             column + ": empty, but marker " +
+                                 std::to_string(marker) +
+                                 "'s other coordinates are given: fill all "
+                                 "three or none (not seen)",
+                             error);
+        }
+        if (!table_.Number(row, column, &mk.position[a], error)) return false;
+        mk.position[a] /= wide_divisor_;
+      }
+      row_out.push_back(std::move(mk));
+    }
+  }
+  for (Measurement& r : row_out) {
+    std::string why;
+    if (!CheckMeasurement(model_, r, &why)) {
+      return table_.Fail(row.line, why, error);
+    }
+    out->push_back(std::move(r));
+    lines->push_back(row.line);
+  }
+  return true;
+}
+
+std::string MeasurementsReader::Warning(int num_rows) const {
+  std::string text = source_ + ": " + std::to_string(rows_beyond_) + " of " +
+                     std::to_string(num_rows) +
+                     " rows have joint readings beyond the joint limits, "
+                     "accepted within the tolerance (" +
+                     Number6(options_.limit_tolerance_rad / kDegree) +
+                     " deg, " + Number6(options_.limit_tolerance_m * 1e3) +
+                     " mm; strict limits refuse them):";
+  bool first = true;
+  for (int j = 0; j < model_.num_joints(); ++j) {
+    const LimitExcess& e = excess_[j];
+    if (e.rows == 0) continue;
+    const JointUnit unit = UnitOf(joints_[j], j);
+    const Link& l = model_.links[j];
+    text += std::string(first ? " " : "; ") + unit.column + " (" +
+            JointLabel(j) + ") up to " + Number6(e.max_excess / unit.scale) +
+            " " + unit.name + (e.above ? " above its upper limit " : " below its lower limit ") +
+            Number6((e.above ? l.joint_max : l.joint_min) / unit.scale) + " " +
+            unit.name + " in " + std::to_string(e.rows) + " row" +
+            (e.rows == 1 ? "" : "s") + " (first: line " +
+            std::to_string(e.first_line) + ")";
+    first = false;
+  }
+  return text;
+}
+
+bool MeasurementsReader::Read(std::vector<Measurement>* out,
+                              MeasurementsCsvReport* report,
+                              std::string* error) {
+  if (!ResolveHeader(error)) return false;
+  if (!table_.Has("type") && has_second_) {
+    return table_.RequireColumn("type", error);
+  }
+  std::vector<std::string> extra;
+  for (const std::string& name : table_.header()) {
+    if (!Known(name)) extra.push_back(name);
+  }
+  if (!extra.empty() && options_.columns_strict) {
+    std::string list;
+    for (const std::string& e : extra) list += (list.empty() ? "'" : ", '") + e + "'";
+    return table_.Fail(table_.header_line(),
+                       "column" + std::string(extra.size() > 1 ? "s " : " ") +
+                           list +
+                           " activecal does not read (strict columns: every "
+                           "column must be one activecal reads)",
+                       error);
+  }
+  if (table_.rows().empty()) {
+    return table_.Fail(table_.header_line(),
+                       "no measurements after the header", error);
+  }
+  std::vector<Measurement> measurements;
+  std::vector<int> lines;
+  for (const Row& row : table_.rows()) {
+    if (!ReadRow(row, &measurements, &lines, error)) return false;
+  }
+  if (measurements.empty()) {
+    return table_.Fail(table_.header_line(),
+                       "no measurements: no marker was seen in any row", error);
+  }
+  MeasurementsCsvReport r;
+  if (rows_beyond_ > 0) {
+    r.warnings.push_back(Warning(static_cast<int>(table_.rows().size())));
+  }
+  if (!extra.empty()) {
+    std::string list;
+    for (const std::string& e : extra) list += (list.empty() ? "" : ", ") + e;
+    r.notes.push_back(source_ + ": ignored " + std::to_string(extra.size()) +
+                      " column" + (extra.size() > 1 ? "s" : "") +
+                      " activecal does not read: " + list);
+  }
+  if (!unseen_.empty()) {
+    int total = 0;
+    std::string list;
+    for (const auto& [marker, count] : unseen_) {
+      total += count;
+      list += (list.empty() ? "" : ", ") + std::string("marker ") +
+              std::to_string(marker) + " in " + std::to_string(count) +
+              " row" + (count > 1 ? "s" : "");
+    }
+    r.notes.push_back(source_ + ": " + std::to_string(total) +
+                      " marker position" + (total > 1 ? "s" : "") +
+                      " left empty (not seen) skipped: " + list);
+  }
+  r.lines = std::move(lines);
+  *out = std::move(measurements);
+  if (report) *report = std::move(r);
+  return true;
+}
+
+}  // namespace
+
+bool MeasurementsCsvOptions::IsValid(std::string* error) const {
+  if (!(limit_tolerance_rad >= 0 &&
+        limit_tolerance_rad <= kMeasuredJointToleranceRad &&
+        limit_tolerance_m >= 0 &&
+        limit_tolerance_m <= kMeasuredJointToleranceM)) {
+    if (error) {
+      *error = "joint limit tolerances must be in [0, " +
+               Number6(kMeasuredJointToleranceRad) + "] rad and [0, " +
+               Number6(kMeasuredJointToleranceM) + "] m, got " +
+               ShortestText(limit_tolerance_rad) + " rad and " +
+               ShortestText(limit_tolerance_m) + " m";
+    }
+    return false;
+  }
+  return true;
+}
+
 std::string MeasurementsCsvText(const RobotModel& model,
-                                const std::vector<Measurement>& measurements) {
-  bool any_pose = false, any_distance = false;
+                                const std::vector<Measurement>& measurements,
+                                const MeasurementsCsvFormat& format) {
+  bool any_pose = false, any_distance = false, any_marker = false;
+  bool any_iso = false, any_axes = false, any_sigma_rad = false;
   for (const Measurement& m : measurements) {
     any_pose |= m.type == MeasurementType::kPose;
     any_distance |= m.type == MeasurementType::kDistance;
+    any_marker |= m.marker != 0;
+    any_sigma_rad |= m.type == MeasurementType::kPose && m.sigma_rad != 0;
+    if (m.type == MeasurementType::kDistance) {
+      any_iso |= m.sigma_m[0] != 0;
+    } else if (m.sigma_m != Eigen::Vector3d::Zero()) {
+      const bool iso = m.sigma_m[0] == m.sigma_m[1] &&
+                       m.sigma_m[0] == m.sigma_m[2];
+      (iso ? any_iso : any_axes) = true;
+    }
   }
   const int nj = model.num_joints();
-  bool any_marker = false;
-  for (const Measurement& m : measurements) any_marker |= m.marker != 0;
+  const double length = format.millimetres ? 1e3 : 1.0;
+  const std::string lu = format.millimetres ? "_mm" : "_m";
+  auto joint_column = [&](int j) {
+    const bool rev = Revolute(model, j);
+    const std::string unit = format.joint_degrees ? (rev ? "_deg" : "_mm")
+                                                  : (rev ? "_rad" : "_m");
+    return (format.joint_names ? model.links[j].name
+                               : "q" + std::to_string(j + 1)) +
+           unit;
+  };
+  auto joint_value = [&](const Eigen::VectorXd& q, int j) {
+    return ShortestText(format.joint_degrees ? q[j] / DisplayScale(model, j)
+                                             : q[j]);
+  };
+  static const char* const kOrientation[][4] = {
+      {"rx_rad", "ry_rad", "rz_rad", nullptr},
+      {"qw", "qx", "qy", "qz"},
+      {"roll_rad", "pitch_rad", "yaw_rad", nullptr},
+      {"roll_deg", "pitch_deg", "yaw_deg", nullptr}};
+  const int of = static_cast<int>(format.orientation);
+  const int num_orientation = of == 1 ? 4 : 3;
   std::ostringstream out;
   out << "type";
   if (any_marker) out << ",marker";
-  for (int j = 0; j < nj; ++j) out << "," << JointColumn(model, j);
-  out << ",x_m,y_m,z_m";
-  if (any_pose) out << ",rx_rad,ry_rad,rz_rad";
-  if (any_distance) {
-    for (int j = 0; j < nj; ++j) out << "," << JointColumn(model, j) << "_2";
-    out << ",distance_m";
+  for (int j = 0; j < nj; ++j) out << "," << joint_column(j);
+  out << ",x" << lu << ",y" << lu << ",z" << lu;
+  if (any_pose) {
+    for (int k = 0; k < num_orientation; ++k) out << "," << kOrientation[of][k];
   }
+  if (any_distance) {
+    for (int j = 0; j < nj; ++j) out << "," << joint_column(j) << "_2";
+    out << ",distance" << lu;
+  }
+  if (any_iso) out << ",sigma" << lu;
+  if (any_axes) out << ",sigma_x" << lu << ",sigma_y" << lu << ",sigma_z" << lu;
+  if (any_sigma_rad) out << ",sigma_rad";
   out << "\n";
   for (const Measurement& m : measurements) {
     out << MeasurementTypeName(m.type);
     if (any_marker)
       out << "," << model.block_name(model.marker_block(m.marker));
-    for (int j = 0; j < nj; ++j) out << "," << ShortestText(m.joints[j]);
+    for (int j = 0; j < nj; ++j) out << "," << joint_value(m.joints, j);
     const bool distance = m.type == MeasurementType::kDistance;
+    const bool pose = m.type == MeasurementType::kPose;
     for (int k = 0; k < 3; ++k) {
-      out << "," << (distance ? "" : ShortestText(m.position[k]));
+      out << "," << (distance ? "" : ShortestText(m.position[k] * length));
     }
     if (any_pose) {
-      for (int k = 0; k < 3; ++k) {
-        out << ","
-            << (m.type == MeasurementType::kPose ? ShortestText(m.rotation[k])
-                                                 : "");
+      double v[4] = {0, 0, 0, 0};
+      if (pose) {
+        const double angle = m.rotation.norm();
+        const Eigen::AngleAxisd aa(
+            angle, angle > 0 ? Eigen::Vector3d(m.rotation / angle)
+                             : Eigen::Vector3d::UnitX());
+        if (format.orientation == OrientationFormat::kRotationVector) {
+          for (int k = 0; k < 3; ++k) v[k] = m.rotation[k];
+        } else if (format.orientation == OrientationFormat::kQuaternion) {
+          Eigen::Quaterniond quat(aa);
+          if (quat.w() < 0) quat.coeffs() *= -1;
+          v[0] = quat.w(), v[1] = quat.x(), v[2] = quat.y(), v[3] = quat.z();
+        } else {
+          const Eigen::Vector3d rpy = RotationToRpy(aa.toRotationMatrix());
+          const double scale =
+              format.orientation == OrientationFormat::kRpyDeg ? kDegree : 1.0;
+          for (int k = 0; k < 3; ++k) v[k] = rpy[k] / scale;
+        }
+      }
+      for (int k = 0; k < num_orientation; ++k) {
+        out << "," << (pose ? ShortestText(v[k]) : "");
       }
     }
     if (any_distance) {
       for (int j = 0; j < nj; ++j) {
-        out << "," << (distance ? ShortestText(m.joints2[j]) : "");
+        out << "," << (distance ? joint_value(m.joints2, j) : "");
       }
-      out << "," << (distance ? ShortestText(m.distance) : "");
+      out << "," << (distance ? ShortestText(m.distance * length) : "");
+    }
+    const bool iso = distance ? m.sigma_m[0] != 0
+                              : m.sigma_m != Eigen::Vector3d::Zero() &&
+                                    m.sigma_m[0] == m.sigma_m[1] &&
+                                    m.sigma_m[0] == m.sigma_m[2];
+    const bool axes = !distance && !iso && m.sigma_m != Eigen::Vector3d::Zero();
+    if (any_iso) out << "," << (iso ? ShortestText(m.sigma_m[0] * length) : "");
+    if (any_axes) {
+      for (int k = 0; k < 3; ++k) {
+        out << "," << (axes ? ShortestText(m.sigma_m[k] * length) : "");
+      }
+    }
+    if (any_sigma_rad) {
+      out << "," << (pose && m.sigma_rad != 0 ? ShortestText(m.sigma_rad) : "");
     }
     out << "\n";
   }
@@ -360,106 +1213,40 @@ std::string MeasurementsCsvText(const RobotModel& model,
 
 bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
                           const RobotModel& model,
+                          const MeasurementsCsvOptions& options,
                           std::vector<Measurement>* measurements,
-                          std::string* error) {
+                          MeasurementsCsvReport* report, std::string* error) {
+  if (!options.IsValid(error)) return false;
   Table table;
   if (!table.Parse(text, source, error)) return false;
   if (!CheckNoExtraJoints(table, model, error)) return false;
-  if (!table.RequireColumn("type", error)) return false;
-  if (table.rows().empty()) {
-    return table.Fail(table.header_line(), "no measurements after the header",
-                      error);
-  }
-  static const char* const kPosition[] = {"x_m", "y_m", "z_m"};
-  static const char* const kRotation[] = {"rx_rad", "ry_rad", "rz_rad"};
-  std::vector<std::string> second;
-  for (int j = 0; j < model.num_joints(); ++j) {
-    second.push_back(JointColumn(model, j) + "_2");
-  }
-  std::vector<Measurement> out;
-  for (const Row& row : table.rows()) {
-    Measurement m;
-    const std::string type = row.fields[table.Column("type")];
-    if (!ParseMeasurementType(type, &m.type)) {
-      return table.Fail(
-          row.line,
-          "type: expected position, pose or distance, got '" + type + "'",
-          error);
-    }
-    if (!ReadJoints(table, row, model, "", &m.joints, error)) return false;
-    if (table.Has("marker") && !table.Empty(row, "marker")) {
-      const std::string name = row.fields[table.Column("marker")];
-      m.marker = model.MarkerIndex(name);
-      if (m.marker < 0) {
-        std::string list;
-        for (int k = 0; k < model.num_markers(); ++k) {
-          list += (k ? ", " : "") + model.block_name(model.marker_block(k));
-        }
-        return table.Fail(row.line,
-                          "marker: '" + name +
-                              "' is not a marker of the model (its markers: " +
-                              list + ", or their numbers 1.." +
-                              std::to_string(model.num_markers()) + ")",
-                          error);
-      }
-    }
-    const bool has_point = m.type != MeasurementType::kDistance;
-    const bool has_rotation = m.type == MeasurementType::kPose;
-    const bool has_second = m.type == MeasurementType::kDistance;
-    // Columns this type uses must be filled; the others must be empty.
-    auto expect = [&](const std::string& column, bool used,
-                      double* value) -> bool {
-      if (used) {
-        return table.RequireColumn(column, error) &&
-               table.Number(row, column, value, error);
-      }
-      if (!table.Empty(row, column)) {
-        return table.Fail(row.line,
-                          column + ": a " + type +
-                              " measurement has no such value; leave it empty",
-                          error);
-      }
-      return true;
-    };
-    for (int k = 0; k < 3; ++k) {
-      if (!expect(kPosition[k], has_point, &m.position[k])) return false;
-      if (!expect(kRotation[k], has_rotation, &m.rotation[k])) return false;
-    }
-    if (!expect("distance_m", has_second, &m.distance)) return false;
-    if (has_second) {
-      m.joints2.resize(model.num_joints());
-      for (int j = 0; j < model.num_joints(); ++j) {
-        if (!table.RequireColumn(second[j], error) ||
-            !table.Number(row, second[j], &m.joints2[j], error)) {
-          return false;
-        }
-      }
-      std::string why;
-      if (!model.CheckJointValues(m.joints2, &why)) {
-        return table.Fail(row.line, "second pose: " + why, error);
-      }
-    } else {
-      for (const std::string& column : second) {
-        double unused;
-        if (!expect(column, false, &unused)) return false;
-      }
-    }
-    std::string why;
-    if (!CheckMeasurement(model, m, &why)) {
-      return table.Fail(row.line, why, error);
-    }
-    out.push_back(std::move(m));
-  }
-  *measurements = std::move(out);
-  return true;
+  MeasurementsReader reader(table, source, model, options);
+  return reader.Read(measurements, report, error);
+}
+
+bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,
+                         const MeasurementsCsvOptions& options,
+                         std::vector<Measurement>* measurements,
+                         MeasurementsCsvReport* report, std::string* error) {
+  std::string text;
+  return ReadTextFile(path, &text, error) &&
+         ParseMeasurementsCsv(text, path, model, options, measurements, report,
+                              error);
+}
+
+bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
+                          const RobotModel& model,
+                          std::vector<Measurement>* measurements,
+                          std::string* error) {
+  return ParseMeasurementsCsv(text, source, model, MeasurementsCsvOptions(),
+                              measurements, nullptr, error);
 }
 
 bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,
                          std::vector<Measurement>* measurements,
                          std::string* error) {
-  std::string text;
-  return ReadTextFile(path, &text, error) &&
-         ParseMeasurementsCsv(text, path, model, measurements, error);
+  return ReadMeasurementsCsv(path, model, MeasurementsCsvOptions(),
+                             measurements, nullptr, error);
 }
 
 }  // namespace activecal

@@ -7,6 +7,54 @@
 #include "activecal/core/kinematics.h"
 
 namespace activecal {
+namespace {
+
+// The count and finiteness of measured joint readings, and their ranges
+// widened by the tolerance for measured joints.
+bool MeasuredJointsValid(const RobotModel& model, const Eigen::VectorXd& q,
+                         std::string* why) {
+  if (q.size() != model.num_joints()) {
+    *why = "expected " + std::to_string(model.num_joints()) +
+           " joint values, got " + std::to_string(q.size());
+    return false;
+  }
+  for (int i = 0; i < q.size(); ++i) {
+    const Link& l = model.links[i];
+    std::ostringstream msg;
+    msg << "joint " << i + 1 << " (" << model.block_name(i + 1) << ") value ";
+    if (!std::isfinite(q[i])) {
+      msg << "is not finite (" << q[i] << ")";
+      *why = msg.str();
+      return false;
+    }
+    const bool revolute = l.joint_type == JointType::kRevolute;
+    const double tolerance =
+        revolute ? kMeasuredJointToleranceRad : kMeasuredJointToleranceM;
+    const double slack =
+        1e-9 *
+        std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
+    if (q[i] >= l.joint_min - tolerance - slack &&
+        q[i] <= l.joint_max + tolerance + slack) {
+      continue;
+    }
+    if (revolute) {
+      const double deg = 180.0 / M_PI;
+      msg << q[i] << " rad (" << q[i] * deg << " deg) is outside its range ["
+          << l.joint_min * deg << ", " << l.joint_max * deg
+          << "] deg by more than the " << tolerance * deg
+          << " deg a measured joint may lie beyond it";
+    } else {
+      msg << q[i] << " m is outside its range [" << l.joint_min << ", "
+          << l.joint_max << "] m by more than the " << tolerance
+          << " m a measured joint may lie beyond it";
+    }
+    *why = msg.str();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 int MeasurementDimension(MeasurementType type) {
   switch (type) {
@@ -54,7 +102,9 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
     }
     return false;
   }
-  if (!model.CheckJointValues(m.joints, &why)) {
+  // Joint readings are what the robot did: they may lie beyond the joint
+  // ranges by the tolerance for measured joints (planned poses may not).
+  if (!MeasuredJointsValid(model, m.joints, &why)) {
     if (error) *error = "joints: " + why;
     return false;
   }
@@ -82,7 +132,7 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
       }
       break;
     case MeasurementType::kDistance:
-      if (!model.CheckJointValues(m.joints2, &why)) {
+      if (!MeasuredJointsValid(model, m.joints2, &why)) {
         msg << "second pose joints: " << why;
       } else if (m.joints == m.joints2) {
         msg << "a distance between two identical poses (the same joint "

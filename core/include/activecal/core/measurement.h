@@ -11,6 +11,7 @@
 #define ACTIVECAL_CORE_MEASUREMENT_H_
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 
 #include "activecal/core/robot_model.h"
@@ -56,8 +57,16 @@ struct Measurement {
   int dimension() const { return MeasurementDimension(type); }
 };
 
+// How far beyond its joint range a measured joint reading may lie. Real
+// readings do lie slightly outside the nominal limits (a torso reads
+// 0.35018 m against a 0.35 m limit); farther out is a wrong file or wrong
+// units. Planned poses (pools, poses files, lattices) keep to the ranges.
+inline constexpr double kMeasuredJointToleranceRad = 5.0 * M_PI / 180.0;
+inline constexpr double kMeasuredJointToleranceM = 0.01;  // prismatic
+
 // Checks a measurement against the model: joint counts, finiteness, joint
-// ranges, a non-negative distance. The message names the field.
+// readings within their ranges widened by the tolerances above, a
+// non-negative distance. The message names the field.
 bool CheckMeasurement(const RobotModel& model, const Measurement& measurement,
                       std::string* error);
 
