@@ -488,7 +488,8 @@ class MeasurementsReader {
                    bool second, const Eigen::VectorXd& q, std::string* error);
   bool ReadForm(const Row& row, const std::vector<Form>& forms, int form,
                 bool used, const std::string& what, const std::string& type,
-                double* values, bool* given, std::string* error);
+                double* values, bool* given, std::string* error,
+                double* raw = nullptr);
   bool Known(const std::string& column) const { return known_.count(column); }
   std::string JointLabel(int j) const {
     return "joint " + std::to_string(j + 1) + " (" + model_.links[j].name +
@@ -753,7 +754,8 @@ bool MeasurementsReader::ReadForm(const Row& row,
                                   const std::vector<Form>& forms, int form,
                                   bool used, const std::string& what,
                                   const std::string& type, double* values,
-                                  bool* given, std::string* error) {
+                                  bool* given, std::string* error,
+                                  double* raw) {
   if (given) *given = false;
   if (form < 0) {
     if (!used || given) return true;
@@ -794,6 +796,7 @@ bool MeasurementsReader::ReadForm(const Row& row,
   }
   for (size_t k = 0; k < f.columns.size(); ++k) {
     if (!table_.Number(row, f.columns[k], &values[k], error)) return false;
+    if (raw) raw[k] = values[k];  // as written, for messages
     values[k] = values[k] * f.scale / f.divisor;
   }
   return true;
@@ -904,12 +907,13 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
   // Standard deviations: empty cells are "not given".
   bool iso_given = false, axes_given = false, rad_given = false;
   double sigma = 0, axes[3] = {0, 0, 0}, sigma_rad = 0;
+  double sigma_raw = 0, axes_raw[3] = {0, 0, 0}, sigma_rad_raw = 0;
   if (!ReadForm(row, SigmaForms(), sigma_, true, "", type, &sigma, &iso_given,
-                error) ||
+                error, &sigma_raw) ||
       !ReadForm(row, SigmaAxesForms(), sigma_axes_, !distance, "", type, axes,
-                &axes_given, error) ||
+                &axes_given, error, axes_raw) ||
       !ReadForm(row, SigmaRotationForms(), sigma_rad_, pose, "", type,
-                &sigma_rad, &rad_given, error)) {
+                &sigma_rad, &rad_given, error, &sigma_rad_raw)) {
     return false;
   }
   if (iso_given && axes_given) {
@@ -929,20 +933,21 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
                        error);
   };
   if (iso_given) {
-    if (!positive(SigmaForms()[sigma_].columns[0], sigma)) return false;
+    if (!positive(SigmaForms()[sigma_].columns[0], sigma_raw)) return false;
     m.sigma_m = distance ? Eigen::Vector3d(sigma, 0, 0)
                          : Eigen::Vector3d::Constant(sigma);
   }
   if (axes_given) {
     for (int k = 0; k < 3; ++k) {
-      if (!positive(SigmaAxesForms()[sigma_axes_].columns[k], axes[k])) {
+      if (!positive(SigmaAxesForms()[sigma_axes_].columns[k], axes_raw[k])) {
         return false;
       }
     }
     m.sigma_m = Eigen::Vector3d(axes[0], axes[1], axes[2]);
   }
   if (rad_given) {
-    if (!positive(SigmaRotationForms()[sigma_rad_].columns[0], sigma_rad)) {
+    if (!positive(SigmaRotationForms()[sigma_rad_].columns[0],
+                  sigma_rad_raw)) {
       return false;
     }
     m.sigma_rad = sigma_rad;

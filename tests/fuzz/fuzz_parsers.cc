@@ -101,13 +101,45 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
   }
 #else
+  // Every form of the measurements CSV (units, quaternion, RPY, joints by
+  // name, wide markers, sigma and U95 columns, device columns, readings
+  // beyond the limits): what parses passes CheckMeasurement, one line per
+  // measurement, and writes back to the same measurements; the strict
+  // options accept nothing the default ones refuse.
   std::vector<activecal::Measurement> measurements;
-  const bool ok = activecal::ParseMeasurementsCsv(text, "fuzz.csv", model,
-                                                  &measurements, &error);
+  activecal::MeasurementsCsvReport report;
+  const bool ok = activecal::ParseMeasurementsCsv(
+      text, "fuzz.csv", model, {}, &measurements, &report, &error);
   if (ok) {
+    if (report.lines.size() != measurements.size()) __builtin_trap();
+    if (report.warnings.size() > 1) __builtin_trap();
     for (const activecal::Measurement& m : measurements) {
       if (!activecal::CheckMeasurement(model, m, &error)) __builtin_trap();
     }
+    std::vector<activecal::Measurement> back;
+    if (!activecal::ParseMeasurementsCsv(
+            activecal::MeasurementsCsvText(model, measurements), "back.csv",
+            model, &back, &error) ||
+        back.size() != measurements.size()) {
+      __builtin_trap();
+    }
+    for (size_t i = 0; i < back.size(); ++i) {
+      if (back[i].joints != measurements[i].joints ||
+          back[i].sigma_rad != measurements[i].sigma_rad) {
+        __builtin_trap();
+      }
+    }
+  }
+  activecal::MeasurementsCsvOptions strict;
+  strict.strict_limits = true;
+  strict.columns_strict = true;
+  std::vector<activecal::Measurement> strict_out;
+  std::string strict_error;
+  if (activecal::ParseMeasurementsCsv(text, "fuzz.csv", model, strict,
+                                      &strict_out, nullptr, &strict_error)) {
+    if (!ok || strict_out.size() != measurements.size()) __builtin_trap();
+  } else if (strict_error.empty()) {
+    __builtin_trap();
   }
 #endif
   if (!ok && error.empty()) __builtin_trap();

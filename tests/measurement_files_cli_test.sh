@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# Measurement files as devices export them, through the programs: the
+# warning for joint readings beyond the limits (and --strict_limits), the
+# note for columns a device adds (and --columns_strict), millimetres and the
+# wide motion-capture form giving the same evaluation as the SI long form.
+# Warnings and notes go to stdout; an error is one line on stderr, status 1.
+#
+#   tests/measurement_files_cli_test.sh <build/apps dir>
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+apps="$(cd "$1" && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+failures=0
+ok() { echo "ok   [$1]"; }
+fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
+
+source "$here/cli_lib.sh"
+
+# expect_ok <name> <text expected on stdout> <program> [flags...]: status 0,
+# nothing on stderr, the text on stdout.
+expect_ok() {
+  local name="$1" want="$2"
+  shift 2
+  local prog="$1"
+  shift
+  "$apps/$prog" "$@" >out.txt 2>err.txt
+  local status=$?
+  if [ "$status" -ne 0 ]; then
+    echo "FAIL [$name]: exit status $status:"; cat err.txt
+    failures=$((failures + 1))
+  elif [ -s err.txt ]; then
+    echo "FAIL [$name]: stderr is not empty:"; cat err.txt
+    failures=$((failures + 1))
+  elif ! grep -qF -- "$want" out.txt; then
+    echo "FAIL [$name]: stdout lacks '$want':"; cat out.txt
+    failures=$((failures + 1))
+  else
+    echo "ok   [$name]: $(grep -F -- "$want" out.txt)"
+  fi
+}
+
+# 40 poses of the built-in PUMA, 1 mm noise.
+"$apps/activecal_select" --algorithm=random --random_designs=20 \
+  --num_poses=40 --certificate=false --poses_csv=poses.csv >/dev/null &&
+  "$apps/activecal_simulate" --poses_csv=poses.csv --noise_m=0.001 --seed=4 \
+    --out=m.csv >/dev/null || { fail "simulate"; exit 1; }
+head -1 m.csv | grep -q '^type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m$' ||
+  fail "simulated header"
+
+# --- Joint readings beyond the limits (joint 6: [-176, 356] deg). ---
+# Line 3: q6 1 deg above its upper limit; line 5: 0.5 deg.
+awk -F, -v OFS=, 'NR==3{$7=sprintf("%.17g", 357*atan2(0,-1)/180)} NR==5{$7=sprintf("%.17g", 356.5*atan2(0,-1)/180)} {print}' \
+  m.csv >beyond.csv
+expect_ok "readings within the tolerance: one warning" \
+  "activecal_evaluate: warning: beyond.csv: 2 of 40 rows have joint readings beyond the joint limits, accepted within the tolerance (5 deg, 10 mm; strict limits refuse them): q6_rad (joint 6 (L6)) up to 0.0174533 rad above its upper limit 6.21337 rad in 2 rows (first: line 3)" \
+  activecal_evaluate --measurements=beyond.csv
+[ "$(grep -c warning out.txt)" -eq 1 ] && ok "one warning line per file" ||
+  fail "one warning line per file"
+expect_ok "identify warns the same" "activecal_identify: warning: beyond.csv: 2 of 40 rows" \
+  activecal_identify --measurements=beyond.csv
+expect_fail "--strict_limits" \
+  "--measurements: beyond.csv:3: q6_rad: 6.23083 rad is 0.0174533 rad beyond joint 6 (L6)'s range [-3.07178, 6.21337] rad (strict limits: no reading may lie outside the range)" \
+  activecal_evaluate --measurements=beyond.csv --strict_limits
+expect_fail "--strict_limits in identify" "beyond.csv:3: q6_rad:" \
+  activecal_identify --measurements=beyond.csv --strict_limits
+awk -F, -v OFS=, 'NR==4{$7=sprintf("%.17g", 362*atan2(0,-1)/180)} {print}' m.csv >far.csv
+expect_fail "reading beyond the tolerance" \
+  "--measurements: far.csv:4: q6_rad: 6.31809 rad is 0.10472 rad beyond joint 6 (L6)'s range [-3.07178, 6.21337] rad, more than the tolerance of 0.0872665 rad for joint readings (wrong units, or a file of another robot?)" \
+  activecal_evaluate --measurements=far.csv
+
+# --- Columns a device adds. ---
+awk -F, -v OFS=, 'NR==1{print $0, "temperature_C", "target"; next} {print $0, 20 + NR / 10, "P" NR}' \
+  m.csv >extra.csv
+expect_ok "device columns: one note" \
+  "activecal_evaluate: note: extra.csv: ignored 2 columns activecal does not read: temperature_C, target" \
+  activecal_evaluate --measurements=extra.csv
+expect_fail "--columns_strict" \
+  "--measurements: extra.csv:1: columns 'temperature_C', 'target' activecal does not read (strict columns: every column must be one activecal reads)" \
+  activecal_evaluate --measurements=extra.csv --columns_strict
+awk -F, -v OFS=, 'NR==1{print $0, "distance_m"; next} {print $0, (NR == 6 ? 0.5 : "")}' \
+  m.csv >shifted.csv
+expect_fail "a known column the row does not use" \
+  "--measurements: shifted.csv:6: distance_m: a position measurement has no such value; leave it empty" \
+  activecal_evaluate --measurements=shifted.csv --columns_strict
+
+# --- Millimetres, degrees and the wide mocap form: the same evaluation. ---
+awk -F, -v OFS=, 'NR==1{for(j=2;j<=7;j++) sub(/_rad$/, "_deg", $j); $8="x_mm"; $9="y_mm"; $10="z_mm"; print; next}
+  {for(j=2;j<=7;j++) $j=sprintf("%.17g", $j*180/atan2(0,-1)); for(j=8;j<=10;j++) $j=sprintf("%.17g", $j*1000); print}' \
+  m.csv >mm.csv
+# Wide form: no type column, the one marker as x1_m, y1_m, z1_m.
+awk -F, -v OFS=, 'NR==1{$8="x1_m"; $9="y1_m"; $10="z1_m"} {$1=""; sub(/^,/, ""); print}' \
+  m.csv >wide.csv
+for f in m mm wide; do
+  "$apps/activecal_evaluate" --measurements=$f.csv --json_out=$f.json >$f.txt 2>&1 ||
+    { fail "evaluate $f.csv"; cat $f.txt; }
+done
+python3 - <<'EOF' && ok "m, mm+deg and wide files evaluate alike" || fail "m, mm+deg and wide files evaluate alike"
+import json
+r = {f: json.load(open(f + ".json")) for f in ["m", "mm", "wide"]}
+for f in ["mm", "wide"]:
+    assert r[f]["num_measurements"] == 40, r[f]["num_measurements"]
+    for k in ["rmse_m", "mean_m", "max_m"]:
+        assert abs(r[f][k] - r["m"][k]) < 1e-12, (f, k, r[f][k], r["m"][k])
+    for a, b in zip(r[f]["errors"], r["m"]["errors"]):
+        assert max(abs(x - y) for x, y in zip(a["error_xyz_m"], b["error_xyz_m"])) < 1e-12
+EOF
+# A marker not seen (empty cells) is skipped and noted.
+awk -F, -v OFS=, 'NR==7{$7=""; $8=""; $9=""} {print}' wide.csv >occluded.csv
+expect_ok "a marker not seen" \
+  "activecal_evaluate: note: occluded.csv: 1 marker position left empty (not seen) skipped: marker 1 in 1 row" \
+  activecal_evaluate --measurements=occluded.csv --json_out=occluded.json
+python3 -c "import json; assert json.load(open('occluded.json'))['num_measurements'] == 39" &&
+  ok "occluded row skipped" || fail "occluded row skipped"
+
+# --- Bad input: one line, status 1. ---
+sed '1s/x_m,y_m,z_m/x_mm,y_m,z_m/' m.csv >mixed.csv
+expect_fail "metres and millimetres mixed" \
+  "mixed.csv:1: the header has y_m,z_m but not x_m (the measured point)" \
+  activecal_evaluate --measurements=mixed.csv
+awk -F, -v OFS=, 'NR==1{print $0, "u95_mm"; next} {print $0, (NR == 8 ? -0.1 : 0.05)}' m.csv >u95.csv
+expect_fail "negative U95" "u95.csv:8: u95_mm: a standard deviation must be > 0, got -0.1" \
+  activecal_evaluate --measurements=u95.csv
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures measurement file test(s) failed"
+  exit 1
+fi
+echo "all measurement file tests passed"
