@@ -11,10 +11,10 @@
 #include <string>
 
 #include "activecal/core/csv_files.h"
+#include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_file.h"
-#include "activecal/core/kinematics.h"
 #include "activecal/core/simulation.h"
 #include "activecal/residuals/identification.h"
 #include "test_util.h"
@@ -384,8 +384,8 @@ std::vector<Measurement> MixedMeasurements(const RobotModel& m, int n,
   noise.rotation_rad = 0.001;
   std::vector<Measurement> data;
   std::string error;
-  EXPECT_TRUE(SimulateMeasurements(m, m.nominal, plan, noise, seed, &data,
-                                   &error))
+  EXPECT_TRUE(
+      SimulateMeasurements(m, m.nominal, plan, noise, seed, &data, &error))
       << error;
   for (size_t i = 0; i < data.size(); ++i) {
     Measurement& x = data[i];
@@ -455,10 +455,10 @@ TEST(MeasurementFormatsTest, EveryFormatRoundTrips) {
     EXPECT_NE(header.find(f.millimetres ? ",x_mm,y_mm,z_mm" : ",x_m,y_m,z_m"),
               std::string::npos)
         << what;
-    EXPECT_NE(header.find(f.joint_names
-                              ? (f.joint_degrees ? ",L1_deg" : ",L1_rad")
-                              : (f.joint_degrees ? ",q1_deg" : ",q1_rad")),
-              std::string::npos)
+    EXPECT_NE(
+        header.find(f.joint_names ? (f.joint_degrees ? ",L1_deg" : ",L1_rad")
+                                  : (f.joint_degrees ? ",q1_deg" : ",q1_rad")),
+        std::string::npos)
         << what;
     const char* orientation[] = {",rx_rad,", ",qw,qx,qy,qz,", ",roll_rad,",
                                  ",roll_deg,"};
@@ -468,8 +468,8 @@ TEST(MeasurementFormatsTest, EveryFormatRoundTrips) {
     std::vector<Measurement> back;
     MeasurementsCsvReport report;
     std::string error;
-    ASSERT_TRUE(ParseMeasurementsCsv(text, "m.csv", m, {}, &back, &report,
-                                     &error))
+    ASSERT_TRUE(
+        ParseMeasurementsCsv(text, "m.csv", m, {}, &back, &report, &error))
         << what << ": " << error;
     EXPECT_TRUE(report.warnings.empty() && report.notes.empty()) << what;
     ASSERT_EQ(back.size(), data.size()) << what;
@@ -478,8 +478,7 @@ TEST(MeasurementFormatsTest, EveryFormatRoundTrips) {
       const Measurement& b = back[i];
       ASSERT_EQ(b.type, a.type) << what;
       EXPECT_LT((b.joints - a.joints).cwiseAbs().maxCoeff(), 1e-14) << what;
-      EXPECT_LT((b.position - a.position).cwiseAbs().maxCoeff(), 1e-14)
-          << what;
+      EXPECT_LT((b.position - a.position).cwiseAbs().maxCoeff(), 1e-14) << what;
       EXPECT_LT((b.sigma_m - a.sigma_m).cwiseAbs().maxCoeff(), 1e-18) << what;
       EXPECT_NEAR(b.sigma_rad, a.sigma_rad, 1e-18) << what;
       EXPECT_NEAR(b.distance, a.distance, 1e-14) << what;
@@ -487,8 +486,7 @@ TEST(MeasurementFormatsTest, EveryFormatRoundTrips) {
         EXPECT_LT(RotationDistance(a.rotation, b.rotation), 1e-14) << what;
       }
       if (a.type == MeasurementType::kDistance) {
-        EXPECT_LT((b.joints2 - a.joints2).cwiseAbs().maxCoeff(), 1e-14)
-            << what;
+        EXPECT_LT((b.joints2 - a.joints2).cwiseAbs().maxCoeff(), 1e-14) << what;
       }
     }
   }
@@ -521,10 +519,9 @@ TEST(MeasurementFormatsTest, EveryFormatGivesTheSameEstimates) {
   ASSERT_EQ(reference.termination_type, TerminationType::kConvergence)
       << reference.message;
   // The fit recovers the truth to the noise: a real identification.
-  EXPECT_LT((reference.parameters - Puma560TrueParameters())
-                .cwiseAbs()
-                .maxCoeff(),
-            0.01);
+  EXPECT_LT(
+      (reference.parameters - Puma560TrueParameters()).cwiseAbs().maxCoeff(),
+      0.01);
   double worst[4] = {0, 0, 0, 0};
   for (const MeasurementsCsvFormat& f : AllFormats()) {
     const std::string text = MeasurementsCsvText(m, data, f);
@@ -550,9 +547,10 @@ TEST(MeasurementFormatsTest, EveryFormatGivesTheSameEstimates) {
               tolerance)
         << what;
   }
-  std::printf("largest estimate difference from the SI file: rotation "
-              "vector %.3g, quaternion %.3g, RPY rad %.3g, RPY deg %.3g\n",
-              worst[0], worst[1], worst[2], worst[3]);
+  std::printf(
+      "largest estimate difference from the SI file: rotation "
+      "vector %.3g, quaternion %.3g, RPY rad %.3g, RPY deg %.3g\n",
+      worst[0], worst[1], worst[2], worst[3]);
 }
 
 TEST(MeasurementFormatsTest, QuaternionAndRpyFollowTheirConventions) {
@@ -568,21 +566,23 @@ TEST(MeasurementFormatsTest, QuaternionAndRpyFollowTheirConventions) {
   const Eigen::Quaterniond quat(R);
   std::vector<Measurement> out;
   std::string error;
-  const std::string rpy = "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,roll_deg,"
-                          "pitch_deg,yaw_deg\n" + joints + ",1,2,3," +
-                          std::to_string(roll * 180 / M_PI) + "," +
-                          std::to_string(pitch * 180 / M_PI) + "," +
-                          std::to_string(yaw * 180 / M_PI) + "\n";
+  const std::string rpy =
+      "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,roll_deg,"
+      "pitch_deg,yaw_deg\n" +
+      joints + ",1,2,3," + std::to_string(roll * 180 / M_PI) + "," +
+      std::to_string(pitch * 180 / M_PI) + "," +
+      std::to_string(yaw * 180 / M_PI) + "\n";
   // No type column and orientation columns: pose rows.
   ASSERT_TRUE(ParseMeasurementsCsv(rpy, "m.csv", m, &out, &error)) << error;
   ASSERT_EQ(out[0].type, MeasurementType::kPose);
-  EXPECT_LT(RotationDistance(out[0].rotation, expected.angle() *
-                                                  expected.axis()),
-            1e-7);  // std::to_string keeps 6 decimals of a degree
+  EXPECT_LT(
+      RotationDistance(out[0].rotation, expected.angle() * expected.axis()),
+      1e-7);  // std::to_string keeps 6 decimals of a degree
   // A quaternion: -q is the same rotation; a norm within 1e-3 of 1 is
   // normalised, beyond it refused.
-  const std::string head = "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,qw,qx,"
-                           "qy,qz\n";
+  const std::string head =
+      "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,qw,qx,"
+      "qy,qz\n";
   for (double sign : {1.0, -1.0}) {
     for (double norm : {1.0, 1.0009, 0.9991}) {
       char row[256];
@@ -592,9 +592,9 @@ TEST(MeasurementFormatsTest, QuaternionAndRpyFollowTheirConventions) {
                     sign * norm * quat.z());
       ASSERT_TRUE(ParseMeasurementsCsv(head + row, "m.csv", m, &out, &error))
           << error;
-      EXPECT_LT(RotationDistance(out[0].rotation,
-                                 expected.angle() * expected.axis()),
-                1e-14)
+      EXPECT_LT(
+          RotationDistance(out[0].rotation, expected.angle() * expected.axis()),
+          1e-14)
           << sign << " " << norm;
       EXPECT_LE(out[0].rotation.norm(), M_PI);
     }
@@ -620,8 +620,9 @@ TEST(MeasurementFormatsTest, WideMocapFormatEqualsItsLongForm) {
   Random random(3);
   // Four frames, two markers each; marker 2 not seen in frame 2 and marker
   // 1 not seen in frame 4.
-  std::string wide = "frame,time_s,q1_rad,q2_rad,q3_m,q4_rad,x1_mm,y1_mm,"
-                     "z1_mm,x2_mm,y2_mm,z2_mm\n";
+  std::string wide =
+      "frame,time_s,q1_rad,q2_rad,q3_m,q4_rad,x1_mm,y1_mm,"
+      "z1_mm,x2_mm,y2_mm,z2_mm\n";
   std::vector<Measurement> plan;
   for (int frame = 1; frame <= 4; ++frame) {
     const Eigen::VectorXd q = testing::RandomJoints(m, &random);
@@ -667,18 +668,17 @@ TEST(MeasurementFormatsTest, WideMocapFormatEqualsItsLongForm) {
   // The long form: one row per marker position, the marker column.
   const std::string long_text = MeasurementsCsvText(m, plan);
   EXPECT_EQ(long_text.rfind("type,marker,", 0), 0u);
-  ASSERT_TRUE(ParseMeasurementsCsv(long_text, "long.csv", m, &from_long,
-                                   &error))
+  ASSERT_TRUE(
+      ParseMeasurementsCsv(long_text, "long.csv", m, &from_long, &error))
       << error;
   ASSERT_EQ(from_long.size(), from_wide.size());
   for (size_t i = 0; i < from_wide.size(); ++i) {
     EXPECT_EQ(from_wide[i].type, MeasurementType::kPosition);
     EXPECT_EQ(from_wide[i].marker, from_long[i].marker) << i;
     EXPECT_EQ(from_wide[i].joints, from_long[i].joints) << i;
-    EXPECT_LT((from_wide[i].position - from_long[i].position)
-                  .cwiseAbs()
-                  .maxCoeff(),
-              1e-15)
+    EXPECT_LT(
+        (from_wide[i].position - from_long[i].position).cwiseAbs().maxCoeff(),
+        1e-15)
         << i;
   }
 }
@@ -698,9 +698,10 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
   char rows[512];
   // Just inside: 9.99 mm above joint 3's upper limit in two rows, joint 4
   // 4.99 deg below its lower limit in one.
-  std::snprintf(rows, sizeof(rows),
-                "0,0,0.40999,0,1,2,3\n0,0,0.4005,%.17g,1,2,3\n0,0,0.2,0,1,2,3\n",
-                -2.5 * deg - 4.99);
+  std::snprintf(
+      rows, sizeof(rows),
+      "0,0,0.40999,0,1,2,3\n0,0,0.4005,%.17g,1,2,3\n0,0,0.2,0,1,2,3\n",
+      -2.5 * deg - 4.99);
   MeasurementsCsvReport report;
   std::string error;
   ASSERT_TRUE(parse(rows, {}, &report, &error)) << error;
@@ -737,8 +738,7 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
   MeasurementsCsvOptions tight;
   tight.limit_tolerance_m = 0.005;
   EXPECT_FALSE(parse("0,0,0.4051,0,1,2,3\n", tight, &report, &error));
-  EXPECT_NE(error.find("more than the tolerance of 0.005 m"),
-            std::string::npos)
+  EXPECT_NE(error.find("more than the tolerance of 0.005 m"), std::string::npos)
       << error;
   for (double bad : {-1.0, 0.02, std::nan("")}) {
     tight.limit_tolerance_m = bad;  // a wider tolerance is refused too
@@ -839,7 +839,8 @@ TEST(MeasurementFormatsTest, UncertaintyColumns) {
        "m.csv:2: sigma_rad: must be finite, got 'nan'"},
       {"zero sigma_rad", h + "pose,0,0,0.1,0,1,2,3,0,0,0,,,,,,,,,,0\n",
        "m.csv:2: sigma_rad: a standard deviation must be > 0, got 0"},
-      {"sigma_rad on a position", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,,,,,1\n",
+      {"sigma_rad on a position",
+       h + "position,0,0,0.1,0,1,2,3,,,,,,,,,,,,,1\n",
        "m.csv:2: sigma_rad: a position measurement has no such value"},
       {"per-axis sigma on a distance",
        h + "distance,0,0,0.1,0,,,,,,,0,0,0.2,0,0.5,,1,1,1,\n",
@@ -876,8 +877,7 @@ TEST(MeasurementFormatsTest, ColumnsADeviceAddsAreListedOrRefused) {
   std::vector<Measurement> out;
   MeasurementsCsvReport report;
   std::string error;
-  ASSERT_TRUE(
-      ParseMeasurementsCsv(text, "t.csv", m, {}, &out, &report, &error))
+  ASSERT_TRUE(ParseMeasurementsCsv(text, "t.csv", m, {}, &out, &report, &error))
       << error;
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[1].joints[2], 0.2);
@@ -951,8 +951,9 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
       {"wide with a marker column", "marker," + j + "x1_m,y1_m,z1_m\n",
        "n.csv:1: a 'marker' column and numbered marker columns (x1_m, ...)"},
       {"wide pose row",
-       "type," + j + "x1_m,y1_m,z1_m,rx_rad,ry_rad,rz_rad\npose,0,0,0,0,1,2,3,"
-                     "0,0,0\n",
+       "type," + j +
+           "x1_m,y1_m,z1_m,rx_rad,ry_rad,rz_rad\npose,0,0,0,0,1,2,3,"
+           "0,0,0\n",
        "n.csv:2: type: a file of numbered marker columns (x1_m, ...) holds "
        "position rows only, got 'pose'"},
       {"wide marker half seen", j + "x1_m,y1_m,z1_m\n0,0,0,0,1,,3\n",

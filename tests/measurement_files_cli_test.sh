@@ -5,10 +5,15 @@
 # wide motion-capture form giving the same evaluation as the SI long form.
 # Warnings and notes go to stdout; an error is one line on stderr, status 1.
 #
-#   tests/measurement_files_cli_test.sh <build/apps dir>
+# The example file of each device family in docs/formats.md is read as
+# written there.
+#
+#   tests/measurement_files_cli_test.sh <build/apps dir> <data dir> <docs dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
+data="$(cd "$2" && pwd)"
+docs="$(cd "$3" && pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -122,6 +127,51 @@ expect_fail "metres and millimetres mixed" \
 awk -F, -v OFS=, 'NR==1{print $0, "u95_mm"; next} {print $0, (NR == 8 ? -0.1 : 0.05)}' m.csv >u95.csv
 expect_fail "negative U95" "u95.csv:8: u95_mm: a standard deviation must be > 0, got -0.1" \
   activecal_evaluate --measurements=u95.csv
+
+# --- The example files of docs/formats.md, as written there. ---
+# example <section title>: the first indented block after the title.
+example() {
+  awk -v title="### $1" '$0 == title {on = 1; next}
+    on && /^### / {exit}
+    on && /^    / {sub(/^    /, ""); print; found = 1; next}
+    on && found {exit}' "$docs/formats.md"
+}
+example "Laser tracker" >tracker.csv
+[ "$(wc -l <tracker.csv)" -eq 3 ] && ok "tracker example has 3 lines" ||
+  fail "tracker example has 3 lines"
+expect_ok "laser tracker example"   "activecal_evaluate: note: tracker.csv: ignored 2 columns activecal does not read: target, temperature_C"   activecal_evaluate --measurements=tracker.csv --json_out=tracker.json
+python3 -c "import json; r = json.load(open('tracker.json')); assert r['num_position_measurements'] == 2, r" &&
+  ok "tracker example: 2 positions" || fail "tracker example: 2 positions"
+example "Camera and calibration board" >camera.csv
+[ "$(wc -l <camera.csv)" -eq 3 ] && ok "camera example has 3 lines" ||
+  fail "camera example has 3 lines"
+expect_ok "camera example"   "activecal_evaluate: note: camera.csv: ignored 2 columns activecal does not read: image, reprojection_rms_px"   activecal_evaluate --robot="$data/ur10e.urdf" --tip_link=tool0   --measurements=camera.csv --json_out=camera.json
+python3 -c "import json; r = json.load(open('camera.json')); assert r['orientation_rad']['count'] == 2, r" &&
+  ok "camera example: 2 poses" || fail "camera example: 2 poses"
+example "Motion capture (several markers per row)" >mocap.csv
+[ "$(wc -l <mocap.csv)" -eq 3 ] && ok "mocap example has 3 lines" ||
+  fail "mocap example has 3 lines"
+# A torso and two arm joints, two markers on the last link.
+cat >torso.urdf <<'URDF'
+<robot name="torso_arm">
+  <link name="base"/><link name="torso"/><link name="arm1"/><link name="arm2"/>
+  <joint name="torso_lift_joint" type="prismatic"><parent link="base"/><child link="torso"/>
+    <origin xyz="0 0 0.8"/><axis xyz="0 0 1"/><limit lower="0" upper="0.35" effort="1" velocity="1"/></joint>
+  <joint name="arm_1_joint" type="revolute"><parent link="torso"/><child link="arm1"/>
+    <origin xyz="0.1 0 0.2"/><axis xyz="0 0 1"/><limit lower="-2.7" upper="2.7" effort="1" velocity="1"/></joint>
+  <joint name="arm_2_joint" type="revolute"><parent link="arm1"/><child link="arm2"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
+</robot>
+URDF
+printf 'markers:\n  - {name: m1, xyz: [0.2, 0, 0]}\n  - {name: m2, xyz: [0.2, 0.05, 0]}\n' >markers.yaml
+expect_ok "mocap example: the torso reading beyond its limit"   "activecal_evaluate: warning: mocap.csv: 1 of 2 rows have joint readings beyond the joint limits, accepted within the tolerance (5 deg, 10 mm; strict limits refuse them): torso_lift_joint_m (joint 1 (torso_lift_joint)) up to 0.00018 m above its upper limit 0.35 m in 1 row (first: line 2)" \
+  activecal_evaluate --robot=torso.urdf --frames=markers.yaml \
+  --measurements=mocap.csv --json_out=mocap.json
+grep -qF "activecal_evaluate: note: mocap.csv: 1 marker position left empty (not seen) skipped: marker 1 in 1 row" out.txt &&
+  grep -qF "activecal_evaluate: note: mocap.csv: ignored 2 columns activecal does not read: frame, time_s" out.txt &&
+  ok "mocap example: notes" || { fail "mocap example: notes"; cat out.txt; }
+python3 -c "import json; r = json.load(open('mocap.json')); assert r['num_position_measurements'] == 3, r" &&
+  ok "mocap example: 3 marker positions" || fail "mocap example: 3 marker positions"
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures measurement file test(s) failed"

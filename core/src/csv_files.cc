@@ -329,7 +329,6 @@ bool ReadPosesCsv(const std::string& path, const RobotModel& model,
          ParsePosesCsv(text, path, model, reject_duplicates, poses, error);
 }
 
-
 // ---------------------------------------------------------------------------
 // Measurements.
 
@@ -440,7 +439,8 @@ bool WideColumn(const std::string& name, int* axis, int* marker,
   if (name.size() < 4 || (name[0] != 'x' && name[0] != 'y' && name[0] != 'z'))
     return false;
   size_t end = 1;
-  while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end])))
+  while (end < name.size() &&
+         std::isdigit(static_cast<unsigned char>(name[end])))
     ++end;
   if (end == 1 || end > 7) return false;
   const std::string unit = name.substr(end);
@@ -492,8 +492,7 @@ class MeasurementsReader {
                 double* raw = nullptr);
   bool Known(const std::string& column) const { return known_.count(column); }
   std::string JointLabel(int j) const {
-    return "joint " + std::to_string(j + 1) + " (" + model_.links[j].name +
-           ")";
+    return "joint " + std::to_string(j + 1) + " (" + model_.links[j].name + ")";
   }
   JointUnit UnitOf(const JointColumnPair& cols, int j) const;
   std::string Warning(int num_rows) const;
@@ -524,17 +523,17 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
   bool any_q = false, any_name = false;
   std::string a_q, a_name;
   static const std::set<std::string> kFixed = {
-      "type", "marker", "x_m", "y_m", "z_m", "x_mm", "y_mm", "z_mm",
-      "distance_m", "distance_mm", "sigma_m", "sigma_mm", "sigma_rad",
-      "sigma_deg", "u95_m", "u95_mm"};
+      "type",       "marker",      "x_m",     "y_m",
+      "z_m",        "x_mm",        "y_mm",    "z_mm",
+      "distance_m", "distance_mm", "sigma_m", "sigma_mm",
+      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm"};
   for (int j = 0; j < n; ++j) {
     const bool rev = Revolute(model_, j);
     for (const std::string& suffix : {std::string(""), std::string("_2")}) {
       const JointColumnPair q = QColumns(model_, j, suffix);
       const std::string& name = model_.links[j].name;
-      const JointColumnPair by_name = {
-          name + (rev ? "_rad" : "_m") + suffix,
-          name + (rev ? "_deg" : "_mm") + suffix};
+      const JointColumnPair by_name = {name + (rev ? "_rad" : "_m") + suffix,
+                                       name + (rev ? "_deg" : "_mm") + suffix};
       (suffix.empty() ? q1 : q2).push_back(q);
       (suffix.empty() ? n1 : n2).push_back(by_name);
       for (const std::string& c : {q.si, q.display}) {
@@ -544,7 +543,8 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
         }
       }
       for (const std::string& c : {by_name.si, by_name.display}) {
-        if (table_.Has(c) && !kFixed.count(c) && name != "q" + std::to_string(j + 1)) {
+        if (table_.Has(c) && !kFixed.count(c) &&
+            name != "q" + std::to_string(j + 1)) {
           any_name = true;
           if (a_name.empty()) a_name = c;
         }
@@ -620,8 +620,9 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
     const std::string this_unit = scale == 1.0 ? "_m" : "_mm";
     if (!unit.empty() && unit != this_unit) {
       return table_.Fail(table_.header_line(),
-                         "marker positions are given both in " + unit.substr(1) +
-                             " and in " + this_unit.substr(1) + " ('" + name +
+                         "marker positions are given both in " +
+                             unit.substr(1) + " and in " + this_unit.substr(1) +
+                             " ('" + name +
                              "'): a file holds one unit of each quantity",
                          error);
     }
@@ -665,7 +666,8 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
     if (table_.Has("marker")) {
       return table_.Fail(table_.header_line(),
                          "a 'marker' column and numbered marker columns (x1" +
-                             unit + ", ...): the numbers already say which "
+                             unit +
+                             ", ...): the numbers already say which "
                              "marker each column is",
                          error);
     }
@@ -673,8 +675,7 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
   return true;
 }
 
-JointUnit MeasurementsReader::UnitOf(const JointColumnPair& cols,
-                                     int j) const {
+JointUnit MeasurementsReader::UnitOf(const JointColumnPair& cols, int j) const {
   const bool rev = Revolute(model_, j);
   if (table_.Has(cols.si)) return {cols.si, rev ? "rad" : "m", 1.0};
   return {cols.display, rev ? "deg" : "mm", DisplayScale(model_, j)};
@@ -700,16 +701,14 @@ bool MeasurementsReader::CheckLimits(const Row& row,
   for (int j = 0; j < model_.num_joints(); ++j) {
     const Link& l = model_.links[j];
     // As RobotModel::CheckJointValues: a few ulps let end points through.
-    const double slack =
-        1e-9 *
-        std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
+    const double slack = 1e-9 * std::max(1.0, std::max(std::abs(l.joint_min),
+                                                       std::abs(l.joint_max)));
     const bool above = q[j] > l.joint_max;
     const double excess = above ? q[j] - l.joint_max : l.joint_min - q[j];
     if (excess <= slack) continue;
     const JointUnit unit = UnitOf(cols[j], j);
-    const double tolerance =
-        Revolute(model_, j) ? options_.limit_tolerance_rad
-                            : options_.limit_tolerance_m;
+    const double tolerance = Revolute(model_, j) ? options_.limit_tolerance_rad
+                                                 : options_.limit_tolerance_m;
     if (options_.strict_limits || excess > tolerance) {
       auto in_unit = [&](double v) {
         return Number6(v / unit.scale) + " " + unit.name;
@@ -760,10 +759,13 @@ bool MeasurementsReader::ReadForm(const Row& row,
   if (form < 0) {
     if (!used || given) return true;
     std::string list;
-    for (const Form& f : forms) list += (list.empty() ? "" : "; ") + Join(f.columns);
+    for (const Form& f : forms)
+      list += (list.empty() ? "" : "; ") + Join(f.columns);
     return table_.Fail(table_.header_line(),
-                       "a " + type + " row needs " + what + ": the header has "
-                       "none of " + list,
+                       "a " + type + " row needs " + what +
+                           ": the header has "
+                           "none of " +
+                           list,
                        error);
   }
   const Form& f = forms[form];
@@ -815,8 +817,8 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
           error);
     }
   } else {
-    m.type = orientation_ >= 0 ? MeasurementType::kPose
-                               : MeasurementType::kPosition;
+    m.type =
+        orientation_ >= 0 ? MeasurementType::kPose : MeasurementType::kPosition;
     type = MeasurementTypeName(m.type);
   }
   if (!wide_.empty() && m.type != MeasurementType::kPosition) {
@@ -846,14 +848,14 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
   const bool pose = m.type == MeasurementType::kPose;
   const bool distance = m.type == MeasurementType::kDistance;
   double v[4];
-  if (wide_.empty() &&
-      !ReadForm(row, PositionForms(), position_, !distance, "a measured point",
-                type, v, nullptr, error)) {
+  if (wide_.empty() && !ReadForm(row, PositionForms(), position_, !distance,
+                                 "a measured point", type, v, nullptr, error)) {
     return false;
   }
-  if (wide_.empty() && !distance) m.position = Eigen::Vector3d(v[0], v[1], v[2]);
-  if (!ReadForm(row, OrientationForms(), orientation_, pose,
-                "an orientation", type, v, nullptr, error)) {
+  if (wide_.empty() && !distance)
+    m.position = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (!ReadForm(row, OrientationForms(), orientation_, pose, "an orientation",
+                type, v, nullptr, error)) {
     return false;
   }
   if (pose) {
@@ -866,12 +868,12 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
         Eigen::Quaterniond quat(v[0], v[1], v[2], v[3]);
         const double norm = quat.norm();
         if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
-          return table_.Fail(
-              row.line,
-              "qw,qx,qy,qz: the quaternion's norm is " + Number6(norm) +
-                  ", not 1 (to " + Number6(kQuaternionNormTolerance) +
-                  "): not a unit quaternion",
-              error);
+          return table_.Fail(row.line,
+                             "qw,qx,qy,qz: the quaternion's norm is " +
+                                 Number6(norm) + ", not 1 (to " +
+                                 Number6(kQuaternionNormTolerance) +
+                                 "): not a unit quaternion",
+                             error);
         }
         const Eigen::AngleAxisd aa(quat.normalized());
         m.rotation = aa.angle() * aa.axis();
@@ -946,8 +948,7 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
     m.sigma_m = Eigen::Vector3d(axes[0], axes[1], axes[2]);
   }
   if (rad_given) {
-    if (!positive(SigmaRotationForms()[sigma_rad_].columns[0],
-                  sigma_rad_raw)) {
+    if (!positive(SigmaRotationForms()[sigma_rad_].columns[0], sigma_rad_raw)) {
       return false;
     }
     m.sigma_rad = sigma_rad;
@@ -1008,7 +1009,8 @@ std::string MeasurementsReader::Warning(int num_rows) const {
     const Link& l = model_.links[j];
     text += std::string(first ? " " : "; ") + unit.column + " (" +
             JointLabel(j) + ") up to " + Number6(e.max_excess / unit.scale) +
-            " " + unit.name + (e.above ? " above its upper limit " : " below its lower limit ") +
+            " " + unit.name +
+            (e.above ? " above its upper limit " : " below its lower limit ") +
             Number6((e.above ? l.joint_max : l.joint_min) / unit.scale) + " " +
             unit.name + " in " + std::to_string(e.rows) + " row" +
             (e.rows == 1 ? "" : "s") + " (first: line " +
@@ -1031,7 +1033,8 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   }
   if (!extra.empty() && options_.columns_strict) {
     std::string list;
-    for (const std::string& e : extra) list += (list.empty() ? "'" : ", '") + e + "'";
+    for (const std::string& e : extra)
+      list += (list.empty() ? "'" : ", '") + e + "'";
     return table_.Fail(table_.header_line(),
                        "column" + std::string(extra.size() > 1 ? "s " : " ") +
                            list +
@@ -1040,8 +1043,8 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
                        error);
   }
   if (table_.rows().empty()) {
-    return table_.Fail(table_.header_line(),
-                       "no measurements after the header", error);
+    return table_.Fail(table_.header_line(), "no measurements after the header",
+                       error);
   }
   std::vector<Measurement> measurements;
   std::vector<int> lines;
@@ -1069,8 +1072,8 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
     for (const auto& [marker, count] : unseen_) {
       total += count;
       list += (list.empty() ? "" : ", ") + std::string("marker ") +
-              std::to_string(marker) + " in " + std::to_string(count) +
-              " row" + (count > 1 ? "s" : "");
+              std::to_string(marker) + " in " + std::to_string(count) + " row" +
+              (count > 1 ? "s" : "");
     }
     r.notes.push_back(source_ + ": " + std::to_string(total) +
                       " marker position" + (total > 1 ? "s" : "") +
@@ -1114,8 +1117,8 @@ std::string MeasurementsCsvText(const RobotModel& model,
     if (m.type == MeasurementType::kDistance) {
       any_iso |= m.sigma_m[0] != 0;
     } else if (m.sigma_m != Eigen::Vector3d::Zero()) {
-      const bool iso = m.sigma_m[0] == m.sigma_m[1] &&
-                       m.sigma_m[0] == m.sigma_m[2];
+      const bool iso =
+          m.sigma_m[0] == m.sigma_m[1] && m.sigma_m[0] == m.sigma_m[2];
       (iso ? any_iso : any_axes) = true;
     }
   }
@@ -1124,8 +1127,8 @@ std::string MeasurementsCsvText(const RobotModel& model,
   const std::string lu = format.millimetres ? "_mm" : "_m";
   auto joint_column = [&](int j) {
     const bool rev = Revolute(model, j);
-    const std::string unit = format.joint_degrees ? (rev ? "_deg" : "_mm")
-                                                  : (rev ? "_rad" : "_m");
+    const std::string unit =
+        format.joint_degrees ? (rev ? "_deg" : "_mm") : (rev ? "_rad" : "_m");
     return (format.joint_names ? model.links[j].name
                                : "q" + std::to_string(j + 1)) +
            unit;

@@ -30,9 +30,8 @@ bool MeasuredJointsValid(const RobotModel& model, const Eigen::VectorXd& q,
     const bool revolute = l.joint_type == JointType::kRevolute;
     const double tolerance =
         revolute ? kMeasuredJointToleranceRad : kMeasuredJointToleranceM;
-    const double slack =
-        1e-9 *
-        std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
+    const double slack = 1e-9 * std::max(1.0, std::max(std::abs(l.joint_min),
+                                                       std::abs(l.joint_max)));
     if (q[i] >= l.joint_min - tolerance - slack &&
         q[i] <= l.joint_max + tolerance + slack) {
       continue;

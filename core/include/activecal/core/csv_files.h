@@ -62,12 +62,13 @@ bool ParsePosesCsv(const std::string& text, const std::string& source,
 bool ReadPosesCsv(const std::string& path, const RobotModel& model,
                   bool reject_duplicates, PoseList* poses, std::string* error);
 
-// How a pose's orientation is written.
+// How a pose's orientation is written. Roll, pitch, yaw are fixed-axis
+// angles, R = Rz(yaw) Ry(pitch) Rx(roll) (the URDF/ROS convention).
 enum class OrientationFormat {
   kRotationVector,  // rx_rad, ry_rad, rz_rad: axis times angle
   kQuaternion,      // qw, qx, qy, qz: unit quaternion, qw >= 0
-  kRpyRad,          // roll_rad, pitch_rad, yaw_rad: R = Rz(yaw) Ry(pitch) Rx(roll)
-  kRpyDeg,          // roll_deg, pitch_deg, yaw_deg: the same in degrees
+  kRpyRad,          // roll_rad, pitch_rad, yaw_rad
+  kRpyDeg,          // roll_deg, pitch_deg, yaw_deg
 };
 
 // The columns MeasurementsCsvText writes. The default is SI throughout and
