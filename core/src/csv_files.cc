@@ -492,7 +492,8 @@ class MeasurementsReader {
                 double* raw = nullptr);
   bool Known(const std::string& column) const { return known_.count(column); }
   std::string JointLabel(int j) const {
-    return "joint " + std::to_string(j + 1) + " (" + model_.links[j].name + ")";
+    return "joint " + std::to_string(j + 1) + " (" + model_.block_name(j + 1) +
+           ")";
   }
   JointUnit UnitOf(const JointColumnPair& cols, int j) const;
   std::string Warning(int num_rows) const;
@@ -531,7 +532,7 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
     const bool rev = Revolute(model_, j);
     for (const std::string& suffix : {std::string(""), std::string("_2")}) {
       const JointColumnPair q = QColumns(model_, j, suffix);
-      const std::string& name = model_.links[j].name;
+      const std::string name = model_.block_name(j + 1);
       const JointColumnPair by_name = {name + (rev ? "_rad" : "_m") + suffix,
                                        name + (rev ? "_deg" : "_mm") + suffix};
       (suffix.empty() ? q1 : q2).push_back(q);
@@ -1129,7 +1130,7 @@ std::string MeasurementsCsvText(const RobotModel& model,
     const bool rev = Revolute(model, j);
     const std::string unit =
         format.joint_degrees ? (rev ? "_deg" : "_mm") : (rev ? "_rad" : "_m");
-    return (format.joint_names ? model.links[j].name
+    return (format.joint_names ? model.block_name(j + 1)
                                : "q" + std::to_string(j + 1)) +
            unit;
   };
