@@ -522,7 +522,11 @@ TEST(MeasurementFormatsTest, EveryFormatGivesTheSameEstimates) {
   EXPECT_LT(
       (reference.parameters - Puma560TrueParameters()).cwiseAbs().maxCoeff(),
       0.01);
-  double worst[4] = {0, 0, 0, 0};
+  IdentificationSummary warm_reference;
+  Identify(m, data, reference.parameters, options, &warm_reference);
+  ASSERT_EQ(warm_reference.termination_type, TerminationType::kConvergence)
+      << warm_reference.message;
+  double worst[4] = {0, 0, 0, 0}, worst_warm = 0;
   for (const MeasurementsCsvFormat& f : AllFormats()) {
     const std::string text = MeasurementsCsvText(m, data, f);
     const std::string what = text.substr(0, text.find('\n'));
@@ -533,24 +537,33 @@ TEST(MeasurementFormatsTest, EveryFormatGivesTheSameEstimates) {
     Identify(m, back, m.nominal, options, &summary);
     ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
         << what << ": " << summary.message;
-    // Units and joint names change the data by rounding of the positions
-    // (1e-16 m): the estimates agree to 1e-12. A quaternion or RPY
-    // orientation goes through trigonometric conversions on both sides,
-    // ~1e-15 rad per rotation, which this 27-parameter problem's
-    // conditioning turns into 3.7e-12 (measured): 1e-11 is checked there.
-    const double tolerance =
-        f.orientation == OrientationFormat::kRotationVector ? 1e-12 : 1e-11;
-    worst[static_cast<int>(f.orientation)] = std::max(
-        worst[static_cast<int>(f.orientation)],
-        (summary.estimates - reference.estimates).cwiseAbs().maxCoeff());
-    EXPECT_LT((summary.estimates - reference.estimates).cwiseAbs().maxCoeff(),
-              tolerance)
-        << what;
+    // The files' data agree with the SI file's to the last bit or two
+    // (positions 1e-16 relative, rotations <= 2.2e-16 rad). From the
+    // nominal start, Ceres then stops within its own tolerances of the
+    // same minimum: measured 2.8e-14 for every format but the quaternion
+    // files, 3.7e-12 there (whose rotations differ in fewer rows than the
+    // RPY files': the solver's stopping point, not the data). 1e-11 is
+    // checked from the nominal start; started at the reference estimate,
+    // where only the data can differ, every format agrees to 1e-12.
+    const double difference =
+        (summary.estimates - reference.estimates).cwiseAbs().maxCoeff();
+    worst[static_cast<int>(f.orientation)] =
+        std::max(worst[static_cast<int>(f.orientation)], difference);
+    EXPECT_LT(difference, 1e-11) << what;
+    IdentificationSummary warm;
+    Identify(m, back, reference.parameters, options, &warm);
+    ASSERT_EQ(warm.termination_type, TerminationType::kConvergence)
+        << what << ": " << warm.message;
+    const double warm_difference =
+        (warm.estimates - warm_reference.estimates).cwiseAbs().maxCoeff();
+    worst_warm = std::max(worst_warm, warm_difference);
+    EXPECT_LT(warm_difference, 1e-12) << what;
   }
   std::printf(
       "largest estimate difference from the SI file: rotation "
-      "vector %.3g, quaternion %.3g, RPY rad %.3g, RPY deg %.3g\n",
-      worst[0], worst[1], worst[2], worst[3]);
+      "vector %.3g, quaternion %.3g, RPY rad %.3g, RPY deg %.3g; started "
+      "at the estimate %.3g\n",
+      worst[0], worst[1], worst[2], worst[3], worst_warm);
 }
 
 TEST(MeasurementFormatsTest, QuaternionAndRpyFollowTheirConventions) {

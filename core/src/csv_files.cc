@@ -451,6 +451,13 @@ bool WideColumn(const std::string& name, int* axis, int* marker,
   return true;
 }
 
+// The rotation vector (angle <= pi) of a unit quaternion, rounded to
+// double at the end.
+Eigen::Vector3d RotationVectorOf(const Eigen::Quaternion<long double>& q) {
+  const Eigen::AngleAxis<long double> aa(q);
+  return (aa.angle() * aa.axis()).cast<double>();
+}
+
 // The unit of joint j's readings in the file, for messages.
 struct JointUnit {
   std::string column;  // the column the value came from
@@ -860,7 +867,6 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
     return false;
   }
   if (pose) {
-    Eigen::Matrix3d R;
     switch (orientation_) {
       case kRotvec:
         m.rotation = Eigen::Vector3d(v[0], v[1], v[2]);
@@ -876,14 +882,16 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
                                  "): not a unit quaternion",
                              error);
         }
-        const Eigen::AngleAxisd aa(quat.normalized());
-        m.rotation = aa.angle() * aa.axis();
+        // In extended precision, so that the conversion adds no more than
+        // the final rounding to the file's own.
+        m.rotation = RotationVectorOf(
+            Eigen::Quaternion<long double>(v[0], v[1], v[2], v[3])
+                .normalized());
         break;
       }
       default: {
-        R = RpyRotation(v[0], v[1], v[2]);
-        const Eigen::AngleAxisd aa(R);
-        m.rotation = aa.angle() * aa.axis();
+        m.rotation = RotationVectorOf(Eigen::Quaternion<long double>(
+            RpyRotation<long double>(v[0], v[1], v[2])));
         break;
       }
     }
@@ -1174,18 +1182,25 @@ std::string MeasurementsCsvText(const RobotModel& model,
     if (any_pose) {
       double v[4] = {0, 0, 0, 0};
       if (pose) {
-        const double angle = m.rotation.norm();
-        const Eigen::AngleAxisd aa(
-            angle, angle > 0 ? Eigen::Vector3d(m.rotation / angle)
-                             : Eigen::Vector3d::UnitX());
+        // In extended precision, as the reader.
+        const Eigen::Matrix<long double, 3, 1> r =
+            m.rotation.cast<long double>();
+        const long double angle = r.norm();
+        const Eigen::AngleAxis<long double> aa(
+            angle, angle > 0 ? Eigen::Matrix<long double, 3, 1>(r / angle)
+                             : Eigen::Matrix<long double, 3, 1>::UnitX());
         if (format.orientation == OrientationFormat::kRotationVector) {
           for (int k = 0; k < 3; ++k) v[k] = m.rotation[k];
         } else if (format.orientation == OrientationFormat::kQuaternion) {
-          Eigen::Quaterniond quat(aa);
+          Eigen::Quaternion<long double> quat(aa);
           if (quat.w() < 0) quat.coeffs() *= -1;
-          v[0] = quat.w(), v[1] = quat.x(), v[2] = quat.y(), v[3] = quat.z();
+          v[0] = static_cast<double>(quat.w());
+          v[1] = static_cast<double>(quat.x());
+          v[2] = static_cast<double>(quat.y());
+          v[3] = static_cast<double>(quat.z());
         } else {
-          const Eigen::Vector3d rpy = RotationToRpy(aa.toRotationMatrix());
+          const Eigen::Vector3d rpy =
+              RotationToRpy(aa.toRotationMatrix().cast<double>());
           const double scale =
               format.orientation == OrientationFormat::kRpyDeg ? kDegree : 1.0;
           for (int k = 0; k < 3; ++k) v[k] = rpy[k] / scale;
