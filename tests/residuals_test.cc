@@ -238,11 +238,16 @@ TEST(PoolJacobiansTest, SameResultForAnyThreadCount) {
   EXPECT_EQ(one.rows(), 3 * 729);
   EXPECT_TRUE(one == two);
   EXPECT_TRUE(one == five);
-  // And each block equals the single-pose Jacobian.
+  // And each block equals the single-pose (auto-diff) Jacobian: to
+  // rounding through the analytic path, bit for bit through auto-diff.
   Eigen::MatrixXd J;
   ASSERT_TRUE(MeasurementJacobian(m, m.nominal,
                                   MeasurementPlan(joints.middleRows(100, 1))[0],
                                   1.0, &J, &error));
+  EXPECT_LE((Eigen::MatrixXd(one.middleRows(300, 3)) - J).cwiseAbs().maxCoeff(),
+            1e-13);
+  options.analytic = false;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &one, &error));
   EXPECT_TRUE(Eigen::MatrixXd(one.middleRows(300, 3)) == J);
 }
 
