@@ -23,7 +23,7 @@ jobs="${JOBS:-$(nproc)}"
 packages=(build-essential cmake libceres-dev libeigen3-dev libgoogle-glog-dev
           libgflags-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
           libyaml-cpp-dev liburdfdom-dev liborocos-kdl-dev libkdl-parser-dev
-          gnuplot-nox clang libclang-rt-dev)
+          libboost-dev gnuplot-nox clang libclang-rt-dev)
 
 install_missing() {
   local missing=()

@@ -102,7 +102,9 @@ void BM_AddRemoveUpdate(benchmark::State& state) {
 }
 BENCHMARK(BM_AddRemoveUpdate);
 
-// Jacobians of the whole 15,625-pose pool through the Ceres cost function.
+// Jacobians of the whole 15,625-pose pool: args (threads, analytic). The
+// analytic point Jacobian (core/point_jacobian.h) against the Ceres
+// auto-diff cost function; items/s is poses per second.
 void BM_PoolJacobians(benchmark::State& state) {
   const RobotModel model = Puma560PaperModel();
   JointLattice lattice;
@@ -111,13 +113,20 @@ void BM_PoolJacobians(benchmark::State& state) {
   const Eigen::MatrixXd joints = lattice.AllJointValues();
   PoolJacobianOptions options;
   options.num_threads = state.range(0);
+  options.analytic = state.range(1) != 0;
   RowMatrixXd stacked;
   for (auto _ : state) {
     PoolJacobians(model, model.nominal, joints, options, &stacked, &error);
   }
   state.SetItemsProcessed(state.iterations() * joints.rows());
 }
-BENCHMARK(BM_PoolJacobians)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PoolJacobians)
+    ->ArgNames({"threads", "analytic"})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace activecal

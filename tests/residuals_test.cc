@@ -238,11 +238,16 @@ TEST(PoolJacobiansTest, SameResultForAnyThreadCount) {
   EXPECT_EQ(one.rows(), 3 * 729);
   EXPECT_TRUE(one == two);
   EXPECT_TRUE(one == five);
-  // And each block equals the single-pose Jacobian.
+  // And each block equals the single-pose (auto-diff) Jacobian: to
+  // rounding through the analytic path, bit for bit through auto-diff.
   Eigen::MatrixXd J;
   ASSERT_TRUE(MeasurementJacobian(m, m.nominal,
                                   MeasurementPlan(joints.middleRows(100, 1))[0],
                                   1.0, &J, &error));
+  EXPECT_LE((Eigen::MatrixXd(one.middleRows(300, 3)) - J).cwiseAbs().maxCoeff(),
+            1e-13);
+  options.analytic = false;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &one, &error));
   EXPECT_TRUE(Eigen::MatrixXd(one.middleRows(300, 3)) == J);
 }
 
@@ -273,12 +278,17 @@ TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
   // analyses only the x rows (the --levels=9 bug); whole blocks it must be.
   RowMatrixXd stacked(12, 2);
   for (int r = 0; r < 12; ++r) stacked.row(r) << r, 100 + r;
-  const Eigen::MatrixXd sample = SampleBlocks(stacked, 3, 6);
+  const Eigen::MatrixXd sample = SampleBlocks(stacked, 3, 7);
   ASSERT_EQ(sample.rows(), 6);
-  for (int r = 0; r < 3; ++r) {
-    EXPECT_EQ(sample(r, 0), r);          // pose 0
-    EXPECT_EQ(sample(3 + r, 0), 6 + r);  // pose 2
+  // Two different whole poses (rows 3k, 3k+1, 3k+2), in pool order.
+  for (int b = 0; b < 2; ++b) {
+    EXPECT_EQ(static_cast<int>(sample(3 * b, 0)) % 3, 0);
+    for (int r = 1; r < 3; ++r) {
+      EXPECT_EQ(sample(3 * b + r, 0), sample(3 * b, 0) + r);
+    }
   }
+  EXPECT_LT(sample(0, 0), sample(3, 0));
+  EXPECT_EQ(SampleBlocks(stacked, 3, 7), sample);  // deterministic
   EXPECT_EQ(SampleBlocks(stacked, 3, 12).rows(), 12);
 
   // A 4^6 lattice analysed through at most 300 rows: 100 whole poses, all
@@ -299,6 +309,26 @@ TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
   EXPECT_EQ(summary.identifiability.rank, 27);
   EXPECT_EQ(pool.size(), 4096);
   EXPECT_TRUE(summary.fixed_names.empty());
+}
+
+TEST(BuildCandidatePoolTest, SampleDoesNotAliasWithTheLattice) {
+  // A 4^6 lattice analysed through 1024 of its 4096 poses: every 4th pose
+  // (the old stride) keeps joint 6 at one level and loses rank 4; a random
+  // subset identifies all 27 parameters (the --levels=10 bug: 10^6 poses
+  // through 10^5).
+  RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  ASSERT_TRUE(JointLattice::Create(m, 4, &lattice, &error)) << error;
+  CandidatePoolOptions options;
+  options.check_identifiability = true;
+  options.max_analysis_rows = 3 * 1024;
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+                                 options, &pool, &summary))
+      << summary.message;
+  EXPECT_EQ(summary.identifiability.rank, 27);
 }
 
 TEST(BuildCandidatePoolTest, AutoFixHoldsTheRedundantParameterFixed) {

@@ -4,7 +4,9 @@
 #include <memory>
 #include <vector>
 
+#include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
+#include "activecal/core/point_jacobian.h"
 #include "activecal/residuals/measurement_residual.h"
 
 namespace activecal {
@@ -213,7 +215,27 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
   std::atomic<int64_t> failed{-1};
   std::atomic<int64_t> done{0};
   constexpr int64_t kReportEvery = 4096;
+  const bool analytic =
+      options.analytic && options.type == MeasurementType::kPosition;
+  const std::vector<const double*> blocks =
+      BlockPointers(model, parameters.data());
   ParallelFor(n, options.num_threads, [&](int64_t begin, int64_t end, int) {
+    auto report = [&](int64_t i) {
+      if (options.progress && (i - begin + 1) % kReportEvery == 0) {
+        options.progress(done += kReportEvery, n);
+      }
+    };
+    if (analytic) {
+      PointJacobianWorkspace workspace(model);
+      Eigen::VectorXd q(model.num_joints());
+      for (int64_t i = begin; i < end; ++i) {
+        q = joints.row(i).transpose();
+        MeasuredPointJacobian(model, blocks.data(), q.data(), /*marker=*/0,
+                              &workspace, stacked->data() + t * i * p);
+        report(i);
+      }
+      return;
+    }
     JacobianEvaluator evaluator(shared, parameters,
                                 options.rotation_weight_m_per_rad);
     Measurement m;
@@ -224,9 +246,7 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
         failed = i;
         return;
       }
-      if (options.progress && (i - begin + 1) % kReportEvery == 0) {
-        options.progress(done += kReportEvery, n);
-      }
+      report(i);
     }
   });
   if (options.progress) options.progress(n, n);

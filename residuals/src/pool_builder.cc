@@ -1,10 +1,13 @@
 #include "activecal/residuals/pool_builder.h"
 
+#include <algorithm>
+
 #include <glog/logging.h>
 
 #include <chrono>
 #include <utility>
 
+#include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 
 namespace activecal {
@@ -16,13 +19,17 @@ Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
   const int64_t rows = stacked.rows();
   if (rows <= max_rows) return stacked;
   const int64_t blocks = rows / block_rows;
-  const int64_t max_blocks = max_rows / block_rows;
-  const int64_t stride = (blocks + max_blocks - 1) / max_blocks;
-  const int64_t n = (blocks + stride - 1) / stride;
+  const int64_t n = max_rows / block_rows;
+  // A fixed-seed random subset, not every k-th pose: a stride equal to a
+  // lattice's level count (k = 10 at --levels=10) would hold the last joint
+  // at one level in every sampled pose and hide its parameters.
+  Random random(0x5a3b1e);
+  std::vector<int64_t> chosen = random.SampleWithoutReplacement(blocks, n);
+  std::sort(chosen.begin(), chosen.end());
   Eigen::MatrixXd sample(n * block_rows, stacked.cols());
   for (int64_t i = 0; i < n; ++i) {
     sample.middleRows(i * block_rows, block_rows) =
-        stacked.middleRows(i * stride * block_rows, block_rows);
+        stacked.middleRows(chosen[i] * block_rows, block_rows);
   }
   return sample;
 }

@@ -39,8 +39,9 @@ struct CandidatePoolOptions {
   ProgressCallback progress;
 
   // Check that the pool identifies every free parameter. A pool of more
-  // than max_analysis_rows rows is analysed through every k-th pose (whole
-  // blocks, all rows of each pose), enough to expose structural rank loss.
+  // than max_analysis_rows rows is analysed through a fixed-seed random
+  // subset of its poses (whole blocks, all rows of each pose), enough to
+  // expose structural rank loss.
   bool check_identifiability = false;
   int64_t max_analysis_rows = 300000;
   double rank_tolerance = 1e-10;
@@ -66,8 +67,9 @@ bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
                         const CandidatePoolOptions& options,
                         CandidatePool* pool, CandidatePoolSummary* summary);
 
-// Every k-th block of `block_rows` rows of `stacked`, whole, so that at
-// most max_rows rows remain (all of it when it is not taller).
+// A fixed-seed random subset of the blocks of `block_rows` rows of
+// `stacked`, whole and in pool order, of max_rows / block_rows blocks (all
+// of it when it is not taller than max_rows). Deterministic.
 Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
                              int64_t max_rows);
 

@@ -1,0 +1,162 @@
+// The analytic point Jacobian (core/point_jacobian.h) against the Ceres
+// auto-diff residual's Jacobian and central differences, on every
+// convention: standard and modified DH, Hayati, URDF joints (revolute about
+// tilted axes, prismatic), a frame base, gains, a tip transform and several
+// markers; and the pool path that uses it.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "activecal/core/kinematics.h"
+#include "activecal/core/point_jacobian.h"
+#include "activecal/core/puma560.h"
+#include "activecal/core/random.h"
+#include "activecal/residuals/jacobians.h"
+#include "test_util.h"
+
+namespace activecal {
+namespace {
+
+// Every parameter free (the check is about derivatives, not
+// identifiability), values moved off the nominal so that no angle is a
+// round number.
+RobotModel AllFree(RobotModel m, Random* random) {
+  for (int i = 0; i < m.num_parameters(); ++i) {
+    m.SetFree(i, true);
+    if (!m.Validate(nullptr)) m.SetFree(i, false);  // e.g. the base's gain
+  }
+  for (int i : m.FreeParameterIndices()) {
+    m.nominal[i] += 0.05 * (random->Uniform() - 0.5);
+  }
+  return m;
+}
+
+RobotModel ModifiedDhRevolute() {
+  RobotModel m = testing::MixedModel();
+  m.links[2].joint_type = JointType::kRevolute;
+  m.links[2].joint_min = -2.0;
+  m.links[2].joint_max = 2.0;
+  return m;
+}
+
+RobotModel UrdfWithFixedAndPrismaticStart() {
+  RobotModel m = testing::UrdfStyleModel();
+  m.links[0].joint_type = JointType::kPrismatic;
+  m.links[0].joint_min = 0.0;
+  m.links[0].joint_max = 0.5;
+  return m;
+}
+
+void ExpectAnalyticEqualsAutoDiff(const RobotModel& model, int trials,
+                                  uint64_t seed) {
+  Random random(seed);
+  const RobotModel m = AllFree(model, &random);
+  std::string error;
+  ASSERT_TRUE(m.Validate(&error)) << error;
+  const int p = m.num_free();
+  const std::vector<const double*> blocks = BlockPointers(m, m.nominal.data());
+  PointJacobianWorkspace workspace(m);
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+    for (int marker = 0; marker < m.num_markers(); ++marker) {
+      Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> analytic(3, p);
+      MeasuredPointJacobian(m, blocks.data(), q.data(), marker, &workspace,
+                            analytic.data());
+      Measurement meas;
+      meas.joints = q;
+      meas.marker = marker;
+      Eigen::MatrixXd autodiff;
+      ASSERT_TRUE(
+          MeasurementJacobian(m, m.nominal, meas, 1.0, &autodiff, &error))
+          << error;
+      const double scale = std::max(1.0, autodiff.cwiseAbs().maxCoeff());
+      EXPECT_LE((analytic - autodiff).cwiseAbs().maxCoeff(), 1e-12 * scale)
+          << m.name << " trial " << trial << " marker " << marker
+          << "\nanalytic\n"
+          << analytic << "\nautodiff\n"
+          << autodiff;
+      // Central differences of the point itself (an independent check of
+      // the derivative both compute).
+      const std::vector<int> free = m.FreeParameterIndices();
+      for (int j = 0; j < p; ++j) {
+        const double h = 1e-6;
+        Eigen::VectorXd plus = m.nominal, minus = m.nominal;
+        plus[free[j]] += h;
+        minus[free[j]] -= h;
+        const Eigen::Vector3d diff = (MeasuredPoint(m, plus, q, marker) -
+                                      MeasuredPoint(m, minus, q, marker)) /
+                                     (2 * h);
+        EXPECT_LE((diff - analytic.col(j)).cwiseAbs().maxCoeff(), 1e-7)
+            << m.name << " column " << j;
+      }
+    }
+  }
+}
+
+TEST(PointJacobianTest, PumaStandardDh) {
+  ExpectAnalyticEqualsAutoDiff(Puma560PaperModel(), 20, 1);
+}
+
+TEST(PointJacobianTest, MixedDhHayatiModifiedPrismaticGains) {
+  ExpectAnalyticEqualsAutoDiff(testing::MixedModel(), 20, 2);
+}
+
+TEST(PointJacobianTest, ModifiedDhRevolute) {
+  ExpectAnalyticEqualsAutoDiff(ModifiedDhRevolute(), 20, 3);
+}
+
+TEST(PointJacobianTest, UrdfJointsFrameBaseTipAndTwoMarkers) {
+  ExpectAnalyticEqualsAutoDiff(testing::UrdfStyleModel(), 20, 4);
+}
+
+TEST(PointJacobianTest, UrdfPrismaticFirstJoint) {
+  ExpectAnalyticEqualsAutoDiff(UrdfWithFixedAndPrismaticStart(), 20, 5);
+}
+
+// Only free columns, in free-parameter order, with some parameters held.
+TEST(PointJacobianTest, FreeColumnsOnly) {
+  RobotModel m = testing::UrdfStyleModel();
+  for (int i = 0; i < m.num_parameters(); i += 3) m.SetFree(i, false);
+  Random random(6);
+  const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+  PointJacobianWorkspace workspace(m);
+  const std::vector<const double*> blocks = BlockPointers(m, m.nominal.data());
+  Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> analytic(
+      3, m.num_free());
+  MeasuredPointJacobian(m, blocks.data(), q.data(), 0, &workspace,
+                        analytic.data());
+  Measurement meas;
+  meas.joints = q;
+  Eigen::MatrixXd autodiff;
+  std::string error;
+  ASSERT_TRUE(MeasurementJacobian(m, m.nominal, meas, 1.0, &autodiff, &error));
+  EXPECT_LE((analytic - autodiff).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// The pool path: the analytic and the auto-diff pool Jacobians agree, and
+// the analytic one does not depend on the thread count.
+TEST(PointJacobianTest, PoolJacobiansAnalyticEqualsAutoDiff) {
+  const RobotModel m = testing::MixedModel();
+  Random random(7);
+  Eigen::MatrixXd joints(500, m.num_joints());
+  for (int i = 0; i < joints.rows(); ++i) {
+    joints.row(i) = testing::RandomJoints(m, &random).transpose();
+  }
+  PoolJacobianOptions options;
+  options.num_threads = 1;
+  RowMatrixXd analytic, analytic2, autodiff;
+  std::string error;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &analytic, &error));
+  options.num_threads = 2;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &analytic2, &error));
+  options.analytic = false;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &autodiff, &error));
+  EXPECT_EQ(analytic, analytic2);
+  EXPECT_LE((analytic - autodiff).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+}  // namespace
+}  // namespace activecal
