@@ -154,14 +154,14 @@ int Main() {
     if (!LoadRobot(FLAGS_nominal_robot, load, &nominal, &error)) {
       app::Fail("--nominal_robot: " + error);
     }
-    if (nominal.model.num_joints() != model.num_joints() ||
-        nominal.model.num_markers() != model.num_markers()) {
-      app::Fail(
-          "--nominal_robot: " + std::to_string(nominal.model.num_joints()) +
-          " joints and " + std::to_string(nominal.model.num_markers()) +
-          " markers, --robot has " + std::to_string(model.num_joints()) +
-          " and " + std::to_string(model.num_markers()) +
-          ": not the same robot");
+    if (nominal.model.ParameterNames() != model.ParameterNames()) {
+      app::Fail("--nominal_robot: its " +
+                std::to_string(nominal.model.num_joints()) + " joints, " +
+                std::to_string(nominal.model.num_markers()) +
+                " markers and parameters differ from those of --robot (" +
+                std::to_string(model.num_joints()) + " joints, " +
+                std::to_string(model.num_markers()) +
+                " markers): not the same robot");
     }
   }
   IdentificationOptions fit_options;

@@ -83,12 +83,13 @@ DEFINE_double(noise_m, 0.01,
 DEFINE_uint64(seed, 1,
               "Seed of the validation split, of the cross-validation folds "
               "and of the simulation (pose draw and noise).");
-DEFINE_string(model_selection, "none",
-              "none, validation or cv: keep every identifiable parameter "
-              "(none), or rank them and keep the number that minimises the "
-              "RMS error on held-out measurements: --validation (a separate "
+DEFINE_string(model_selection, "cv",
+              "cv (default), validation or none: rank the identifiable "
+              "parameters and keep the number that minimises the "
+              "RMS error on held-out measurements: --folds-fold "
+              "cross-validation over the poses, or --validation (a separate "
               "file, e.g. another session; base frame and markers refitted "
-              "to it) or --folds-fold cross-validation over the poses "
+              "to it); none keeps every identifiable parameter "
               "(docs/accuracy.md).");
 DEFINE_string(validation, "",
               "Measurements CSV of held-out poses for "
@@ -404,7 +405,12 @@ int Main() {
     for (const std::string& name : selection.dropped) {
       auto_fixed.push_back(name);
     }
-    fix_label = "--model_selection=" + FLAGS_model_selection;
+    if (!selection.dropped.empty()) {
+      fix_label += (auto_fixed.size() > selection.dropped.size()
+                        ? " and --model_selection="
+                        : "--model_selection=") +
+                   FLAGS_model_selection;
+    }
   }
 
   IdentificationSummary summary;

@@ -149,6 +149,20 @@ TEST(WeightedIdentificationTest, SomeRowsWithoutSigmaNeedADefault) {
   EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
 }
 
+TEST(WeightedIdentificationTest, NegativeOrNonFiniteSigmaIsRefused) {
+  const RobotModel m = Puma560PaperModel();
+  for (double bad : {-1e-3, std::nan(""), HUGE_VAL}) {
+    std::vector<Measurement> data = PumaMeasurements(30, 0.001, 5);
+    for (Measurement& d : data) d.sigma_m.setConstant(1e-3);
+    data[4].sigma_m[1] = bad;
+    IdentificationSummary s;
+    Identify(m, data, m.nominal, {}, &s);
+    EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
+    EXPECT_NE(s.message.find("measurement 4"), std::string::npos) << s.message;
+    EXPECT_NE(s.message.find("sigma_m"), std::string::npos) << s.message;
+  }
+}
+
 TEST(MapFitTest, WidePriorIsLeastSquaresNarrowPriorHoldsTheNominal) {
   const RobotModel m = Puma560PaperModel();
   const std::vector<Measurement> data = PumaMeasurements(30, 0.001, 4);

@@ -399,10 +399,11 @@ std::string ModelSelectionSummary::BriefReport() const {
   std::ostringstream out;
   out << message << "\n";
   if (curve.empty()) return out.str();
-  out << "  kept  added                 training RMS (m)  held-out RMS (m)\n";
+  out << "  kept  added                         training RMS (m)  held-out "
+         "RMS (m)\n";
   for (const ModelSelectionPoint& pt : curve) {
     char line[160];
-    std::snprintf(line, sizeof(line), "  %4d  %-20s  %16.6g  %16.6g%s\n",
+    std::snprintf(line, sizeof(line), "  %4d  %-28s  %16.6g  %16.6g%s\n",
                   pt.num_kept,
                   pt.added.empty() ? "(registration)" : pt.added.c_str(),
                   pt.training_rms_m, pt.held_out_rms_m,
