@@ -42,6 +42,10 @@ std::vector<std::string> EstimateWarnings(
       }
     }
   }
+  // The moved ones in one line: a wrong nominal model moves many at once.
+  std::ostringstream moved_line;
+  moved_line.precision(3);
+  int num_moved = 0;
   for (int k = 0; k < p; ++k) {
     const int i = free[k];
     const int block = model.BlockOf(i);
@@ -49,14 +53,18 @@ std::vector<std::string> EstimateWarnings(
     const double sd = summary.standard_deviations[k];
     const double moved = summary.estimates[k] - model.nominal[i];
     if (sd > 0 && std::abs(moved) > options.max_moved_std * sd) {
-      std::ostringstream line;
-      line.precision(3);
-      line << summary.names[k] << " moved " << moved << " "
-           << model.ParameterUnit(i) << " from nominal, "
-           << std::abs(moved) / sd << " std (> " << options.max_moved_std
-           << "): is the nominal model the right one?";
-      lines.push_back(line.str());
+      moved_line << (num_moved++ ? ", " : " ") << summary.names[k] << " "
+                 << moved << " " << model.ParameterUnit(i) << " ("
+                 << std::abs(moved) / sd << " std)";
     }
+  }
+  if (num_moved > 0) {
+    std::ostringstream line;
+    line << num_moved << " link parameter" << (num_moved > 1 ? "s" : "")
+         << " moved more than " << options.max_moved_std
+         << " std from nominal (is the nominal model the right one?):"
+         << moved_line.str();
+    lines.push_back(line.str());
   }
   return lines;
 }

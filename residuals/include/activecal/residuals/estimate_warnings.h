@@ -7,8 +7,9 @@
 //     data separate only their combination;
 //   - a link parameter whose estimate moved more than max_moved_std of its
 //     standard deviations from the nominal value: often a wrong nominal
-//     model (e.g. a UR10e read as a UR10). The base frame and the markers
-//     are unknowns rather than nominal values and are not checked for it.
+//     model (e.g. a UR10e read as a UR10), so all of them share one line.
+//     The base frame and the markers are unknowns rather than nominal
+//     values and are not checked for it.
 //
 //   for (const std::string& w : EstimateWarnings(model, summary, {}))
 //     std::cout << "warning: " << w << "\n";
@@ -32,8 +33,9 @@ struct EstimateWarningOptions {
 };
 
 // `model` is the one identified (its free flags and nominal values), and
-// `summary` a converged identification of it. Lines in the order: std,
-// correlation (pairs in free-parameter order), moved.
+// `summary` a converged identification of it. Lines in the order: std (one
+// per parameter), correlation (one per pair, free-parameter order), moved
+// (one line naming them all, with the move and its std count).
 std::vector<std::string> EstimateWarnings(
     const RobotModel& model, const IdentificationSummary& summary,
     const EstimateWarningOptions& options);
