@@ -438,16 +438,19 @@ int Main() {
     baseline_options.prior_std_m = baseline_options.prior_std_rad = 0.0;
     FitRegistration(robot.model, robot.model.nominal, training,
                     baseline_options, &baseline);
-    if (baseline.termination_type != TerminationType::kConvergence) {
-      app::Fail("the registration-only baseline failed: " + baseline.message);
-    }
   }
+  // Data that cannot fit the registration alone (e.g. too few rows for
+  // the base and markers) get the calibration without a baseline, said.
+  const bool have_baseline =
+      baseline.termination_type == TerminationType::kConvergence;
   // "Nominal" errors are those of the nominal geometry, registered to the
   // device when the base was registered.
   const ValidationErrors validation_errors =
       Validate(model, registered_start, summary.parameters, validation);
   const ValidationErrors validation_baseline =
-      Validate(model, baseline.parameters, summary.parameters, validation);
+      have_baseline
+          ? Validate(model, baseline.parameters, summary.parameters, validation)
+          : ValidationErrors();
   const std::vector<std::string> warnings =
       EstimateWarnings(model, summary, EstimateWarningOptions());
 
@@ -495,20 +498,29 @@ int Main() {
           "those with care)\n");
     }
   }
-  std::printf(
-      "  registration only (nominal geometry, base and markers fitted): RMS "
-      "residual %.6f m -> %.6f m calibrated (%.1f%% lower)\n",
-      baseline.rms_m, summary.rms_m,
-      baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
-                         : 0.0);
+  if (have_baseline) {
+    std::printf(
+        "  registration only (nominal geometry, base and markers fitted): "
+        "RMS residual %.6f m -> %.6f m calibrated (%.1f%% lower)\n",
+        baseline.rms_m, summary.rms_m,
+        baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
+                           : 0.0);
+  } else {
+    std::printf("  no registration-only baseline: %s\n",
+                baseline.message.c_str());
+  }
   if (!validation.empty()) {
     std::printf(
         "  validation on %d held-out measurements: RMS error %.6f m with the "
-        "nominal model -> %.6f m calibrated (max %.6f -> %.6f m); %.6f m "
-        "registration only\n",
+        "nominal model -> %.6f m calibrated (max %.6f -> %.6f m)",
         validation_errors.count, validation_errors.rms_nominal_m,
         validation_errors.rms_calibrated_m, validation_errors.max_nominal_m,
-        validation_errors.max_calibrated_m, validation_baseline.rms_nominal_m);
+        validation_errors.max_calibrated_m);
+    if (have_baseline) {
+      std::printf("; %.6f m registration only",
+                  validation_baseline.rms_nominal_m);
+    }
+    std::printf("\n");
   }
   for (const std::string& w : warnings) {
     std::printf("  warning: %s\n", w.c_str());
@@ -636,16 +648,20 @@ int Main() {
         {"rms_error_calibrated_m", validation_errors.rms_calibrated_m},
         {"max_error_nominal_m", validation_errors.max_nominal_m},
         {"max_error_calibrated_m", validation_errors.max_calibrated_m}};
-    j["validation"]["rms_error_registration_only_m"] =
-        validation_baseline.rms_nominal_m;
-    j["validation"]["max_error_registration_only_m"] =
-        validation_baseline.max_nominal_m;
-    j["registration_only"] = {
-        {"rms_residual_m", baseline.rms_m},
-        {"parameters", baseline.names},
-        {"improvement_percent",
-         baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
-                            : 0.0}};
+    if (have_baseline) {
+      j["validation"]["rms_error_registration_only_m"] =
+          validation_baseline.rms_nominal_m;
+      j["validation"]["max_error_registration_only_m"] =
+          validation_baseline.max_nominal_m;
+      j["registration_only"] = {
+          {"rms_residual_m", baseline.rms_m},
+          {"parameters", baseline.names},
+          {"improvement_percent",
+           baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
+                              : 0.0}};
+    } else {
+      j["registration_only"] = nullptr;
+    }
     j["weighted"] = summary.weighted;
     j["degrees_of_freedom"] = summary.degrees_of_freedom;
     j["chi_square"] = summary.chi_square;

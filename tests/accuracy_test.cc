@@ -364,7 +364,7 @@ TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
   const int p = problem.model.num_free();
   ModelSelectionOptions options;
   options.method = ModelSelectionMethod::kCrossValidation;
-  options.num_folds = 5;
+  options.num_folds = 4;
   RobotModel chosen = problem.model;
   ModelSelectionSummary summary;
   SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);

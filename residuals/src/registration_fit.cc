@@ -21,7 +21,12 @@ void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
     summary->message = "registration fit: " + error;
     return;
   }
-  if (m.base.convention == LinkConvention::kFrame) {
+  int num_points = 0;
+  for (const Measurement& x : measurements) {
+    num_points += x.type != MeasurementType::kDistance;
+  }
+  // Distances carry no position: they leave the base where it is.
+  if (m.base.convention == LinkConvention::kFrame && num_points > 0) {
     RegistrationSummary closed_form;
     if (!RegisterBaseFrame(m, measurements, &start, &closed_form)) {
       summary->message = closed_form.message;

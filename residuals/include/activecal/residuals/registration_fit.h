@@ -9,7 +9,8 @@
 //   baseline.rms_m;  // RMS residual norm with the nominal geometry
 //
 // A 6-DOF ('frame') base is first registered in closed form
-// (core/registration.h); then the registration set, reduced to what the
+// (core/registration.h) when there are measured points (distances alone
+// leave it as given); then the registration set, reduced to what the
 // measurements separate (parameter_reduction.h), is identified by
 // Identify() with `options` (weights and robust loss included).
 
