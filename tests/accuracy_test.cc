@@ -530,6 +530,17 @@ TEST(PostureGroupTest, RepeatedNewAndOutOfRange) {
   EXPECT_EQ(g[3], PostureGroup::kOutOfRange);
   EXPECT_EQ(g[4], PostureGroup::kOutOfRange);
   EXPECT_STREQ(PostureGroupName(PostureGroup::kOutOfRange), "out_of_range");
+  // A distance takes the worse group of its two poses.
+  Measurement d;
+  d.type = MeasurementType::kDistance;
+  d.joints = train.row(1).transpose();
+  d.joints2 = test.row(2).transpose();
+  Measurement far = d;
+  far.joints2 = test.row(3).transpose();
+  const std::vector<PostureGroup> gd =
+      ClassifyPostures(m, MeasurementPlan(train), {d, far});
+  EXPECT_EQ(gd[0], PostureGroup::kNew);
+  EXPECT_EQ(gd[1], PostureGroup::kOutOfRange);
 }
 
 }  // namespace
