@@ -38,12 +38,17 @@ struct Method {
   std::string name;
   ModelSelectionMethod selection = ModelSelectionMethod::kNone;
   double prior_m = 0, prior_rad = 0;
+  ParameterRanking ranking = ParameterRanking::kSignificance;
 };
 
 const std::vector<Method> kMethods = {
     {"all identifiable", ModelSelectionMethod::kNone, 0, 0},
     {"cv (5 folds)", ModelSelectionMethod::kCrossValidation, 0, 0},
     {"validation session", ModelSelectionMethod::kValidation, 0, 0},
+    {"cv, Jacobian ranking", ModelSelectionMethod::kCrossValidation, 0, 0,
+     ParameterRanking::kJacobian},
+    {"validation, Jacobian", ModelSelectionMethod::kValidation, 0, 0,
+     ParameterRanking::kJacobian},
     {"MAP 0.5 mm/0.5 mrad", ModelSelectionMethod::kNone, 5e-4, 5e-4},
     {"MAP 2 mm/2 mrad", ModelSelectionMethod::kNone, 2e-3, 2e-3},
     {"MAP 10 mm/10 mrad", ModelSelectionMethod::kNone, 1e-2, 1e-2},
@@ -69,6 +74,7 @@ double Run(const RobotModel& robot, const Data& data, const Method& method,
   options.rotation_weight_m_per_rad = rotation_weight;
   ModelSelectionOptions selection;
   selection.method = method.selection;
+  selection.ranking = method.ranking;
   selection.identification = options;
   selection.num_threads = 2;
   ModelSelectionSummary summary;
