@@ -27,7 +27,8 @@
 // every row weighted, the covariance is (J^T W J)^-1, the stated noise
 // taken at its word, and the summary reports chi^2 / dof (about 1 when
 // the stated sigmas fit the residuals) and the noise level the residuals
-// imply. Without sigmas nothing changes.
+// imply. Outliers are still judged on the unweighted rows (in metres).
+// Without sigmas nothing changes.
 //
 // MAP fit: prior_std_m / prior_std_rad > 0 add a Gaussian prior centred on
 // `initial` to every free link (geometric) parameter, not to the base frame
