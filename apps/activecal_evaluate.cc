@@ -4,18 +4,40 @@
 
 #include <gflags/gflags.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "activecal/core/csv_files.h"
 #include "activecal/core/evaluation.h"
+#include "activecal/core/robot_loader.h"
+#include "activecal/residuals/registration_fit.h"
 #include "app_common.h"
+#include "gnuplot.h"
 
 DEFINE_string(measurements, "",
               "Measurements CSV (docs/formats.md) to predict. Required.");
 DEFINE_string(json_out, "",
               "If set, write the report here: rmse_m, rmse_xyz_m, mean_m, "
               "p95_m, max_m, num_measurements, orientation and distance "
-              "errors, and the error of every measurement.");
+              "errors, and the error of every measurement; 'before' the "
+              "same for the registration-only baseline; 'groups' per "
+              "posture group with --training.");
+DEFINE_string(nominal_robot, "",
+              "The uncalibrated robot (same chain flags) for the 'before' "
+              "report: its nominal geometry with only the base frame and "
+              "markers fitted to these measurements. Empty: --robot's own "
+              "geometry, base and markers refitted.");
+DEFINE_string(training, "",
+              "Measurements CSV the model was calibrated on: the report then "
+              "gives each posture group (repeated, new, out of range) its "
+              "own errors.");
+DEFINE_string(plot, "",
+              "If set, draw histograms of the position errors before "
+              "(registration only) and after here (PNG, gnuplot; skipped "
+              "with a note when gnuplot is missing).");
+DEFINE_double(rotation_weight, 1.0,
+              "Weight of 6D pose orientation rows (m per rad) in the "
+              "registration-only fit of the 'before' report.");
 
 namespace activecal {
 namespace {
@@ -28,6 +50,88 @@ nlohmann::json StatisticsJson(const ErrorStatistics& s) {
           {"max", s.max}};
 }
 
+nlohmann::json ReportJson(const EvaluationSummary& s) {
+  return {
+      {"num_position_measurements", s.position.count},
+      {"rmse_m", s.position.rms},
+      {"rmse_xyz_m", {s.rmse_xyz_m.x(), s.rmse_xyz_m.y(), s.rmse_xyz_m.z()}},
+      {"mean_xyz_m", {s.mean_xyz_m.x(), s.mean_xyz_m.y(), s.mean_xyz_m.z()}},
+      {"mean_m", s.position.mean},
+      {"p95_m", s.position.p95},
+      {"max_m", s.position.max},
+      {"orientation_rad", StatisticsJson(s.rotation)},
+      {"distance_m", StatisticsJson(s.distance)}};
+}
+
+// The measurements of one posture group.
+std::vector<Measurement> Subset(const std::vector<Measurement>& all,
+                                const std::vector<PostureGroup>& groups,
+                                PostureGroup group) {
+  std::vector<Measurement> out;
+  for (size_t i = 0; i < all.size(); ++i) {
+    if (groups[i] == group) out.push_back(all[i]);
+  }
+  return out;
+}
+
+void PrintLine(const char* label, const EvaluationSummary& s) {
+  const double deg = 180.0 / M_PI;
+  std::printf("  %-28s", label);
+  if (s.position.count > 0) {
+    std::printf(
+        " position (%d): RMSE %.3f mm (x %.3f, y %.3f, z %.3f), mean %.3f, "
+        "p95 %.3f, max %.3f mm",
+        s.position.count, s.position.rms * 1e3, s.rmse_xyz_m.x() * 1e3,
+        s.rmse_xyz_m.y() * 1e3, s.rmse_xyz_m.z() * 1e3, s.position.mean * 1e3,
+        s.position.p95 * 1e3, s.position.max * 1e3);
+  }
+  if (s.rotation.count > 0) {
+    std::printf("; orientation: RMS %.4f deg, p95 %.4f, max %.4f deg",
+                s.rotation.rms * deg, s.rotation.p95 * deg,
+                s.rotation.max * deg);
+  }
+  if (s.distance.count > 0) {
+    std::printf("; distance (%d): RMS %.3f mm, max %.3f mm", s.distance.count,
+                s.distance.rms * 1e3, s.distance.max * 1e3);
+  }
+  std::printf("\n");
+}
+
+void PlotHistograms(const EvaluationSummary& before,
+                    const EvaluationSummary& after) {
+  if (!app::GnuplotAvailable()) {
+    std::printf("  --plot: gnuplot is not installed; no plot\n");
+    return;
+  }
+  std::vector<std::vector<double>> rows;
+  double top = 0.0;
+  for (size_t i = 0; i < after.position_errors.size(); ++i) {
+    const double b = before.position_errors[i].norm() * 1e3;
+    const double a = after.position_errors[i].norm() * 1e3;
+    rows.push_back({b, a});
+    top = std::max(top, std::max(a, b));
+  }
+  const double width = top > 0 ? top / 30.0 : 1.0;
+  char bin[64];
+  std::snprintf(bin, sizeof(bin), "%.17g", width);
+  const std::string script =
+      app::GnuplotData("errors", rows) + "w = " + bin +
+      "\nbin(x) = w * (floor(x / w) + 0.5)\n"
+      "set title 'Position errors: registration only (before) and "
+      "calibrated (after)'\n"
+      "set xlabel 'position error (mm)'\nset ylabel 'measurements'\n"
+      "set style fill transparent solid 0.5\nset grid\nset boxwidth w\n"
+      "set xrange [0:*]\n"
+      "plot $errors using (bin($1)):(1.0) smooth frequency with boxes "
+      "title 'before (registration only)', $errors using (bin($2)):(1.0) "
+      "smooth frequency with boxes title 'after'\n";
+  std::string error;
+  if (!app::RunGnuplot(script, FLAGS_plot, &error)) {
+    app::Fail("--plot: " + error);
+  }
+  std::printf("  --plot: wrote %s\n", FLAGS_plot.c_str());
+}
+
 int Main() {
   if (FLAGS_measurements.empty()) app::Fail("--measurements is required");
   const RobotDescription robot = app::LoadRobotOrDie();
@@ -38,7 +142,83 @@ int Main() {
   if (!EvaluateModel(model, model.nominal, measurements, &summary)) {
     app::Fail("--measurements: " + summary.message);
   }
+  // Before: the registration-only baseline (registration_fit.h).
+  RobotDescription nominal = robot;
+  if (!FLAGS_nominal_robot.empty()) {
+    RobotLoadOptions load;
+    load.chain.base_link = FLAGS_base_link;
+    load.chain.tip_link = FLAGS_tip_link;
+    if (!LoadRobot(FLAGS_nominal_robot, load, &nominal, &error)) {
+      app::Fail("--nominal_robot: " + error);
+    }
+    if (nominal.model.ParameterNames() != model.ParameterNames()) {
+      app::Fail("--nominal_robot: its " +
+                std::to_string(nominal.model.num_joints()) + " joints, " +
+                std::to_string(nominal.model.num_markers()) +
+                " markers and parameters differ from those of --robot (" +
+                std::to_string(model.num_joints()) + " joints, " +
+                std::to_string(model.num_markers()) +
+                " markers): not the same robot");
+    }
+  }
+  IdentificationOptions fit_options;
+  fit_options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
+  {
+    std::string why;
+    if (!fit_options.IsValid(&why)) app::Fail("--rotation_weight: " + why);
+  }
+  RegistrationFitSummary baseline;
+  FitRegistration(nominal.model, nominal.model.nominal, measurements,
+                  fit_options, &baseline);
+  // Too few measurements for the fit (fewer rows than base and marker
+  // parameters): the report goes on without the baseline, saying why.
+  const bool have_before =
+      baseline.termination_type == TerminationType::kConvergence;
+  EvaluationSummary before;
+  if (have_before && !EvaluateModel(nominal.model, baseline.parameters,
+                                    measurements, &before)) {
+    app::Fail("--measurements: " + before.message);
+  }
   std::printf("%s", summary.BriefReport().c_str());
+  if (have_before) {
+    std::printf("  before and after (%s):\n",
+                FLAGS_nominal_robot.empty()
+                    ? "before: --robot's geometry, base and markers refitted"
+                    : "before: --nominal_robot, base and markers fitted");
+    PrintLine("before (registration only)", before);
+    PrintLine("after", summary);
+  } else {
+    std::printf("  note: no registration-only baseline: %s\n",
+                baseline.message.c_str());
+  }
+  // Posture groups relative to the training poses.
+  std::vector<Measurement> training;
+  std::vector<PostureGroup> groups;
+  nlohmann::json groups_json = nlohmann::json::object();
+  if (!FLAGS_training.empty()) {
+    training = app::ReadMeasurementsOrDie(FLAGS_training, model, "training");
+    groups = ClassifyPostures(model, training, measurements);
+    for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
+                           PostureGroup::kOutOfRange}) {
+      const std::vector<Measurement> subset = Subset(measurements, groups, g);
+      EvaluationSummary s;
+      if (!subset.empty() && !EvaluateModel(model, model.nominal, subset, &s)) {
+        app::Fail("--measurements: " + s.message);
+      }
+      const std::string label = std::string("after, ") + PostureGroupName(g);
+      if (!subset.empty()) PrintLine(label.c_str(), s);
+      nlohmann::json gj = ReportJson(s);
+      gj["num_measurements"] = static_cast<int>(subset.size());
+      groups_json[PostureGroupName(g)] = gj;
+    }
+  }
+  if (!FLAGS_plot.empty()) {
+    if (!have_before) {
+      app::Fail("--plot: no registration-only baseline to compare with: " +
+                baseline.message);
+    }
+    PlotHistograms(before, summary);
+  }
   if (model.base.convention == LinkConvention::kFrame &&
       model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {
     std::printf(
@@ -80,6 +260,22 @@ int Main() {
       rows.push_back(row);
     }
     j["errors"] = rows;
+    if (have_before) {
+      j["before"] = ReportJson(before);
+      j["before"]["registration_rms_residual_m"] = baseline.rms_m;
+      j["before"]["robot"] =
+          FLAGS_nominal_robot.empty() ? FLAGS_robot : FLAGS_nominal_robot;
+    } else {
+      j["before"] = nullptr;
+    }
+    j["after"] = ReportJson(summary);
+    if (!FLAGS_training.empty()) {
+      j["training"] = FLAGS_training;
+      j["groups"] = groups_json;
+      for (size_t i = 0; i < groups.size(); ++i) {
+        j["errors"][i]["group"] = PostureGroupName(groups[i]);
+      }
+    }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
   return 0;

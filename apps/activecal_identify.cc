@@ -19,10 +19,14 @@
 #include "activecal/core/robot_loader.h"
 #include "activecal/core/simulation.h"
 #include "activecal/core/urdf_export.h"
+#include "activecal/residuals/estimate_warnings.h"
 #include "activecal/residuals/identification.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/model_selection.h"
 #include "activecal/residuals/parameter_reduction.h"
+#include "activecal/residuals/registration_fit.h"
 #include "app_common.h"
+#include "gnuplot.h"
 
 DEFINE_string(measurements, "",
               "Measurements CSV (docs/formats.md): position, pose and "
@@ -77,8 +81,46 @@ DEFINE_int32(levels, 5,
 DEFINE_double(noise_m, 0.01,
               "Simulation only: noise standard deviation on each axis (m).");
 DEFINE_uint64(seed, 1,
-              "Seed of the validation split and of the simulation (pose "
-              "draw and noise).");
+              "Seed of the validation split, of the cross-validation folds "
+              "and of the simulation (pose draw and noise).");
+DEFINE_string(model_selection, "cv",
+              "cv (default), validation or none: rank the identifiable "
+              "parameters and keep the number that minimises the "
+              "RMS error on held-out measurements: --folds-fold "
+              "cross-validation over the poses, or --validation (a separate "
+              "file, e.g. another session; base frame and markers refitted "
+              "to it); none keeps every identifiable parameter "
+              "(docs/accuracy.md).");
+DEFINE_string(validation, "",
+              "Measurements CSV of held-out poses for "
+              "--model_selection=validation (same robot, same markers).");
+DEFINE_int32(folds, 5,
+             "Folds of --model_selection=cv (all rows of one pose in one "
+             "fold; assigned from --seed); at most the number of poses.");
+DEFINE_string(selection_ranking, "significance",
+              "Order in which --model_selection adds link parameters: "
+              "significance (|estimate - nominal| / std of the full fit, "
+              "ranked inside each fold) or jacobian (QR with column "
+              "pivoting on the scaled Jacobian; the poses only).");
+DEFINE_int32(threads, 0,
+             "Threads for the fits of --model_selection (<= 0: all "
+             "hardware threads); the result is the same for any count.");
+DEFINE_string(selection_plot, "",
+              "If set (with --model_selection), draw the curve parameters "
+              "kept -> training and held-out RMS here (PNG, gnuplot).");
+DEFINE_double(prior_std_m, 0.0,
+              "MAP fit: prior standard deviation (m) of every free link "
+              "length parameter around its nominal value (0: no prior).");
+DEFINE_double(prior_std_rad, 0.0,
+              "MAP fit: prior standard deviation (rad) of every free link "
+              "angle (and gain) around its nominal value (0: no prior).");
+DEFINE_double(default_sigma_m, 0.0,
+              "Standard deviation (m) of position and distance rows whose "
+              "measurement states none (0: none). Measurements with sigma "
+              "columns are weighted by 1/sigma.");
+DEFINE_double(default_sigma_rad, 0.0,
+              "Standard deviation (rad) of pose rotation rows whose "
+              "measurement states none (0: none).");
 
 namespace activecal {
 namespace {
@@ -177,6 +219,35 @@ int Main() {
   options.robust_scale_m = FLAGS_robust_scale_m;
   options.outlier_threshold = FLAGS_outlier_threshold;
   options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
+  options.default_sigma_m = FLAGS_default_sigma_m;
+  options.default_sigma_rad = FLAGS_default_sigma_rad;
+  ModelSelectionOptions selection_options;
+  if (!ParseModelSelectionMethod(FLAGS_model_selection,
+                                 &selection_options.method)) {
+    app::Fail("--model_selection must be none, validation or cv, got '" +
+              FLAGS_model_selection + "'");
+  }
+  if (selection_options.method == ModelSelectionMethod::kValidation &&
+      FLAGS_validation.empty()) {
+    app::Fail("--model_selection=validation needs --validation=FILE");
+  }
+  if (!FLAGS_validation.empty() &&
+      selection_options.method != ModelSelectionMethod::kValidation) {
+    app::Fail("--validation is used by --model_selection=validation only");
+  }
+  if (FLAGS_folds < 2) {
+    app::Fail("--folds must be >= 2, got " + std::to_string(FLAGS_folds));
+  }
+  if (!(FLAGS_prior_std_m >= 0 && std::isfinite(FLAGS_prior_std_m) &&
+        FLAGS_prior_std_rad >= 0 && std::isfinite(FLAGS_prior_std_rad))) {
+    app::Fail("--prior_std_m and --prior_std_rad must be finite and >= 0");
+  }
+  const bool map_fit = FLAGS_prior_std_m > 0 || FLAGS_prior_std_rad > 0;
+  if (map_fit && selection_options.method != ModelSelectionMethod::kNone) {
+    app::Fail(
+        "--prior_std_m/--prior_std_rad (a MAP fit) and --model_selection are "
+        "two answers to the same question: choose one");
+  }
   {
     std::string error;
     if (!options.IsValid(&error)) app::Fail(error);
@@ -270,15 +341,112 @@ int Main() {
     }
   }
 
+  // The number of parameters the data support (model_selection.h).
+  std::vector<Measurement> selection_validation;
+  if (!FLAGS_validation.empty()) {
+    selection_validation =
+        app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
+  }
+  selection_options.num_folds = FLAGS_folds;
+  selection_options.num_threads = FLAGS_threads;
+  if (!ParseParameterRanking(FLAGS_selection_ranking,
+                             &selection_options.ranking)) {
+    app::Fail("--selection_ranking must be significance or jacobian, got '" +
+              FLAGS_selection_ranking + "'");
+  }
+  selection_options.seed = Random::StreamSeed(FLAGS_seed, 3);
+  selection_options.identification = options;
+  ModelSelectionSummary selection;
+  SelectModel(&model, initial, training, selection_validation,
+              selection_options, &selection);
+  if (selection.termination_type != TerminationType::kConvergence) {
+    app::Fail(
+        (FLAGS_validation.empty() ? "--model_selection: " : "--validation: ") +
+        selection.message);
+  }
+  if (selection_options.method != ModelSelectionMethod::kNone) {
+    std::printf("%s", selection.BriefReport().c_str());
+    if (!FLAGS_selection_plot.empty()) {
+      if (!app::GnuplotAvailable()) {
+        std::printf("  --selection_plot: gnuplot is not installed; no plot\n");
+      } else {
+        std::vector<std::vector<double>> rows;
+        for (const ModelSelectionPoint& pt : selection.curve) {
+          if (!pt.ok) continue;
+          rows.push_back({static_cast<double>(pt.num_kept),
+                          pt.training_rms_m * 1e3, pt.held_out_rms_m * 1e3});
+        }
+        const std::string script =
+            app::GnuplotData("curve", rows) + "set title 'Model selection (" +
+            FLAGS_model_selection +
+            "): RMS against parameters kept'\n"
+            "set xlabel 'free parameters kept'\nset ylabel 'RMS error (mm)'\n"
+            "set logscale y\nset grid\nset key top right\n"
+            "set arrow from " +
+            std::to_string(selection.best_num_kept) + ", graph 0 to " +
+            std::to_string(selection.best_num_kept) +
+            ", graph 1 nohead dt 2 lc rgb 'gray40'\n"
+            "plot $curve using 1:2 with linespoints pt 7 title 'training', "
+            "$curve using 1:3 with linespoints pt 5 title 'held out'\n";
+        std::string error;
+        if (!app::RunGnuplot(script, FLAGS_selection_plot, &error)) {
+          app::Fail("--selection_plot: " + error);
+        }
+        std::printf("  --selection_plot: wrote %s\n",
+                    FLAGS_selection_plot.c_str());
+      }
+    }
+    for (const std::string& name : selection.dropped) {
+      auto_fixed.push_back(name);
+    }
+    if (!selection.dropped.empty()) {
+      fix_label += (auto_fixed.size() > selection.dropped.size()
+                        ? " and --model_selection="
+                        : "--model_selection=") +
+                   FLAGS_model_selection;
+    }
+  }
+
   IdentificationSummary summary;
+  if (map_fit) {
+    // The prior rows need the noise of one row: from the fit without a
+    // prior when the measurements state no sigma.
+    IdentificationSummary plain;
+    Identify(model, training, initial, options, &plain);
+    if (plain.termination_type != TerminationType::kConvergence) {
+      app::Fail("identification failed: " + plain.message);
+    }
+    options.prior_std_m = FLAGS_prior_std_m;
+    options.prior_std_rad = FLAGS_prior_std_rad;
+    options.prior_reference_sigma_m = plain.weighted ? 0.0 : plain.sigma_m;
+  }
   Identify(model, training, initial, options, &summary);
   if (summary.termination_type != TerminationType::kConvergence) {
     app::Fail("identification failed: " + summary.message);
   }
+  // The honest baseline: the nominal geometry with only the base frame and
+  // the markers fitted (registration_fit.h).
+  RegistrationFitSummary baseline;
+  {
+    IdentificationOptions baseline_options = options;
+    baseline_options.prior_std_m = baseline_options.prior_std_rad = 0.0;
+    FitRegistration(robot.model, robot.model.nominal, training,
+                    baseline_options, &baseline);
+  }
+  // Data that cannot fit the registration alone (e.g. too few rows for
+  // the base and markers) get the calibration without a baseline, said.
+  const bool have_baseline =
+      baseline.termination_type == TerminationType::kConvergence;
   // "Nominal" errors are those of the nominal geometry, registered to the
   // device when the base was registered.
   const ValidationErrors validation_errors =
       Validate(model, registered_start, summary.parameters, validation);
+  const ValidationErrors validation_baseline =
+      have_baseline
+          ? Validate(model, baseline.parameters, summary.parameters, validation)
+          : ValidationErrors();
+  const std::vector<std::string> warnings =
+      EstimateWarnings(model, summary, EstimateWarningOptions());
 
   const bool has_truth = robot.true_parameters.size() == model.num_parameters();
   const std::vector<int> free = model.FreeParameterIndices();
@@ -324,13 +492,32 @@ int Main() {
           "those with care)\n");
     }
   }
+  if (have_baseline) {
+    std::printf(
+        "  registration only (nominal geometry, base and markers fitted): "
+        "RMS residual %.6f m -> %.6f m calibrated (%.1f%% lower)\n",
+        baseline.rms_m, summary.rms_m,
+        baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
+                           : 0.0);
+  } else {
+    std::printf("  no registration-only baseline: %s\n",
+                baseline.message.c_str());
+  }
   if (!validation.empty()) {
     std::printf(
         "  validation on %d held-out measurements: RMS error %.6f m with the "
-        "nominal model -> %.6f m calibrated (max %.6f -> %.6f m)\n",
+        "nominal model -> %.6f m calibrated (max %.6f -> %.6f m)",
         validation_errors.count, validation_errors.rms_nominal_m,
         validation_errors.rms_calibrated_m, validation_errors.max_nominal_m,
         validation_errors.max_calibrated_m);
+    if (have_baseline) {
+      std::printf("; %.6f m registration only",
+                  validation_baseline.rms_nominal_m);
+    }
+    std::printf("\n");
+  }
+  for (const std::string& w : warnings) {
+    std::printf("  warning: %s\n", w.c_str());
   }
   std::string fixed_note;
   if (!auto_fixed.empty()) {
@@ -455,6 +642,59 @@ int Main() {
         {"rms_error_calibrated_m", validation_errors.rms_calibrated_m},
         {"max_error_nominal_m", validation_errors.max_nominal_m},
         {"max_error_calibrated_m", validation_errors.max_calibrated_m}};
+    if (have_baseline) {
+      j["validation"]["rms_error_registration_only_m"] =
+          validation_baseline.rms_nominal_m;
+      j["validation"]["max_error_registration_only_m"] =
+          validation_baseline.max_nominal_m;
+      j["registration_only"] = {
+          {"rms_residual_m", baseline.rms_m},
+          {"parameters", baseline.names},
+          {"improvement_percent",
+           baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
+                              : 0.0}};
+    } else {
+      j["registration_only"] = nullptr;
+    }
+    j["weighted"] = summary.weighted;
+    j["degrees_of_freedom"] = summary.degrees_of_freedom;
+    j["chi_square"] = summary.chi_square;
+    j["chi_square_per_dof"] = summary.chi_square_per_dof;
+    j["implied_sigma_m"] = summary.implied_sigma_m;
+    j["prior"] = {{"std_m", FLAGS_prior_std_m},
+                  {"std_rad", FLAGS_prior_std_rad},
+                  {"reference_sigma_m", options.prior_reference_sigma_m}};
+    j["warnings"] = warnings;
+    {
+      nlohmann::json ms;
+      ms["method"] = FLAGS_model_selection;
+      ms["ranking"] = selection.ranking;
+      ms["ranked_by"] = FLAGS_selection_ranking;
+      ms["num_registration"] = selection.num_registration;
+      ms["kept"] = selection.best_num_kept;
+      ms["dropped"] = selection.dropped;
+      if (selection_options.method == ModelSelectionMethod::kCrossValidation) {
+        ms["folds"] = FLAGS_folds;
+        ms["num_poses"] = selection.num_poses;
+      }
+      if (!FLAGS_validation.empty()) ms["validation"] = FLAGS_validation;
+      nlohmann::json curve = nlohmann::json::array();
+      for (const ModelSelectionPoint& pt : selection.curve) {
+        nlohmann::json c = {{"num_kept", pt.num_kept},
+                            {"added", pt.added},
+                            {"ok", pt.ok},
+                            {"training_rms_m", pt.training_rms_m}};
+        // NaN is not JSON: a failed point has null.
+        if (pt.ok) {
+          c["held_out_rms_m"] = pt.held_out_rms_m;
+        } else {
+          c["held_out_rms_m"] = nullptr;
+        }
+        curve.push_back(c);
+      }
+      ms["curve"] = curve;
+      j["model_selection"] = ms;
+    }
     j["seed"] = FLAGS_seed;
     if (simulated) {
       j["pose_indices"] = simulated_poses;

@@ -59,7 +59,8 @@ void Fail(const std::string& message) {
 }
 
 std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
-                                               const RobotModel& model) {
+                                               const RobotModel& model,
+                                               const std::string& flag) {
   MeasurementsCsvOptions options;
   options.strict_limits = FLAGS_strict_limits;
   options.columns_strict = FLAGS_columns_strict;
@@ -68,7 +69,7 @@ std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
   std::string error;
   if (!ReadMeasurementsCsv(path, model, options, &measurements, &report,
                            &error)) {
-    Fail("--measurements: " + error);
+    Fail("--" + flag + ": " + error);
   }
   // On stdout: stderr keeps one line for an error.
   for (const std::string& w : report.warnings) {

@@ -45,9 +45,10 @@ ParameterSet ParameterSetOrDie(bool urdf_robot);
 // The measurements file `path` read with --strict_limits and
 // --columns_strict. Prints the reader's warning ("<program>: warning: ...",
 // joint readings beyond the limits) and notes (ignored columns, markers not
-// seen) on stdout; dies with "--measurements: file:line: ..." on errors.
-std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
-                                               const RobotModel& model);
+// seen) on stdout; dies with "--<flag>: file:line: ..." on errors.
+std::vector<Measurement> ReadMeasurementsOrDie(
+    const std::string& path, const RobotModel& model,
+    const std::string& flag = "measurements");
 
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);

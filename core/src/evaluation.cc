@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
@@ -87,6 +88,66 @@ bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
   msg << "evaluated " << n << " measurements";
   summary->message = msg.str();
   return true;
+}
+
+const char* PostureGroupName(PostureGroup group) {
+  switch (group) {
+    case PostureGroup::kRepeated:
+      return "repeated";
+    case PostureGroup::kNew:
+      return "new";
+    case PostureGroup::kOutOfRange:
+      return "out_of_range";
+  }
+  return "unknown";
+}
+
+std::vector<PostureGroup> ClassifyPostures(
+    const RobotModel& model, const std::vector<Measurement>& training,
+    const std::vector<Measurement>& measurements,
+    const PostureGroupOptions& options) {
+  const int n = model.num_joints();
+  std::vector<Eigen::VectorXd> poses;
+  for (const Measurement& m : training) {
+    poses.push_back(m.joints);
+    if (m.type == MeasurementType::kDistance) poses.push_back(m.joints2);
+  }
+  Eigen::VectorXd lo = Eigen::VectorXd::Constant(
+                      n, std::numeric_limits<double>::infinity()),
+                  hi = -lo;
+  for (const Eigen::VectorXd& q : poses) {
+    if (q.size() != n) continue;
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  Eigen::VectorXd tolerance(n);
+  for (int j = 0; j < n; ++j) {
+    tolerance[j] = model.links[j].joint_type == JointType::kPrismatic
+                       ? options.prismatic_tolerance_m
+                       : options.revolute_tolerance_rad;
+  }
+  auto group_of = [&](const Eigen::VectorXd& q) {
+    if (q.size() != n) return PostureGroup::kOutOfRange;
+    for (const Eigen::VectorXd& t : poses) {
+      if (t.size() == n &&
+          ((q - t).cwiseAbs().array() <= tolerance.array()).all()) {
+        return PostureGroup::kRepeated;
+      }
+    }
+    if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) {
+      return PostureGroup::kNew;
+    }
+    return PostureGroup::kOutOfRange;
+  };
+  std::vector<PostureGroup> groups;
+  for (const Measurement& m : measurements) {
+    PostureGroup g = group_of(m.joints);
+    if (m.type == MeasurementType::kDistance) {
+      g = std::max(g, group_of(m.joints2));
+    }
+    groups.push_back(g);
+  }
+  return groups;
 }
 
 std::string EvaluationSummary::BriefReport() const {

@@ -65,6 +65,17 @@ bool IdentificationOptions::IsValid(std::string* error) const {
   } else if (!(function_tolerance >= 0 && gradient_tolerance >= 0 &&
                parameter_tolerance >= 0)) {
     msg << "tolerances must be >= 0";
+  } else if (!(default_sigma_m >= 0 && std::isfinite(default_sigma_m) &&
+               default_sigma_rad >= 0 && std::isfinite(default_sigma_rad))) {
+    msg << "default_sigma_m and default_sigma_rad must be finite and >= 0, "
+           "got "
+        << default_sigma_m << ", " << default_sigma_rad;
+  } else if (!(prior_std_m >= 0 && std::isfinite(prior_std_m) &&
+               prior_std_rad >= 0 && std::isfinite(prior_std_rad) &&
+               prior_reference_sigma_m >= 0 &&
+               std::isfinite(prior_reference_sigma_m))) {
+    msg << "prior_std_m, prior_std_rad and prior_reference_sigma_m must be "
+           "finite and >= 0";
   } else if (!(rank_tolerance > 0 && rank_tolerance < 1)) {
     msg << "rank_tolerance must be in (0, 1), got " << rank_tolerance;
   }
@@ -255,6 +266,131 @@ Eigen::VectorXd RawResiduals(const std::vector<ceres::CostFunction*>& costs,
   return r;
 }
 
+// A cost function whose rows are those of `inner` times fixed weights (1 /
+// the row's standard deviation). Owns `inner`.
+class WeightedCost : public ceres::CostFunction {
+ public:
+  WeightedCost(ceres::CostFunction* inner, Eigen::VectorXd weights)
+      : inner_(inner), weights_(std::move(weights)) {
+    set_num_residuals(inner->num_residuals());
+    *mutable_parameter_block_sizes() = inner->parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    if (!inner_->Evaluate(parameters, residuals, jacobians)) return false;
+    const int rows = num_residuals();
+    for (int r = 0; r < rows; ++r) residuals[r] *= weights_[r];
+    if (jacobians != nullptr) {
+      const std::vector<int32_t>& sizes = parameter_block_sizes();
+      for (size_t b = 0; b < sizes.size(); ++b) {
+        if (jacobians[b] == nullptr) continue;
+        for (int r = 0; r < rows; ++r) {
+          for (int c = 0; c < sizes[b]; ++c) {
+            jacobians[b][r * sizes[b] + c] *= weights_[r];
+          }
+        }
+      }
+    }
+    return true;
+  }
+  const ceres::CostFunction* inner() const { return inner_.get(); }
+
+ private:
+  std::unique_ptr<ceres::CostFunction> inner_;
+  Eigen::VectorXd weights_;
+};
+
+// The prior rows of one parameter block: w_j (x_j - x0_j), w_j = 0 for the
+// entries without a prior.
+class PriorCost : public ceres::CostFunction {
+ public:
+  PriorCost(Eigen::VectorXd center, Eigen::VectorXd weights)
+      : center_(std::move(center)), weights_(std::move(weights)) {
+    set_num_residuals(static_cast<int>(center_.size()));
+    mutable_parameter_block_sizes()->assign(1,
+                                            static_cast<int>(center_.size()));
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int n = static_cast<int>(center_.size());
+    for (int j = 0; j < n; ++j) {
+      residuals[j] = weights_[j] * (parameters[0][j] - center_[j]);
+    }
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Eigen::Map<RowMatrixXd>(jacobians[0], n, n) = weights_.asDiagonal();
+    }
+    return true;
+  }
+
+ private:
+  Eigen::VectorXd center_;
+  Eigen::VectorXd weights_;
+};
+
+// Row weights 1 / sigma of every measurement (stated, or the defaults).
+// *weighted: every row has a sigma; false with all weights 1 when no row
+// has one. False with *error when some rows have one and others none.
+bool RowWeights(const std::vector<Measurement>& measurements,
+                const IdentificationOptions& options,
+                std::vector<Eigen::VectorXd>* weights, bool* weighted,
+                double* rms_sigma_m, std::string* error) {
+  weights->clear();
+  int with = 0, without = 0, first_without = -1;
+  double sum_sigma2 = 0.0;
+  int num_metric = 0;
+  std::vector<Eigen::VectorXd> sigmas;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const Measurement& m = measurements[i];
+    Eigen::VectorXd s(m.dimension());
+    if (m.type == MeasurementType::kDistance) {
+      s[0] = m.sigma_m[0] > 0 ? m.sigma_m[0] : options.default_sigma_m;
+    } else {
+      for (int k = 0; k < 3; ++k) {
+        s[k] = m.sigma_m[k] > 0 ? m.sigma_m[k] : options.default_sigma_m;
+      }
+      if (m.type == MeasurementType::kPose) {
+        // The rotation rows are w * log(R): their sigma is w * sigma_rad.
+        const double r =
+            m.sigma_rad > 0 ? m.sigma_rad : options.default_sigma_rad;
+        s.tail<3>().setConstant(options.rotation_weight_m_per_rad * r);
+      }
+    }
+    const bool stated = m.sigma_m.maxCoeff() > 0 || m.sigma_rad > 0;
+    if (stated) ++with;
+    if ((s.array() > 0).all()) {
+      for (int k = 0; k < std::min(3, static_cast<int>(s.size())); ++k) {
+        sum_sigma2 += s[k] * s[k];
+        ++num_metric;
+      }
+    } else {
+      ++without;
+      if (first_without < 0) first_without = static_cast<int>(i);
+    }
+    sigmas.push_back(s);
+  }
+  const bool defaults =
+      options.default_sigma_m > 0 || options.default_sigma_rad > 0;
+  *weighted = without == 0 && !measurements.empty();
+  if (!*weighted && (with > 0 || defaults)) {
+    std::ostringstream msg;
+    msg << "measurement " << first_without
+        << " has no standard deviation for some of its rows while "
+        << (with > 0 ? "other measurements state one"
+                     : "a default sigma is given for others")
+        << ": give every measurement sigma columns, or a default sigma "
+           "(m for points and distances, rad for pose rotations) for the "
+           "rows without";
+    if (error) *error = msg.str();
+    return false;
+  }
+  *rms_sigma_m = num_metric ? std::sqrt(sum_sigma2 / num_metric) : 0.0;
+  for (const Eigen::VectorXd& s : sigmas) {
+    weights->push_back(*weighted ? Eigen::VectorXd(s.cwiseInverse())
+                                 : Eigen::VectorXd::Ones(s.size()));
+  }
+  return true;
+}
+
 }  // namespace
 
 void Identify(const RobotModel& model,
@@ -314,6 +450,27 @@ void Identify(const RobotModel& model,
     return fail(msg.str());
   }
 
+  std::vector<Eigen::VectorXd> row_weights;
+  double rms_sigma_m = 0.0;
+  if (!RowWeights(measurements, options, &row_weights, &summary->weighted,
+                  &rms_sigma_m, &error)) {
+    return user_failure(error);
+  }
+  if (summary->weighted && options.robust_loss != RobustLoss::kNone) {
+    return user_failure(
+        "a robust loss together with per-measurement standard deviations is "
+        "not supported: its scale would be in sigma units; use one or the "
+        "other");
+  }
+  summary->with_prior = options.prior_std_m > 0 || options.prior_std_rad > 0;
+  const double prior_reference =
+      summary->weighted ? 1.0 : options.prior_reference_sigma_m;
+  if (summary->with_prior && !(prior_reference > 0)) {
+    return user_failure(
+        "a prior (prior_std_m, prior_std_rad) on unweighted measurements "
+        "needs prior_reference_sigma_m > 0, the noise of one row (m)");
+  }
+
   // One block per group; constant groups fixed, partly free groups through a
   // SubsetManifold.
   Eigen::VectorXd x = initial;
@@ -323,8 +480,9 @@ void Identify(const RobotModel& model,
   }
   ceres::Problem problem;
   auto shared = std::make_shared<const RobotModel>(model);
-  std::vector<ceres::CostFunction*> costs;  // owned by the problem
-  for (const Measurement& m : measurements) {
+  std::vector<ceres::CostFunction*> costs;  // unweighted; owned by problem
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const Measurement& m = measurements[i];
     ceres::LossFunction* loss = nullptr;
     if (options.robust_loss == RobustLoss::kHuber) {
       loss = new ceres::HuberLoss(options.robust_scale_m);
@@ -333,7 +491,27 @@ void Identify(const RobotModel& model,
     }
     costs.push_back(MeasurementResidual::Create(
         shared, m, options.rotation_weight_m_per_rad));
-    problem.AddResidualBlock(costs.back(), loss, blocks);
+    ceres::CostFunction* cost = costs.back();
+    if (summary->weighted) cost = new WeightedCost(cost, row_weights[i]);
+    problem.AddResidualBlock(cost, loss, blocks);
+  }
+  if (summary->with_prior) {
+    for (int b = 1; b <= model.num_joints(); ++b) {
+      const int n = model.block_size(b);
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+      for (int j = 0; j < n; ++j) {
+        const int i = model.block_offset(b) + j;
+        if (!model.IsFree(i)) continue;
+        const double prior = std::string(model.ParameterUnit(i)) == "m"
+                                 ? options.prior_std_m
+                                 : options.prior_std_rad;
+        if (prior > 0) w[j] = prior_reference / prior;
+      }
+      if (w.isZero(0)) continue;
+      problem.AddResidualBlock(
+          new PriorCost(initial.segment(model.block_offset(b), n), w), nullptr,
+          blocks[b]);
+    }
   }
   std::vector<const double*> free_blocks;
   for (int b = 0; b < model.num_blocks(); ++b) {
@@ -405,6 +583,21 @@ void Identify(const RobotModel& model,
   }
   const int dof = rows_used - p;
   summary->sigma_m = dof > 0 ? std::sqrt(std::max(0.0, ssr) / dof) : 0.0;
+  summary->degrees_of_freedom = std::max(0, dof);
+  summary->implied_sigma_m = summary->sigma_m;
+  if (summary->weighted && dof > 0) {
+    int row = 0;
+    for (size_t i = 0; i < measurements.size(); ++i) {
+      const int t = measurements[i].dimension();
+      summary->chi_square += summary->residuals.segment(row, t)
+                                 .cwiseProduct(row_weights[i])
+                                 .squaredNorm();
+      row += t;
+    }
+    summary->chi_square_per_dof = summary->chi_square / dof;
+    summary->implied_sigma_m =
+        std::sqrt(summary->chi_square_per_dof) * rms_sigma_m;
+  }
   if (dof <= 0) {
     std::ostringstream msg;
     msg << "after leaving out the " << summary->outliers.size()
@@ -424,6 +617,12 @@ void Identify(const RobotModel& model,
     return fail("the solver produced non-finite estimates");
   }
 
+  if (!options.compute_covariance) {
+    summary->termination_type = TerminationType::kConvergence;
+    summary->message = "identified " + std::to_string(p) +
+                       " parameters (no covariance asked for)";
+    return;
+  }
   ceres::Covariance::Options cov_options;
   cov_options.algorithm_type = ceres::DENSE_SVD;
   cov_options.null_space_rank = 0;
@@ -444,7 +643,11 @@ void Identify(const RobotModel& model,
         "the covariance could not be computed: the Jacobian at the solution "
         "is rank deficient (parameters not identifiable from these poses)");
   }
-  summary->covariance = cov * (summary->sigma_m * summary->sigma_m);
+  // Weighted rows have unit variance by statement: (J^T W J)^-1 as is.
+  summary->covariance =
+      summary->weighted
+          ? Eigen::MatrixXd(cov)
+          : Eigen::MatrixXd(cov * (summary->sigma_m * summary->sigma_m));
   summary->standard_deviations = summary->covariance.diagonal().cwiseSqrt();
   summary->correlation = summary->covariance;
   for (int i = 0; i < p; ++i) {
@@ -470,6 +673,13 @@ std::string IdentificationSummary::BriefReport() const {
       << " equations), free parameters: " << num_free << "\n";
   out << "  RMS residual: " << initial_rms_m << " m at start -> " << rms_m
       << " m at the estimate; sigma per row " << sigma_m << " m\n";
+  if (weighted) {
+    out << "  weighted by the stated sigmas: chi^2 / dof = "
+        << chi_square_per_dof << " (" << degrees_of_freedom
+        << " dof); the residuals imply " << implied_sigma_m
+        << " m per position row\n";
+  }
+  if (with_prior) out << "  MAP fit: a prior on the link parameters\n";
   if (!outliers.empty()) {
     out << "  outliers flagged: " << outliers.size() << " measurement(s)\n";
   }

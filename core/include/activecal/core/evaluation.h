@@ -60,6 +60,28 @@ bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
                    const std::vector<Measurement>& measurements,
                    EvaluationSummary* summary);
 
+// Where a posture lies relative to the poses a model was calibrated on.
+// Error grows from one group to the next, so each gets its own RMSE.
+enum class PostureGroup {
+  kRepeated,    // every joint within the tolerance of one training pose
+  kNew,         // not repeated, every joint inside the training range
+  kOutOfRange,  // some joint outside the training range (extrapolation)
+};
+const char* PostureGroupName(PostureGroup group);  // "repeated", ...
+
+struct PostureGroupOptions {
+  double revolute_tolerance_rad = 0.01;
+  double prismatic_tolerance_m = 0.001;
+};
+
+// The group of each measurement's posture relative to the postures of
+// `training` (a distance: the worse group of its two poses). The training
+// range of a joint is [min, max] of its training values.
+std::vector<PostureGroup> ClassifyPostures(
+    const RobotModel& model, const std::vector<Measurement>& training,
+    const std::vector<Measurement>& measurements,
+    const PostureGroupOptions& options = PostureGroupOptions());
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CORE_EVALUATION_H_

@@ -17,6 +17,25 @@
 // for 6D poses choose rotation_weight_m_per_rad to make it so. With a
 // robust loss, Ceres' covariance uses the robustified Jacobian and s^2 is
 // taken over the measurements not flagged as outliers.
+//
+// Per-measurement uncertainty: when measurements carry standard deviations
+// (Measurement::sigma_m per axis, sigma_rad for a pose's rotation rows),
+// every row is divided by its sigma (weighted least squares). Rows without
+// one take default_sigma_m / default_sigma_rad; if some rows have a sigma
+// and others none and no default covers them, the identification refuses
+// (mixing rows in sigma units with rows in metres has no meaning). With
+// every row weighted, the covariance is (J^T W J)^-1, the stated noise
+// taken at its word, and the summary reports chi^2 / dof (about 1 when
+// the stated sigmas fit the residuals) and the noise level the residuals
+// imply. Outliers are still judged on the unweighted rows (in metres).
+// Without sigmas nothing changes.
+//
+// MAP fit: prior_std_m / prior_std_rad > 0 add a Gaussian prior centred on
+// `initial` to every free link (geometric) parameter, not to the base frame
+// or the markers, whose values are unknown rather than nominal. A prior row
+// is sigma_ref * (x - x0) / prior_std: sigma_ref is 1 when the rows are
+// weighted (dimensionless) and prior_reference_sigma_m otherwise (the
+// noise of one unweighted row, m; required then).
 
 #ifndef ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
 #define ACTIVECAL_RESIDUALS_IDENTIFICATION_H_
@@ -58,6 +77,21 @@ struct IdentificationOptions {
   double outlier_min_sigma_m = 1e-6;
   // Scales the orientation rows of 6D pose measurements (m per rad).
   double rotation_weight_m_per_rad = 1.0;
+  // Standard deviation of rows whose measurement states none (0: none).
+  // Position and distance rows: default_sigma_m (m); a pose's rotation
+  // rows: default_sigma_rad (rad).
+  double default_sigma_m = 0.0;
+  double default_sigma_rad = 0.0;
+  // Prior standard deviations of the free link parameters (0: no prior);
+  // see the MAP fit above. Lengths (m) and angles (rad) apart; a joint gain
+  // (unitless) takes prior_std_rad.
+  double prior_std_m = 0.0;
+  double prior_std_rad = 0.0;
+  double prior_reference_sigma_m = 0.0;
+
+  // False: skip the covariance (standard_deviations, covariance and
+  // correlation stay empty), e.g. for the many fits of a model selection.
+  bool compute_covariance = true;
 
   int max_num_iterations = 200;
   double function_tolerance = 1e-15;
@@ -152,6 +186,17 @@ struct IdentificationSummary {
   double initial_rms_m = 0.0;  // RMS of the residual norms at start
   double rms_m = 0.0;          // ... at the estimate
   double sigma_m = 0.0;        // s = sqrt(SSR / (m - p)), per residual row
+  // True when every row was divided by its standard deviation (stated by
+  // the measurement or a default). Then:
+  bool weighted = false;
+  double chi_square = 0.0;          // sum of the weighted squared rows
+  int degrees_of_freedom = 0;       // rows - free parameters
+  double chi_square_per_dof = 0.0;  // ~1 when the stated sigmas fit
+  // The noise of a position (or distance) row the residuals imply, m:
+  // sqrt(chi^2 / dof) times the RMS of the stated sigmas when weighted,
+  // sigma_m otherwise.
+  double implied_sigma_m = 0.0;
+  bool with_prior = false;  // a MAP fit (prior_std_m or prior_std_rad > 0)
   int iterations = 0;
   IdentifiabilityReport identifiability;
   ceres::Solver::Summary solver_summary;

@@ -1,0 +1,32 @@
+// Drawing a figure with gnuplot from a program (not part of the library):
+// the script, with its data inline, is piped to gnuplot. Programs skip the
+// figure with a note when gnuplot is not installed.
+
+#ifndef ACTIVECAL_APPS_GNUPLOT_H_
+#define ACTIVECAL_APPS_GNUPLOT_H_
+
+#include <string>
+#include <vector>
+
+namespace activecal {
+namespace app {
+
+// True when a gnuplot executable is on the PATH.
+bool GnuplotAvailable();
+
+// Inline data block for a script: "$name << EOD\n<rows>\nEOD\n", each row
+// its values separated by spaces.
+std::string GnuplotData(const std::string& name,
+                        const std::vector<std::vector<double>>& rows);
+
+// Runs `script` through gnuplot (PNG terminal and output set before it)
+// and writes the figure to `png_path` atomically: drawn to a temporary
+// file beside it, then renamed. False with *error (gnuplot's first line)
+// on failure.
+bool RunGnuplot(const std::string& script, const std::string& png_path,
+                std::string* error);
+
+}  // namespace app
+}  // namespace activecal
+
+#endif  // ACTIVECAL_APPS_GNUPLOT_H_

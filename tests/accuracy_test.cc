@@ -1,0 +1,547 @@
+// Accuracy on real data: per-measurement sigma weighting, the MAP fit, the
+// registration-only baseline, model selection by held-out error, the
+// warnings on the estimates and the posture groups of an evaluation.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <string>
+
+#include "activecal/core/evaluation.h"
+#include "activecal/core/lattice.h"
+#include "activecal/core/parameter_sets.h"
+#include "activecal/core/puma560.h"
+#include "activecal/core/random.h"
+#include "activecal/core/registration.h"
+#include "activecal/core/simulation.h"
+#include "activecal/core/urdf_robot.h"
+#include "activecal/residuals/estimate_warnings.h"
+#include "activecal/residuals/identification.h"
+#include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/model_selection.h"
+#include "activecal/residuals/parameter_reduction.h"
+#include "activecal/residuals/registration_fit.h"
+#include "test_util.h"
+
+namespace activecal {
+namespace {
+
+// Random lattice poses of the PUMA.
+Eigen::MatrixXd PumaPoses(int num_poses, uint64_t seed) {
+  const RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error));
+  Random random(seed);
+  const std::vector<int64_t> poses =
+      random.SampleWithoutReplacement(lattice.size(), num_poses);
+  Eigen::MatrixXd joints(num_poses, 6);
+  for (int i = 0; i < num_poses; ++i) {
+    joints.row(i) = lattice.JointValues(poses[i]).transpose();
+  }
+  return joints;
+}
+
+std::vector<Measurement> Simulate(const RobotModel& m,
+                                  const Eigen::VectorXd& truth,
+                                  const std::vector<Measurement>& plan,
+                                  double noise_m, uint64_t seed) {
+  std::vector<Measurement> out;
+  std::string error;
+  EXPECT_TRUE(
+      SimulateMeasurements(m, truth, plan, {noise_m, 0.0}, seed, &out, &error))
+      << error;
+  return out;
+}
+
+std::vector<Measurement> PumaMeasurements(int num_poses, double noise_m,
+                                          uint64_t seed) {
+  return Simulate(Puma560PaperModel(), Puma560TrueParameters(),
+                  MeasurementPlan(PumaPoses(num_poses, seed)), noise_m,
+                  seed + 100);
+}
+
+IdentificationSummary Fit(const RobotModel& m,
+                          const std::vector<Measurement>& data,
+                          const IdentificationOptions& options) {
+  IdentificationSummary s;
+  Identify(m, data, m.nominal, options, &s);
+  EXPECT_EQ(s.termination_type, TerminationType::kConvergence) << s.message;
+  return s;
+}
+
+TEST(WeightedIdentificationTest, UniformSigmaGivesTheSameFitAndItsCovariance) {
+  const RobotModel m = Puma560PaperModel();
+  std::vector<Measurement> data = PumaMeasurements(30, 0.001, 1);
+  const IdentificationSummary plain = Fit(m, data, {});
+  EXPECT_FALSE(plain.weighted);
+  const double sigma = 0.002;
+  for (Measurement& d : data) d.sigma_m.setConstant(sigma);
+  const IdentificationSummary weighted = Fit(m, data, {});
+  ASSERT_TRUE(weighted.weighted);
+  EXPECT_LT((weighted.estimates - plain.estimates).cwiseAbs().maxCoeff(), 1e-9);
+  // chi^2 / dof = s^2 / sigma^2, and the implied noise is s.
+  const double ratio = plain.sigma_m * plain.sigma_m / (sigma * sigma);
+  EXPECT_NEAR(weighted.chi_square_per_dof, ratio, 1e-9 * ratio);
+  EXPECT_NEAR(weighted.implied_sigma_m, plain.sigma_m, 1e-9 * plain.sigma_m);
+  EXPECT_EQ(weighted.degrees_of_freedom, 90 - m.num_free());
+  // The stated sigma is taken at its word: cov = (J^T J)^-1 sigma^2.
+  const Eigen::MatrixXd expected = plain.covariance / ratio;
+  EXPECT_LT((weighted.covariance - expected).norm(), 1e-6 * expected.norm());
+}
+
+TEST(WeightedIdentificationTest, CovarianceIsTheInverseOfJtWJ) {
+  const RobotModel m = Puma560PaperModel();
+  // Half the poses measured with 0.5 mm, half with 4 mm noise.
+  const Eigen::MatrixXd poses = PumaPoses(40, 2);
+  std::vector<Measurement> data;
+  for (int half = 0; half < 2; ++half) {
+    const double sigma = half ? 0.004 : 0.0005;
+    std::vector<Measurement> part = Simulate(
+        m, Puma560TrueParameters(),
+        MeasurementPlan(poses.middleRows(20 * half, 20)), sigma, 7 + half);
+    for (Measurement& d : part) d.sigma_m.setConstant(sigma);
+    data.insert(data.end(), part.begin(), part.end());
+  }
+  const IdentificationSummary s = Fit(m, data, {});
+  ASSERT_TRUE(s.weighted);
+  Eigen::MatrixXd J;
+  std::string error;
+  ASSERT_TRUE(StackedJacobian(m, s.parameters, data, 1.0, &J, &error));
+  for (int r = 0; r < J.rows(); ++r) J.row(r) /= r < 60 ? 0.0005 : 0.004;
+  const Eigen::MatrixXd info = J.transpose() * J;
+  const Eigen::MatrixXd cov =
+      info.ldlt().solve(Eigen::MatrixXd::Identity(info.rows(), info.cols()));
+  EXPECT_LT((s.covariance - cov).norm(), 1e-6 * cov.norm());
+  // The stated noise fits: chi^2 / dof near 1 (dof = 120 - p).
+  EXPECT_GT(s.chi_square_per_dof, 0.6);
+  EXPECT_LT(s.chi_square_per_dof, 1.5);
+  // chi^2 recomputed from the raw residuals.
+  double chi2 = 0.0;
+  for (int r = 0; r < s.residuals.size(); ++r) {
+    chi2 += std::pow(s.residuals[r] / (r < 60 ? 0.0005 : 0.004), 2);
+  }
+  EXPECT_NEAR(s.chi_square, chi2, 1e-9 * chi2);
+}
+
+TEST(WeightedIdentificationTest, SomeRowsWithoutSigmaNeedADefault) {
+  const RobotModel m = Puma560PaperModel();
+  std::vector<Measurement> data = PumaMeasurements(30, 0.001, 3);
+  for (size_t i = 0; i < data.size(); i += 2) data[i].sigma_m.setConstant(1e-3);
+  IdentificationSummary s;
+  Identify(m, data, m.nominal, {}, &s);
+  EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
+  EXPECT_NE(s.message.find("measurement 1 has no standard deviation"),
+            std::string::npos)
+      << s.message;
+  IdentificationOptions options;
+  options.default_sigma_m = 1e-3;
+  const IdentificationSummary with_default = Fit(m, data, options);
+  EXPECT_TRUE(with_default.weighted);
+  // Defaults alone weight every row too.
+  for (Measurement& d : data) d.sigma_m.setZero();
+  EXPECT_TRUE(Fit(m, data, options).weighted);
+  // A robust loss with sigmas is refused (its scale would be in sigmas).
+  options.robust_loss = RobustLoss::kHuber;
+  options.robust_scale_m = 0.003;
+  Identify(m, data, m.nominal, options, &s);
+  EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
+}
+
+TEST(WeightedIdentificationTest, NegativeOrNonFiniteSigmaIsRefused) {
+  const RobotModel m = Puma560PaperModel();
+  for (double bad : {-1e-3, std::nan(""), HUGE_VAL}) {
+    std::vector<Measurement> data = PumaMeasurements(30, 0.001, 5);
+    for (Measurement& d : data) d.sigma_m.setConstant(1e-3);
+    data[4].sigma_m[1] = bad;
+    IdentificationSummary s;
+    Identify(m, data, m.nominal, {}, &s);
+    EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
+    EXPECT_NE(s.message.find("measurement 4"), std::string::npos) << s.message;
+    EXPECT_NE(s.message.find("sigma_m"), std::string::npos) << s.message;
+  }
+}
+
+TEST(MapFitTest, WidePriorIsLeastSquaresNarrowPriorHoldsTheNominal) {
+  const RobotModel m = Puma560PaperModel();
+  const std::vector<Measurement> data = PumaMeasurements(30, 0.001, 4);
+  const IdentificationSummary plain = Fit(m, data, {});
+  IdentificationOptions options;
+  options.prior_std_m = 1e3;
+  options.prior_std_rad = 1e3;
+  IdentificationSummary s;
+  Identify(m, data, m.nominal, options, &s);
+  EXPECT_EQ(s.termination_type, TerminationType::kUserFailure)
+      << "unweighted rows need prior_reference_sigma_m";
+  options.prior_reference_sigma_m = plain.sigma_m;
+  const IdentificationSummary wide = Fit(m, data, options);
+  EXPECT_TRUE(wide.with_prior);
+  EXPECT_LT((wide.estimates - plain.estimates).cwiseAbs().maxCoeff(), 1e-8);
+  options.prior_std_m = options.prior_std_rad = 1e-9;
+  const IdentificationSummary narrow = Fit(m, data, options);
+  const std::vector<int> free = m.FreeParameterIndices();
+  for (size_t k = 0; k < free.size(); ++k) {
+    const int block = m.BlockOf(free[k]);
+    if (block == 0 || m.is_marker_block(block)) continue;  // no prior
+    EXPECT_NEAR(narrow.estimates[k], m.nominal[free[k]], 1e-7)
+        << narrow.names[k];
+  }
+}
+
+// data/ur10e.urdf, the chain from base_link to tool0.
+RobotDescription Ur10e() {
+  UrdfChainOptions chain;
+  chain.tip_link = "tool0";
+  RobotDescription robot;
+  std::string error;
+  EXPECT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10e.urdf",
+                            chain, &robot, &error))
+      << error;
+  return robot;
+}
+
+std::vector<Measurement> UrPlan(const RobotModel& m, int num_poses,
+                                MeasurementType type, uint64_t seed) {
+  Random random(seed);
+  Eigen::MatrixXd joints(num_poses, m.num_joints());
+  for (int i = 0; i < num_poses; ++i) {
+    for (int j = 0; j < m.num_joints(); ++j) {
+      joints(i, j) = -2.5 + 5.0 * random.Uniform();
+    }
+  }
+  return MeasurementPlan(joints, type);
+}
+
+// The UR10e seen from a device 1.2 m away and turned: base frame set.
+Eigen::VectorXd Ur10eInDeviceFrame(const RobotModel& m) {
+  Eigen::VectorXd truth = m.nominal;
+  truth.head(6) << 1.2, -0.4, 0.3, 0.2, -0.1, 2.0;
+  return truth;
+}
+
+TEST(RegistrationFitTest, EqualsADirectRegistrationIdentification) {
+  const RobotDescription robot = Ur10e();
+  const RobotModel& m = robot.model;
+  const Eigen::VectorXd truth = Ur10eInDeviceFrame(m);
+  const std::vector<Measurement> data = Simulate(
+      m, truth, UrPlan(m, 25, MeasurementType::kPosition, 5), 0.0005, 6);
+  RegistrationFitSummary fit;
+  FitRegistration(m, m.nominal, data, {}, &fit);
+  ASSERT_EQ(fit.termination_type, TerminationType::kConvergence) << fit.message;
+  // The same thing done by hand: closed form, registration set, Identify.
+  RobotModel direct = m;
+  Eigen::VectorXd start = m.nominal;
+  RegistrationSummary closed_form;
+  ASSERT_TRUE(RegisterBaseFrame(direct, data, &start, &closed_form));
+  std::vector<DroppedParameter> dropped;
+  std::string error;
+  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kRegistration, data, 1.0,
+                                         &direct, &start, &dropped, &error));
+  const IdentificationSummary id = Fit(direct, data, {});
+  (void)id;
+  IdentificationSummary by_hand;
+  Identify(direct, data, start, {}, &by_hand);
+  ASSERT_EQ(by_hand.termination_type, TerminationType::kConvergence);
+  EXPECT_NEAR(fit.rms_m, by_hand.rms_m, 1e-12);
+  EXPECT_EQ(fit.names, direct.FreeParameterNames());
+  // The markers fitted too: no worse than the closed form alone.
+  EXPECT_LE(fit.rms_m, closed_form.rms_m + 1e-12);
+  // Nominal geometry, so the fit leaves the noise: about 0.5 mm per axis.
+  EXPECT_LT(fit.rms_m, 3 * 0.0005 * std::sqrt(3.0));
+  EXPECT_LT((fit.parameters.head(3) - truth.head(3)).norm(), 0.002);
+  // Geometry untouched.
+  const int links = m.block_offset(m.marker_block(0)) - m.block_offset(1);
+  EXPECT_EQ(fit.parameters.segment(m.block_offset(1), links),
+            m.nominal.segment(m.block_offset(1), links));
+}
+
+TEST(ModelSelectionTest, RankingPutsRegistrationFirstAndEachPrefixHasFullRank) {
+  RobotDescription robot = Ur10e();
+  RobotModel m = robot.model;
+  const std::vector<Measurement> data =
+      UrPlan(m, 20, MeasurementType::kPose, 8);
+  Eigen::VectorXd point = m.nominal;
+  std::vector<DroppedParameter> dropped;
+  std::string error;
+  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, data, 0.1, &m,
+                                         &point, &dropped, &error));
+  Eigen::MatrixXd J;
+  ASSERT_TRUE(StackedJacobian(m, point, data, 0.1, &J, &error));
+  int num_registration = 0;
+  const std::vector<int> order = RankFreeParameters(m, J, &num_registration);
+  ASSERT_EQ(static_cast<int>(order.size()), m.num_free());
+  EXPECT_EQ(num_registration, 12);  // base frame and a 6D marker
+  const std::vector<int> free = m.FreeParameterIndices();
+  for (int k = 0; k < static_cast<int>(order.size()); ++k) {
+    const int block = m.BlockOf(free[order[k]]);
+    EXPECT_EQ(k < num_registration, block == 0 || m.is_marker_block(block));
+    Eigen::MatrixXd prefix(J.rows(), k + 1);
+    for (int c = 0; c <= k; ++c) {
+      prefix.col(c) = J.col(order[c]).normalized();
+    }
+    const Eigen::VectorXd sv =
+        Eigen::JacobiSVD<Eigen::MatrixXd>(prefix).singularValues();
+    EXPECT_GT(sv[k], 1e-6 * sv[0]) << "prefix " << k + 1;
+  }
+  // A permutation of the free parameters.
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int k = 0; k < static_cast<int>(sorted.size()); ++k) {
+    EXPECT_EQ(sorted[k], k);
+  }
+}
+
+TEST(ModelSelectionTest, FoldsKeepPosesTogetherAndFollowTheSeed) {
+  const RobotModel m = Puma560PaperModel();
+  const Eigen::MatrixXd poses = PumaPoses(11, 9);
+  // Every pose measured twice (position, then pose).
+  std::vector<Measurement> data = MeasurementPlan(poses);
+  const std::vector<Measurement> again =
+      MeasurementPlan(poses, MeasurementType::kPose);
+  data.insert(data.end(), again.begin(), again.end());
+  std::vector<int> fold, fold2, other;
+  int num_poses = 0;
+  std::string error;
+  ASSERT_TRUE(AssignPoseFolds(data, 5, 1, &fold, &num_poses, &error));
+  EXPECT_EQ(num_poses, 11);
+  std::vector<int> per_fold(5, 0);
+  for (int i = 0; i < 11; ++i) {
+    EXPECT_EQ(fold[i], fold[11 + i]);
+    ++per_fold[fold[i]];
+  }
+  for (int c : per_fold) EXPECT_TRUE(c == 2 || c == 3) << c;
+  ASSERT_TRUE(AssignPoseFolds(data, 5, 1, &fold2, &num_poses, &error));
+  EXPECT_EQ(fold, fold2);
+  ASSERT_TRUE(AssignPoseFolds(data, 5, 2, &other, &num_poses, &error));
+  EXPECT_NE(fold, other);
+  // 11 poses: 11 folds work, 12 do not.
+  EXPECT_TRUE(AssignPoseFolds(data, 11, 1, &fold, &num_poses, &error));
+  EXPECT_FALSE(AssignPoseFolds(data, 12, 1, &fold, &num_poses, &error));
+  EXPECT_EQ(error,
+            "12 folds need at least 12 distinct poses, the "
+            "measurements have 11");
+}
+
+// The UR10e with errors in a few joint origins only, plus noise: every
+// other link parameter is fitted noise.
+struct SparseErrors {
+  RobotModel model;  // full set, reduced
+  Eigen::VectorXd start;
+  std::vector<Measurement> training, validation;
+};
+
+SparseErrors MakeSparseErrors(uint64_t seed) {
+  SparseErrors out;
+  const RobotDescription robot = Ur10e();
+  out.model = robot.model;
+  Eigen::VectorXd truth = Ur10eInDeviceFrame(out.model);
+  // 2 mm and 3 mrad errors in two joints' origins.
+  truth[out.model.ParameterIndex("shoulder_lift_joint.offset")] += 0.003;
+  truth[out.model.ParameterIndex("elbow_joint.x")] += 0.002;
+  truth[out.model.ParameterIndex("wrist_1_joint.offset")] -= 0.003;
+  out.training = Simulate(
+      out.model, truth, UrPlan(out.model, 30, MeasurementType::kPosition, seed),
+      0.001, seed + 1);
+  out.validation =
+      Simulate(out.model, truth,
+               UrPlan(out.model, 60, MeasurementType::kPosition, seed + 2),
+               0.001, seed + 3);
+  out.start = out.model.nominal;
+  RegistrationSummary reg;
+  EXPECT_TRUE(RegisterBaseFrame(out.model, out.training, &out.start, &reg));
+  std::vector<DroppedParameter> dropped;
+  std::string error;
+  EXPECT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, out.training, 1.0,
+                                         &out.model, &out.start, &dropped,
+                                         &error))
+      << error;
+  return out;
+}
+
+TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
+  SparseErrors problem = MakeSparseErrors(20);
+  const int p = problem.model.num_free();
+  ModelSelectionOptions options;
+  options.method = ModelSelectionMethod::kCrossValidation;
+  options.num_folds = 4;
+  RobotModel chosen = problem.model;
+  ModelSelectionSummary summary;
+  SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  ASSERT_EQ(static_cast<int>(summary.curve.size()),
+            p - summary.num_registration + 1);
+  double best = 1e300;
+  int argmin = 0;
+  for (size_t k = 0; k < summary.curve.size(); ++k) {
+    const ModelSelectionPoint& pt = summary.curve[k];
+    EXPECT_EQ(pt.num_kept, summary.num_registration + static_cast<int>(k));
+    if (k > 0) {
+      // Nested least squares: more parameters never fit the training
+      // data worse (up to the solver's tolerance).
+      EXPECT_LE(pt.training_rms_m,
+                summary.curve[k - 1].training_rms_m * (1 + 1e-6));
+    }
+    if (pt.ok && pt.held_out_rms_m < best) {
+      best = pt.held_out_rms_m;
+      argmin = pt.num_kept;
+    }
+  }
+  EXPECT_EQ(summary.best_num_kept, argmin);
+  EXPECT_EQ(chosen.num_free(), argmin);
+  EXPECT_EQ(static_cast<int>(summary.dropped.size()), p - argmin);
+  // Three real errors among ~20 link parameters: the rest is noise, and
+  // cross-validation drops some of it.
+  EXPECT_LT(argmin, p);
+  EXPECT_GT(argmin, summary.num_registration);
+  // Deterministic.
+  RobotModel again = problem.model;
+  ModelSelectionSummary summary2;
+  options.num_threads = 2;  // the same result on two threads
+  SelectModel(&again, problem.start, problem.training, {}, options, &summary2);
+  ASSERT_EQ(summary2.curve.size(), summary.curve.size());
+  for (size_t k = 0; k < summary.curve.size(); ++k) {
+    EXPECT_EQ(summary2.curve[k].ok, summary.curve[k].ok);
+    if (summary.curve[k].ok) {
+      EXPECT_EQ(summary2.curve[k].held_out_rms_m,
+                summary.curve[k].held_out_rms_m);
+    }
+  }
+  // The chosen model predicts new poses no worse than the full one.
+  IdentificationSummary full, kept;
+  Identify(problem.model, problem.training, problem.start, {}, &full);
+  Identify(chosen, problem.training, problem.start, {}, &kept);
+  Eigen::VectorXd e_full, e_kept;
+  std::string error;
+  ASSERT_TRUE(MeasurementErrors(problem.model, full.parameters,
+                                problem.validation, 1.0, &e_full, &error));
+  ASSERT_TRUE(MeasurementErrors(chosen, kept.parameters, problem.validation,
+                                1.0, &e_kept, &error));
+  EXPECT_LT(e_kept.norm(), e_full.norm());
+}
+
+TEST(ModelSelectionTest, ValidationFileAndNoneAndTooFewPoses) {
+  SparseErrors problem = MakeSparseErrors(30);
+  const int p = problem.model.num_free();
+  ModelSelectionOptions options;
+  options.method = ModelSelectionMethod::kValidation;
+  RobotModel chosen = problem.model;
+  ModelSelectionSummary summary;
+  SelectModel(&chosen, problem.start, problem.training, problem.validation,
+              options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_EQ(summary.num_held_out, 60);
+  // The first point of the curve is the registration-only fit, its
+  // held-out error after refitting the registration to the validation
+  // poses: the nominal geometry's registration-only error there.
+  RegistrationFitSummary baseline;
+  FitRegistration(problem.model, problem.model.nominal, problem.validation, {},
+                  &baseline);
+  ASSERT_EQ(baseline.termination_type, TerminationType::kConvergence);
+  EXPECT_NEAR(summary.curve[0].held_out_rms_m, baseline.rms_m,
+              1e-6 * baseline.rms_m);
+  EXPECT_LT(summary.best_num_kept, p);
+  // none keeps every parameter and fits nothing.
+  options.method = ModelSelectionMethod::kNone;
+  chosen = problem.model;
+  SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kConvergence);
+  EXPECT_EQ(summary.best_num_kept, p);
+  EXPECT_TRUE(summary.curve.empty());
+  EXPECT_EQ(chosen.num_free(), p);
+  // More folds than poses: refused, saying so.
+  options.method = ModelSelectionMethod::kCrossValidation;
+  options.num_folds = 31;
+  SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
+  EXPECT_NE(summary.message.find("31 folds need at least 31 distinct poses"),
+            std::string::npos)
+      << summary.message;
+}
+
+TEST(EstimateWarningsTest, EachThresholdIsCrossed) {
+  const RobotModel m = Puma560PaperModel();
+  const std::vector<int> free = m.FreeParameterIndices();
+  const int p = static_cast<int>(free.size());
+  IdentificationSummary s;
+  s.names = m.FreeParameterNames();
+  s.estimates = ExtractFree(m, m.nominal);
+  s.standard_deviations = Eigen::VectorXd::Constant(p, 1e-5);
+  s.correlation = Eigen::MatrixXd::Identity(p, p);
+  EXPECT_TRUE(EstimateWarnings(m, s, {}).empty());
+  // One length and one angle of the links, just above and just below.
+  int length = -1, angle = -1;
+  for (int k = 0; k < p; ++k) {
+    const int block = m.BlockOf(free[k]);
+    if (block == 0 || m.is_marker_block(block)) continue;
+    const std::string unit = m.ParameterUnit(free[k]);
+    if (unit == "m" && length < 0) length = k;
+    if (unit == "rad" && angle < 0) angle = k;
+  }
+  ASSERT_GE(length, 0);
+  ASSERT_GE(angle, 0);
+  s.standard_deviations[length] = 0.0099;
+  s.standard_deviations[angle] = 0.099;
+  s.correlation(length, angle) = s.correlation(angle, length) = 0.989;
+  s.estimates[length] += 4.9 * 0.0099;
+  EXPECT_TRUE(EstimateWarnings(m, s, {}).empty());
+  s.standard_deviations[length] = 0.0101;
+  s.standard_deviations[angle] = 0.101;
+  s.correlation(length, angle) = s.correlation(angle, length) = -0.991;
+  s.estimates[angle] += 5.1 * 0.101;
+  const std::vector<std::string> w = EstimateWarnings(m, s, {});
+  ASSERT_EQ(w.size(), 4u);
+  // Std lines in free-parameter order.
+  const int first = std::min(length, angle);
+  const std::string length_line = s.names[length] + " has std 0.0101 m > 0.01";
+  const std::string angle_line = s.names[angle] + " has std 0.101 rad > 0.1";
+  EXPECT_EQ(w[0].find(first == length ? length_line : angle_line), 0u) << w[0];
+  EXPECT_EQ(w[1].find(first == length ? angle_line : length_line), 0u) << w[1];
+  EXPECT_NE(w[2].find("are correlated -0.991"), std::string::npos) << w[2];
+  EXPECT_NE(w[2].find(s.names[length]), std::string::npos);
+  EXPECT_NE(w[2].find(s.names[angle]), std::string::npos);
+  EXPECT_EQ(w[3].find("1 link parameter moved more than 5 std from nominal "
+                      "(is the nominal model the right one?): " +
+                      s.names[angle] + " 0.515 rad (5.1 std)"),
+            0u)
+      << w[3];
+}
+
+TEST(PostureGroupTest, RepeatedNewAndOutOfRange) {
+  const RobotModel m = Puma560PaperModel();
+  Eigen::MatrixXd train(3, 6);
+  train << 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,  //
+      0.5, 0.5, 0.5, 0.5, 0.5, 0.5,       //
+      1.0, -0.5, 1.0, -0.5, 1.0, -0.5;
+  Eigen::MatrixXd test(5, 6);
+  test << 0.5, 0.5, 0.5, 0.5, 0.5, 0.491,  // within 0.01 rad: repeated
+      0.5, 0.5, 0.5, 0.5, 0.5, 0.489,      // just beyond: new
+      0.2, 0.1, 0.3, 0.2, 0.4, 0.1,        // inside the ranges: new
+      1.1, 0.0, 0.0, 0.0, 0.0, 0.0,        // joint 1 beyond 1.0: out
+      0.0, 0.6, 0.0, 0.0, 0.0, 0.0;        // joint 2 beyond 0.5: out
+  const std::vector<PostureGroup> g =
+      ClassifyPostures(m, MeasurementPlan(train), MeasurementPlan(test));
+  ASSERT_EQ(g.size(), 5u);
+  EXPECT_EQ(g[0], PostureGroup::kRepeated);
+  EXPECT_EQ(g[1], PostureGroup::kNew);
+  EXPECT_EQ(g[2], PostureGroup::kNew);
+  EXPECT_EQ(g[3], PostureGroup::kOutOfRange);
+  EXPECT_EQ(g[4], PostureGroup::kOutOfRange);
+  EXPECT_STREQ(PostureGroupName(PostureGroup::kOutOfRange), "out_of_range");
+  // A distance takes the worse group of its two poses.
+  Measurement d;
+  d.type = MeasurementType::kDistance;
+  d.joints = train.row(1).transpose();
+  d.joints2 = test.row(2).transpose();
+  Measurement far = d;
+  far.joints2 = test.row(3).transpose();
+  const std::vector<PostureGroup> gd =
+      ClassifyPostures(m, MeasurementPlan(train), {d, far});
+  EXPECT_EQ(gd[0], PostureGroup::kNew);
+  EXPECT_EQ(gd[1], PostureGroup::kOutOfRange);
+}
+
+}  // namespace
+}  // namespace activecal
