@@ -984,5 +984,74 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
   }
 }
 
+// What spreadsheets and device software put around the values (review of
+// issue 18): Windows line ends with an empty last cell (a marker not seen
+// at the end of a mocap row), a space after the last comma, a UTF-8 byte
+// order mark, quoted fields (a target name with a comma in it).
+TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
+  const RobotModel m = testing::UrdfStyleModel();
+  const std::string plain =
+      "target,joint1_rad,joint2_rad,joint3_m,joint4_rad,x1_m,y1_m,z1_m,"
+      "x2_m,y2_m,z2_m\n"
+      "P1,0.1,0.2,0.05,0.3,1,2,3,1.1,2.1,3.1\n"
+      "P2,0.2,0.1,0.04,0.1,1.2,2.2,3.2,,,\n";
+  std::vector<Measurement> want, got;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementsCsv(plain, "p.csv", m, &want, &error)) << error;
+  ASSERT_EQ(want.size(), 3u);
+  auto crlf = [](std::string s) {
+    std::string out;
+    for (char c : s) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    return out;
+  };
+  const std::vector<std::pair<const char*, std::string>> variants = {
+      {"CRLF, last cells empty", crlf(plain)},
+      {"space after the last comma",
+       plain.substr(0, plain.size() - 1) + " \n"},
+      {"UTF-8 byte order mark", "\xEF\xBB\xBF" + plain},
+      {"quoted fields",
+       "\"target\",\"joint1_rad\",\"joint2_rad\",\"joint3_m\",\"joint4_rad\","
+       "\"x1_m\",\"y1_m\",\"z1_m\",\"x2_m\",\"y2_m\",\"z2_m\"\n"
+       "\"P1, \"\"north\"\"\",0.1,0.2,0.05,0.3,1,2,3,1.1,2.1,3.1\n"
+       "\"P2\",\"0.2\",0.1,0.04,0.1,1.2,2.2,3.2,\"\",,\n"},
+  };
+  for (const auto& [what, text] : variants) {
+    MeasurementsCsvReport report;
+    ASSERT_TRUE(
+        ParseMeasurementsCsv(text, "q.csv", m, {}, &got, &report, &error))
+        << what << ": " << error;
+    ASSERT_EQ(got.size(), want.size()) << what;
+    for (size_t i = 0; i < got.size(); ++i) {
+      EXPECT_EQ(got[i].joints, want[i].joints) << what;
+      EXPECT_EQ(got[i].position, want[i].position) << what;
+      EXPECT_EQ(got[i].marker, want[i].marker) << what;
+    }
+    ASSERT_EQ(report.notes.size(), 2u) << what;
+    EXPECT_EQ(report.notes[0],
+              "q.csv: ignored 1 column activecal does not read: target")
+        << what;
+  }
+  const std::string j = "joint1_rad,joint2_rad,joint3_m,joint4_rad,";
+  const std::vector<BadCsv> cases = {
+      {"semicolons", "joint1_rad;joint2_rad;joint3_m;joint4_rad;x_m;y_m;z_m\n",
+       "s.csv:1: the fields are separated by ';', not ','"},
+      {"tabs", "joint1_rad\tjoint2_rad\tjoint3_m\tjoint4_rad\tx_m\n",
+       "s.csv:1: the fields are separated by tabs, not ','"},
+      {"a quote not closed", j + "x_m,y_m,z_m\n0.1,0.2,\"0.05,0.3,1,2,3\n",
+       "s.csv:2: field 3: the quote opened there is not closed on the line"},
+      {"text after a closing quote", j + "x_m,y_m,z_m\n0.1,\"0.2\"5,0.05,0.3,1,2,3\n",
+       "s.csv:2: field 2: text after the closing quote"},
+      {"a joint under neither name", "joint1_rad,joint2_rad,joint3_m,x_m,y_m,z_m\n",
+       "s.csv:1: the header has neither 'q4_rad' nor 'q4_deg' for joint 4, "
+       "nor 'joint4_rad' or 'joint4_deg' (its joint name)"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "s.csv", m, &got, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
 }  // namespace
 }  // namespace activecal

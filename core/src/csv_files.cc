@@ -1,6 +1,7 @@
 #include "activecal/core/csv_files.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
@@ -31,13 +33,69 @@ struct Row {
   std::vector<std::string> fields;
 };
 
+// Splits a line at its commas into trimmed fields: n commas, n + 1 fields
+// (an empty last cell too, whatever follows it: a space, the '\r' of a
+// Windows line end). A field may be quoted as spreadsheets write it,
+// "P1, north" with "" for a quote inside; the quotes are removed. False
+// with the reason for a quote not closed on the line or text after one.
+bool SplitFields(const std::string& line, std::vector<std::string>* fields,
+                 std::string* why) {
+  fields->clear();
+  size_t i = 0;
+  while (true) {
+    const std::string field_number = std::to_string(fields->size() + 1);
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    if (i < line.size() && line[i] == '"') {
+      std::string value;
+      size_t k = i + 1;
+      for (;; ++k) {
+        if (k >= line.size()) {
+          *why = "field " + field_number +
+                 ": the quote opened there is not closed on the line (a "
+                 "field may not span lines)";
+          return false;
+        }
+        if (line[k] != '"') {
+          value += line[k];
+        } else if (k + 1 < line.size() && line[k + 1] == '"') {
+          value += '"';
+          ++k;
+        } else {
+          break;
+        }
+      }
+      i = k + 1;
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' ||
+                                 line[i] == '\r')) {
+        ++i;
+      }
+      if (i < line.size() && line[i] != ',') {
+        *why = "field " + field_number + ": text after the closing quote";
+        return false;
+      }
+      fields->push_back(Trim(value));
+    } else {
+      const size_t comma = std::min(line.find(',', i), line.size());
+      fields->push_back(Trim(line.substr(i, comma - i)));
+      i = comma;
+    }
+    if (i >= line.size()) return true;
+    ++i;  // the comma
+  }
+}
+
 // A CSV table: header names and rows of trimmed fields.
 class Table {
  public:
   bool Parse(const std::string& text, const std::string& source,
              std::string* error) {
     source_ = source;
-    std::istringstream in(text);
+    // A UTF-8 byte order mark, as spreadsheets write one, is not part of
+    // the first column's name.
+    static const std::string kBom = "\xEF\xBB\xBF";
+    std::istringstream in(text.compare(0, kBom.size(), kBom) == 0
+                              ? text.substr(kBom.size())
+                              : text);
     std::string line;
     int number = 0;
     bool have_header = false;
@@ -46,10 +104,22 @@ class Table {
       const std::string trimmed = Trim(line);
       if (trimmed.empty() || trimmed[0] == '#') continue;
       std::vector<std::string> fields;
-      std::string field;
-      std::istringstream split(line);
-      while (std::getline(split, field, ',')) fields.push_back(Trim(field));
-      if (!line.empty() && Trim(line).back() == ',') fields.push_back("");
+      std::string why;
+      if (!SplitFields(line, &fields, &why)) return Fail(number, why, error);
+      if (!have_header && fields.size() == 1) {
+        // One column: a file of another separator, say so.
+        for (const auto& [c, name] : {std::pair<char, const char*>{';', "';'"},
+                                      {'\t', "tabs"}}) {
+          if (trimmed.find(c) != std::string::npos) {
+            return Fail(number,
+                        std::string("the fields are separated by ") + name +
+                            ", not ',': activecal reads comma-separated "
+                            "files (export with ',' between fields and '.' "
+                            "as the decimal point)",
+                        error);
+          }
+        }
+      }
       if (!have_header) {
         for (size_t c = 0; c < fields.size(); ++c) {
           if (fields[c].empty()) {
@@ -568,6 +638,22 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
   }
   joints_ = any_name ? n1 : q1;
   joints2_ = any_name ? n2 : q2;
+  for (int j = 0; j < n; ++j) {
+    if (table_.Has(q1[j].si) || table_.Has(q1[j].display) ||
+        table_.Has(n1[j].si) || table_.Has(n1[j].display)) {
+      continue;
+    }
+    const std::string name = model_.block_name(j + 1);
+    return table_.Fail(
+        table_.header_line(),
+        "the header has neither '" + q1[j].si + "' nor '" + q1[j].display +
+            "' for joint " + std::to_string(j + 1) +
+            (name == "q" + std::to_string(j + 1)
+                 ? std::string()
+                 : ", nor '" + n1[j].si + "' or '" + n1[j].display +
+                       "' (its joint name)"),
+        error);
+  }
   for (int j = 0; j < n; ++j) {
     for (const JointColumnPair* p : {&joints_[j], &joints2_[j]}) {
       for (const std::string& c : {p->si, p->display}) {
