@@ -1053,5 +1053,55 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
   }
 }
 
+// Empty columns a spreadsheet or mocap export adds (a ',' ending every
+// line) are no measurement problem; a value under no name is. Lengths
+// beyond any device's reach are a corrupt cell or a wrong unit, not data
+// (evaluating 1e200 mm gave an RMSE of inf).
+TEST(MeasurementFormatsTest, NamelessEmptyColumnsAndImplausibleLengths) {
+  const RobotModel m = testing::UrdfStyleModel();
+  const std::string j = "joint1_rad,joint2_rad,joint3_m,joint4_rad,";
+  std::vector<Measurement> out;
+  MeasurementsCsvReport report;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      j + "x1_mm,y1_mm,z1_mm,,\n0.1,0.2,0.05,0.3,1000,2000,3000,,\n", "e.csv",
+      m, {}, &out, &report, &error))
+      << error;
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_TRUE(report.notes.empty()) << report.notes[0];
+  MeasurementsCsvOptions strict;
+  strict.columns_strict = true;
+  EXPECT_TRUE(ParseMeasurementsCsv(
+      j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n", "e.csv", m, strict, &out,
+      &report, &error))
+      << error;
+  const std::vector<BadCsv> cases = {
+      {"a value under no name",
+       j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n0.1,0.2,0.05,0.3,1,2,3,7\n",
+       "e.csv:3: column 8 has no name in the header, but a value here ('7')"},
+      {"a point beyond any device's reach",
+       j + "x_mm,y_mm,z_mm\n0.1,0.2,0.05,0.3,1e200,2,3\n",
+       "e.csv:2: x_mm: 1e+200 mm is more than 1000 km: a corrupt cell or a "
+       "wrong unit"},
+      {"a wide marker beyond reach",
+       j + "x1_m,y1_m,z1_m\n0.1,0.2,0.05,0.3,1,-2e6,3\n",
+       "e.csv:2: y1_m: -2e+06 m is more than 1000 km"},
+      {"a distance beyond reach",
+       "type," + j + "joint1_rad_2,joint2_rad_2,joint3_m_2,joint4_rad_2,"
+                     "distance_mm\ndistance,0.1,0.2,0.05,0.3,0,0,0,0,1e10\n",
+       "e.csv:2: distance_mm: 1e+10 mm is more than 1000 km"},
+      {"a standard deviation beyond reach",
+       j + "x_m,y_m,z_m,u95_m\n0.1,0.2,0.05,0.3,1,2,3,1e300\n",
+       "e.csv:2: u95_m: 1e+300 m is more than 1000 km"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "e.csv", m, &out, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
 }  // namespace
 }  // namespace activecal

@@ -132,7 +132,18 @@ a, b = json.load(open("windows.json")), json.load(open("occluded.json"))
 assert a["num_measurements"] == 39 and a["rmse_m"] == b["rmse_m"], (a["num_measurements"], a["rmse_m"], b["rmse_m"])
 PY
 
+# Mocap software ending every line with ',': an empty column, not a note.
+sed 's/$/,/' occluded.csv >trailing.csv
+"$apps/activecal_evaluate" --measurements=trailing.csv --json_out=trailing.json >out.txt 2>err.txt &&
+  ! grep -q "ignored" out.txt &&
+  python3 -c "import json; assert json.load(open('trailing.json'))['rmse_m'] == json.load(open('occluded.json'))['rmse_m']" &&
+  ok "a ',' ending every line" || { fail "a ',' ending every line"; cat err.txt out.txt; }
+
 # --- Bad input: one line, status 1. ---
+awk -F, -v OFS=, 'NR==9{$9="1e200"} {print}' mm.csv >huge.csv
+expect_fail "a length beyond any device's reach" \
+  "--measurements: huge.csv:9: y_mm: 1e+200 mm is more than 1000 km: a corrupt cell or a wrong unit" \
+  activecal_evaluate --measurements=huge.csv
 tr ',' ';' <m.csv >semicolons.csv
 expect_fail "semicolons" \
   "--measurements: semicolons.csv:1: the fields are separated by ';', not ','" \

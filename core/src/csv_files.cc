@@ -123,10 +123,10 @@ class Table {
       if (!have_header) {
         for (size_t c = 0; c < fields.size(); ++c) {
           if (fields[c].empty()) {
-            return Fail(
-                number,
-                "header column " + std::to_string(c + 1) + " has no name",
-                error);
+            // An empty column a spreadsheet adds (a ',' ending every
+            // line): fine as long as it stays empty.
+            nameless_.push_back(static_cast<int>(c));
+            continue;
           }
           if (!columns_.emplace(fields[c], static_cast<int>(c)).second) {
             return Fail(number, "header names column '" + fields[c] + "' twice",
@@ -144,6 +144,15 @@ class Table {
                         " fields as in the header, got " +
                         std::to_string(fields.size()),
                     error);
+      }
+      for (int c : nameless_) {
+        if (!fields[c].empty()) {
+          return Fail(number,
+                      "column " + std::to_string(c + 1) +
+                          " has no name in the header, but a value here ('" +
+                          fields[c] + "')",
+                      error);
+        }
       }
       rows_.push_back({number, std::move(fields)});
     }
@@ -197,6 +206,7 @@ class Table {
   std::string source_;
   std::vector<std::string> header_;
   std::map<std::string, int> columns_;
+  std::vector<int> nameless_;  // columns with an empty name: empty cells
   std::vector<Row> rows_;
   int header_line_ = 0;
 };
@@ -428,7 +438,12 @@ struct Form {
   std::vector<std::string> columns;
   double scale = 1.0;
   double divisor = 1.0;
+  bool length = false;  // a length: held to kMaxLengthM
 };
+
+// No measuring device reaches farther: a length beyond is a corrupt cell or
+// a wrong unit (1e200 mm made an evaluation's RMSE inf).
+constexpr double kMaxLengthM = 1e6;
 
 // Which of a quantity's forms the header holds (-1: none). Part of a form,
 // or two forms, are errors.
@@ -463,8 +478,9 @@ bool ChooseForm(const Table& table, const std::string& quantity,
 
 // The forms of each quantity.
 const std::vector<Form>& PositionForms() {
-  static const std::vector<Form> forms = {{{"x_m", "y_m", "z_m"}, 1.0},
-                                          {{"x_mm", "y_mm", "z_mm"}, 1.0, 1e3}};
+  static const std::vector<Form> forms = {
+      {{"x_m", "y_m", "z_m"}, 1.0, 1.0, true},
+      {{"x_mm", "y_mm", "z_mm"}, 1.0, 1e3, true}};
   return forms;
 }
 enum OrientationForm { kRotvec, kQuat, kRpyRad, kRpyDeg };
@@ -477,23 +493,23 @@ const std::vector<Form>& OrientationForms() {
   return forms;
 }
 const std::vector<Form>& DistanceForms() {
-  static const std::vector<Form> forms = {{{"distance_m"}, 1.0},
-                                          {{"distance_mm"}, 1.0, 1e3}};
+  static const std::vector<Form> forms = {{{"distance_m"}, 1.0, 1.0, true},
+                                          {{"distance_mm"}, 1.0, 1e3, true}};
   return forms;
 }
 // Isotropic standard deviation, or a 95% expanded uncertainty (k = 2).
 enum SigmaForm { kSigmaM, kSigmaMm, kU95M, kU95Mm };
 const std::vector<Form>& SigmaForms() {
-  static const std::vector<Form> forms = {{{"sigma_m"}, 1.0, 1.0},
-                                          {{"sigma_mm"}, 1.0, 1e3},
-                                          {{"u95_m"}, 1.0, 2.0},
-                                          {{"u95_mm"}, 1.0, 2e3}};
+  static const std::vector<Form> forms = {{{"sigma_m"}, 1.0, 1.0, true},
+                                          {{"sigma_mm"}, 1.0, 1e3, true},
+                                          {{"u95_m"}, 1.0, 2.0, true},
+                                          {{"u95_mm"}, 1.0, 2e3, true}};
   return forms;
 }
 const std::vector<Form>& SigmaAxesForms() {
   static const std::vector<Form> forms = {
-      {{"sigma_x_m", "sigma_y_m", "sigma_z_m"}, 1.0},
-      {{"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}, 1.0, 1e3}};
+      {{"sigma_x_m", "sigma_y_m", "sigma_z_m"}, 1.0, 1.0, true},
+      {{"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}, 1.0, 1e3, true}};
   return forms;
 }
 const std::vector<Form>& SigmaRotationForms() {
@@ -568,6 +584,19 @@ class MeasurementsReader {
                 double* values, bool* given, std::string* error,
                 double* raw = nullptr);
   bool Known(const std::string& column) const { return known_.count(column); }
+  // A length read from `column` (`value` as written, `si` in m) within
+  // kMaxLengthM.
+  bool WithinReach(const Row& row, const std::string& column, double value,
+                   double si, std::string* error) const {
+    if (std::abs(si) <= kMaxLengthM) return true;
+    const bool mm = column.size() > 3 &&
+                    column.compare(column.size() - 3, 3, "_mm") == 0;
+    return table_.Fail(row.line,
+                       column + ": " + Number6(value) + (mm ? " mm" : " m") +
+                           " is more than " + Number6(kMaxLengthM / 1e3) +
+                           " km: a corrupt cell or a wrong unit",
+                       error);
+  }
   std::string JointLabel(int j) const {
     return "joint " + std::to_string(j + 1) + " (" + model_.block_name(j + 1) +
            ")";
@@ -893,7 +922,12 @@ bool MeasurementsReader::ReadForm(const Row& row,
   for (size_t k = 0; k < f.columns.size(); ++k) {
     if (!table_.Number(row, f.columns[k], &values[k], error)) return false;
     if (raw) raw[k] = values[k];  // as written, for messages
+    const double written = values[k];
     values[k] = values[k] * f.scale / f.divisor;
+    if (f.length &&
+        !WithinReach(row, f.columns[k], written, values[k], error)) {
+      return false;
+    }
   }
   return true;
 }
@@ -1072,7 +1106,11 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
                              error);
         }
         if (!table_.Number(row, column, &mk.position[a], error)) return false;
+        const double written = mk.position[a];
         mk.position[a] /= wide_divisor_;
+        if (!WithinReach(row, column, written, mk.position[a], error)) {
+          return false;
+        }
       }
       row_out.push_back(std::move(mk));
     }
@@ -1124,7 +1162,7 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   }
   std::vector<std::string> extra;
   for (const std::string& name : table_.header()) {
-    if (!Known(name)) extra.push_back(name);
+    if (!name.empty() && !Known(name)) extra.push_back(name);
   }
   if (!extra.empty() && options_.columns_strict) {
     std::string list;
