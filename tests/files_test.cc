@@ -775,6 +775,20 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find("up to 0.005 m above"), std::string::npos)
       << report.warnings[0];
+  // It names the column the reading is in: the second pose's.
+  EXPECT_NE(report.warnings[0].find(": q3_m_2 (joint 3 (L3)) up to 0.005 m"),
+            std::string::npos)
+      << report.warnings[0];
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      dh + "distance,0,0,0.402,0,0,0,0.405,0,0.5\n", "d.csv", m, {}, &out,
+      &report, &error))
+      << error;
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find(
+                ": q3_m, q3_m_2 (joint 3 (L3)) up to 0.005 m above its upper "
+                "limit 0.4 m in 1 row (first: line 2)"),
+            std::string::npos)
+      << report.warnings[0];
   EXPECT_FALSE(ParseMeasurementsCsv(dh + "distance,0,0,0.1,0,0,0,0.42,0,0.5\n",
                                     "d.csv", m, {}, &out, &report, &error));
   EXPECT_NE(error.find("d.csv:2: second pose: q3_m_2: 0.42 m is 0.02 m "

@@ -558,6 +558,7 @@ struct LimitExcess {
   int rows = 0;
   int first_line = 0;
   int last_counted_line = 0;
+  bool first_pose = false, second_pose = false;  // whose columns
 };
 
 class MeasurementsReader {
@@ -852,6 +853,7 @@ bool MeasurementsReader::CheckLimits(const Row& row,
                          error);
     }
     LimitExcess& e = excess_[j];
+    (second ? e.second_pose : e.first_pose) = true;
     if (excess > e.max_excess) {
       e.max_excess = excess;
       e.above = above;
@@ -1138,9 +1140,15 @@ std::string MeasurementsReader::Warning(int num_rows) const {
   for (int j = 0; j < model_.num_joints(); ++j) {
     const LimitExcess& e = excess_[j];
     if (e.rows == 0) continue;
-    const JointUnit unit = UnitOf(joints_[j], j);
+    // The column(s) the readings are in: the first pose's, the second's
+    // (a distance), or both; the unit of the first named.
+    const JointUnit unit = UnitOf(e.first_pose ? joints_[j] : joints2_[j], j);
+    std::string columns = unit.column;
+    if (e.first_pose && e.second_pose) {
+      columns += ", " + UnitOf(joints2_[j], j).column;
+    }
     const Link& l = model_.links[j];
-    text += std::string(first ? " " : "; ") + unit.column + " (" +
+    text += std::string(first ? " " : "; ") + columns + " (" +
             JointLabel(j) + ") up to " + Number6(e.max_excess / unit.scale) +
             " " + unit.name +
             (e.above ? " above its upper limit " : " below its lower limit ") +
