@@ -1055,6 +1055,10 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
        "s.csv:2: field 3: the quote opened there is not closed on the line"},
       {"text after a closing quote", j + "x_m,y_m,z_m\n0.1,\"0.2\"5,0.05,0.3,1,2,3\n",
        "s.csv:2: field 2: text after the closing quote"},
+      {"UTF-16 (a NUL byte after each ASCII one)",
+       std::string("\xFF\xFEj\0o\0i\0n\0t\0\x31\0", 14),
+       "s.csv:1: the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
+       "save it as UTF-8 CSV)"},
       {"a joint under neither name", "joint1_rad,joint2_rad,joint3_m,x_m,y_m,z_m\n",
        "s.csv:1: the header has neither 'q4_rad' nor 'q4_deg' for joint 4, "
        "nor 'joint4_rad' or 'joint4_deg' (its joint name)"},

@@ -90,6 +90,16 @@ class Table {
   bool Parse(const std::string& text, const std::string& source,
              std::string* error) {
     source_ = source;
+    // UTF-16 (a spreadsheet's "Unicode text"): NUL bytes everywhere.
+    const size_t nul = text.find('\0');
+    if (nul != std::string::npos) {
+      const int line = 1 + static_cast<int>(
+                               std::count(text.begin(), text.begin() + nul, '\n'));
+      return Fail(line,
+                  "the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
+                  "save it as UTF-8 CSV)",
+                  error);
+    }
     // A UTF-8 byte order mark, as spreadsheets write one, is not part of
     // the first column's name.
     static const std::string kBom = "\xEF\xBB\xBF";
