@@ -973,6 +973,8 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
       {"wide marker the model lacks", j + "x1_m,y1_m,z1_m,x3_m,y3_m,z3_m\n",
        "n.csv:1: column 'x3_m' is for marker 3, but the model has 2 "
        "marker(s)"},
+      {"wide marker axis twice", j + "x1_m,y1_m,z1_m,x01_m\n",
+       "n.csv:1: columns 'x1_m' and 'x01_m' both give marker 1's x"},
       {"wide marker without z", j + "x1_m,y1_m,z1_m,x2_m,y2_m\n",
        "n.csv:1: marker 2 has no column 'z2_m'"},
       {"wide with a marker column", "marker," + j + "x1_m,y1_m,z1_m\n",

@@ -772,6 +772,14 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
           error);
     }
     wide_.emplace(marker, std::array<int, 3>{-1, -1, -1});
+    if (wide_[marker][axis] >= 0) {  // x1_m and x01_m
+      return table_.Fail(table_.header_line(),
+                         "columns '" + table_.header()[wide_[marker][axis]] +
+                             "' and '" + name + "' both give marker " +
+                             std::to_string(marker) + "'s " +
+                             std::string(1, name[0]),
+                         error);
+    }
     wide_[marker][axis] = static_cast<int>(c);
     known_[name] = 1;
   }
