@@ -726,6 +726,18 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
             "limit 0.4 m in 2 rows (first: line 2); q4_deg (joint 4 (L4)) up "
             "to 4.99 deg below its lower limit -143.239 deg in 1 row (first: "
             "line 3)");
+  // Readings of one joint beyond both ends: each side on its own.
+  ASSERT_TRUE(parse("0,0,0.403,0,1,2,3\n0,0,-0.001,0,1,2,3\n"
+                    "0,0,-0.002,0,1,2,3\n",
+                    {}, &report, &error))
+      << error;
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find(
+                ": q3_m (joint 3 (L3)) up to 0.003 m above its upper limit "
+                "0.4 m in 1 row (first: line 2), up to 0.002 m below its "
+                "lower limit 0 m in 2 rows (first: line 3)"),
+            std::string::npos)
+      << report.warnings[0];
   // Strict: the first reading beyond a limit is an error.
   MeasurementsCsvOptions strict;
   strict.strict_limits = true;

@@ -563,12 +563,15 @@ struct JointUnit {
 
 // Readings beyond a joint's range, gathered for the file's warning.
 struct LimitExcess {
-  double max_excess = 0.0;  // SI
-  bool above = true;        // the largest excess is above the upper limit
-  int rows = 0;
-  int first_line = 0;
-  int last_counted_line = 0;
+  struct Side {
+    double max_excess = 0.0;  // SI
+    int rows = 0;
+    int first_line = 0;
+    int last_counted_line = 0;
+  };
+  Side side[2];  // above the upper limit, below the lower one
   bool first_pose = false, second_pose = false;  // whose columns
+  int rows() const { return side[0].rows + side[1].rows; }
 };
 
 class MeasurementsReader {
@@ -872,14 +875,12 @@ bool MeasurementsReader::CheckLimits(const Row& row,
     }
     LimitExcess& e = excess_[j];
     (second ? e.second_pose : e.first_pose) = true;
-    if (excess > e.max_excess) {
-      e.max_excess = excess;
-      e.above = above;
-    }
-    if (e.last_counted_line != row.line) {
-      ++e.rows;
-      e.last_counted_line = row.line;
-      if (e.first_line == 0) e.first_line = row.line;
+    LimitExcess::Side& side = e.side[above ? 0 : 1];
+    side.max_excess = std::max(side.max_excess, excess);
+    if (side.last_counted_line != row.line) {
+      ++side.rows;
+      side.last_counted_line = row.line;
+      if (side.first_line == 0) side.first_line = row.line;
     }
     if (last_beyond_line_ != row.line) {
       ++rows_beyond_;
@@ -1157,7 +1158,7 @@ std::string MeasurementsReader::Warning(int num_rows) const {
   bool first = true;
   for (int j = 0; j < model_.num_joints(); ++j) {
     const LimitExcess& e = excess_[j];
-    if (e.rows == 0) continue;
+    if (e.rows() == 0) continue;
     // The column(s) the readings are in: the first pose's, the second's
     // (a distance), or both; the unit of the first named.
     const JointUnit unit = UnitOf(e.first_pose ? joints_[j] : joints2_[j], j);
@@ -1167,13 +1168,23 @@ std::string MeasurementsReader::Warning(int num_rows) const {
     }
     const Link& l = model_.links[j];
     text += std::string(first ? " " : "; ") + columns + " (" +
-            JointLabel(j) + ") up to " + Number6(e.max_excess / unit.scale) +
-            " " + unit.name +
-            (e.above ? " above its upper limit " : " below its lower limit ") +
-            Number6((e.above ? l.joint_max : l.joint_min) / unit.scale) + " " +
-            unit.name + " in " + std::to_string(e.rows) + " row" +
-            (e.rows == 1 ? "" : "s") + " (first: line " +
-            std::to_string(e.first_line) + ")";
+            JointLabel(j) + ")";
+    // Above and below apart: one reading above and one below are not two
+    // readings below.
+    bool first_side = true;
+    for (int k = 0; k < 2; ++k) {
+      const LimitExcess::Side& side = e.side[k];
+      if (side.rows == 0) continue;
+      const bool above = k == 0;
+      text += std::string(first_side ? "" : ",") + " up to " +
+              Number6(side.max_excess / unit.scale) + " " + unit.name +
+              (above ? " above its upper limit " : " below its lower limit ") +
+              Number6((above ? l.joint_max : l.joint_min) / unit.scale) + " " +
+              unit.name + " in " + std::to_string(side.rows) + " row" +
+              (side.rows == 1 ? "" : "s") + " (first: line " +
+              std::to_string(side.first_line) + ")";
+      first_side = false;
+    }
     first = false;
   }
   return text;
