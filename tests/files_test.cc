@@ -1037,6 +1037,8 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
       {"space after the last comma",
        plain.substr(0, plain.size() - 1) + " \n"},
       {"UTF-8 byte order mark", "\xEF\xBB\xBF" + plain},
+      {"rows of separators only (a spreadsheet's empty rows)",
+       plain + ",,,,,,,,,,\r\n,,,,,,,,,,\n"},
       {"quoted fields",
        "\"target\",\"joint1_rad\",\"joint2_rad\",\"joint3_m\",\"joint4_rad\","
        "\"x1_m\",\"y1_m\",\"z1_m\",\"x2_m\",\"y2_m\",\"z2_m\"\n"

@@ -116,6 +116,11 @@ class Table {
       std::vector<std::string> fields;
       std::string why;
       if (!SplitFields(line, &fields, &why)) return Fail(number, why, error);
+      // A row of separators only (a spreadsheet's empty row) holds nothing.
+      if (std::all_of(fields.begin(), fields.end(),
+                      [](const std::string& f) { return f.empty(); })) {
+        continue;
+      }
       if (!have_header && fields.size() == 1) {
         // One column: a file of another separator, say so.
         for (const auto& [c, name] : {std::pair<char, const char*>{';', "';'"},
