@@ -727,9 +727,10 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
             "to 4.99 deg below its lower limit -143.239 deg in 1 row (first: "
             "line 3)");
   // Readings of one joint beyond both ends: each side on its own.
-  ASSERT_TRUE(parse("0,0,0.403,0,1,2,3\n0,0,-0.001,0,1,2,3\n"
-                    "0,0,-0.002,0,1,2,3\n",
-                    {}, &report, &error))
+  ASSERT_TRUE(
+      parse("0,0,0.403,0,1,2,3\n0,0,-0.001,0,1,2,3\n"
+            "0,0,-0.002,0,1,2,3\n",
+            {}, &report, &error))
       << error;
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find(
@@ -791,9 +792,9 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
   EXPECT_NE(report.warnings[0].find(": q3_m_2 (joint 3 (L3)) up to 0.005 m"),
             std::string::npos)
       << report.warnings[0];
-  ASSERT_TRUE(ParseMeasurementsCsv(
-      dh + "distance,0,0,0.402,0,0,0,0.405,0,0.5\n", "d.csv", m, {}, &out,
-      &report, &error))
+  ASSERT_TRUE(
+      ParseMeasurementsCsv(dh + "distance,0,0,0.402,0,0,0,0.405,0,0.5\n",
+                           "d.csv", m, {}, &out, &report, &error))
       << error;
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find(
@@ -1034,8 +1035,7 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
   };
   const std::vector<std::pair<const char*, std::string>> variants = {
       {"CRLF, last cells empty", crlf(plain)},
-      {"space after the last comma",
-       plain.substr(0, plain.size() - 1) + " \n"},
+      {"space after the last comma", plain.substr(0, plain.size() - 1) + " \n"},
       {"UTF-8 byte order mark", "\xEF\xBB\xBF" + plain},
       {"rows of separators only (a spreadsheet's empty rows)",
        plain + ",,,,,,,,,,\r\n,,,,,,,,,,\n"},
@@ -1069,13 +1069,15 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
        "s.csv:1: the fields are separated by tabs, not ','"},
       {"a quote not closed", j + "x_m,y_m,z_m\n0.1,0.2,\"0.05,0.3,1,2,3\n",
        "s.csv:2: field 3: the quote opened there is not closed on the line"},
-      {"text after a closing quote", j + "x_m,y_m,z_m\n0.1,\"0.2\"5,0.05,0.3,1,2,3\n",
+      {"text after a closing quote",
+       j + "x_m,y_m,z_m\n0.1,\"0.2\"5,0.05,0.3,1,2,3\n",
        "s.csv:2: field 2: text after the closing quote"},
       {"UTF-16 (a NUL byte after each ASCII one)",
        std::string("\xFF\xFEj\0o\0i\0n\0t\0\x31\0", 14),
        "s.csv:1: the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
        "save it as UTF-8 CSV)"},
-      {"a joint under neither name", "joint1_rad,joint2_rad,joint3_m,x_m,y_m,z_m\n",
+      {"a joint under neither name",
+       "joint1_rad,joint2_rad,joint3_m,x_m,y_m,z_m\n",
        "s.csv:1: the header has neither 'q4_rad' nor 'q4_deg' for joint 4, "
        "nor 'joint4_rad' or 'joint4_deg' (its joint name)"},
   };
@@ -1106,9 +1108,9 @@ TEST(MeasurementFormatsTest, NamelessEmptyColumnsAndImplausibleLengths) {
   EXPECT_TRUE(report.notes.empty()) << report.notes[0];
   MeasurementsCsvOptions strict;
   strict.columns_strict = true;
-  EXPECT_TRUE(ParseMeasurementsCsv(
-      j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n", "e.csv", m, strict, &out,
-      &report, &error))
+  EXPECT_TRUE(
+      ParseMeasurementsCsv(j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n",
+                           "e.csv", m, strict, &out, &report, &error))
       << error;
   const std::vector<BadCsv> cases = {
       {"a value under no name",
@@ -1122,8 +1124,9 @@ TEST(MeasurementFormatsTest, NamelessEmptyColumnsAndImplausibleLengths) {
        j + "x1_m,y1_m,z1_m\n0.1,0.2,0.05,0.3,1,-2e6,3\n",
        "e.csv:2: y1_m: -2e+06 m is more than 1000 km"},
       {"a distance beyond reach",
-       "type," + j + "joint1_rad_2,joint2_rad_2,joint3_m_2,joint4_rad_2,"
-                     "distance_mm\ndistance,0.1,0.2,0.05,0.3,0,0,0,0,1e10\n",
+       "type," + j +
+           "joint1_rad_2,joint2_rad_2,joint3_m_2,joint4_rad_2,"
+           "distance_mm\ndistance,0.1,0.2,0.05,0.3,0,0,0,0,1e10\n",
        "e.csv:2: distance_mm: 1e+10 mm is more than 1000 km"},
       {"a standard deviation beyond reach",
        j + "x_m,y_m,z_m,u95_m\n0.1,0.2,0.05,0.3,1,2,3,1e300\n",

@@ -65,8 +65,8 @@ bool SplitFields(const std::string& line, std::vector<std::string>* fields,
         }
       }
       i = k + 1;
-      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' ||
-                                 line[i] == '\r')) {
+      while (i < line.size() &&
+             (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) {
         ++i;
       }
       if (i < line.size() && line[i] != ',') {
@@ -93,8 +93,8 @@ class Table {
     // UTF-16 (a spreadsheet's "Unicode text"): NUL bytes everywhere.
     const size_t nul = text.find('\0');
     if (nul != std::string::npos) {
-      const int line = 1 + static_cast<int>(
-                               std::count(text.begin(), text.begin() + nul, '\n'));
+      const int line = 1 + static_cast<int>(std::count(
+                               text.begin(), text.begin() + nul, '\n'));
       return Fail(line,
                   "the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
                   "save it as UTF-8 CSV)",
@@ -123,8 +123,8 @@ class Table {
       }
       if (!have_header && fields.size() == 1) {
         // One column: a file of another separator, say so.
-        for (const auto& [c, name] : {std::pair<char, const char*>{';', "';'"},
-                                      {'\t', "tabs"}}) {
+        for (const auto& [c, name] :
+             {std::pair<char, const char*>{';', "';'"}, {'\t', "tabs"}}) {
           if (trimmed.find(c) != std::string::npos) {
             return Fail(number,
                         std::string("the fields are separated by ") + name +
@@ -608,8 +608,8 @@ class MeasurementsReader {
   bool WithinReach(const Row& row, const std::string& column, double value,
                    double si, std::string* error) const {
     if (std::abs(si) <= kMaxLengthM) return true;
-    const bool mm = column.size() > 3 &&
-                    column.compare(column.size() - 3, 3, "_mm") == 0;
+    const bool mm =
+        column.size() > 3 && column.compare(column.size() - 3, 3, "_mm") == 0;
     return table_.Fail(row.line,
                        column + ": " + Number6(value) + (mm ? " mm" : " m") +
                            " is more than " + Number6(kMaxLengthM / 1e3) +
@@ -692,15 +692,15 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
       continue;
     }
     const std::string name = model_.block_name(j + 1);
-    return table_.Fail(
-        table_.header_line(),
-        "the header has neither '" + q1[j].si + "' nor '" + q1[j].display +
-            "' for joint " + std::to_string(j + 1) +
-            (name == "q" + std::to_string(j + 1)
-                 ? std::string()
-                 : ", nor '" + n1[j].si + "' or '" + n1[j].display +
-                       "' (its joint name)"),
-        error);
+    return table_.Fail(table_.header_line(),
+                       "the header has neither '" + q1[j].si + "' nor '" +
+                           q1[j].display + "' for joint " +
+                           std::to_string(j + 1) +
+                           (name == "q" + std::to_string(j + 1)
+                                ? std::string()
+                                : ", nor '" + n1[j].si + "' or '" +
+                                      n1[j].display + "' (its joint name)"),
+                       error);
   }
   for (int j = 0; j < n; ++j) {
     for (const JointColumnPair* p : {&joints_[j], &joints2_[j]}) {
@@ -1172,8 +1172,8 @@ std::string MeasurementsReader::Warning(int num_rows) const {
       columns += ", " + UnitOf(joints2_[j], j).column;
     }
     const Link& l = model_.links[j];
-    text += std::string(first ? " " : "; ") + columns + " (" +
-            JointLabel(j) + ")";
+    text +=
+        std::string(first ? " " : "; ") + columns + " (" + JointLabel(j) + ")";
     // Above and below apart: one reading above and one below are not two
     // readings below.
     bool first_side = true;
