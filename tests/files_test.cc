@@ -726,6 +726,19 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
             "limit 0.4 m in 2 rows (first: line 2); q4_deg (joint 4 (L4)) up "
             "to 4.99 deg below its lower limit -143.239 deg in 1 row (first: "
             "line 3)");
+  // Readings of one joint beyond both ends: each side on its own.
+  ASSERT_TRUE(
+      parse("0,0,0.403,0,1,2,3\n0,0,-0.001,0,1,2,3\n"
+            "0,0,-0.002,0,1,2,3\n",
+            {}, &report, &error))
+      << error;
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find(
+                ": q3_m (joint 3 (L3)) up to 0.003 m above its upper limit "
+                "0.4 m in 1 row (first: line 2), up to 0.002 m below its "
+                "lower limit 0 m in 2 rows (first: line 3)"),
+            std::string::npos)
+      << report.warnings[0];
   // Strict: the first reading beyond a limit is an error.
   MeasurementsCsvOptions strict;
   strict.strict_limits = true;
@@ -774,6 +787,20 @@ TEST(MeasurementFormatsTest, JointLimitToleranceIsCrossedBothWays) {
       << error;
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find("up to 0.005 m above"), std::string::npos)
+      << report.warnings[0];
+  // It names the column the reading is in: the second pose's.
+  EXPECT_NE(report.warnings[0].find(": q3_m_2 (joint 3 (L3)) up to 0.005 m"),
+            std::string::npos)
+      << report.warnings[0];
+  ASSERT_TRUE(
+      ParseMeasurementsCsv(dh + "distance,0,0,0.402,0,0,0,0.405,0,0.5\n",
+                           "d.csv", m, {}, &out, &report, &error))
+      << error;
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find(
+                ": q3_m, q3_m_2 (joint 3 (L3)) up to 0.005 m above its upper "
+                "limit 0.4 m in 1 row (first: line 2)"),
+            std::string::npos)
       << report.warnings[0];
   EXPECT_FALSE(ParseMeasurementsCsv(dh + "distance,0,0,0.1,0,0,0,0.42,0,0.5\n",
                                     "d.csv", m, {}, &out, &report, &error));
@@ -959,6 +986,8 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
       {"wide marker the model lacks", j + "x1_m,y1_m,z1_m,x3_m,y3_m,z3_m\n",
        "n.csv:1: column 'x3_m' is for marker 3, but the model has 2 "
        "marker(s)"},
+      {"wide marker axis twice", j + "x1_m,y1_m,z1_m,x01_m\n",
+       "n.csv:1: columns 'x1_m' and 'x01_m' both give marker 1's x"},
       {"wide marker without z", j + "x1_m,y1_m,z1_m,x2_m,y2_m\n",
        "n.csv:1: marker 2 has no column 'z2_m'"},
       {"wide with a marker column", "marker," + j + "x1_m,y1_m,z1_m\n",
@@ -978,6 +1007,133 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
   };
   for (const BadCsv& c : cases) {
     EXPECT_FALSE(ParseMeasurementsCsv(c.text, "n.csv", m, &out, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
+// What spreadsheets and device software put around the values (review of
+// issue 18): Windows line ends with an empty last cell (a marker not seen
+// at the end of a mocap row), a space after the last comma, a UTF-8 byte
+// order mark, quoted fields (a target name with a comma in it).
+TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
+  const RobotModel m = testing::UrdfStyleModel();
+  const std::string plain =
+      "target,joint1_rad,joint2_rad,joint3_m,joint4_rad,x1_m,y1_m,z1_m,"
+      "x2_m,y2_m,z2_m\n"
+      "P1,0.1,0.2,0.05,0.3,1,2,3,1.1,2.1,3.1\n"
+      "P2,0.2,0.1,0.04,0.1,1.2,2.2,3.2,,,\n";
+  std::vector<Measurement> want, got;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementsCsv(plain, "p.csv", m, &want, &error)) << error;
+  ASSERT_EQ(want.size(), 3u);
+  auto crlf = [](std::string s) {
+    std::string out;
+    for (char c : s) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    return out;
+  };
+  const std::vector<std::pair<const char*, std::string>> variants = {
+      {"CRLF, last cells empty", crlf(plain)},
+      {"space after the last comma", plain.substr(0, plain.size() - 1) + " \n"},
+      {"UTF-8 byte order mark", "\xEF\xBB\xBF" + plain},
+      {"rows of separators only (a spreadsheet's empty rows)",
+       plain + ",,,,,,,,,,\r\n,,,,,,,,,,\n"},
+      {"quoted fields",
+       "\"target\",\"joint1_rad\",\"joint2_rad\",\"joint3_m\",\"joint4_rad\","
+       "\"x1_m\",\"y1_m\",\"z1_m\",\"x2_m\",\"y2_m\",\"z2_m\"\n"
+       "\"P1, \"\"north\"\"\",0.1,0.2,0.05,0.3,1,2,3,1.1,2.1,3.1\n"
+       "\"P2\",\"0.2\",0.1,0.04,0.1,1.2,2.2,3.2,\"\",,\n"},
+  };
+  for (const auto& [what, text] : variants) {
+    MeasurementsCsvReport report;
+    ASSERT_TRUE(
+        ParseMeasurementsCsv(text, "q.csv", m, {}, &got, &report, &error))
+        << what << ": " << error;
+    ASSERT_EQ(got.size(), want.size()) << what;
+    for (size_t i = 0; i < got.size(); ++i) {
+      EXPECT_EQ(got[i].joints, want[i].joints) << what;
+      EXPECT_EQ(got[i].position, want[i].position) << what;
+      EXPECT_EQ(got[i].marker, want[i].marker) << what;
+    }
+    ASSERT_EQ(report.notes.size(), 2u) << what;
+    EXPECT_EQ(report.notes[0],
+              "q.csv: ignored 1 column activecal does not read: target")
+        << what;
+  }
+  const std::string j = "joint1_rad,joint2_rad,joint3_m,joint4_rad,";
+  const std::vector<BadCsv> cases = {
+      {"semicolons", "joint1_rad;joint2_rad;joint3_m;joint4_rad;x_m;y_m;z_m\n",
+       "s.csv:1: the fields are separated by ';', not ','"},
+      {"tabs", "joint1_rad\tjoint2_rad\tjoint3_m\tjoint4_rad\tx_m\n",
+       "s.csv:1: the fields are separated by tabs, not ','"},
+      {"a quote not closed", j + "x_m,y_m,z_m\n0.1,0.2,\"0.05,0.3,1,2,3\n",
+       "s.csv:2: field 3: the quote opened there is not closed on the line"},
+      {"text after a closing quote",
+       j + "x_m,y_m,z_m\n0.1,\"0.2\"5,0.05,0.3,1,2,3\n",
+       "s.csv:2: field 2: text after the closing quote"},
+      {"UTF-16 (a NUL byte after each ASCII one)",
+       std::string("\xFF\xFEj\0o\0i\0n\0t\0\x31\0", 14),
+       "s.csv:1: the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
+       "save it as UTF-8 CSV)"},
+      {"a joint under neither name",
+       "joint1_rad,joint2_rad,joint3_m,x_m,y_m,z_m\n",
+       "s.csv:1: the header has neither 'q4_rad' nor 'q4_deg' for joint 4, "
+       "nor 'joint4_rad' or 'joint4_deg' (its joint name)"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "s.csv", m, &got, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
+// Empty columns a spreadsheet or mocap export adds (a ',' ending every
+// line) are no measurement problem; a value under no name is. Lengths
+// beyond any device's reach are a corrupt cell or a wrong unit, not data
+// (evaluating 1e200 mm gave an RMSE of inf).
+TEST(MeasurementFormatsTest, NamelessEmptyColumnsAndImplausibleLengths) {
+  const RobotModel m = testing::UrdfStyleModel();
+  const std::string j = "joint1_rad,joint2_rad,joint3_m,joint4_rad,";
+  std::vector<Measurement> out;
+  MeasurementsCsvReport report;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementsCsv(
+      j + "x1_mm,y1_mm,z1_mm,,\n0.1,0.2,0.05,0.3,1000,2000,3000,,\n", "e.csv",
+      m, {}, &out, &report, &error))
+      << error;
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_TRUE(report.notes.empty()) << report.notes[0];
+  MeasurementsCsvOptions strict;
+  strict.columns_strict = true;
+  EXPECT_TRUE(
+      ParseMeasurementsCsv(j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n",
+                           "e.csv", m, strict, &out, &report, &error))
+      << error;
+  const std::vector<BadCsv> cases = {
+      {"a value under no name",
+       j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n0.1,0.2,0.05,0.3,1,2,3,7\n",
+       "e.csv:3: column 8 has no name in the header, but a value here ('7')"},
+      {"a point beyond any device's reach",
+       j + "x_mm,y_mm,z_mm\n0.1,0.2,0.05,0.3,1e200,2,3\n",
+       "e.csv:2: x_mm: 1e+200 mm is more than 1000 km: a corrupt cell or a "
+       "wrong unit"},
+      {"a wide marker beyond reach",
+       j + "x1_m,y1_m,z1_m\n0.1,0.2,0.05,0.3,1,-2e6,3\n",
+       "e.csv:2: y1_m: -2e+06 m is more than 1000 km"},
+      {"a distance beyond reach",
+       "type," + j +
+           "joint1_rad_2,joint2_rad_2,joint3_m_2,joint4_rad_2,"
+           "distance_mm\ndistance,0.1,0.2,0.05,0.3,0,0,0,0,1e10\n",
+       "e.csv:2: distance_mm: 1e+10 mm is more than 1000 km"},
+      {"a standard deviation beyond reach",
+       j + "x_m,y_m,z_m,u95_m\n0.1,0.2,0.05,0.3,1,2,3,1e300\n",
+       "e.csv:2: u95_m: 1e+300 m is more than 1000 km"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "e.csv", m, &out, &error))
         << c.what;
     EXPECT_NE(error.find(c.message), std::string::npos)
         << c.what << "\n  got: " << error << "\n  want: " << c.message;

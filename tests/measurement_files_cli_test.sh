@@ -119,7 +119,35 @@ expect_ok "a marker not seen" \
 python3 -c "import json; assert json.load(open('occluded.json'))['num_measurements'] == 39" &&
   ok "occluded row skipped" || fail "occluded row skipped"
 
+# A Windows export of the same: byte order mark, CRLF, quoted header and
+# target names, the occluded marker's cells empty at the end of its row.
+awk -F, -v OFS=, 'NR==1{printf "\xef\xbb\xbf\"target\","; for(i=1;i<=NF;i++) printf "\"%s\"%s", $i, (i<NF ? "," : "\r\n"); next}
+  {printf "\"P%d, north\",%s\r\n", NR, $0}' occluded.csv >windows.csv
+expect_ok "a Windows export (BOM, CRLF, quotes, empty last cells)" \
+  "activecal_evaluate: note: windows.csv: ignored 1 column activecal does not read: target" \
+  activecal_evaluate --measurements=windows.csv --json_out=windows.json
+python3 - <<'PY' && ok "the Windows export evaluates as the plain file" || fail "the Windows export evaluates as the plain file"
+import json
+a, b = json.load(open("windows.json")), json.load(open("occluded.json"))
+assert a["num_measurements"] == 39 and a["rmse_m"] == b["rmse_m"], (a["num_measurements"], a["rmse_m"], b["rmse_m"])
+PY
+
+# Mocap software ending every line with ',': an empty column, not a note.
+sed 's/$/,/' occluded.csv >trailing.csv
+"$apps/activecal_evaluate" --measurements=trailing.csv --json_out=trailing.json >out.txt 2>err.txt &&
+  ! grep -q "ignored" out.txt &&
+  python3 -c "import json; assert json.load(open('trailing.json'))['rmse_m'] == json.load(open('occluded.json'))['rmse_m']" &&
+  ok "a ',' ending every line" || { fail "a ',' ending every line"; cat err.txt out.txt; }
+
 # --- Bad input: one line, status 1. ---
+awk -F, -v OFS=, 'NR==9{$9="1e200"} {print}' mm.csv >huge.csv
+expect_fail "a length beyond any device's reach" \
+  "--measurements: huge.csv:9: y_mm: 1e+200 mm is more than 1000 km: a corrupt cell or a wrong unit" \
+  activecal_evaluate --measurements=huge.csv
+tr ',' ';' <m.csv >semicolons.csv
+expect_fail "semicolons" \
+  "--measurements: semicolons.csv:1: the fields are separated by ';', not ','" \
+  activecal_evaluate --measurements=semicolons.csv
 sed '1s/x_m,y_m,z_m/x_mm,y_m,z_m/' m.csv >mixed.csv
 expect_fail "metres and millimetres mixed" \
   "mixed.csv:1: the header has y_m,z_m but not x_m (the measured point)" \

@@ -1,6 +1,7 @@
 #include "activecal/core/csv_files.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
@@ -31,13 +33,79 @@ struct Row {
   std::vector<std::string> fields;
 };
 
+// Splits a line at its commas into trimmed fields: n commas, n + 1 fields
+// (an empty last cell too, whatever follows it: a space, the '\r' of a
+// Windows line end). A field may be quoted as spreadsheets write it,
+// "P1, north" with "" for a quote inside; the quotes are removed. False
+// with the reason for a quote not closed on the line or text after one.
+bool SplitFields(const std::string& line, std::vector<std::string>* fields,
+                 std::string* why) {
+  fields->clear();
+  size_t i = 0;
+  while (true) {
+    const std::string field_number = std::to_string(fields->size() + 1);
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    if (i < line.size() && line[i] == '"') {
+      std::string value;
+      size_t k = i + 1;
+      for (;; ++k) {
+        if (k >= line.size()) {
+          *why = "field " + field_number +
+                 ": the quote opened there is not closed on the line (a "
+                 "field may not span lines)";
+          return false;
+        }
+        if (line[k] != '"') {
+          value += line[k];
+        } else if (k + 1 < line.size() && line[k + 1] == '"') {
+          value += '"';
+          ++k;
+        } else {
+          break;
+        }
+      }
+      i = k + 1;
+      while (i < line.size() &&
+             (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) {
+        ++i;
+      }
+      if (i < line.size() && line[i] != ',') {
+        *why = "field " + field_number + ": text after the closing quote";
+        return false;
+      }
+      fields->push_back(Trim(value));
+    } else {
+      const size_t comma = std::min(line.find(',', i), line.size());
+      fields->push_back(Trim(line.substr(i, comma - i)));
+      i = comma;
+    }
+    if (i >= line.size()) return true;
+    ++i;  // the comma
+  }
+}
+
 // A CSV table: header names and rows of trimmed fields.
 class Table {
  public:
   bool Parse(const std::string& text, const std::string& source,
              std::string* error) {
     source_ = source;
-    std::istringstream in(text);
+    // UTF-16 (a spreadsheet's "Unicode text"): NUL bytes everywhere.
+    const size_t nul = text.find('\0');
+    if (nul != std::string::npos) {
+      const int line = 1 + static_cast<int>(std::count(
+                               text.begin(), text.begin() + nul, '\n'));
+      return Fail(line,
+                  "the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
+                  "save it as UTF-8 CSV)",
+                  error);
+    }
+    // A UTF-8 byte order mark, as spreadsheets write one, is not part of
+    // the first column's name.
+    static const std::string kBom = "\xEF\xBB\xBF";
+    std::istringstream in(text.compare(0, kBom.size(), kBom) == 0
+                              ? text.substr(kBom.size())
+                              : text);
     std::string line;
     int number = 0;
     bool have_header = false;
@@ -46,17 +114,34 @@ class Table {
       const std::string trimmed = Trim(line);
       if (trimmed.empty() || trimmed[0] == '#') continue;
       std::vector<std::string> fields;
-      std::string field;
-      std::istringstream split(line);
-      while (std::getline(split, field, ',')) fields.push_back(Trim(field));
-      if (!line.empty() && Trim(line).back() == ',') fields.push_back("");
+      std::string why;
+      if (!SplitFields(line, &fields, &why)) return Fail(number, why, error);
+      // A row of separators only (a spreadsheet's empty row) holds nothing.
+      if (std::all_of(fields.begin(), fields.end(),
+                      [](const std::string& f) { return f.empty(); })) {
+        continue;
+      }
+      if (!have_header && fields.size() == 1) {
+        // One column: a file of another separator, say so.
+        for (const auto& [c, name] :
+             {std::pair<char, const char*>{';', "';'"}, {'\t', "tabs"}}) {
+          if (trimmed.find(c) != std::string::npos) {
+            return Fail(number,
+                        std::string("the fields are separated by ") + name +
+                            ", not ',': activecal reads comma-separated "
+                            "files (export with ',' between fields and '.' "
+                            "as the decimal point)",
+                        error);
+          }
+        }
+      }
       if (!have_header) {
         for (size_t c = 0; c < fields.size(); ++c) {
           if (fields[c].empty()) {
-            return Fail(
-                number,
-                "header column " + std::to_string(c + 1) + " has no name",
-                error);
+            // An empty column a spreadsheet adds (a ',' ending every
+            // line): fine as long as it stays empty.
+            nameless_.push_back(static_cast<int>(c));
+            continue;
           }
           if (!columns_.emplace(fields[c], static_cast<int>(c)).second) {
             return Fail(number, "header names column '" + fields[c] + "' twice",
@@ -74,6 +159,15 @@ class Table {
                         " fields as in the header, got " +
                         std::to_string(fields.size()),
                     error);
+      }
+      for (int c : nameless_) {
+        if (!fields[c].empty()) {
+          return Fail(number,
+                      "column " + std::to_string(c + 1) +
+                          " has no name in the header, but a value here ('" +
+                          fields[c] + "')",
+                      error);
+        }
       }
       rows_.push_back({number, std::move(fields)});
     }
@@ -127,6 +221,7 @@ class Table {
   std::string source_;
   std::vector<std::string> header_;
   std::map<std::string, int> columns_;
+  std::vector<int> nameless_;  // columns with an empty name: empty cells
   std::vector<Row> rows_;
   int header_line_ = 0;
 };
@@ -358,7 +453,12 @@ struct Form {
   std::vector<std::string> columns;
   double scale = 1.0;
   double divisor = 1.0;
+  bool length = false;  // a length: held to kMaxLengthM
 };
+
+// No measuring device reaches farther: a length beyond is a corrupt cell or
+// a wrong unit (1e200 mm made an evaluation's RMSE inf).
+constexpr double kMaxLengthM = 1e6;
 
 // Which of a quantity's forms the header holds (-1: none). Part of a form,
 // or two forms, are errors.
@@ -393,8 +493,9 @@ bool ChooseForm(const Table& table, const std::string& quantity,
 
 // The forms of each quantity.
 const std::vector<Form>& PositionForms() {
-  static const std::vector<Form> forms = {{{"x_m", "y_m", "z_m"}, 1.0},
-                                          {{"x_mm", "y_mm", "z_mm"}, 1.0, 1e3}};
+  static const std::vector<Form> forms = {
+      {{"x_m", "y_m", "z_m"}, 1.0, 1.0, true},
+      {{"x_mm", "y_mm", "z_mm"}, 1.0, 1e3, true}};
   return forms;
 }
 enum OrientationForm { kRotvec, kQuat, kRpyRad, kRpyDeg };
@@ -407,23 +508,23 @@ const std::vector<Form>& OrientationForms() {
   return forms;
 }
 const std::vector<Form>& DistanceForms() {
-  static const std::vector<Form> forms = {{{"distance_m"}, 1.0},
-                                          {{"distance_mm"}, 1.0, 1e3}};
+  static const std::vector<Form> forms = {{{"distance_m"}, 1.0, 1.0, true},
+                                          {{"distance_mm"}, 1.0, 1e3, true}};
   return forms;
 }
 // Isotropic standard deviation, or a 95% expanded uncertainty (k = 2).
 enum SigmaForm { kSigmaM, kSigmaMm, kU95M, kU95Mm };
 const std::vector<Form>& SigmaForms() {
-  static const std::vector<Form> forms = {{{"sigma_m"}, 1.0, 1.0},
-                                          {{"sigma_mm"}, 1.0, 1e3},
-                                          {{"u95_m"}, 1.0, 2.0},
-                                          {{"u95_mm"}, 1.0, 2e3}};
+  static const std::vector<Form> forms = {{{"sigma_m"}, 1.0, 1.0, true},
+                                          {{"sigma_mm"}, 1.0, 1e3, true},
+                                          {{"u95_m"}, 1.0, 2.0, true},
+                                          {{"u95_mm"}, 1.0, 2e3, true}};
   return forms;
 }
 const std::vector<Form>& SigmaAxesForms() {
   static const std::vector<Form> forms = {
-      {{"sigma_x_m", "sigma_y_m", "sigma_z_m"}, 1.0},
-      {{"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}, 1.0, 1e3}};
+      {{"sigma_x_m", "sigma_y_m", "sigma_z_m"}, 1.0, 1.0, true},
+      {{"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}, 1.0, 1e3, true}};
   return forms;
 }
 const std::vector<Form>& SigmaRotationForms() {
@@ -467,11 +568,15 @@ struct JointUnit {
 
 // Readings beyond a joint's range, gathered for the file's warning.
 struct LimitExcess {
-  double max_excess = 0.0;  // SI
-  bool above = true;        // the largest excess is above the upper limit
-  int rows = 0;
-  int first_line = 0;
-  int last_counted_line = 0;
+  struct Side {
+    double max_excess = 0.0;  // SI
+    int rows = 0;
+    int first_line = 0;
+    int last_counted_line = 0;
+  };
+  Side side[2];  // above the upper limit, below the lower one
+  bool first_pose = false, second_pose = false;  // whose columns
+  int rows() const { return side[0].rows + side[1].rows; }
 };
 
 class MeasurementsReader {
@@ -498,6 +603,19 @@ class MeasurementsReader {
                 double* values, bool* given, std::string* error,
                 double* raw = nullptr);
   bool Known(const std::string& column) const { return known_.count(column); }
+  // A length read from `column` (`value` as written, `si` in m) within
+  // kMaxLengthM.
+  bool WithinReach(const Row& row, const std::string& column, double value,
+                   double si, std::string* error) const {
+    if (std::abs(si) <= kMaxLengthM) return true;
+    const bool mm =
+        column.size() > 3 && column.compare(column.size() - 3, 3, "_mm") == 0;
+    return table_.Fail(row.line,
+                       column + ": " + Number6(value) + (mm ? " mm" : " m") +
+                           " is more than " + Number6(kMaxLengthM / 1e3) +
+                           " km: a corrupt cell or a wrong unit",
+                       error);
+  }
   std::string JointLabel(int j) const {
     return "joint " + std::to_string(j + 1) + " (" + model_.block_name(j + 1) +
            ")";
@@ -568,6 +686,22 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
   }
   joints_ = any_name ? n1 : q1;
   joints2_ = any_name ? n2 : q2;
+  for (int j = 0; j < n; ++j) {
+    if (table_.Has(q1[j].si) || table_.Has(q1[j].display) ||
+        table_.Has(n1[j].si) || table_.Has(n1[j].display)) {
+      continue;
+    }
+    const std::string name = model_.block_name(j + 1);
+    return table_.Fail(table_.header_line(),
+                       "the header has neither '" + q1[j].si + "' nor '" +
+                           q1[j].display + "' for joint " +
+                           std::to_string(j + 1) +
+                           (name == "q" + std::to_string(j + 1)
+                                ? std::string()
+                                : ", nor '" + n1[j].si + "' or '" +
+                                      n1[j].display + "' (its joint name)"),
+                       error);
+  }
   for (int j = 0; j < n; ++j) {
     for (const JointColumnPair* p : {&joints_[j], &joints2_[j]}) {
       for (const std::string& c : {p->si, p->display}) {
@@ -646,6 +780,14 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
           error);
     }
     wide_.emplace(marker, std::array<int, 3>{-1, -1, -1});
+    if (wide_[marker][axis] >= 0) {  // x1_m and x01_m
+      return table_.Fail(table_.header_line(),
+                         "columns '" + table_.header()[wide_[marker][axis]] +
+                             "' and '" + name + "' both give marker " +
+                             std::to_string(marker) + "'s " +
+                             std::string(1, name[0]),
+                         error);
+    }
     wide_[marker][axis] = static_cast<int>(c);
     known_[name] = 1;
   }
@@ -737,14 +879,13 @@ bool MeasurementsReader::CheckLimits(const Row& row,
                          error);
     }
     LimitExcess& e = excess_[j];
-    if (excess > e.max_excess) {
-      e.max_excess = excess;
-      e.above = above;
-    }
-    if (e.last_counted_line != row.line) {
-      ++e.rows;
-      e.last_counted_line = row.line;
-      if (e.first_line == 0) e.first_line = row.line;
+    (second ? e.second_pose : e.first_pose) = true;
+    LimitExcess::Side& side = e.side[above ? 0 : 1];
+    side.max_excess = std::max(side.max_excess, excess);
+    if (side.last_counted_line != row.line) {
+      ++side.rows;
+      side.last_counted_line = row.line;
+      if (side.first_line == 0) side.first_line = row.line;
     }
     if (last_beyond_line_ != row.line) {
       ++rows_beyond_;
@@ -807,7 +948,12 @@ bool MeasurementsReader::ReadForm(const Row& row,
   for (size_t k = 0; k < f.columns.size(); ++k) {
     if (!table_.Number(row, f.columns[k], &values[k], error)) return false;
     if (raw) raw[k] = values[k];  // as written, for messages
+    const double written = values[k];
     values[k] = values[k] * f.scale / f.divisor;
+    if (f.length &&
+        !WithinReach(row, f.columns[k], written, values[k], error)) {
+      return false;
+    }
   }
   return true;
 }
@@ -986,7 +1132,11 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
                              error);
         }
         if (!table_.Number(row, column, &mk.position[a], error)) return false;
+        const double written = mk.position[a];
         mk.position[a] /= wide_divisor_;
+        if (!WithinReach(row, column, written, mk.position[a], error)) {
+          return false;
+        }
       }
       row_out.push_back(std::move(mk));
     }
@@ -1013,17 +1163,33 @@ std::string MeasurementsReader::Warning(int num_rows) const {
   bool first = true;
   for (int j = 0; j < model_.num_joints(); ++j) {
     const LimitExcess& e = excess_[j];
-    if (e.rows == 0) continue;
-    const JointUnit unit = UnitOf(joints_[j], j);
+    if (e.rows() == 0) continue;
+    // The column(s) the readings are in: the first pose's, the second's
+    // (a distance), or both; the unit of the first named.
+    const JointUnit unit = UnitOf(e.first_pose ? joints_[j] : joints2_[j], j);
+    std::string columns = unit.column;
+    if (e.first_pose && e.second_pose) {
+      columns += ", " + UnitOf(joints2_[j], j).column;
+    }
     const Link& l = model_.links[j];
-    text += std::string(first ? " " : "; ") + unit.column + " (" +
-            JointLabel(j) + ") up to " + Number6(e.max_excess / unit.scale) +
-            " " + unit.name +
-            (e.above ? " above its upper limit " : " below its lower limit ") +
-            Number6((e.above ? l.joint_max : l.joint_min) / unit.scale) + " " +
-            unit.name + " in " + std::to_string(e.rows) + " row" +
-            (e.rows == 1 ? "" : "s") + " (first: line " +
-            std::to_string(e.first_line) + ")";
+    text +=
+        std::string(first ? " " : "; ") + columns + " (" + JointLabel(j) + ")";
+    // Above and below apart: one reading above and one below are not two
+    // readings below.
+    bool first_side = true;
+    for (int k = 0; k < 2; ++k) {
+      const LimitExcess::Side& side = e.side[k];
+      if (side.rows == 0) continue;
+      const bool above = k == 0;
+      text += std::string(first_side ? "" : ",") + " up to " +
+              Number6(side.max_excess / unit.scale) + " " + unit.name +
+              (above ? " above its upper limit " : " below its lower limit ") +
+              Number6((above ? l.joint_max : l.joint_min) / unit.scale) + " " +
+              unit.name + " in " + std::to_string(side.rows) + " row" +
+              (side.rows == 1 ? "" : "s") + " (first: line " +
+              std::to_string(side.first_line) + ")";
+      first_side = false;
+    }
     first = false;
   }
   return text;
@@ -1038,7 +1204,7 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   }
   std::vector<std::string> extra;
   for (const std::string& name : table_.header()) {
-    if (!Known(name)) extra.push_back(name);
+    if (!name.empty() && !Known(name)) extra.push_back(name);
   }
   if (!extra.empty() && options_.columns_strict) {
     std::string list;

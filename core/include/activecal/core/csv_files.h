@@ -28,9 +28,12 @@
 //                activecal does not know (a device's temperature,
 //                timestamps, ...) are ignored and listed in a note.
 //
-// Lines starting with '#' are comments. Every reader names the file, the
-// line and the column of a problem: "poses.csv:7: q3_rad: expected a
-// number, got 'abc'".
+// Lines starting with '#' are comments. The text may be as spreadsheets
+// and device software write it: CRLF line ends, a UTF-8 byte order mark,
+// quoted fields ("P1, north"), rows of separators only and columns with no
+// name that stay empty; the separator is ',' (';', tabs and UTF-16 are
+// named as errors). Every reader names the file, the line and the column of
+// a problem: "poses.csv:7: q3_rad: expected a number, got 'abc'".
 
 #ifndef ACTIVECAL_CORE_CSV_FILES_H_
 #define ACTIVECAL_CORE_CSV_FILES_H_
