@@ -148,6 +148,7 @@ int Main() {
     RobotLoadOptions load;
     load.chain.base_link = FLAGS_base_link;
     load.chain.tip_link = FLAGS_tip_link;
+    std::string error;
     if (!LoadRobot(FLAGS_nominal_robot, load, &nominal, &error)) {
       app::Fail("--nominal_robot: " + error);
     }

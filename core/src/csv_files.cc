@@ -850,12 +850,9 @@ bool MeasurementsReader::CheckLimits(const Row& row,
                                      std::string* error) {
   for (int j = 0; j < model_.num_joints(); ++j) {
     const Link& l = model_.links[j];
-    // As RobotModel::CheckJointValues: a few ulps let end points through.
-    const double slack = 1e-9 * std::max(1.0, std::max(std::abs(l.joint_min),
-                                                       std::abs(l.joint_max)));
+    const double excess = model_.JointRangeExcess(j, q[j]);
+    if (excess == 0.0) continue;
     const bool above = q[j] > l.joint_max;
-    const double excess = above ? q[j] - l.joint_max : l.joint_min - q[j];
-    if (excess <= slack) continue;
     const JointUnit unit = UnitOf(cols[j], j);
     const double tolerance = Revolute(model_, j) ? options_.limit_tolerance_rad
                                                  : options_.limit_tolerance_m;

@@ -13,44 +13,8 @@ namespace {
 // widened by the tolerance for measured joints.
 bool MeasuredJointsValid(const RobotModel& model, const Eigen::VectorXd& q,
                          std::string* why) {
-  if (q.size() != model.num_joints()) {
-    *why = "expected " + std::to_string(model.num_joints()) +
-           " joint values, got " + std::to_string(q.size());
-    return false;
-  }
-  for (int i = 0; i < q.size(); ++i) {
-    const Link& l = model.links[i];
-    std::ostringstream msg;
-    msg << "joint " << i + 1 << " (" << model.block_name(i + 1) << ") value ";
-    if (!std::isfinite(q[i])) {
-      msg << "is not finite (" << q[i] << ")";
-      *why = msg.str();
-      return false;
-    }
-    const bool revolute = l.joint_type == JointType::kRevolute;
-    const double tolerance =
-        revolute ? kMeasuredJointToleranceRad : kMeasuredJointToleranceM;
-    const double slack = 1e-9 * std::max(1.0, std::max(std::abs(l.joint_min),
-                                                       std::abs(l.joint_max)));
-    if (q[i] >= l.joint_min - tolerance - slack &&
-        q[i] <= l.joint_max + tolerance + slack) {
-      continue;
-    }
-    if (revolute) {
-      const double deg = 180.0 / M_PI;
-      msg << q[i] << " rad (" << q[i] * deg << " deg) is outside its range ["
-          << l.joint_min * deg << ", " << l.joint_max * deg
-          << "] deg by more than the " << tolerance * deg
-          << " deg a measured joint may lie beyond it";
-    } else {
-      msg << q[i] << " m is outside its range [" << l.joint_min << ", "
-          << l.joint_max << "] m by more than the " << tolerance
-          << " m a measured joint may lie beyond it";
-    }
-    *why = msg.str();
-    return false;
-  }
-  return true;
+  return model.CheckJointValues(q, why, kMeasuredJointToleranceRad,
+                                kMeasuredJointToleranceM);
 }
 
 }  // namespace

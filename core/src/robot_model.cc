@@ -372,36 +372,47 @@ bool RobotModel::CheckParameters(const Eigen::VectorXd& parameters,
   return false;
 }
 
-bool RobotModel::CheckJointValues(const Eigen::VectorXd& q,
-                                  std::string* error) const {
+double RobotModel::JointRangeExcess(int joint, double q) const {
+  const Link& l = links[joint];
+  const double slack =
+      1e-9 * std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
+  const double excess = q > l.joint_max ? q - l.joint_max : l.joint_min - q;
+  return excess > slack ? excess : 0.0;
+}
+
+bool RobotModel::CheckJointValues(const Eigen::VectorXd& q, std::string* error,
+                                  double tolerance_rad,
+                                  double tolerance_m) const {
   std::ostringstream msg;
   if (q.size() != num_joints()) {
     msg << "expected " << num_joints() << " joint values, got " << q.size();
   } else {
-    // A tolerance of a few ulps lets lattice end points through.
     for (int i = 0; i < q.size(); ++i) {
       const Link& l = links[i];
-      const double slack =
-          1e-9 *
-          std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
       if (!std::isfinite(q[i])) {
         msg << "joint " << i + 1 << " (" << block_name(i + 1)
             << ") value is not finite (" << q[i] << ")";
         break;
       }
-      if (q[i] < l.joint_min - slack || q[i] > l.joint_max + slack) {
-        msg << "joint " << i + 1 << " (" << block_name(i + 1) << ") value "
-            << q[i];
-        if (l.joint_type == JointType::kRevolute) {
-          const double deg = 180.0 / M_PI;
-          msg << " rad (" << q[i] * deg << " deg) is outside its range ["
-              << l.joint_min * deg << ", " << l.joint_max * deg << "] deg";
-        } else {
-          msg << " m is outside its range [" << l.joint_min << ", "
-              << l.joint_max << "] m";
-        }
-        break;
+      const bool revolute = l.joint_type == JointType::kRevolute;
+      const double tolerance = revolute ? tolerance_rad : tolerance_m;
+      if (JointRangeExcess(i, q[i]) <= tolerance) continue;
+      msg << "joint " << i + 1 << " (" << block_name(i + 1) << ") value "
+          << q[i];
+      const double scale = revolute ? 180.0 / M_PI : 1.0;
+      const char* unit = revolute ? "deg" : "m";
+      if (revolute) {
+        msg << " rad (" << q[i] * scale << " deg) is outside its range [";
+      } else {
+        msg << " m is outside its range [";
       }
+      msg << l.joint_min * scale << ", " << l.joint_max * scale << "] "
+          << unit;
+      if (tolerance > 0) {
+        msg << " by more than the " << tolerance * scale << " " << unit
+            << " a measured joint may lie beyond it";
+      }
+      break;
     }
   }
   if (msg.tellp() == 0) return true;

@@ -218,7 +218,15 @@ struct RobotModel {
   bool CheckParameters(const Eigen::VectorXd& parameters,
                        std::string* error) const;
   // Checks one joint configuration: size, finiteness and joint ranges.
-  bool CheckJointValues(const Eigen::VectorXd& q, std::string* error) const;
+  // Joint readings (measured, not planned) may lie beyond a range by up to
+  // tolerance_rad (revolute) or tolerance_m (prismatic); the message then
+  // says so.
+  bool CheckJointValues(const Eigen::VectorXd& q, std::string* error,
+                        double tolerance_rad = 0.0,
+                        double tolerance_m = 0.0) const;
+  // How far q lies beyond joint `joint`'s (0-based) range, in rad or m: 0
+  // inside it or within a few ulps of an end (lattice end points).
+  double JointRangeExcess(int joint, double q) const;
 };
 
 // The nominal values of a fresh block: zeros, gains 1.
