@@ -2,6 +2,7 @@
 
 #include <glog/logging.h>
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -269,6 +270,23 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
   }
   summary->seconds = SecondsSince(start);
   Summarize(used, summary);
+}
+
+std::vector<IkTarget> IkTargetsFromList(const TargetList& list) {
+  const int n = static_cast<int>(list.points.rows());
+  std::vector<IkTarget> targets(n);
+  for (int i = 0; i < n; ++i) {
+    targets[i].point = list.points.row(i).transpose();
+    if (list.rotation_vectors.rows() == n) {
+      const Eigen::Vector3d v = list.rotation_vectors.row(i).transpose();
+      const double angle = v.norm();
+      if (angle > 0.0) {
+        targets[i].rotation =
+            Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+      }
+    }
+  }
+  return targets;
 }
 
 std::string CompensatedPosesCsvText(const RobotModel& model,

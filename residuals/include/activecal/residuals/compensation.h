@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "activecal/core/robot_model.h"
+#include "activecal/core/targets_csv.h"
 #include "activecal/core/types.h"
 #include "activecal/residuals/inverse_kinematics.h"
 
@@ -114,6 +115,10 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
                        const Eigen::VectorXd& first_start,
                        const CompensationOptions& options,
                        CompensationSummary* summary);
+
+// The targets of a targets CSV: points, and rotations from the rotation
+// vectors (identity when the file has none).
+std::vector<IkTarget> IkTargetsFromList(const TargetList& list);
 
 // The poses CSV (csv_files.h: pose_index, q<j>_rad or _m, q<j>_deg or _mm)
 // of the compensated joints, with two more columns: `status`
