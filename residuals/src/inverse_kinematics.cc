@@ -25,6 +25,10 @@ using Residual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Joints = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1>;
 
+// Below this sigma_min / sigma_max a failure's message says the solver
+// stopped near a singularity.
+constexpr double kNearSingular = 1e-2;
+
 std::string Number(double value) {
   std::ostringstream out;
   out.precision(6);
@@ -326,6 +330,11 @@ class IkSolver {
                       (pose() ? " and " + Number(current_.rotation_error) +
                                     " rad"
                               : std::string());
+    if (result->conditioning < kNearSingular) {
+      result->message += ", stopped near a singularity (sigma_min / "
+                         "sigma_max = " +
+                         Number(result->conditioning) + ")";
+    }
   }
 
  private:
