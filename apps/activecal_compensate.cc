@@ -67,8 +67,9 @@ Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
 int Main() {
   if (FLAGS_out.empty()) app::Fail("--out is required");
   if (FLAGS_poses_csv.empty() == FLAGS_targets_csv.empty()) {
-    app::Fail("give exactly one of --poses_csv (joint targets) and "
-              "--targets_csv (Cartesian targets)");
+    app::Fail(
+        "give exactly one of --poses_csv (joint targets) and "
+        "--targets_csv (Cartesian targets)");
   }
   CompensationOptions options;
   if (!ParseIkMatch(FLAGS_match, &options.ik.match)) {
@@ -95,8 +96,9 @@ int Main() {
   Eigen::MatrixXd starts;
   if (!FLAGS_poses_csv.empty()) {
     if (FLAGS_nominal.empty()) {
-      app::Fail("--poses_csv needs --nominal: the model the program was "
-                "taught with");
+      app::Fail(
+          "--poses_csv needs --nominal: the model the program was "
+          "taught with");
     }
     RobotLoadOptions load;
     load.chain.base_link = FLAGS_base_link;
@@ -116,8 +118,7 @@ int Main() {
     labels = program.pose_indices;
     starts = program.joints;
     CompensateProgram(model, model.nominal, nominal.model,
-                      nominal.model.nominal, program.joints, options,
-                      &summary);
+                      nominal.model.nominal, program.joints, options, &summary);
   } else {
     TargetList list;
     if (!ReadTargetsCsv(FLAGS_targets_csv, model, &list, &error)) {
@@ -146,7 +147,8 @@ int Main() {
     nlohmann::json j;
     j["robot"] = model.name;
     j["nominal"] = FLAGS_nominal;
-    j["program"] = FLAGS_poses_csv.empty() ? FLAGS_targets_csv : FLAGS_poses_csv;
+    j["program"] =
+        FLAGS_poses_csv.empty() ? FLAGS_targets_csv : FLAGS_poses_csv;
     j["match"] = IkMatchName(options.ik.match);
     j["termination_type"] = TerminationTypeToString(summary.termination_type);
     j["all_converged"] = summary.AllConverged();
@@ -193,15 +195,15 @@ int Main() {
     size_t first = 0;
     while (summary.results[first].status == IkStatus::kConverged) ++first;
     const InverseKinematicsResult& r = summary.results[first];
-    std::fprintf(stderr,
-                 "activecal_compensate: %d of %zu targets did not converge, "
-                 "written with their status to %s; the first, pose_index "
-                 "%lld, is %s: %s\n",
-                 static_cast<int>(summary.results.size()) -
-                     summary.num_converged,
-                 summary.results.size(), FLAGS_out.c_str(),
-                 static_cast<long long>(labels[first]), IkStatusName(r.status),
-                 r.message.c_str());
+    std::fprintf(
+        stderr,
+        "activecal_compensate: %d of %zu targets did not converge, "
+        "written with their status to %s; the first, pose_index "
+        "%lld, is %s: %s\n",
+        static_cast<int>(summary.results.size()) - summary.num_converged,
+        summary.results.size(), FLAGS_out.c_str(),
+        static_cast<long long>(labels[first]), IkStatusName(r.status),
+        r.message.c_str());
     return 2;
   }
   return 0;

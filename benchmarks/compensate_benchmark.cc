@@ -51,8 +51,7 @@ Eigen::MatrixXd RandomProgram(const RobotModel& model, int n, uint64_t seed,
 int Run(const std::string& name, const RobotModel& model,
         const Eigen::VectorXd& calibrated, const Eigen::VectorXd& nominal,
         IkMatch match) {
-  const Eigen::MatrixXd program =
-      RandomProgram(model, FLAGS_targets, 1, 0.1);
+  const Eigen::MatrixXd program = RandomProgram(model, FLAGS_targets, 1, 0.1);
   CompensationSummary reference;
   int failures = 0;
   for (int threads : {1, 2}) {

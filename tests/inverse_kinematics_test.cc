@@ -3,6 +3,8 @@
 // convergence on every convention, each status provoked, limits never
 // violated, compensation round trips, thread-count determinism.
 
+#include "activecal/residuals/inverse_kinematics.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -16,14 +18,13 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/registration.h"
+#include "activecal/core/robot_loader.h"
 #include "activecal/core/simulation.h"
+#include "activecal/core/targets_csv.h"
+#include "activecal/residuals/compensation.h"
 #include "activecal/residuals/identification.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/parameter_reduction.h"
-#include "activecal/core/robot_loader.h"
-#include "activecal/core/targets_csv.h"
-#include "activecal/residuals/compensation.h"
-#include "activecal/residuals/inverse_kinematics.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -98,8 +99,8 @@ struct NamedModel {
 std::vector<NamedModel> AllConventions() {
   std::vector<NamedModel> models;
   const RobotModel puma = Puma560PaperModel();
-  models.push_back({"puma560 nominal (Hayati + standard DH)", puma,
-                    puma.nominal});
+  models.push_back(
+      {"puma560 nominal (Hayati + standard DH)", puma, puma.nominal});
   models.push_back({"puma560 true", puma, Puma560TrueParameters()});
   RobotModel mixed = MixedModel();  // DH, Hayati, modified DH, prismatic, gain
   models.push_back({"mixed", mixed, mixed.nominal});
@@ -123,8 +124,8 @@ TEST(JointJacobianTest, MatchesCentralDifferencesOnEveryConvention) {
         Eigen::Vector3d t;
         Eigen::MatrixXd J;
         std::string error;
-        ASSERT_TRUE(JointJacobian(model, nm.values, q, marker, &R, &t, &J,
-                                  &error))
+        ASSERT_TRUE(
+            JointJacobian(model, nm.values, q, marker, &R, &t, &J, &error))
             << error;
         ASSERT_EQ(J.rows(), 6);
         ASSERT_EQ(J.cols(), model.num_joints());
@@ -147,8 +148,7 @@ TEST(JointJacobianTest, MatchesCentralDifferencesOnEveryConvention) {
           const Eigen::Vector3d w(0.5 * (W(2, 1) - W(1, 2)),
                                   0.5 * (W(0, 2) - W(2, 0)),
                                   0.5 * (W(1, 0) - W(0, 1)));
-          EXPECT_LT((J.col(j).head<3>() - dt).norm(),
-                    1e-7 * (1 + dt.norm()))
+          EXPECT_LT((J.col(j).head<3>() - dt).norm(), 1e-7 * (1 + dt.norm()))
               << nm.name << " joint " << j + 1 << " marker " << marker;
           EXPECT_LT((J.col(j).tail<3>() - w).norm(), 1e-7 * (1 + w.norm()))
               << nm.name << " joint " << j + 1 << " marker " << marker;
@@ -224,8 +224,8 @@ TEST(InverseKinematicsTest, ConvergesFromANearbyStartOnEveryConvention) {
           Eigen::Vector3d t;
           Eigen::MatrixXd J;
           std::string error;
-          ASSERT_TRUE(JointJacobian(model, nm.values, result.joints, 0, &R,
-                                    &t, &J, &error));
+          ASSERT_TRUE(JointJacobian(model, nm.values, result.joints, 0, &R, &t,
+                                    &J, &error));
           const Eigen::MatrixXd Jm = J.topRows(equations);
           const Eigen::MatrixXd N =
               Eigen::MatrixXd::Identity(model.num_joints(),
@@ -354,8 +354,8 @@ TEST(InverseKinematicsTest, BadInputIsInvalidWithAMessage) {
   bad.max_iterations = 0;
   std::string error;
   EXPECT_FALSE(bad.IsValid(&error));
-  SolveInverseKinematics(puma, puma.nominal, TargetAt(puma, puma.nominal, q),
-                         q, bad, &result);
+  SolveInverseKinematics(puma, puma.nominal, TargetAt(puma, puma.nominal, q), q,
+                         bad, &result);
   EXPECT_EQ(result.status, IkStatus::kInvalid);
   EXPECT_EQ(result.message, "max_iterations must be >= 1, got 0");
 }
@@ -411,10 +411,11 @@ TEST(InverseKinematicsTest, LimitsAreNeverViolated) {
       const Eigen::VectorXd start = RandomInside(model, &random);
       InverseKinematicsOptions options;
       options.match = model.num_joints() >= 6 && trial % 2 ? IkMatch::kPose
-                                                            : IkMatch::kPosition;
+                                                           : IkMatch::kPosition;
       InverseKinematicsResult result;
-      SolveInverseKinematics(model, nm.values, TargetAt(model, nm.values, q_far),
-                             start, options, &result);
+      SolveInverseKinematics(model, nm.values,
+                             TargetAt(model, nm.values, q_far), start, options,
+                             &result);
       ASSERT_NE(result.status, IkStatus::kInvalid) << result.message;
       ++counts[static_cast<int>(result.status)];
       EXPECT_TRUE(InsideLimits(model, result.joints))
@@ -705,8 +706,8 @@ TEST(CompensationTest, SixDofLoopOnUr10eBringsTheTrueErrorToCalibrationLevel) {
   noise.rotation_rad = 1e-4;
   std::vector<Measurement> measurements;
   std::string error;
-  ASSERT_TRUE(SimulateMeasurements(model, truth, plan, noise, 5, &measurements,
-                                   &error))
+  ASSERT_TRUE(
+      SimulateMeasurements(model, truth, plan, noise, 5, &measurements, &error))
       << error;
   Eigen::VectorXd initial = nominal;
   RegistrationSummary registration;
@@ -768,9 +769,8 @@ TEST(CompensationTest, SixDofLoopOnUr10eBringsTheTrueErrorToCalibrationLevel) {
   Eigen::MatrixXd J;
   ASSERT_TRUE(StackedJacobian(model, calibrated, at_program, 1.0, &J, &error))
       << error;
-  const double predicted =
-      std::sqrt((J * identified.covariance * J.transpose()).trace() /
-                program.rows());
+  const double predicted = std::sqrt(
+      (J * identified.covariance * J.transpose()).trace() / program.rows());
   const double before = std::sqrt(before2 / n), after = std::sqrt(after2 / n);
   std::printf(
       "UR10e 6D loop: %d of 500 converged; true error RMS %.3f mm before, "
@@ -815,9 +815,10 @@ TEST(TargetsCsvTest, RoundTripsAndNamesBadInput) {
   EXPECT_EQ(back.start_joints.rows(), 0);
   EXPECT_EQ(back.points(1, 2), 6.0);
   // Pendant units for the start joints.
-  ASSERT_TRUE(ParseTargetsCsv(
-      "x_m,y_m,z_m,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n1,2,3,10,0,0,0,0,0\n",
-      "d.csv", puma, &back, &error))
+  ASSERT_TRUE(
+      ParseTargetsCsv("x_m,y_m,z_m,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_"
+                      "deg\n1,2,3,10,0,0,0,0,0\n",
+                      "d.csv", puma, &back, &error))
       << error;
   EXPECT_NEAR(back.start_joints(0, 0), 10 * M_PI / 180, 1e-15);
   struct Case {

@@ -62,7 +62,8 @@ class Reader {
                                     " has no name");
           }
           if (!columns_.emplace(fields[c], static_cast<int>(c)).second) {
-            return Fail(number, "header names column '" + fields[c] + "' twice");
+            return Fail(number,
+                        "header names column '" + fields[c] + "' twice");
           }
         }
         num_columns_ = fields.size();
@@ -145,9 +146,9 @@ bool ParseTargetsCsv(const std::string& text, const std::string& source,
   if (!CheckNoExtraJoints(&reader, model)) return false;
   for (const char* column : {"x_m", "y_m", "z_m"}) {
     if (!reader.Has(column)) {
-      return reader.Fail(reader.header_line(),
-                         std::string("the header has no column '") + column +
-                             "'");
+      return reader.Fail(
+          reader.header_line(),
+          std::string("the header has no column '") + column + "'");
     }
   }
   const char* rotation[3] = {"rx_rad", "ry_rad", "rz_rad"};
@@ -181,16 +182,16 @@ bool ParseTargetsCsv(const std::string& text, const std::string& source,
     int have = 0, lack = 0;
     while (joint_source[have] == 0) ++have;
     while (joint_source[lack] != 0) ++lack;
-    return reader.Fail(reader.header_line(),
-                       "the header has start joints for joint " +
-                           std::to_string(have + 1) + " but not for joint " +
-                           std::to_string(lack + 1) + " ('" +
-                           JointColumn(model, lack) + "' or '" +
-                           DisplayColumn(model, lack) +
-                           "'): give every joint or none");
+    return reader.Fail(
+        reader.header_line(),
+        "the header has start joints for joint " + std::to_string(have + 1) +
+            " but not for joint " + std::to_string(lack + 1) + " ('" +
+            JointColumn(model, lack) + "' or '" + DisplayColumn(model, lack) +
+            "'): give every joint or none");
   }
   const int n = reader.num_rows();
-  if (n == 0) return reader.Fail(reader.header_line(), "no targets after the header");
+  if (n == 0)
+    return reader.Fail(reader.header_line(), "no targets after the header");
   TargetList out;
   out.pose_indices.resize(n);
   out.points.resize(n, 3);
@@ -203,9 +204,9 @@ bool ParseTargetsCsv(const std::string& text, const std::string& source,
       double index;
       if (!reader.Number(i, "pose_index", &index)) return false;
       if (index < 0 || index != std::floor(index) || index > 9e15) {
-        return reader.Fail(reader.line(i),
-                           "pose_index: expected an integer >= 0, got " +
-                               ShortestText(index));
+        return reader.Fail(
+            reader.line(i),
+            "pose_index: expected an integer >= 0, got " + ShortestText(index));
       }
       out.pose_indices[i] = static_cast<int64_t>(index);
     }
@@ -271,7 +272,8 @@ std::string TargetsCsvText(const RobotModel& model, const TargetList& targets) {
     out << (i < static_cast<int>(targets.pose_indices.size())
                 ? targets.pose_indices[i]
                 : i);
-    for (int a = 0; a < 3; ++a) out << "," << ShortestText(targets.points(i, a));
+    for (int a = 0; a < 3; ++a)
+      out << "," << ShortestText(targets.points(i, a));
     if (rotation) {
       for (int a = 0; a < 3; ++a) {
         out << "," << ShortestText(targets.rotation_vectors(i, a));

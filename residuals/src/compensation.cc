@@ -15,8 +15,7 @@ namespace activecal {
 namespace {
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                       start)
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
       .count();
 }
 
@@ -46,7 +45,8 @@ void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
         ++summary->num_invalid;
         break;
     }
-    if (r.status != IkStatus::kConverged && first_failure < 0) first_failure = i;
+    if (r.status != IkStatus::kConverged && first_failure < 0)
+      first_failure = i;
     summary->max_position_error_m =
         std::max(summary->max_position_error_m, r.position_error_m);
     summary->max_rotation_error_rad =
@@ -91,25 +91,25 @@ bool CheckSameChain(const RobotModel& calibrated, const RobotModel& nominal,
     return fail("the calibrated model '" + calibrated.name + "' has " +
                 std::to_string(calibrated.num_joints()) +
                 " joints, the nominal model '" + nominal.name + "' " +
-                std::to_string(nominal.num_joints()) +
-                ": not the same robot");
+                std::to_string(nominal.num_joints()) + ": not the same robot");
   }
   for (int j = 0; j < calibrated.num_joints(); ++j) {
     const JointType a = calibrated.links[j].joint_type;
     const JointType b = nominal.links[j].joint_type;
     if (a != b) {
-      return fail("joint " + std::to_string(j + 1) + ": the calibrated model's is " +
-                  JointTypeName(a) + ", the nominal model's " +
-                  JointTypeName(b) + ": not the same robot");
+      return fail("joint " + std::to_string(j + 1) +
+                  ": the calibrated model's is " + JointTypeName(a) +
+                  ", the nominal model's " + JointTypeName(b) +
+                  ": not the same robot");
     }
   }
   if (calibrated.base.convention != nominal.base.convention) {
-    return fail(std::string("the base frames differ: the calibrated model's is ") +
-                LinkConventionName(calibrated.base.convention) +
-                ", the nominal model's " +
-                LinkConventionName(nominal.base.convention) +
-                " (the program is placed with the calibrated base frame, so "
-                "both need the same kind of base)");
+    return fail(
+        std::string("the base frames differ: the calibrated model's is ") +
+        LinkConventionName(calibrated.base.convention) +
+        ", the nominal model's " + LinkConventionName(nominal.base.convention) +
+        " (the program is placed with the calibrated base frame, so "
+        "both need the same kind of base)");
   }
   if (calibrated.num_markers() != nominal.num_markers()) {
     return fail("the calibrated model has " +
@@ -143,7 +143,8 @@ std::string CompensationSummary::BriefReport() const {
   if (num_unreachable) out << ", " << num_unreachable << " unreachable";
   if (num_invalid) out << ", " << num_invalid << " invalid";
   out << "\n  largest error left " << max_position_error_m << " m";
-  if (max_rotation_error_rad > 0) out << ", " << max_rotation_error_rad << " rad";
+  if (max_rotation_error_rad > 0)
+    out << ", " << max_rotation_error_rad << " rad";
   out << "; joint change: largest " << max_joint_change << ", RMS "
       << rms_joint_change << " (rad or m)\n  " << seconds << " s";
   if (seconds > 0) out << " (" << results.size() / seconds << " targets/s)";
@@ -183,28 +184,26 @@ void CompensateProgram(const RobotModel& calibrated,
     return;
   }
   *summary = CompensationSummary();
-  const Eigen::VectorXd meaning =
-      ProgramMeaningParameters(calibrated, calibrated_values, nominal,
-                               nominal_values);
+  const Eigen::VectorXd meaning = ProgramMeaningParameters(
+      calibrated, calibrated_values, nominal, nominal_values);
   const int n = static_cast<int>(program.rows());
   summary->targets.resize(n);
   const std::vector<const double*> blocks =
       BlockPointers<double>(nominal, meaning.data());
-  ParallelFor(n, options.num_threads,
-              [&](int64_t begin, int64_t end, int /*thread*/) {
-                for (int64_t i = begin; i < end; ++i) {
-                  const Eigen::VectorXd q = program.row(i).transpose();
-                  IkTarget& target = summary->targets[i];
-                  if (!q.allFinite()) {
-                    // Solved as invalid below.
-                    target.point.setConstant(NAN);
-                    continue;
-                  }
-                  TargetFrame(nominal, blocks.data(), q.data(),
-                              &target.rotation, &target.point,
-                              options.ik.marker);
-                }
-              });
+  ParallelFor(
+      n, options.num_threads, [&](int64_t begin, int64_t end, int /*thread*/) {
+        for (int64_t i = begin; i < end; ++i) {
+          const Eigen::VectorXd q = program.row(i).transpose();
+          IkTarget& target = summary->targets[i];
+          if (!q.allFinite()) {
+            // Solved as invalid below.
+            target.point.setConstant(NAN);
+            continue;
+          }
+          TargetFrame(nominal, blocks.data(), q.data(), &target.rotation,
+                      &target.point, options.ik.marker);
+        }
+      });
   SolveInverseKinematicsBatch(calibrated, calibrated_values, summary->targets,
                               program, options.ik, options.num_threads,
                               &summary->results);
@@ -316,8 +315,8 @@ std::string CompensatedPosesCsvText(const RobotModel& model,
       out << line << ",status,position_error_m\n";
     } else {
       const InverseKinematicsResult& r = summary.results[row];
-      out << line << "," << IkStatusName(r.status) << ","
-          << r.position_error_m << "\n";
+      out << line << "," << IkStatusName(r.status) << "," << r.position_error_m
+          << "\n";
     }
     ++row;
   }

@@ -119,8 +119,7 @@ class ChainEvaluator {
         // Fixed part (origin and correction) times the motion along or
         // about the axis; only the motion depends on q.
         if (link.joint_type == JointType::kRevolute) {
-          const Matrix3<Jet1> M =
-              AxisRotation(link.axis, Jet1(value, 0));
+          const Matrix3<Jet1> M = AxisRotation(link.axis, Jet1(value, 0));
           Eigen::Matrix3d Mv, dM;
           for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 3; ++c) {
@@ -265,14 +264,12 @@ class IkSolver {
       result->message = "start configuration: " + why;
       return;
     }
-    if (!target.point.allFinite() ||
-        (pose() && !target.rotation.allFinite())) {
+    if (!target.point.allFinite() || (pose() && !target.rotation.allFinite())) {
       result->message = "the target is not finite";
       return;
     }
-    if (pose() &&
-        !(target.rotation.transpose() * target.rotation)
-             .isApprox(Eigen::Matrix3d::Identity(), 1e-9)) {
+    if (pose() && !(target.rotation.transpose() * target.rotation)
+                       .isApprox(Eigen::Matrix3d::Identity(), 1e-9)) {
       result->message = "the target rotation is not a rotation matrix";
       return;
     }
@@ -290,10 +287,11 @@ class IkSolver {
     if (reached) {
       result->status = singular ? IkStatus::kSingular : IkStatus::kConverged;
       if (singular) {
-        result->message = "reached at a singular configuration "
-                          "(sigma_min / sigma_max = " +
-                          Number(result->conditioning) +
-                          "): nearby targets may need large joint motions";
+        result->message =
+            "reached at a singular configuration "
+            "(sigma_min / sigma_max = " +
+            Number(result->conditioning) +
+            "): nearby targets may need large joint motions";
       }
       return;
     }
@@ -324,16 +322,17 @@ class IkSolver {
       return;
     }
     result->status = IkStatus::kUnreachable;
-    result->message = "out of reach: the closest configuration found misses "
-                      "the target by " +
-                      Number(current_.position_error) + " m" +
-                      (pose() ? " and " + Number(current_.rotation_error) +
-                                    " rad"
-                              : std::string());
+    result->message =
+        "out of reach: the closest configuration found misses "
+        "the target by " +
+        Number(current_.position_error) + " m" +
+        (pose() ? " and " + Number(current_.rotation_error) + " rad"
+                : std::string());
     if (result->conditioning < kNearSingular) {
-      result->message += ", stopped near a singularity (sigma_min / "
-                         "sigma_max = " +
-                         Number(result->conditioning) + ")";
+      result->message +=
+          ", stopped near a singularity (sigma_min / "
+          "sigma_max = " +
+          Number(result->conditioning) + ")";
     }
   }
 
@@ -440,7 +439,8 @@ class IkSolver {
 
   Joints Clamp(Joints q, bool limits) const {
     if (!limits) return q;
-    for (int j = 0; j < n_; ++j) q[j] = std::min(std::max(q[j], lower_[j]), upper_[j]);
+    for (int j = 0; j < n_; ++j)
+      q[j] = std::min(std::max(q[j], lower_[j]), upper_[j]);
     return q;
   }
 
@@ -625,13 +625,11 @@ void SolveInverseKinematics(const RobotModel& model,
   solver.Solve(target, start, result);
 }
 
-void SolveInverseKinematicsBatch(const RobotModel& model,
-                                 const Eigen::VectorXd& parameters,
-                                 const std::vector<IkTarget>& targets,
-                                 const Eigen::MatrixXd& starts,
-                                 const InverseKinematicsOptions& options,
-                                 int num_threads,
-                                 std::vector<InverseKinematicsResult>* results) {
+void SolveInverseKinematicsBatch(
+    const RobotModel& model, const Eigen::VectorXd& parameters,
+    const std::vector<IkTarget>& targets, const Eigen::MatrixXd& starts,
+    const InverseKinematicsOptions& options, int num_threads,
+    std::vector<InverseKinematicsResult>* results) {
   CHECK(results != nullptr);
   CHECK_EQ(starts.rows(), static_cast<int64_t>(targets.size()));
   results->assign(targets.size(), InverseKinematicsResult());

@@ -53,10 +53,9 @@ bool CheckSameChain(const RobotModel& calibrated, const RobotModel& nominal,
 // The parameters of what a program means: `nominal_values` (a full vector
 // of `nominal`) with the base block taken from `calibrated_values`. The
 // models must pass CheckSameChain.
-Eigen::VectorXd ProgramMeaningParameters(const RobotModel& calibrated,
-                                         const Eigen::VectorXd& calibrated_values,
-                                         const RobotModel& nominal,
-                                         const Eigen::VectorXd& nominal_values);
+Eigen::VectorXd ProgramMeaningParameters(
+    const RobotModel& calibrated, const Eigen::VectorXd& calibrated_values,
+    const RobotModel& nominal, const Eigen::VectorXd& nominal_values);
 
 struct CompensationOptions {
   // Match and tolerances of each target's inverse kinematics.
