@@ -279,6 +279,9 @@ TEST(InverseKinematicsTest, AnOrientationTheArmCannotTakeIsUnreachable) {
   SolveInverseKinematics(mixed, mixed.nominal, target, q, options, &result);
   EXPECT_EQ(result.status, IkStatus::kUnreachable) << result.message;
   EXPECT_GT(result.rotation_error_rad, 0.01);
+  // Away from singularities the message does not mention one.
+  EXPECT_GT(result.conditioning, 1e-2);
+  EXPECT_EQ(result.message.find("singularity"), std::string::npos);
 }
 
 TEST(InverseKinematicsTest, ATargetReachableOnlyOutsideTheLimitsIsLimit) {
@@ -358,6 +361,55 @@ TEST(InverseKinematicsTest, BadInputIsInvalidWithAMessage) {
                          bad, &result);
   EXPECT_EQ(result.status, IkStatus::kInvalid);
   EXPECT_EQ(result.message, "max_iterations must be >= 1, got 0");
+}
+
+// A serial chain of n revolute standard-DH links (a snake).
+RobotModel Snake(int n) {
+  RobotModel m;
+  m.name = "snake" + std::to_string(n);
+  m.base.name = "B";
+  m.base.joint_type = JointType::kFixed;
+  for (int i = 0; i < n; ++i) {
+    Link l;
+    l.name = "L" + std::to_string(i + 1);
+    l.joint_min = -2.0;
+    l.joint_max = 2.0;
+    m.links.push_back(l);
+  }
+  m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
+  for (int b = 0; b < m.num_blocks(); ++b) {
+    DefaultBlockValues(m, b, m.nominal.data() + m.block_offset(b));
+  }
+  for (int i = 0; i < n; ++i) {
+    m.nominal[m.block_offset(i + 1) + kAlpha] = i % 2 ? 1.2 : -0.9;
+    m.nominal[m.block_offset(i + 1) + kA] = 0.1;
+  }
+  return m;
+}
+
+TEST(InverseKinematicsTest, TakesUpToSixteenJoints) {
+  for (int n : {kMaxIkJoints, kMaxIkJoints + 1}) {
+    const RobotModel snake = Snake(n);
+    const Eigen::VectorXd q_star = Eigen::VectorXd::Constant(n, 0.3);
+    InverseKinematicsOptions options;
+    options.match = IkMatch::kPose;
+    InverseKinematicsResult result;
+    SolveInverseKinematics(
+        snake, snake.nominal, TargetAt(snake, snake.nominal, q_star),
+        Eigen::VectorXd::Constant(n, 0.25), options, &result);
+    if (n == kMaxIkJoints) {
+      EXPECT_TRUE(result.status == IkStatus::kConverged ||
+                  result.status == IkStatus::kSingular)
+          << result.message;
+      EXPECT_LE(result.position_error_m, options.position_tolerance_m);
+      EXPECT_LE(result.rotation_error_rad, options.rotation_tolerance_rad);
+    } else {
+      EXPECT_EQ(result.status, IkStatus::kInvalid);
+      EXPECT_EQ(result.message,
+                "inverse kinematics takes 1 to 16 joints, robot 'snake17' "
+                "has 17");
+    }
+  }
 }
 
 TEST(InverseKinematicsTest, IterationCapAndToleranceAreHonoured) {
@@ -753,11 +805,21 @@ TEST(CompensationTest, SixDofLoopOnUr10eBringsTheTrueErrorToCalibrationLevel) {
   }
   EXPECT_GE(n, 480) << summary.BriefReport();
   std::printf("%s", summary.BriefReport().c_str());
+  int noted = 0;
   for (const InverseKinematicsResult& r : summary.results) {
     if (r.status != IkStatus::kConverged) {
       std::printf("  %s: %s\n", IkStatusName(r.status), r.message.c_str());
     }
+    // An unreachable target's message says when the solver stopped at a
+    // (nearly) singular configuration, sigma_min / sigma_max < 1e-2.
+    if (r.status == IkStatus::kUnreachable) {
+      const bool says =
+          r.message.find("stopped near a singularity") != std::string::npos;
+      EXPECT_EQ(says, r.conditioning < 1e-2) << r.message;
+      noted += says;
+    }
   }
+  EXPECT_GT(noted, 0);
   // The predicted accuracy of the calibrated model at the program's points:
   // RMS over the program of sqrt(trace(J_i C J_i^T)), C the identified
   // covariance.

@@ -378,9 +378,17 @@ class IkSolver {
     return text;
   }
 
+  // sigma_min / sigma_max of J (over its min(rows, cols) singular values),
+  // from the eigenvalues of the smaller Gram matrix.
   static double Conditioning(const Jacobian& J) {
     double low = 0.0, top = 0.0;
-    if (J.rows() == 3) {
+    if (J.cols() < J.rows()) {
+      const Eigen::MatrixXd JtJ = J.transpose() * J;
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(
+          JtJ, Eigen::EigenvaluesOnly);
+      low = eig.eigenvalues().minCoeff();
+      top = eig.eigenvalues().maxCoeff();
+    } else if (J.rows() == 3) {
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
       eig.computeDirect(Eigen::Matrix3d(J * J.transpose()),
                         Eigen::EigenvaluesOnly);
