@@ -460,7 +460,7 @@ class IkSolver {
     *hit_cap = false;
     double mu = 1e-8, nu = 2.0;
     const double kTinyStep = 1e-15;
-    const double kPullTolerance = 1e-9;
+    const double kPullTolerance = 1e-7;
     while (true) {
       if (*iterations >= options_.max_iterations) {
         *hit_cap = !Converged(it);
