@@ -302,6 +302,25 @@ class IkSolver {
       int free_iterations = 0;
       Run(false, &free_iterate, &free_cap, &free_iterations);
       result->iterations += free_iterations;
+      if (Converged(free_iterate) && OutsideLimits(free_iterate.q).empty()) {
+        // The path without limits found a solution inside them.
+        current_ = free_iterate;
+        result->joints = current_.q;
+        result->position_error_m = current_.position_error;
+        result->rotation_error_rad = pose() ? current_.rotation_error : 0.0;
+        result->conditioning = Conditioning(current_.J);
+        const bool at_singular =
+            result->conditioning < options_.singular_threshold;
+        result->status =
+            at_singular ? IkStatus::kSingular : IkStatus::kConverged;
+        if (at_singular) {
+          result->message =
+              "reached at a singular configuration "
+              "(sigma_min / sigma_max = " +
+              Number(result->conditioning) + ")";
+        }
+        return;
+      }
       if (Converged(free_iterate)) {
         result->status = IkStatus::kLimit;
         result->message = "reachable only outside the joint limits:" +

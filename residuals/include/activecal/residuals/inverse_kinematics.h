@@ -99,7 +99,8 @@ struct InverseKinematicsOptions {
   // sigma_min / sigma_max of the (weighted) Jacobian below which a
   // configuration counts as singular.
   double singular_threshold = 1e-6;
-  // Lift the joint limits (for diagnosis; the limit status needs them).
+  // False lifts the joint limits (for diagnosis only): the configuration
+  // returned may then be outside them, and no target gets kLimit.
   bool respect_limits = true;
 
   // False with the reason in *error for an option out of range.
@@ -108,8 +109,8 @@ struct InverseKinematicsOptions {
 
 struct InverseKinematicsResult {
   IkStatus status = IkStatus::kInvalid;
-  // The configuration found, always inside the joint limits (the start for
-  // kInvalid).
+  // The configuration found, inside the joint limits whenever
+  // respect_limits is set (the start for kInvalid).
   Eigen::VectorXd joints;
   // |target point - point reached| (m), and the angle between the target
   // and reached orientations (rad; kPose only, else 0).
