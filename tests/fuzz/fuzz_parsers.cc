@@ -3,6 +3,7 @@
 // bounds, overflows or hangs. One binary per parser, chosen at compile time
 // by ACTIVECAL_FUZZ_TARGET (1 robot YAML, 2 poses CSV, 3 measurements CSV,
 // 4 URDF, 5 frames YAML).
+// 6: the targets CSV (targets_csv.h).
 
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include "activecal/core/frames_file.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/robot_file.h"
+#include "activecal/core/targets_csv.h"
 #include "activecal/core/urdf_export.h"
 #include "activecal/core/urdf_robot.h"
 
@@ -82,6 +84,35 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string why;
     if (!robot.model.Validate(&why)) __builtin_trap();
     if (robot.model.nominal.size() != robot.model.num_parameters()) {
+      __builtin_trap();
+    }
+  } else if (error.empty()) {
+    __builtin_trap();
+  }
+#elif ACTIVECAL_FUZZ_TARGET == 6
+  static const activecal::RobotModel model = activecal::Puma560PaperModel();
+  activecal::TargetList targets;
+  if (activecal::ParseTargetsCsv(text, "fuzz.csv", model, &targets, &error)) {
+    // Targets that load are finite, start inside the limits, and write back
+    // to the same values.
+    const int64_t n = targets.points.rows();
+    if (n < 1 || static_cast<int64_t>(targets.pose_indices.size()) != n ||
+        !targets.points.allFinite() || !targets.rotation_vectors.allFinite()) {
+      __builtin_trap();
+    }
+    std::string why;
+    for (int64_t i = 0; i < targets.start_joints.rows(); ++i) {
+      if (!model.CheckJointValues(targets.start_joints.row(i).transpose(),
+                                  &why)) {
+        __builtin_trap();
+      }
+    }
+    activecal::TargetList back;
+    if (!activecal::ParseTargetsCsv(activecal::TargetsCsvText(model, targets),
+                                    "back.csv", model, &back, &why) ||
+        back.points != targets.points ||
+        back.start_joints != targets.start_joints ||
+        back.pose_indices != targets.pose_indices) {
       __builtin_trap();
     }
   } else if (error.empty()) {

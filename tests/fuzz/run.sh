@@ -16,7 +16,7 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebI
 cmake --build "$build" -j "${JOBS:-$(nproc)}" >/dev/null
 # Leaks inside urdfdom itself are suppressed (lsan.supp says which).
 export LSAN_OPTIONS="suppressions=$here/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-for target in robot_yaml poses_csv measurements_csv urdf frames_yaml; do
+for target in robot_yaml poses_csv measurements_csv urdf frames_yaml targets_csv; do
   fuzzer="$build/tests/fuzz/fuzz_$target"
   regressions="$here/regressions/$target"
   if [ -d "$regressions" ] && [ -n "$(ls -A "$regressions")" ]; then

@@ -1,0 +1,230 @@
+// activecal_compensate: rewrites a robot program so that the real robot,
+// described by a calibrated model, reaches where the program meant
+// ("filtering"). See residuals/.../compensation.h for what a program means.
+
+#include <gflags/gflags.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <iostream>
+
+#include "activecal/core/csv_files.h"
+#include "activecal/core/robot_loader.h"
+#include "activecal/core/targets_csv.h"
+#include "activecal/residuals/compensation.h"
+#include "app_common.h"
+
+DEFINE_string(nominal, "",
+              "The nominal model the program was taught or computed with "
+              "(YAML, or URDF with the same --base_link/--tip_link as "
+              "--robot; --frames is not applied to it). Required with "
+              "--poses_csv.");
+DEFINE_string(poses_csv, "",
+              "The program as joint targets (a poses CSV, docs/formats.md), "
+              "taught or computed with --nominal.");
+DEFINE_string(targets_csv, "",
+              "The program as Cartesian targets in the device (base/tracker) "
+              "frame: x_m,y_m,z_m[,rx_rad,ry_rad,rz_rad][,q1_rad,...] "
+              "(docs/formats.md); the joints, when given, are each target's "
+              "start, otherwise each starts from the previous result.");
+DEFINE_string(match, "position",
+              "position: match the marker's point (3 equations; the spare "
+              "joints stay as close as possible to the program's); pose: "
+              "point and orientation (6).");
+DEFINE_string(marker, "1", "The marker the program places (name or number).");
+DEFINE_string(out, "",
+              "Compensated program to write (poses CSV: pose_index, q<j>_rad "
+              "or _m, q<j>_deg or _mm, status, position_error_m). Required.");
+DEFINE_string(json_out, "",
+              "If set, a report: counts per status and, per target, status, "
+              "message, errors left, joint change, iterations, the target.");
+DEFINE_double(position_tolerance_m, 1e-9, "A target is reached within this.");
+DEFINE_double(rotation_tolerance_rad, 1e-9,
+              "--match=pose: orientation reached within this.");
+DEFINE_double(rotation_weight_m, 1.0,
+              "--match=pose: metres per radian of orientation error in the "
+              "least-squares merit.");
+DEFINE_int32(max_iterations, 100, "Jacobian evaluations per target.");
+DEFINE_double(singular_threshold, 1e-6,
+              "sigma_min / sigma_max of the Jacobian below which a "
+              "configuration is reported singular.");
+DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
+
+namespace activecal {
+namespace {
+
+nlohmann::json Vector(const Eigen::VectorXd& v) {
+  nlohmann::json j = nlohmann::json::array();
+  for (int i = 0; i < v.size(); ++i) j.push_back(v[i]);
+  return j;
+}
+
+Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+int Main() {
+  if (FLAGS_out.empty()) app::Fail("--out is required");
+  if (FLAGS_poses_csv.empty() == FLAGS_targets_csv.empty()) {
+    app::Fail(
+        "give exactly one of --poses_csv (joint targets) and "
+        "--targets_csv (Cartesian targets)");
+  }
+  CompensationOptions options;
+  if (!ParseIkMatch(FLAGS_match, &options.ik.match)) {
+    app::Fail("--match must be position or pose, got '" + FLAGS_match + "'");
+  }
+  options.ik.position_tolerance_m = FLAGS_position_tolerance_m;
+  options.ik.rotation_tolerance_rad = FLAGS_rotation_tolerance_rad;
+  options.ik.rotation_weight_m = FLAGS_rotation_weight_m;
+  options.ik.max_iterations = FLAGS_max_iterations;
+  options.ik.singular_threshold = FLAGS_singular_threshold;
+  options.num_threads = FLAGS_threads;
+  std::string error;
+  if (!options.ik.IsValid(&error)) app::Fail(error);
+
+  const RobotDescription robot = app::LoadRobotOrDie();
+  const RobotModel& model = robot.model;
+  options.ik.marker = model.MarkerIndex(FLAGS_marker);
+  if (options.ik.marker < 0) {
+    app::Fail("--marker: '" + FLAGS_marker + "' is not a marker of robot '" +
+              model.name + "'");
+  }
+  CompensationSummary summary;
+  std::vector<int64_t> labels;
+  Eigen::MatrixXd starts;
+  if (!FLAGS_poses_csv.empty()) {
+    if (FLAGS_nominal.empty()) {
+      app::Fail(
+          "--poses_csv needs --nominal: the model the program was "
+          "taught with");
+    }
+    RobotLoadOptions load;
+    load.chain.base_link = FLAGS_base_link;
+    load.chain.tip_link = FLAGS_tip_link;
+    RobotDescription nominal;
+    if (!LoadRobot(FLAGS_nominal, load, &nominal, &error)) {
+      app::Fail("--nominal: " + error);
+    }
+    if (!CheckSameChain(model, nominal.model, &error)) {
+      app::Fail("--robot and --nominal: " + error);
+    }
+    PoseList program;
+    if (!ReadPosesCsv(FLAGS_poses_csv, model, /*reject_duplicates=*/false,
+                      &program, &error)) {
+      app::Fail("--poses_csv: " + error);
+    }
+    labels = program.pose_indices;
+    starts = program.joints;
+    CompensateProgram(model, model.nominal, nominal.model,
+                      nominal.model.nominal, program.joints, options, &summary);
+  } else {
+    TargetList list;
+    if (!ReadTargetsCsv(FLAGS_targets_csv, model, &list, &error)) {
+      app::Fail("--targets_csv: " + error);
+    }
+    if (options.ik.match == IkMatch::kPose &&
+        list.rotation_vectors.rows() == 0) {
+      app::Fail("--match=pose needs the target orientations: --targets_csv " +
+                FLAGS_targets_csv + " has no rx_rad, ry_rad, rz_rad columns");
+    }
+    const std::vector<IkTarget> targets = IkTargetsFromList(list);
+    labels = list.pose_indices;
+    CompensateTargets(model, model.nominal, targets, list.start_joints,
+                      Eigen::VectorXd(), options, &summary);
+    starts = list.start_joints;
+  }
+  if (summary.termination_type == TerminationType::kUserFailure) {
+    app::Fail(summary.message);
+  }
+  app::WriteTextOrDie(FLAGS_out,
+                      CompensatedPosesCsvText(model, labels, summary));
+  std::printf("%s", summary.BriefReport().c_str());
+  std::printf("wrote %zu compensated targets to %s\n", summary.results.size(),
+              FLAGS_out.c_str());
+  if (!FLAGS_json_out.empty()) {
+    nlohmann::json j;
+    j["robot"] = model.name;
+    j["nominal"] = FLAGS_nominal;
+    j["program"] =
+        FLAGS_poses_csv.empty() ? FLAGS_targets_csv : FLAGS_poses_csv;
+    j["match"] = IkMatchName(options.ik.match);
+    j["termination_type"] = TerminationTypeToString(summary.termination_type);
+    j["all_converged"] = summary.AllConverged();
+    j["num_targets"] = summary.results.size();
+    j["num_converged"] = summary.num_converged;
+    j["num_singular"] = summary.num_singular;
+    j["num_limit"] = summary.num_limit;
+    j["num_unreachable"] = summary.num_unreachable;
+    j["num_invalid"] = summary.num_invalid;
+    j["max_position_error_m"] = summary.max_position_error_m;
+    j["max_rotation_error_rad"] = summary.max_rotation_error_rad;
+    j["max_joint_change"] = summary.max_joint_change;
+    j["rms_joint_change"] = summary.rms_joint_change;
+    j["message"] = summary.message;
+    nlohmann::json rows = nlohmann::json::array();
+    for (size_t i = 0; i < summary.results.size(); ++i) {
+      const InverseKinematicsResult& r = summary.results[i];
+      const IkTarget& t = summary.targets[i];
+      nlohmann::json row = {{"pose_index", labels[i]},
+                            {"status", IkStatusName(r.status)},
+                            {"message", r.message},
+                            {"position_error_m", r.position_error_m},
+                            {"rotation_error_rad", r.rotation_error_rad},
+                            {"iterations", r.iterations},
+                            {"conditioning", r.conditioning},
+                            {"joints", Vector(r.joints)},
+                            {"target_m", Vector(t.point)}};
+      if (options.ik.match == IkMatch::kPose) {
+        row["target_rotation_vector_rad"] = Vector(RotationVector(t.rotation));
+      }
+      if (starts.rows() == static_cast<int64_t>(summary.results.size())) {
+        const Eigen::VectorXd change = r.joints - starts.row(i).transpose();
+        row["start_joints"] = Vector(starts.row(i).transpose());
+        row["joint_change"] = Vector(change);
+        row["max_joint_change"] = change.cwiseAbs().maxCoeff();
+      }
+      rows.push_back(row);
+    }
+    j["targets"] = rows;
+    app::WriteJsonOrDie(FLAGS_json_out, j);
+  }
+  if (!summary.AllConverged()) {
+    // Not bad input: the files are complete, each target with its status.
+    size_t first = 0;
+    while (summary.results[first].status == IkStatus::kConverged) ++first;
+    const InverseKinematicsResult& r = summary.results[first];
+    std::fprintf(
+        stderr,
+        "activecal_compensate: %d of %zu targets did not converge, "
+        "written with their status to %s; the first, pose_index "
+        "%lld, is %s: %s\n",
+        static_cast<int>(summary.results.size()) - summary.num_converged,
+        summary.results.size(), FLAGS_out.c_str(),
+        static_cast<long long>(labels[first]), IkStatusName(r.status),
+        r.message.c_str());
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace activecal
+
+int main(int argc, char** argv) {
+  activecal::app::Init(
+      &argc, &argv,
+      "Compensates a robot program with a calibrated model: the joints at "
+      "which the real robot (--robot, calibrated) reaches what the program "
+      "meant (--nominal geometry placed with the calibrated base frame), the "
+      "smallest joint change inside the joint limits. Exit status 0: every "
+      "target converged; 2: some did not (each is written with its status); "
+      "1: bad input.\n  activecal_compensate --robot=calibrated.yaml "
+      "--nominal=data/puma560.yaml --poses_csv=program.csv "
+      "--out=compensated.csv --json_out=compensation.json\n  "
+      "activecal_compensate --robot=cal.urdf --tip_link=tool0 "
+      "--frames=frames.yaml --targets_csv=path.csv --match=pose "
+      "--out=path_joints.csv");
+  return activecal::Main();
+}
