@@ -181,7 +181,14 @@ std::string SelectionSummary::BriefReport() const {
     out.precision(6);
     out << "  log10 det(X^T X) = " << log10_det()
         << ", OI = " << OiFromLogDet(log_det, num_parameters) << "\n";
-    if (!std::isnan(efficiency_lower_bound)) {
+    if (!std::isnan(task_criterion)) {
+      out << "  task criterion tr(W M^-1) = " << task_criterion << "\n";
+    }
+    if (!std::isnan(task_criterion_lower_bound)) {
+      out << "  certified: task efficiency >= " << efficiency_lower_bound
+          << " (tr(W M^-1) of the best " << design.size()
+          << "-pose design >= " << task_criterion_lower_bound << ")\n";
+    } else if (!std::isnan(efficiency_lower_bound)) {
       out << "  certified: D-efficiency >= " << efficiency_lower_bound
           << " (log10 det of the best " << design.size()
           << "-pose design <= " << log_det_upper_bound / std::log(10.0)
