@@ -310,7 +310,12 @@ int Main() {
   TaskApproximateSummary task_approx;
   if (need_task_approx) {
     TaskApproximateOptions options;
-    options.tolerance = FLAGS_approx_tolerance;
+    // 1e-2 unless set: the task design's multiplicative updates slow down
+    // near the optimum (docs/design_algorithms.md).
+    options.tolerance =
+        gflags::GetCommandLineFlagInfoOrDie("approx_tolerance").is_default
+            ? 1e-2
+            : FLAGS_approx_tolerance;
     options.num_threads = FLAGS_threads;
     std::string error;
     if (!options.IsValid(&error)) app::Fail("--approx_tolerance: " + error);

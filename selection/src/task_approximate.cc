@@ -249,7 +249,7 @@ bool SolveTaskApproximateDesign(const CandidatePool& pool,
       std::vector<double> w2;
       const double wmax = *std::max_element(w.begin(), w.end());
       for (size_t k = 0; k < set.size(); ++k) {
-        if (w[k] > 1e-6 * wmax) {
+        if (w[k] > 1e-3 * wmax) {
           s2.push_back(set[k]);
           w2.push_back(w[k]);
         }

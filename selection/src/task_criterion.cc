@@ -165,9 +165,9 @@ void TaskDesign::AllQuadraticForms(int num_threads, std::vector<double>* a,
       for (int64_t k = 0; k < count; ++k) {
         const auto Xk = X.middleRows(k * t, t);
         Eigen::Map<Eigen::MatrixXd>(a->data() + (begin + k) * tt, t, t)
-            .noalias() = G.block(k * t, 0, t, p) * Xk.transpose();
+            .noalias() = G.block(k * t, 0, t, p).lazyProduct(Xk.transpose());
         Eigen::Map<Eigen::MatrixXd>(b->data() + (begin + k) * tt, t, t)
-            .noalias() = G.block(k * t, p, t, p) * Xk.transpose();
+            .noalias() = G.block(k * t, p, t, p).lazyProduct(Xk.transpose());
       }
     }
   });

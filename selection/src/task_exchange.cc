@@ -5,6 +5,7 @@
 #include <glog/logging.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_criterion.h"
 #include "selection_internal.h"
+#include "sub_pool.h"
 
 namespace activecal {
 
@@ -60,32 +62,32 @@ double AddChangeOf(const double* a, const double* b, int t) {
 template <int T>
 struct SwapKernel {
   using Mat = Eigen::Matrix<double, T, T>;
-  // The candidate: S = I + A_x (factored), B_x, and its add change.
-  Eigen::LLT<Mat> s_llt;
+  // The candidate: S^-1 = (I + A_x)^-1, B_x, and its add change.
+  Mat Si;
   Mat Bx;
   double add = 0;
 
   void Set(const double* a, const double* b, int t) {
     Mat S = Eigen::Map<const Mat>(a, t, t);
     S.diagonal().array() += 1.0;
-    s_llt.compute(S);
+    Si = S.inverse();  // closed form for 3 x 3; S is SPD
     Bx = Eigen::Map<const Mat>(b, t, t);
-    add = -s_llt.solve(Bx).trace();
+    add = -(Si.cwiseProduct(Bx)).sum();  // tr(S^-1 B), both symmetric
   }
   // D = X V Y^T, E = X V W V Y^T; Ay, By of the removed pose.
   double Change(const Mat& D, const Mat& E, const double* ay, const double* by,
                 int t) const {
-    const Mat SiD = s_llt.solve(D);
+    const Mat SiD = Si.lazyProduct(D);
     Mat R = -Eigen::Map<const Mat>(ay, t, t);
-    R.noalias() += D.transpose() * SiD;
+    R.noalias() += D.transpose().lazyProduct(SiD);
     R.diagonal().array() += 1.0;  // I - A_y'
     Mat By1 = Eigen::Map<const Mat>(by, t, t);
-    By1.noalias() -= E.transpose() * SiD;
-    By1.noalias() -= SiD.transpose() * E;
-    By1.noalias() += SiD.transpose() * Bx * SiD;
+    const Mat ESiD = E.transpose().lazyProduct(SiD);
+    By1 -= ESiD + ESiD.transpose();
+    By1.noalias() += SiD.transpose().lazyProduct(Bx.lazyProduct(SiD));
     if (LogDetSpd(R) == -kInf) return kInf;
-    Eigen::LLT<Mat> r_llt(R);
-    return add + r_llt.solve(By1).trace();
+    const Mat Ri = R.inverse();
+    return add + (Ri.cwiseProduct(By1.transpose())).sum();
   }
 };
 
@@ -131,41 +133,76 @@ bool BestSwap(const CandidatePool& pool, const TaskDesign& design,
   constexpr int64_t kBlock = 128;
   std::vector<double> item_value(kBlock);
   std::vector<int64_t> item_y(kBlock);
-  for (size_t begin = 0; begin < xs.size(); begin += kBlock) {
-    if (xs[begin].value >= best) break;
-    const double bound = best;
-    const int64_t count = std::min<int64_t>(kBlock, xs.size() - begin);
-    ParallelFor(count, threads, [&](int64_t kb, int64_t ke, int) {
-      SwapKernel<T> kernel;
-      Eigen::MatrixXd DE(t, 2 * t);
-      Mat D(t, t), E(t, t);
-      for (int64_t k = kb; k < ke; ++k) {
-        item_value[k] = kInf;
-        item_y[k] = -1;
-        const int64_t x = xs[begin + k].pose;
-        if (xs[begin + k].value >= bound) continue;
-        kernel.Set(a->data() + x * tt, b->data() + x * tt, t);
-        const auto X = pool.block(x);
-        for (size_t j = 0; j < ys.size(); ++j) {
-          DE.noalias() = X * P[j];
-          D = DE.leftCols(t);
-          E = DE.rightCols(t);
-          const double c = kernel.Change(D, E, a->data() + ys[j] * tt,
-                                         b->data() + ys[j] * tt, t);
-          if (c < item_value[k]) {
-            item_value[k] = c;
-            item_y[k] = ys[j];
+  // The best swap among the first num_x candidates and the design poses
+  // ys_order[0 .. num_y).
+  auto scan = [&](size_t num_x, const std::vector<size_t>& y_list) {
+    for (size_t begin = 0; begin < num_x; begin += kBlock) {
+      if (xs[begin].value >= best) break;
+      const double bound = best;
+      const int64_t count = std::min<int64_t>(kBlock, num_x - begin);
+      ParallelFor(count, threads, [&](int64_t kb, int64_t ke, int) {
+        SwapKernel<T> kernel;
+        Eigen::MatrixXd DE(t, 2 * t);
+        Mat D(t, t), E(t, t);
+        for (int64_t k = kb; k < ke; ++k) {
+          item_value[k] = kInf;
+          item_y[k] = -1;
+          const int64_t x = xs[begin + k].pose;
+          if (xs[begin + k].value >= bound) continue;
+          kernel.Set(a->data() + x * tt, b->data() + x * tt, t);
+          const auto X = pool.block(x);
+          for (size_t j : y_list) {
+            DE.noalias() = X.lazyProduct(P[j]);
+            D = DE.leftCols(t);
+            E = DE.rightCols(t);
+            const double c = kernel.Change(D, E, a->data() + ys[j] * tt,
+                                           b->data() + ys[j] * tt, t);
+            if (c < item_value[k] ||
+                (c == item_value[k] && ys[j] < item_y[k])) {
+              item_value[k] = c;
+              item_y[k] = ys[j];
+            }
           }
         }
-      }
-    });
-    for (int64_t k = 0; k < count; ++k) {
-      if (item_value[k] < best) {
-        best = item_value[k];
-        *best_x = xs[begin + k].pose;
-        *best_y = item_y[k];
+      });
+      for (int64_t k = 0; k < count; ++k) {
+        if (item_value[k] < best) {
+          best = item_value[k];
+          *best_x = xs[begin + k].pose;
+          *best_y = item_y[k];
+        }
       }
     }
+  };
+  // KL exchange first (Atkinson & Donev): the design poses whose removal
+  // costs least against the candidates whose addition gains most. Only when
+  // no such swap helps is every pair scanned, so the result is a local
+  // optimum over all swaps.
+  std::vector<Entry> removal(ys.size());
+  for (size_t j = 0; j < ys.size(); ++j) {
+    Mat R = -Eigen::Map<const Mat>(a->data() + ys[j] * tt, t, t);
+    R.diagonal().array() += 1.0;
+    const double c =
+        LogDetSpd(R) == -kInf
+            ? kInf
+            : Eigen::LLT<Mat>(R)
+                  .solve(Eigen::Map<const Mat>(b->data() + ys[j] * tt, t, t))
+                  .trace();
+    removal[j] = {c, static_cast<int64_t>(j)};
+  }
+  std::sort(removal.begin(), removal.end(), [](const Entry& u, const Entry& v) {
+    return u.value < v.value || (u.value == v.value && u.pose < v.pose);
+  });
+  const size_t kl_y = std::min<size_t>(ys.size(),
+                                       std::max<size_t>(4, ys.size() / 8));
+  const size_t kl_x = std::min<size_t>(xs.size(), 64 * kl_y);
+  std::vector<size_t> y_list;
+  for (size_t j = 0; j < kl_y; ++j) y_list.push_back(removal[j].pose);
+  scan(kl_x, y_list);
+  if (*best_x < 0) {
+    y_list.clear();
+    for (size_t j = 0; j < ys.size(); ++j) y_list.push_back(j);
+    scan(xs.size(), y_list);
   }
   return *best_x >= 0;
 }
@@ -249,22 +286,87 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
     rounding.support = approximate->support;
     rounding.weights = approximate->weights;
   }
+  const bool has_approximate = approximate && !rounding.support.empty();
+  // The reduced pool: the poses of largest b_i under the approximate
+  // design, its support and the fixed poses.
+  const int64_t reduced_size = std::max<int64_t>(
+      options.reduced_pool_size,
+      options.reduced_pool_per_pose * static_cast<int64_t>(options.num_poses));
+  std::unique_ptr<internal::SubPool> reduced;
+  if (has_approximate && options.reduced_pool_size > 0 &&
+      pool.size() > reduced_size) {
+    const int p = pool.num_parameters();
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+    for (size_t k = 0; k < rounding.support.size(); ++k) {
+      const auto X = pool.block(rounding.support[k]);
+      M.noalias() += rounding.weights[k] * X.transpose() * X;
+    }
+    Eigen::LLT<Eigen::MatrixXd> llt(M);
+    if (llt.info() == Eigen::Success) {
+      const Eigen::MatrixXd V =
+          llt.solve(Eigen::MatrixXd::Identity(p, p));
+      const Eigen::MatrixXd G = V * W * V;
+      Eigen::VectorXd bvalues(pool.size());
+      internal::ForEachQuadraticForm(
+          pool, G, options.num_threads,
+          [&](int64_t i, const Eigen::MatrixXd& S) { bvalues[i] = S.trace(); });
+      std::vector<char> keep = is_fixed;
+      for (int64_t i : rounding.support) keep[i] = keep[i] || eligible[i];
+      for (int64_t i :
+           internal::TopByVariance(bvalues, eligible, reduced_size)) {
+        keep[i] = 1;
+      }
+      reduced = std::make_unique<internal::SubPool>(pool, keep);
+    }
+  }
+  const CandidatePool& work_pool = reduced ? reduced->pool() : pool;
+  DesignConstraints work_constraints;
+  work_constraints.fixed =
+      reduced ? reduced->ToSub(constraints.fixed) : constraints.fixed;
+  const std::vector<char> work_eligible =
+      reduced ? reduced->Restrict(eligible) : eligible;
+  const std::vector<char> work_fixed =
+      reduced ? reduced->Restrict(is_fixed) : is_fixed;
+  const ApproximateDesignSummary work_rounding =
+      reduced ? reduced->Restrict(rounding) : rounding;
   std::vector<std::string> notes(options.restarts);
   RestartResult best = internal::BestOfRestarts(
       options.restarts, options.num_threads,
       [&](int r, int threads) {
         const std::vector<int64_t> initial = internal::InitialDesign(
-            pool, constraints, eligible, options.num_poses,
+            work_pool, work_constraints, work_eligible, options.num_poses,
             Random::StreamSeed(options.seed, r),
-            approximate && !rounding.support.empty() ? &rounding : nullptr,
-            r > 0, threads, &notes[r]);
+            has_approximate ? &work_rounding : nullptr, r > 0, threads,
+            &notes[r]);
         if (initial.empty()) return RestartResult();
-        return TaskRestart(pool, W, prior_rows, eligible, is_fixed, initial,
-                           options, threads);
+        return TaskRestart(work_pool, W, prior_rows, work_eligible, work_fixed,
+                           initial, options, threads);
       },
       options.progress);
-  internal::FinishSummary(best, options.restarts, start,
-                          internal::NoteOf(notes, best.restart), summary);
+  std::string note = internal::NoteOf(notes, best.restart);
+  if (reduced && best.ok) {
+    // Polish over the whole pool.
+    RestartResult polished =
+        TaskRestart(pool, W, prior_rows, eligible, is_fixed,
+                    reduced->ToFull(best.design), options, options.num_threads);
+    std::vector<SelectionStep> history = best.history;
+    reduced->ToFull(&history);
+    const size_t reduced_steps = history.size();
+    if (polished.ok) {
+      history.insert(history.end(), polished.history.begin() + 1,
+                     polished.history.end());
+      polished.history = std::move(history);
+      polished.restart = best.restart;
+      polished.hit_bound = polished.hit_bound || best.hit_bound;
+      best = std::move(polished);
+    }
+    const std::string polish =
+        "restarts on a reduced pool of " + std::to_string(reduced->size()) +
+        " poses, then " + std::to_string(best.history.size() - reduced_steps) +
+        " swaps over the whole pool";
+    note = note.empty() ? polish : note + "; " + polish;
+  }
+  internal::FinishSummary(best, options.restarts, start, note, summary);
   FinishTaskSummary(pool, W, prior_rows, summary);
   return summary->IsSolutionUsable();
 }

@@ -8,7 +8,11 @@
 //    change(swap x, y) >= change(add x)): the result is the best swap, not
 //    a heuristic one. Restart 0 starts from the heaviest poses of the
 //    approximate task design (task_approximate.h) when given, restart r > 0
-//    from a draw proportional to its weights, or from random poses.
+//    from a draw proportional to its weights, or from random poses. Each
+//    iteration scans the design poses whose removal costs least against
+//    the candidates whose addition gains most first (KL exchange), and all
+//    pairs only when that finds no improving swap. A large pool is worked
+//    in a reduced pool first (see the options), then polished whole.
 //  * TaskGreedy: adds the pose that lowers phi most until num_poses
 //    (a vanishing ridge while M is singular). Its designs are nested, so
 //    the criterion it reports per size never rises.
@@ -42,6 +46,14 @@ struct TaskExchangeOptions {
   int max_swaps = 10000;
   // A swap must lower phi by more than min_improvement * phi.
   double min_improvement = 1e-9;
+  // With an approximate design and a pool larger than
+  // max(reduced_pool_size, reduced_pool_per_pose * num_poses), the restarts
+  // swap within that many poses (those of largest b_i under the approximate
+  // design, its support and the fixed poses); the best is then polished by
+  // swaps over the whole pool, so it is a local optimum of the full problem
+  // either way. reduced_pool_size <= 0: always the whole pool.
+  int64_t reduced_pool_size = 3000;
+  int64_t reduced_pool_per_pose = 40;
   uint64_t seed = 1;
   int num_threads = 0;        // <= 0: all; results do not depend on it
   ProgressCallback progress;  // as restarts finish
