@@ -12,7 +12,9 @@
 #include <string>
 
 #include "activecal/core/lattice.h"
+#include "activecal/core/puma560.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/pool_builder.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_exchange.h"
@@ -357,6 +359,44 @@ TEST(TaskCertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
     }
   }
   EXPECT_GT(tight, 0);
+}
+
+// The rows of poses already measured are whitened to the reference sigma:
+// a measurement giving its own sigma counts (sigma_ref / sigma)^2 as much.
+TEST(MeasuredInformationRowsTest, MeasuredRowsAreWhitenedBySigma) {
+  const RobotModel model = Puma560PaperModel();
+  Random random(5);
+  std::vector<Measurement> measured;
+  for (int k = 0; k < 4; ++k) {
+    Measurement m;
+    m.joints = testing::RandomJoints(model, &random);
+    measured.push_back(m);
+  }
+  measured[1].sigma_m = Eigen::Vector3d(1e-3, 2e-4, 0);  // z not given
+  Measurement pose;
+  pose.type = MeasurementType::kPose;
+  pose.joints = testing::RandomJoints(model, &random);
+  pose.sigma_m = Eigen::Vector3d(5e-4, 5e-4, 5e-4);
+  pose.sigma_rad = 1e-3;
+  measured.push_back(pose);
+  RowMatrixXd rows, plain;
+  std::string error;
+  const double sigma = 1e-4, rotation_weight = 0.5;
+  ASSERT_TRUE(MeasuredInformationRows(model, model.nominal, measured,
+                                      rotation_weight, sigma, &rows, &error))
+      << error;
+  Eigen::MatrixXd J;
+  ASSERT_TRUE(StackedJacobian(model, model.nominal, measured, rotation_weight,
+                              &J, &error));
+  ASSERT_EQ(rows.rows(), 4 * 3 + 6);
+  const double scale[18] = {1, 1, 1, 0.1, 0.5, 1,   1,   1,   1,
+                            1, 1, 1, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2};
+  for (int r = 0; r < 18; ++r) {
+    EXPECT_LE((rows.row(r) - scale[r] * J.row(r)).norm(),
+              1e-15 * J.row(r).norm() + 1e-300)
+        << "row " << r;
+  }
+  // Fewer equations than a design needs are fine with the prior.
 }
 
 }  // namespace

@@ -86,6 +86,18 @@ bool FindSizeForTarget(const CandidatePool& pool, const Eigen::MatrixXd& W,
     }
     return it->second.first <= options.target_rms_m;
   };
+  if (prior_rows.rows() > 0) {
+    // The poses already measured may meet the target alone.
+    const double rms = PredictedTaskRms(
+        TaskCriterionFromScratch(pool, W, prior_rows, {}), options.sigma_m);
+    SelectionSummary none;
+    none.termination_type = TerminationType::kConvergence;
+    none.algorithm = "the poses already measured";
+    none.num_parameters = pool.num_parameters();
+    none.pool_size = pool.size();
+    tried.emplace(0, std::make_pair(rms, none));
+    if (rms <= options.target_rms_m) n0 = 0;
+  }
   int lo = n0, hi = n0;  // lo: smallest size not known to miss
   while (!evaluate(hi)) {
     lo = hi + 1;

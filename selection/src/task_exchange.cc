@@ -193,8 +193,8 @@ bool BestSwap(const CandidatePool& pool, const TaskDesign& design,
   std::sort(removal.begin(), removal.end(), [](const Entry& u, const Entry& v) {
     return u.value < v.value || (u.value == v.value && u.pose < v.pose);
   });
-  const size_t kl_y = std::min<size_t>(ys.size(),
-                                       std::max<size_t>(4, ys.size() / 8));
+  const size_t kl_y =
+      std::min<size_t>(ys.size(), std::max<size_t>(4, ys.size() / 8));
   const size_t kl_x = std::min<size_t>(xs.size(), 64 * kl_y);
   std::vector<size_t> y_list;
   for (size_t j = 0; j < kl_y; ++j) y_list.push_back(removal[j].pose);
@@ -277,7 +277,8 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
   const auto start = std::chrono::steady_clock::now();
   std::vector<char> eligible, is_fixed;
   if (!internal::PrepareSelection(pool, constraints, options, "task_fedorov",
-                                  summary, &eligible, &is_fixed)) {
+                                  summary, &eligible, &is_fixed,
+                                  prior_rows.rows())) {
     return false;
   }
   CHECK_EQ(W.rows(), pool.num_parameters());
@@ -303,8 +304,7 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
     }
     Eigen::LLT<Eigen::MatrixXd> llt(M);
     if (llt.info() == Eigen::Success) {
-      const Eigen::MatrixXd V =
-          llt.solve(Eigen::MatrixXd::Identity(p, p));
+      const Eigen::MatrixXd V = llt.solve(Eigen::MatrixXd::Identity(p, p));
       const Eigen::MatrixXd G = V * W * V;
       Eigen::VectorXd bvalues(pool.size());
       internal::ForEachQuadraticForm(
@@ -381,7 +381,8 @@ bool TaskGreedy(const CandidatePool& pool, const Eigen::MatrixXd& W,
   options.num_poses = num_poses;
   std::vector<char> eligible, is_fixed;
   if (!internal::PrepareSelection(pool, constraints, options, "task_greedy",
-                                  summary, &eligible, &is_fixed)) {
+                                  summary, &eligible, &is_fixed,
+                                  prior_rows.rows())) {
     return false;
   }
   CHECK_EQ(W.rows(), pool.num_parameters());

@@ -71,9 +71,13 @@ struct DesignConstraints {
 // Checks the constraints against the pool and a design size, and marks the
 // poses that may be added (not fixed, not excluded). Returns false with a
 // message on inconsistent input.
+// prior_equations: rows of information the design adds to (poses already
+// measured), counted with the design's when checking that it can be
+// non-singular.
 bool PrepareCandidates(const CandidatePool& pool, int num_poses,
                        const DesignConstraints& constraints,
-                       std::vector<char>* eligible, std::string* error);
+                       std::vector<char>* eligible, std::string* error,
+                       int64_t prior_equations = 0);
 
 // One accepted step of a selection algorithm.
 struct SelectionStep {

@@ -8,6 +8,9 @@
 //   FindSizeForTarget(pool, W, prior_rows, constraints, options,
 //       [&](int n, SelectionSummary* s) { ...design n poses...; }, &summary);
 //
+// With prior rows (poses already measured) the prior alone is tried first,
+// as size 0: when it meets the target no new pose is needed.
+//
 // The search first checks the target against every eligible pose together
 // (the best any design can do: information only adds up). If that misses
 // it, no size can meet it, and the summary says what the best reachable
