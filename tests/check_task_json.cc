@@ -59,7 +59,6 @@ int main(int argc, char** argv) {
     std::cout << "FAIL: " << error << "\n";
     return 1;
   }
-  const int p = static_cast<int>(task.cols());
   const Eigen::MatrixXd W =
       task.transpose() * task / static_cast<double>(task.rows() / 3);
   // The design.
@@ -74,6 +73,14 @@ int main(int argc, char** argv) {
         "num_poses is the number of joint_angles_rad rows");
   Check(j.at("pose_indices").size() == angles.size(),
         "one pose index per pose");
+  if (j.contains("target_rms_m")) {
+    // The design is the curve's entry of its size.
+    bool found = false;
+    for (const auto& entry : j.at("predicted_task_rms_by_size_m")) {
+      found = found || entry[0].get<size_t>() == angles.size();
+    }
+    Check(found, "the design's size is on the curve");
+  }
   RowMatrixXd design;
   if (!PoolJacobians(model, model.nominal, joints, PoolJacobianOptions(),
                      &design, &error)) {

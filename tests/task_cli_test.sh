@@ -129,7 +129,7 @@ if "$S" --levels=3 --criterion=task_rms --num_poses=10 --measured_csv=measured_s
   cmp_sigma=$(json next_sigma.json "(j['predicted_task_rms_m'] > json.load(open('next.json'))['predicted_task_rms_m']) - (j['predicted_task_rms_m'] < json.load(open('next.json'))['predicted_task_rms_m'])")
   case "$cmp_sigma" in
     1) pass "measurement sigmas weight the prior" ;;
-    0) echo "note [sigma columns]: this build's measurements reader ignores sigma_*_m columns; the weighting is tested in TaskCriterionTest.MeasuredRowsAreWhitenedBySigma" ;;
+    0) echo "note [sigma columns]: this build's measurements reader ignores sigma_*_m columns; the weighting is tested in MeasuredInformationRowsTest.MeasuredRowsAreWhitenedBySigma" ;;
     *) fail "measurement sigmas weight the prior" ;;
   esac
 else
@@ -140,6 +140,42 @@ expect_fail "measured rows for another robot" "--measured_csv: wrong_robot.csv" 
   activecal_select --levels=3 --criterion=task_rms --measured_csv=wrong_robot.csv
 expect_fail "measured with the D criterion" "--measured_csv needs --criterion=task_rms" \
   activecal_select --levels=3 --measured_csv=measured.csv
+
+# --- The active loop: rounds read back. ---
+A="$apps/activecal_active"
+if "$A" --levels=3 --target_rms_m=1e-4 --compare --json_out=active.json >active.txt; then
+  python3 - <<'PY' && pass "active loop report" || fail "active loop report"
+import json
+j = json.load(open('active.json'))
+r = j['rounds']
+assert j['termination_type'] == 'CONVERGENCE', j['message']
+# Poses so far grow by the batch sizes: 12, then 6 per round.
+assert [x['num_poses'] for x in r] == [12 + 6 * k for k in range(len(r))], r
+assert all(len(x['batch']) == (12 if k == 0 else 6) for k, x in enumerate(r))
+# Every pose is measured once.
+m = j['measured_pose_indices']
+assert len(m) == len(set(m)) == r[-1]['num_poses']
+# The target is met by the last round only.
+assert r[-1]['predicted_task_rms_m'] <= j['target_rms_m']
+assert all(x['predicted_task_rms_m'] > j['target_rms_m'] for x in r[:-1])
+# The first identification moves the model by about its nominal error;
+# the true error then falls far below it.
+assert abs(r[0]['parameter_change_task_rms_m'] - j['nominal_true_task_rms_m']) < 0.01 * j['nominal_true_task_rms_m']
+assert r[-1]['true_task_rms_m'] < 1e-3 * j['nominal_true_task_rms_m']
+# The prediction is of the right size: the true error within a factor 3.
+assert all(x['true_task_rms_m'] < 3 * x['predicted_task_rms_m'] for x in r)
+for name in ('d_optimal_at_nominal', 'task_optimal_at_nominal', 'random'):
+    o = j['one_shot'][name]
+    assert o['num_poses'] == r[-1]['num_poses'], name
+PY
+else
+  fail "active loop run"
+fi
+grep -v "true:" "$data/puma560.yaml" >notruth.yaml
+expect_fail "active without true values" "--robot has no true values" \
+  activecal_active --robot=notruth.yaml
+expect_fail "active target <= 0" "target_rms_m must be > 0" \
+  activecal_active --levels=3 --target_rms_m=0
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures failure(s)"

@@ -246,7 +246,9 @@ TEST_F(TaskCriterionTest, GreedyCurveIsNestedAndNonIncreasing) {
     } else {
       EXPECT_FALSE(std::isfinite(scratch)) << k;
     }
-    if (k > 0) EXPECT_LE(curve[k], curve[k - 1]) << k;
+    if (k > 0) {
+      EXPECT_LE(curve[k], curve[k - 1]) << k;
+    }
   }
   EXPECT_GT(finite, 15);
 }
@@ -359,6 +361,33 @@ TEST(TaskCertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
     }
   }
   EXPECT_GT(tight, 0);
+}
+
+// With poses already measured, a batch smaller than a non-singular design
+// has exactly the size asked, and lowers phi below the prior's own.
+TEST_F(TaskCriterionTest, ABatchWithAPriorHasTheSizeAsked) {
+  const CandidatePool& pool = *puma_;
+  Random random(11);
+  RowMatrixXd prior(45, pool.num_parameters());
+  for (int k = 0; k < 15; ++k) {
+    prior.middleRows(3 * k, 3) = pool.block(random.UniformInt(pool.size()));
+  }
+  const double alone = TaskCriterionFromScratch(pool, *w_, prior, {});
+  ASSERT_TRUE(std::isfinite(alone));
+  for (int n : {1, 3, 6}) {
+    TaskExchangeOptions options;
+    options.num_poses = n;
+    options.restarts = 2;
+    SelectionSummary s;
+    ASSERT_TRUE(TaskExchange(pool, *w_, prior, {}, options, nullptr, &s))
+        << s.message;
+    EXPECT_EQ(s.design.size(), static_cast<size_t>(n));
+    EXPECT_LT(s.task_criterion, alone);
+    SelectionSummary g;
+    ASSERT_TRUE(TaskGreedy(pool, *w_, prior, {}, n, 1, &g)) << g.message;
+    EXPECT_EQ(g.design.size(), static_cast<size_t>(n));
+    EXPECT_LE(s.task_criterion, g.task_criterion * (1 + 1e-12));
+  }
 }
 
 // The rows of poses already measured are whitened to the reference sigma:

@@ -333,11 +333,29 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
   RestartResult best = internal::BestOfRestarts(
       options.restarts, options.num_threads,
       [&](int r, int threads) {
-        const std::vector<int64_t> initial = internal::InitialDesign(
-            work_pool, work_constraints, work_eligible, options.num_poses,
-            Random::StreamSeed(options.seed, r),
-            has_approximate ? &work_rounding : nullptr, r > 0, threads,
-            &notes[r]);
+        std::vector<int64_t> initial;
+        if (prior_rows.rows() > 0) {
+          // The prior may make up for a design too small to be non-singular
+          // alone, so the start is not completed on the design's own M: the
+          // fixed poses and a random draw (the restart fails if prior and
+          // start are singular together).
+          initial = work_constraints.fixed;
+          std::vector<int64_t> candidates;
+          for (int64_t i = 0; i < work_pool.size(); ++i) {
+            if (work_eligible[i]) candidates.push_back(i);
+          }
+          Random random(Random::StreamSeed(options.seed, r));
+          for (int64_t k : random.SampleWithoutReplacement(
+                   candidates.size(), options.num_poses - initial.size())) {
+            initial.push_back(candidates[k]);
+          }
+        } else {
+          initial = internal::InitialDesign(
+              work_pool, work_constraints, work_eligible, options.num_poses,
+              Random::StreamSeed(options.seed, r),
+              has_approximate ? &work_rounding : nullptr, r > 0, threads,
+              &notes[r]);
+        }
         if (initial.empty()) return RestartResult();
         return TaskRestart(work_pool, W, prior_rows, work_eligible, work_fixed,
                            initial, options, threads);
