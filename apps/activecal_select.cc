@@ -55,35 +55,17 @@ DEFINE_string(algorithm, "eae",
               "(continuous-weight) D-optimal design, rounded to its "
               "--num_poses heaviest poses.");
 DEFINE_string(criterion, "det",
-              "det (or d): maximise det(X^T X) (D-optimal); for eae, svd "
-              "scores the same criterion by the eigenvalue OI of the stacked "
-              "design matrix (slow; same poses). task_rms: minimise the "
-              "predicted RMS position error over the task poses, "
-              "noise_m * sqrt(mean_x tr(J_x M^-1 J_x^T)) (I-optimal); its "
-              "algorithms are fedorov (the default), greedy and approx.");
+              "det (d): D-optimal (eae: svd scores it by SVD); task_rms: "
+              "least predicted RMS position error over the task poses.");
 DEFINE_string(task_poses_csv, "",
-              "Poses CSV of the poses the robot will work at (the task of "
-              "--criterion=task_rms and of predicted_task_rms_m). Default: "
-              "the candidate pool.");
-DEFINE_double(noise_m, 1e-4,
-              "Standard deviation of each measured coordinate (m; pose "
-              "rotation rows are in m through --rotation_weight): the sigma "
-              "of the predicted task RMS. Measurements of --measured_csv "
-              "that give their own sigma are weighted by it.");
+              "Poses CSV of where the robot will work (default: the pool).");
+DEFINE_double(noise_m, 1e-4, "Measurement noise sigma per coordinate (m).");
 DEFINE_double(target_rms_m, 0.0,
-              "If set (> 0): design the fewest poses whose predicted task "
-              "RMS is at most this (m), instead of --num_poses; the curve "
-              "size -> predicted RMS goes to the JSON and --curve_csv.");
+              "If set: the fewest poses whose predicted task RMS is <= this.");
 DEFINE_string(measured_csv, "",
-              "Measurements CSV of the poses already measured: fixed, they "
-              "count in M (with --criterion=task_rms). Linearised at "
-              "--robot's values: pass the current calibrated model.");
-DEFINE_string(curve_csv, "",
-              "With --target_rms_m: write the curve num_poses, "
-              "predicted_task_rms_m here (scripts/plot_task_rms.sh draws "
-              "it).");
-DEFINE_int32(num_poses, 30,
-             "Poses in the design (the next batch with --measured_csv).");
+              "Measurements CSV of poses already measured (task_rms): fixed.");
+DEFINE_string(curve_csv, "", "With --target_rms_m: write the curve here.");
+DEFINE_int32(num_poses, 30, "Poses in the design.");
 DEFINE_int32(initial_poses, 12, "eae: random poses in the initial design.");
 DEFINE_int32(random_designs, 5000, "random: number of designs drawn.");
 DEFINE_int32(restarts, 0,
