@@ -1,6 +1,8 @@
 // activecal_select: choose calibration poses for a robot (the paper's PUMA
 // 560 by default) from a joint lattice or a pool read from CSV, by a
-// D-optimal design algorithm.
+// D-optimal design algorithm or for the task accuracy (--criterion=task_rms),
+// of a given size or of the fewest poses meeting a target (--target_rms_m),
+// counting the poses already measured (--measured_csv).
 
 #include <gflags/gflags.h>
 
@@ -8,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include "activecal/core/csv_files.h"
 #include "activecal/core/lattice.h"
@@ -18,6 +21,10 @@
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
+#include "activecal/selection/target_size.h"
+#include "activecal/selection/task_approximate.h"
+#include "activecal/selection/task_criterion.h"
+#include "activecal/selection/task_exchange.h"
 #include "app_common.h"
 
 DEFINE_int32(levels, 5,
@@ -48,9 +55,16 @@ DEFINE_string(algorithm, "eae",
               "(continuous-weight) D-optimal design, rounded to its "
               "--num_poses heaviest poses.");
 DEFINE_string(criterion, "det",
-              "For eae: det scores candidates by the determinant update "
-              "formulas (fast); svd by the eigenvalue OI of the stacked "
-              "design matrix (slow; same poses).");
+              "det (d): D-optimal (eae: svd scores it by SVD); task_rms: "
+              "least predicted RMS position error over the task poses.");
+DEFINE_string(task_poses_csv, "",
+              "Poses CSV of where the robot will work (default: the pool).");
+DEFINE_double(noise_m, 1e-4, "Measurement noise sigma per coordinate (m).");
+DEFINE_double(target_rms_m, 0.0,
+              "If set: the fewest poses whose predicted task RMS is <= this.");
+DEFINE_string(measured_csv, "",
+              "Measurements CSV of poses already measured (task_rms): fixed.");
+DEFINE_string(curve_csv, "", "With --target_rms_m: write the curve here.");
 DEFINE_int32(num_poses, 30, "Poses in the design.");
 DEFINE_int32(initial_poses, 12, "eae: random poses in the initial design.");
 DEFINE_int32(random_designs, 5000, "random: number of designs drawn.");
@@ -75,6 +89,12 @@ DEFINE_string(json_out, "", "If set, write the selected design here.");
 
 namespace activecal {
 namespace {
+
+std::string Number(double x, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*g", digits, x);
+  return buffer;
+}
 
 int Main() {
   const int64_t start = app::NowNs();
@@ -103,7 +123,8 @@ int Main() {
     pool_joints = std::move(list.joints);
     labels = std::move(list.pose_indices);
   }
-  if (FLAGS_num_poses <= 0 || FLAGS_num_poses > pool_joints.rows()) {
+  if (gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default &&
+      (FLAGS_num_poses <= 0 || FLAGS_num_poses > pool_joints.rows())) {
     app::Fail("--num_poses must be in [1, " +
               std::to_string(pool_joints.rows()) + "] (the pool size), got " +
               std::to_string(FLAGS_num_poses));
@@ -161,8 +182,94 @@ int Main() {
   if (FLAGS_restarts < 0) {
     app::Fail("--restarts must be >= 0, got " + std::to_string(FLAGS_restarts));
   }
-  const bool need_approx = FLAGS_certificate || FLAGS_algorithm == "fedorov" ||
-                           FLAGS_algorithm == "approx";
+  const bool task = FLAGS_criterion == "task_rms";
+  if (!task && FLAGS_criterion != "det" && FLAGS_criterion != "d" &&
+      FLAGS_criterion != "svd") {
+    app::Fail("--criterion must be det (d), svd or task_rms, got '" +
+              FLAGS_criterion + "'");
+  }
+  std::string algorithm = FLAGS_algorithm;
+  if (task) {
+    // The best the library has for the task criterion, not the paper's EAE.
+    if (gflags::GetCommandLineFlagInfoOrDie("algorithm").is_default) {
+      algorithm = "fedorov";
+    } else if (algorithm != "fedorov" && algorithm != "greedy" &&
+               algorithm != "approx") {
+      app::Fail(
+          "--criterion=task_rms: --algorithm must be fedorov, greedy "
+          "or approx, got '" +
+          algorithm + "'");
+    }
+  }
+  if (!(FLAGS_noise_m > 0) || !std::isfinite(FLAGS_noise_m)) {
+    app::Fail("--noise_m must be > 0 (m), got " + Number(FLAGS_noise_m, 6));
+  }
+  const bool with_target =
+      !gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default;
+  if (with_target &&
+      (!(FLAGS_target_rms_m > 0) || !std::isfinite(FLAGS_target_rms_m))) {
+    app::Fail("--target_rms_m must be > 0 (m), got " +
+              Number(FLAGS_target_rms_m, 6));
+  }
+  if (!FLAGS_measured_csv.empty() && !task) {
+    app::Fail(
+        "--measured_csv needs --criterion=task_rms (the D-criterion "
+        "algorithms take no prior information)");
+  }
+
+  // The task: position rows at the task poses (the pool by default).
+  Eigen::MatrixXd W;
+  int64_t num_task_poses = pool_joints.rows();
+  {
+    Eigen::MatrixXd task_joints;
+    if (!FLAGS_task_poses_csv.empty()) {
+      PoseList list;
+      std::string error;
+      if (!ReadPosesCsv(FLAGS_task_poses_csv, model,
+                        /*reject_duplicates=*/false, &list, &error)) {
+        app::Fail("--task_poses_csv: " + error);
+      }
+      task_joints = std::move(list.joints);
+      num_task_poses = task_joints.rows();
+    }
+    if (task_joints.rows() == 0 && type == MeasurementType::kPosition) {
+      W = TaskMatrix(pool);
+    } else {
+      CandidatePoolOptions task_options;
+      task_options.type = MeasurementType::kPosition;
+      task_options.num_threads = FLAGS_threads;
+      RobotModel task_model = model;
+      CandidatePool task_pool;
+      CandidatePoolSummary task_summary;
+      if (!BuildCandidatePool(&task_model, model.nominal,
+                              task_joints.rows() ? task_joints : pool_joints,
+                              task_options, &task_pool, &task_summary)) {
+        app::Fail("--task_poses_csv: " + task_summary.message);
+      }
+      W = TaskMatrix(task_pool);
+    }
+  }
+  // The poses already measured, whitened to --noise_m.
+  RowMatrixXd prior(0, pool.num_parameters());
+  int num_measured = 0;
+  if (!FLAGS_measured_csv.empty()) {
+    std::vector<Measurement> measured;
+    std::string error;
+    if (!ReadMeasurementsCsv(FLAGS_measured_csv, model, &measured, &error)) {
+      app::Fail("--measured_csv: " + error);
+    }
+    if (!MeasuredInformationRows(model, model.nominal, measured,
+                                 FLAGS_rotation_weight, FLAGS_noise_m, &prior,
+                                 &error)) {
+      app::Fail("--measured_csv: " + error);
+    }
+    num_measured = static_cast<int>(measured.size());
+  }
+  const bool with_prior = prior.rows() > 0;
+
+  const bool need_approx =
+      !task &&
+      (FLAGS_certificate || algorithm == "fedorov" || algorithm == "approx");
   ApproximateDesignSummary approx;
   if (need_approx) {
     app::ProgressLine line("approximate design, rounds");
@@ -177,73 +284,163 @@ int Main() {
       app::Fail("approximate design: " + approx.message);
     }
   }
-
-  app::ProgressLine restarts_line(FLAGS_algorithm + " restarts");
-  SelectionSummary summary;
-  bool ok = false;
-  if (FLAGS_algorithm == "eae") {
-    ExchangeAddExchangeOptions options;
-    options.num_poses = FLAGS_num_poses;
-    options.initial_poses = FLAGS_initial_poses;
-    if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-    options.seed = FLAGS_seed;
+  // The approximate task design (for the starts and the certificate); it
+  // ignores the prior, so with measured poses it is not used.
+  const bool need_task_approx =
+      task && !with_prior &&
+      (FLAGS_certificate || algorithm == "fedorov" || algorithm == "approx");
+  TaskApproximateSummary task_approx;
+  if (need_task_approx) {
+    TaskApproximateOptions options;
+    // 1e-2 unless set: the task design's multiplicative updates slow down
+    // near the optimum (docs/design_algorithms.md).
+    options.tolerance =
+        gflags::GetCommandLineFlagInfoOrDie("approx_tolerance").is_default
+            ? 1e-2
+            : FLAGS_approx_tolerance;
     options.num_threads = FLAGS_threads;
-    if (FLAGS_criterion == "det") {
-      options.criterion = SelectionCriterion::kDeterminantUpdate;
-    } else if (FLAGS_criterion == "svd") {
-      options.criterion = SelectionCriterion::kEigenvalueOi;
-    } else {
-      app::Fail("--criterion must be det or svd, got '" + FLAGS_criterion +
-                "'");
+    std::string error;
+    if (!options.IsValid(&error)) app::Fail("--approx_tolerance: " + error);
+    if (!SolveTaskApproximateDesign(pool, W, {}, options, &task_approx)) {
+      app::Fail("approximate task design: " + task_approx.message);
     }
-    ok = ExchangeAddExchange(pool, {}, options, &summary);
-  } else if (FLAGS_algorithm == "random") {
-    RandomDesignOptions options;
-    options.num_poses = FLAGS_num_poses;
-    options.num_designs = FLAGS_random_designs;
-    options.seed = FLAGS_seed;
-    options.num_threads = FLAGS_threads;
-    ok = SelectRandomDesigns(pool, {}, options, &summary);
-  } else if (FLAGS_algorithm == "fedorov" || FLAGS_algorithm == "approx") {
-    FedorovOptions options;
-    options.num_poses = FLAGS_num_poses;
-    // Past 200,000 poses the restarts find designs within 0.1% of each
-    // other (docs/scaling.md): half as many keep the run short.
-    if (pool.size() > 200000) options.restarts = 8;
-    if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-    options.seed = FLAGS_seed;
-    options.num_threads = FLAGS_threads;
-    options.progress = restarts_line.callback();
-    options.polish_pool_size = FLAGS_polish_pool_size;
-    if (FLAGS_algorithm == "approx") {
-      // Only the rounding: no swaps.
-      options.max_swaps = 0;
-      options.restarts = 1;
-    }
-    ok = FedorovExchange(pool, {}, options, &approx, &summary);
-    if (FLAGS_algorithm == "approx") summary.algorithm = "approx (rounded)";
-  } else if (FLAGS_algorithm == "detmax") {
-    DetmaxOptions options;
-    options.num_poses = FLAGS_num_poses;
-    if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-    options.seed = FLAGS_seed;
-    options.num_threads = FLAGS_threads;
-    options.progress = restarts_line.callback();
-    ok = Detmax(pool, {}, options, &summary);
-  } else {
-    GreedyOptions options;
-    options.num_poses = FLAGS_num_poses;
-    options.num_threads = FLAGS_threads;
-    ok = GreedyDesign(pool, {}, options, &summary);
   }
-  if (!ok) app::Fail(summary.message);
+
+  app::ProgressLine restarts_line(algorithm + " restarts");
+  // Designs num_poses poses by the chosen criterion and algorithm.
+  auto design_of_size = [&](int num_poses, SelectionSummary* summary) {
+    if (task) {
+      if (algorithm == "greedy") {
+        return TaskGreedy(pool, W, prior, {}, num_poses, FLAGS_threads,
+                          summary);
+      }
+      TaskExchangeOptions options;
+      options.num_poses = num_poses;
+      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
+      options.seed = FLAGS_seed;
+      options.num_threads = FLAGS_threads;
+      options.progress = restarts_line.callback();
+      if (algorithm == "approx") {
+        options.max_swaps = 0;
+        options.restarts = 1;
+      }
+      const bool ok =
+          TaskExchange(pool, W, prior, {}, options,
+                       need_task_approx ? &task_approx : nullptr, summary);
+      if (algorithm == "approx") summary->algorithm = "task approx (rounded)";
+      return ok;
+    }
+    if (algorithm == "eae") {
+      ExchangeAddExchangeOptions options;
+      options.num_poses = num_poses;
+      options.initial_poses = std::min(FLAGS_initial_poses, num_poses);
+      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
+      options.seed = FLAGS_seed;
+      options.num_threads = FLAGS_threads;
+      options.criterion = FLAGS_criterion == "svd"
+                              ? SelectionCriterion::kEigenvalueOi
+                              : SelectionCriterion::kDeterminantUpdate;
+      return ExchangeAddExchange(pool, {}, options, summary);
+    }
+    if (algorithm == "random") {
+      RandomDesignOptions options;
+      options.num_poses = num_poses;
+      options.num_designs = FLAGS_random_designs;
+      options.seed = FLAGS_seed;
+      options.num_threads = FLAGS_threads;
+      return SelectRandomDesigns(pool, {}, options, summary);
+    }
+    if (algorithm == "fedorov" || algorithm == "approx") {
+      FedorovOptions options;
+      options.num_poses = num_poses;
+      // Past 200,000 poses the restarts find designs within 0.1% of each
+      // other (docs/scaling.md): half as many keep the run short.
+      if (pool.size() > 200000) options.restarts = 8;
+      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
+      options.seed = FLAGS_seed;
+      options.num_threads = FLAGS_threads;
+      options.progress = restarts_line.callback();
+      options.polish_pool_size = FLAGS_polish_pool_size;
+      if (algorithm == "approx") {
+        // Only the rounding: no swaps.
+        options.max_swaps = 0;
+        options.restarts = 1;
+      }
+      const bool ok = FedorovExchange(pool, {}, options, &approx, summary);
+      if (algorithm == "approx") summary->algorithm = "approx (rounded)";
+      return ok;
+    }
+    if (algorithm == "detmax") {
+      DetmaxOptions options;
+      options.num_poses = num_poses;
+      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
+      options.seed = FLAGS_seed;
+      options.num_threads = FLAGS_threads;
+      options.progress = restarts_line.callback();
+      return Detmax(pool, {}, options, summary);
+    }
+    GreedyOptions options;
+    options.num_poses = num_poses;
+    options.num_threads = FLAGS_threads;
+    return GreedyDesign(pool, {}, options, summary);
+  };
+
+  SelectionSummary summary;
+  TargetSizeSummary target;
+  if (with_target) {
+    TargetSizeOptions options;
+    options.sigma_m = FLAGS_noise_m;
+    options.target_rms_m = FLAGS_target_rms_m;
+    if (!FindSizeForTarget(pool, W, prior, {}, options, design_of_size,
+                           &target)) {
+      app::Fail("--target_rms_m: " + target.message);
+    }
+    summary = target.design;
+  } else if (!design_of_size(FLAGS_num_poses, &summary)) {
+    app::Fail(summary.message);
+  }
+  // The task criterion of whatever design was chosen.
+  summary.task_criterion =
+      TaskCriterionFromScratch(pool, W, prior, summary.design);
+  const double predicted_rms =
+      PredictedTaskRms(summary.task_criterion, FLAGS_noise_m);
 
   if (FLAGS_certificate) {
-    CertifyDesign(pool, {}, &approx, FLAGS_threads, &summary);
+    if (!task) {
+      CertifyDesign(pool, {}, &approx, FLAGS_threads, &summary);
+    } else if (!with_prior) {
+      CertifyTaskDesign(pool, W, {}, &task_approx, FLAGS_threads, &summary);
+    }
   }
   const double total_seconds = app::Seconds(start);
   std::printf("%s", summary.BriefReport().c_str());
   if (need_approx) std::printf("%s", approx.BriefReport().c_str());
+  if (need_task_approx) std::printf("%s", task_approx.BriefReport().c_str());
+  std::printf("  predicted task RMS %.6g m over %lld task poses (sigma %g m",
+              predicted_rms, static_cast<long long>(num_task_poses),
+              FLAGS_noise_m);
+  if (with_prior) {
+    std::printf(", %d measured poses counted", num_measured);
+  }
+  std::printf(")\n");
+  if (task && with_prior && FLAGS_certificate) {
+    std::printf("  no certificate: its bounds assume no measured poses\n");
+  }
+  if (with_target) {
+    std::printf("  target %g m: %s\n  %-10s %s\n", FLAGS_target_rms_m,
+                target.message.c_str(), "num_poses", "predicted_task_rms_m");
+    for (size_t k = 0; k < target.sizes.size(); ++k) {
+      std::printf("  %-10d %.6g\n", target.sizes[k], target.rms_by_size_m[k]);
+    }
+    if (!FLAGS_curve_csv.empty()) {
+      std::string csv = "num_poses,predicted_task_rms_m\n";
+      for (size_t k = 0; k < target.sizes.size(); ++k) {
+        csv += std::to_string(target.sizes[k]) + "," +
+               Number(target.rms_by_size_m[k], 17) + "\n";
+      }
+      app::WriteTextOrDie(FLAGS_curve_csv, csv);
+    }
+  }
   std::printf("  Jacobians of %lld poses: %.3f s\n",
               static_cast<long long>(pool.size()), jacobian_seconds);
   std::printf("  %-6s %-8s %s\n", "#", "index",
@@ -273,6 +470,23 @@ int Main() {
   }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j = app::SelectionJson(summary, pool_joints, labels);
+    j["criterion"] = task ? "task_rms" : "d";
+    j["num_poses"] = summary.design.size();
+    j["noise_m"] = FLAGS_noise_m;
+    j["predicted_task_rms_m"] = predicted_rms;
+    j["num_task_poses"] = num_task_poses;
+    j["task_poses_csv"] = FLAGS_task_poses_csv;
+    j["measured_csv"] = FLAGS_measured_csv;
+    j["num_measured"] = num_measured;
+    if (with_target) {
+      j["target_rms_m"] = FLAGS_target_rms_m;
+      j["best_reachable_rms_m"] = target.best_reachable_rms_m;
+      nlohmann::json curve = nlohmann::json::array();
+      for (size_t k = 0; k < target.sizes.size(); ++k) {
+        curve.push_back({target.sizes[k], target.rms_by_size_m[k]});
+      }
+      j["predicted_task_rms_by_size_m"] = curve;
+    }
     j["robot"] = model.name;
     j["measurement"] = FLAGS_measurement;
     j["free_parameters"] = model.FreeParameterNames();
@@ -284,13 +498,31 @@ int Main() {
       j["pool_csv"] = FLAGS_pool_csv;
     }
     // Wall-clock times: the only fields that vary between runs.
-    j["timing"] = {{"jacobian_seconds", jacobian_seconds},
-                   {"selection_seconds", summary.seconds},
-                   {"approximate_seconds", approx.seconds},
-                   {"total_seconds", total_seconds}};
-    if (FLAGS_certificate) {
+    j["timing"] = {
+        {"jacobian_seconds", jacobian_seconds},
+        {"selection_seconds", summary.seconds},
+        {"approximate_seconds", task ? task_approx.seconds : approx.seconds},
+        {"total_seconds", total_seconds}};
+    if (FLAGS_certificate && !task) {
       j["efficiency_lower_bound"] = summary.efficiency_lower_bound;
       j["log10_det_upper_bound"] = summary.log_det_upper_bound / std::log(10.0);
+    }
+    if (FLAGS_certificate && task && !with_prior) {
+      // Task efficiency: RMS^2 of the best design of this size over this
+      // design's, bounded below.
+      j["efficiency_lower_bound"] = summary.efficiency_lower_bound;
+      j["task_rms_lower_bound_m"] =
+          PredictedTaskRms(summary.task_criterion_lower_bound, FLAGS_noise_m);
+    }
+    if (need_task_approx) {
+      j["approximate_task"] = {
+          {"support", task_approx.support},
+          {"weights", task_approx.weights},
+          {"predicted_task_rms_m",
+           PredictedTaskRms(task_approx.criterion, FLAGS_noise_m)},
+          {"efficiency_lower_bound", task_approx.efficiency_lower_bound},
+          {"converged",
+           task_approx.termination_type == TerminationType::kConvergence}};
     }
     if (need_approx) {
       j["approximate"] = {{"support", approx.support},
@@ -316,7 +548,10 @@ int main(int argc, char** argv) {
       &argc, &argv,
       "Selects calibration poses from a lattice of joint values (or a pool "
       "read from CSV), maximising det(X^T X) of the measurement Jacobian at "
-      "the nominal parameters. The robot is --robot (default: the Sun & "
+      "the nominal parameters, or (--criterion=task_rms) minimising the "
+      "predicted RMS position error over the task poses; --target_rms_m "
+      "finds the fewest poses meeting a target, --measured_csv counts the "
+      "poses already measured. The robot is --robot (default: the Sun & "
       "Hollerbach PUMA 560).\n  activecal_select --algorithm=fedorov "
       "--seed=1 --json_out=design.json --poses_csv=poses.csv");
   return activecal::Main();

@@ -34,6 +34,39 @@ Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
   return sample;
 }
 
+bool MeasuredInformationRows(const RobotModel& model,
+                             const Eigen::VectorXd& parameters,
+                             const std::vector<Measurement>& measured,
+                             double rotation_weight_m_per_rad, double sigma_m,
+                             RowMatrixXd* rows, std::string* error) {
+  CHECK(rows != nullptr);
+  CHECK_GT(sigma_m, 0.0);
+  Eigen::MatrixXd J;
+  if (!StackedJacobian(model, parameters, measured, rotation_weight_m_per_rad,
+                       &J, error)) {
+    return false;
+  }
+  *rows = J;
+  int64_t r = 0;
+  for (const Measurement& m : measured) {
+    const int dim = m.dimension();
+    for (int k = 0; k < dim; ++k) {
+      double sigma = 0;
+      if (m.type == MeasurementType::kDistance) {
+        sigma = m.sigma_m[0];
+      } else if (k < 3) {
+        sigma = m.sigma_m[k];
+      } else {
+        sigma = rotation_weight_m_per_rad * m.sigma_rad;
+      }
+      if (sigma > 0) rows->row(r + k) *= sigma_m / sigma;
+    }
+    r += dim;
+  }
+  CHECK_EQ(r, rows->rows());
+  return true;
+}
+
 bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
                         const Eigen::MatrixXd& joints,
                         const CandidatePoolOptions& options,

@@ -103,7 +103,8 @@ void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
 
 bool PrepareCandidates(const CandidatePool& pool, int num_poses,
                        const DesignConstraints& constraints,
-                       std::vector<char>* eligible, std::string* error) {
+                       std::vector<char>* eligible, std::string* error,
+                       int64_t prior_equations) {
   std::ostringstream msg;
   const int64_t n = pool.size();
   eligible->assign(n, 1);
@@ -142,7 +143,8 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
       msg << "asked for " << num_poses << " poses, but the pool has only "
           << available + fixed << " usable poses (" << fixed << " fixed, "
           << n - available - fixed << " excluded of " << n << ")";
-    } else if (static_cast<int64_t>(num_poses) * pool.block_rows() <
+    } else if (static_cast<int64_t>(num_poses) * pool.block_rows() +
+                   prior_equations <
                pool.num_parameters()) {
       msg << num_poses << " poses give " << num_poses * pool.block_rows()
           << " equations, fewer than the " << pool.num_parameters()
@@ -181,7 +183,14 @@ std::string SelectionSummary::BriefReport() const {
     out.precision(6);
     out << "  log10 det(X^T X) = " << log10_det()
         << ", OI = " << OiFromLogDet(log_det, num_parameters) << "\n";
-    if (!std::isnan(efficiency_lower_bound)) {
+    if (!std::isnan(task_criterion)) {
+      out << "  task criterion tr(W M^-1) = " << task_criterion << "\n";
+    }
+    if (!std::isnan(task_criterion_lower_bound)) {
+      out << "  certified: task efficiency >= " << efficiency_lower_bound
+          << " (tr(W M^-1) of the best " << design.size()
+          << "-pose design >= " << task_criterion_lower_bound << ")\n";
+    } else if (!std::isnan(efficiency_lower_bound)) {
       out << "  certified: D-efficiency >= " << efficiency_lower_bound
           << " (log10 det of the best " << design.size()
           << "-pose design <= " << log_det_upper_bound / std::log(10.0)

@@ -151,15 +151,16 @@ bool PrepareSelection(const CandidatePool& pool,
                       const DesignConstraints& constraints,
                       const Options& options, const char* algorithm,
                       SelectionSummary* summary, std::vector<char>* eligible,
-                      std::vector<char>* is_fixed) {
+                      std::vector<char>* is_fixed,
+                      int64_t prior_equations = 0) {
   *summary = SelectionSummary();
   summary->algorithm = algorithm;
   summary->num_parameters = pool.num_parameters();
   summary->pool_size = pool.size();
   std::string error;
   if (!options.IsValid(&error) ||
-      !PrepareCandidates(pool, options.num_poses, constraints, eligible,
-                         &error)) {
+      !PrepareCandidates(pool, options.num_poses, constraints, eligible, &error,
+                         prior_equations)) {
     summary->message = error;
     return false;
   }

@@ -67,6 +67,21 @@ bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
                         const CandidatePoolOptions& options,
                         CandidatePool* pool, CandidatePoolSummary* summary);
 
+// The information of measurements already made, as whitened Jacobian rows
+// R (so that M0 = R^T R): each measurement's rows at `parameters` (the
+// current estimate: a next batch is designed where the robot is now),
+// scaled to the reference noise sigma_m. A row whose measurement gives its
+// own standard deviation (Measurement::sigma_m, sigma_rad; 0 = not given)
+// is scaled by sigma_m / that value, the others by 1: position and
+// distance rows by sigma_m / sigma_m[axis], pose rotation rows by
+// sigma_m / (rotation_weight * sigma_rad). Returns false with the message
+// of the first bad measurement.
+bool MeasuredInformationRows(const RobotModel& model,
+                             const Eigen::VectorXd& parameters,
+                             const std::vector<Measurement>& measured,
+                             double rotation_weight_m_per_rad, double sigma_m,
+                             RowMatrixXd* rows, std::string* error);
+
 // A fixed-seed random subset of the blocks of `block_rows` rows of
 // `stacked`, whole and in pool order, of max_rows / block_rows blocks (all
 // of it when it is not taller than max_rows). Deterministic.

@@ -71,9 +71,13 @@ struct DesignConstraints {
 // Checks the constraints against the pool and a design size, and marks the
 // poses that may be added (not fixed, not excluded). Returns false with a
 // message on inconsistent input.
+// prior_equations: rows of information the design adds to (poses already
+// measured), counted with the design's when checking that it can be
+// non-singular.
 bool PrepareCandidates(const CandidatePool& pool, int num_poses,
                        const DesignConstraints& constraints,
-                       std::vector<char>* eligible, std::string* error);
+                       std::vector<char>* eligible, std::string* error,
+                       int64_t prior_equations = 0);
 
 // One accepted step of a selection algorithm.
 struct SelectionStep {
@@ -116,6 +120,14 @@ struct SelectionSummary {
   // upper bound on log det it comes from. NaN when not computed.
   double efficiency_lower_bound = std::numeric_limits<double>::quiet_NaN();
   double log_det_upper_bound = std::numeric_limits<double>::quiet_NaN();
+  // Task-criterion designs (task_exchange.h): phi = tr(W M^-1) of the
+  // design, prior included, recomputed from scratch; NaN for the
+  // D-criterion algorithms. CertifyTaskDesign (task_approximate.h) fills
+  // efficiency_lower_bound (phi of the best design of the same size over
+  // phi of this one, bounded below) and task_criterion_lower_bound (the
+  // bound on phi of the best design it rests on).
+  double task_criterion = std::numeric_limits<double>::quiet_NaN();
+  double task_criterion_lower_bound = std::numeric_limits<double>::quiet_NaN();
 
   // A design was returned (CONVERGENCE or NO_CONVERGENCE): what every
   // selection function returns.
