@@ -13,6 +13,7 @@
 #include <string>
 
 #include "activecal/core/csv_files.h"
+#include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/robot_loader.h"
 #include "activecal/residuals/parameter_reduction.h"
@@ -30,6 +31,11 @@
 DEFINE_int32(levels, 5,
              "Lattice values per joint, both range ends included (>= 2). "
              "The pool has levels^(number of joints) poses.");
+DEFINE_string(pool, "lattice",
+              "Candidate poses: lattice (--levels values per joint), sobol "
+              "(quasi-random) or random (--pool_size poses inside the joint "
+              "ranges, seeded by --seed; for 7 or more joints).");
+DEFINE_int64(pool_size, 100000, "sobol, random: number of candidate poses.");
 DEFINE_string(pool_csv, "",
               "Read the candidate poses from this poses CSV "
               "(docs/formats.md) instead of the lattice; duplicates are an "
@@ -109,10 +115,25 @@ int Main() {
   Eigen::MatrixXd pool_joints;
   std::vector<int64_t> labels;
   JointLattice lattice;
-  const bool from_lattice = FLAGS_pool_csv.empty();
+  JointSampling sampling = JointSampling::kSobol;
+  const bool sampled = FLAGS_pool != "lattice";
+  if (sampled && !JointSamplingFromString(FLAGS_pool, &sampling)) {
+    app::Fail("--pool must be lattice, sobol or random, got '" + FLAGS_pool +
+              "'");
+  }
+  if (sampled && !FLAGS_pool_csv.empty()) {
+    app::Fail("--pool=" + FLAGS_pool + " and --pool_csv: choose one");
+  }
+  const bool from_lattice = FLAGS_pool_csv.empty() && !sampled;
   if (from_lattice) {
     lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
     pool_joints = lattice.AllJointValues();
+  } else if (sampled) {
+    std::string error;
+    if (!SampleJointValues(model, sampling, FLAGS_pool_size, FLAGS_seed,
+                           &pool_joints, &error)) {
+      app::Fail("--pool=" + FLAGS_pool + ": " + error);
+    }
   } else {
     PoseList list;
     std::string error;
@@ -130,17 +151,13 @@ int Main() {
               std::to_string(FLAGS_num_poses));
   }
   // The parameters the design is for: a named set is reduced to what the
-  // pool separates (analysed on at most 2,000 of its poses, evenly spaced),
-  // and the pool is linearised at the generic point of that analysis.
+  // pool separates (analysed on at most 2,000 of its poses, a fixed-seed
+  // random subset), and the pool is linearised at the generic point of that
+  // analysis.
   std::vector<std::string> auto_fixed;
   {
     const ParameterSet set = app::ParameterSetOrDie(IsUrdfPath(FLAGS_robot));
-    const int64_t step = std::max<int64_t>(1, pool_joints.rows() / 2000);
-    Eigen::MatrixXd sample((pool_joints.rows() + step - 1) / step,
-                           pool_joints.cols());
-    for (int64_t i = 0; i < sample.rows(); ++i) {
-      sample.row(i) = pool_joints.row(i * step);
-    }
+    const Eigen::MatrixXd sample = SubsampleRows(pool_joints, 2000);
     Eigen::VectorXd point = model.nominal;
     std::vector<DroppedParameter> dropped;
     std::string error;
@@ -492,9 +509,10 @@ int Main() {
     j["free_parameters"] = model.FreeParameterNames();
     j["auto_fixed"] = auto_fixed;
     j["seed"] = FLAGS_seed;
+    j["pool"] = FLAGS_pool_csv.empty() ? FLAGS_pool : "csv";
     if (from_lattice) {
       j["levels"] = FLAGS_levels;
-    } else {
+    } else if (!FLAGS_pool_csv.empty()) {
       j["pool_csv"] = FLAGS_pool_csv;
     }
     // Wall-clock times: the only fields that vary between runs.

@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "activecal/core/joint_sampling.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "test_util.h"
 
@@ -78,6 +80,32 @@ TEST(JointSamplingTest, FullTurnJointSampledOverOneTurn) {
   EXPECT_GE(q.col(0).minCoeff(), -2 * M_PI);
   EXPECT_LT(q.col(0).maxCoeff(), 0.0);  // [-2 pi, 0): one turn
   EXPECT_GT(q.col(0).maxCoeff(), -0.01);
+}
+
+TEST(JointSamplingTest, SubsampleRowsDoesNotAliasWithTheLattice) {
+  // 4^6 lattice rows, 1,024 kept: every 4th row would hold joint 6 at its
+  // first level; a random subset sees all four levels of every joint.
+  const RobotModel model = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  ASSERT_TRUE(JointLattice::Create(model, 4, &lattice, &error)) << error;
+  const Eigen::MatrixXd all = lattice.AllJointValues();
+  const Eigen::MatrixXd subset = SubsampleRows(all, 1024);
+  ASSERT_EQ(subset.rows(), 1024);
+  for (int j = 0; j < model.num_joints(); ++j) {
+    std::set<double> values(subset.col(j).data(),
+                            subset.col(j).data() + subset.rows());
+    EXPECT_EQ(values.size(), 4u) << "joint " << j + 1;
+  }
+  // Rows of the input, in its order, deterministic; all rows when few.
+  EXPECT_EQ(SubsampleRows(all, 1024), subset);
+  EXPECT_EQ(SubsampleRows(all, 5000), all);
+  int64_t next = 0;
+  for (int i = 0; i < subset.rows(); ++i) {
+    while (next < all.rows() && all.row(next) != subset.row(i)) ++next;
+    ASSERT_LT(next, all.rows()) << "row " << i << " out of order";
+    ++next;
+  }
 }
 
 TEST(JointSamplingTest, BadInput) {

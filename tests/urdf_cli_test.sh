@@ -113,6 +113,38 @@ else
   fail "select 20 of 23 UR10e poses"; cat select.err
 fi
 
+# A 7-axis arm from a Sobol pool (a lattice of 5 levels would be 78,125
+# poses): the design's poses are pool poses inside the limits, and the same
+# on 1 and 2 threads.
+for threads in 1 2; do
+  if ! timeout 300 "$apps/activecal_select" --robot="$data/kuka_iiwa14.urdf" \
+    --pool=sobol --pool_size=3000 --num_poses=60 --algorithm=fedorov \
+    --threads=$threads --poses_csv=iiwa_$threads.csv \
+    --json_out=iiwa_$threads.json >/dev/null 2>iiwa.err; then
+    fail "iiwa Sobol pool ($threads threads)"; cat iiwa.err
+  fi
+done
+python3 - <<'EOF2' && ok "iiwa Sobol pool" || fail "iiwa Sobol pool (json)"
+import json, math
+a = json.load(open("iiwa_1.json")); b = json.load(open("iiwa_2.json"))
+assert a["pool"] == "sobol" and a["pool_size"] == 3000, a["pool"]
+assert len(a["pose_indices"]) == 60 and len(set(a["pose_indices"])) == 60
+assert all(0 <= i < 3000 for i in a["pose_indices"])
+assert a["pose_indices"] == b["pose_indices"] and a["log10_det"] == b["log10_det"]
+limits = [170, 120, 170, 120, 170, 120, 175]
+for q in a["joint_angles_rad"]:
+    assert len(q) == 7
+    for v, l in zip(q, limits):
+        assert abs(v) <= math.radians(l) + 1e-12, (v, l)
+assert a["efficiency_lower_bound"] > 0.9, a["efficiency_lower_bound"]
+EOF2
+expect_fail "unknown pool" "--pool must be lattice, sobol or random, got 'halton'" \
+  activecal_select --pool=halton
+expect_fail "empty pool" "--pool=sobol: pool size must be >= 1, got 0" \
+  activecal_select --pool=sobol --pool_size=0
+expect_fail "pool and pool_csv" "--pool=random and --pool_csv: choose one" \
+  activecal_select --pool=random --pool_csv=pool.csv
+
 # --- Bad input: one line, status 1. ---
 printf '<robot name="x"><link name="a"></robot>' >bad.urdf
 expect_fail "malformed URDF" "bad.urdf: not a valid URDF" \

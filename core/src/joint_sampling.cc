@@ -1,5 +1,6 @@
 #include "activecal/core/joint_sampling.h"
 
+#include <algorithm>
 #include <boost/random/sobol.hpp>
 #include <cmath>
 #include <vector>
@@ -76,6 +77,17 @@ bool SampleJointValues(const RobotModel& model, JointSampling sampling,
     }
   }
   return true;
+}
+
+Eigen::MatrixXd SubsampleRows(const Eigen::MatrixXd& rows, int64_t max_rows) {
+  if (rows.rows() <= max_rows) return rows;
+  Random random(0x5a3b1e);
+  std::vector<int64_t> chosen =
+      random.SampleWithoutReplacement(rows.rows(), std::max<int64_t>(1, max_rows));
+  std::sort(chosen.begin(), chosen.end());
+  Eigen::MatrixXd subset(chosen.size(), rows.cols());
+  for (size_t i = 0; i < chosen.size(); ++i) subset.row(i) = rows.row(chosen[i]);
+  return subset;
 }
 
 }  // namespace activecal

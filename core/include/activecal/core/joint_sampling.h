@@ -42,6 +42,12 @@ bool SampleJointValues(const RobotModel& model, JointSampling sampling,
                        int64_t num_poses, uint64_t seed,
                        Eigen::MatrixXd* joints, std::string* error);
 
+// At most max_rows of `rows`, a fixed-seed random subset in their order (all
+// of them when there are no more): what an analysis of a large pool looks
+// at. Not every k-th row: a stride equal to a lattice's level count would
+// hold the last joint at one value in every row kept. Deterministic.
+Eigen::MatrixXd SubsampleRows(const Eigen::MatrixXd& rows, int64_t max_rows);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CORE_JOINT_SAMPLING_H_
