@@ -324,8 +324,7 @@ TEST(InverseKinematicsTest, AFreeSolutionWholeTurnsPastAWideRangeIsConverged) {
   load.frames_path = frames;
   RobotDescription robot;
   std::string error;
-  ASSERT_TRUE(LoadRobot(DataFile("ur10e.urdf"), load, &robot, &error))
-      << error;
+  ASSERT_TRUE(LoadRobot(DataFile("ur10e.urdf"), load, &robot, &error)) << error;
   const RobotModel& ur = robot.model;
   Eigen::VectorXd start(6);
   start << -1.256637056912453, -1.2566370401526896, 3.141592653589793,
