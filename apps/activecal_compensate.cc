@@ -17,8 +17,9 @@
 DEFINE_string(nominal, "",
               "The nominal model the program was taught or computed with "
               "(YAML, or URDF with the same --base_link/--tip_link as "
-              "--robot; --frames is not applied to it). Required with "
-              "--poses_csv.");
+              "--robot). --frames applies to it too: the markers are "
+              "metrology, as the base (replaced by --robot's). Required "
+              "with --poses_csv.");
 DEFINE_string(poses_csv, "",
               "The program as joint targets (a poses CSV, docs/formats.md), "
               "taught or computed with --nominal.");
@@ -103,6 +104,13 @@ int Main() {
     RobotLoadOptions load;
     load.chain.base_link = FLAGS_base_link;
     load.chain.tip_link = FLAGS_tip_link;
+    // The frames' markers are where the tracker's targets sit on the tool,
+    // not geometry: the program means the point of that same marker. (The
+    // frames' base is replaced by the calibrated one anyway.) Without
+    // this, a URDF nominal kept its default marker at the tip link while
+    // --robot's sat at the frames' marker: nominal == calibrated moved the
+    // joints by up to 0.6 rad.
+    load.frames_path = FLAGS_frames;
     RobotDescription nominal;
     if (!LoadRobot(FLAGS_nominal, load, &nominal, &error)) {
       app::Fail("--nominal: " + error);

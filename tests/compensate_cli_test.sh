@@ -156,6 +156,37 @@ else
   fail "identical models"; cat same.txt
 fi
 
+# A URDF robot with a frames file (base and two markers away from tool0),
+# nominal == calibrated geometry: unchanged too. The markers are metrology
+# like the base, so --frames applies to --nominal as well (without it the
+# program meant tool0's origin and the joints moved by up to 0.6 rad).
+ur="$data/ur10e.urdf"
+cat >frames.yaml <<'EOF2'
+angle_unit: rad
+base: {xyz: [1.2, 0.3, 0.1], rpy: [0.01, -0.02, 1.0]}
+markers:
+  - {name: smr, xyz: [0.02, 0.01, 0.15]}
+  - {name: smr2, xyz: [-0.05, 0.03, 0.1]}
+EOF2
+"$apps/activecal_select" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --algorithm=fedorov --num_poses=30 --poses_csv=ur_prog.csv >/dev/null 2>&1 ||
+  fail "select on the UR10e"
+for m in smr smr2; do
+  if "$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+    --nominal="$ur" --marker=$m --poses_csv=ur_prog.csv --out=ur_same.csv \
+    --json_out=ur_same.json >ur_same.txt 2>&1 &&
+    python3 -c "
+import json
+j = json.load(open('ur_same.json'))
+assert j['all_converged'] and j['num_targets'] == 30, j['message']
+assert j['max_joint_change'] <= 1e-12, j['max_joint_change']
+"; then
+    ok "URDF + frames, marker $m: identical geometry leaves the program unchanged"
+  else
+    fail "URDF + frames, marker $m, identical geometry"; cat ur_same.txt
+  fi
+done
+
 # Cartesian targets: the meant points of the first 40 converged targets,
 # with the program's joints as starts, give the same joints as the program
 # path; without starts, each starts from the previous result.

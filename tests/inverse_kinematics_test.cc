@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -303,6 +304,46 @@ TEST(InverseKinematicsTest, ATargetReachableOnlyOutsideTheLimitsIsLimit) {
       << result.message;
   EXPECT_TRUE(InsideLimits(puma, result.joints));
   EXPECT_DOUBLE_EQ(result.joints[2], puma.links[2].joint_max);
+}
+
+TEST(InverseKinematicsTest, AFreeSolutionWholeTurnsPastAWideRangeIsConverged) {
+  // A UR10e path step (a targets CSV without starts, --match=pose): from
+  // the previous target's result, the run without limits reaches the
+  // target with joint 1 at -8.8 rad and joint 3 at 5.65 rad, outside
+  // [-2 pi, 2 pi] and [-pi, pi]; turned back by whole turns both are inside,
+  // and the same configuration reaches the target. It was reported `limit`
+  // ("reachable only outside the joint limits").
+  const std::string frames = ::testing::TempDir() + "/ik_wrap_frames.yaml";
+  {
+    std::ofstream out(frames);
+    out << "base: {xyz: [1.2, 0.3, 0.1], rpy: [0.01, -0.02, 1.0]}\n"
+           "markers:\n  - {name: tcp, xyz: [0, 0, 0.15], rpy: [0.3, 0, 0]}\n";
+  }
+  RobotLoadOptions load;
+  load.chain.tip_link = "tool0";
+  load.frames_path = frames;
+  RobotDescription robot;
+  std::string error;
+  ASSERT_TRUE(LoadRobot(DataFile("ur10e.urdf"), load, &robot, &error)) << error;
+  const RobotModel& ur = robot.model;
+  Eigen::VectorXd start(6);
+  start << -1.256637056912453, -1.2566370401526896, 3.141592653589793,
+      3.7699111622127184, -1.256637057861826, -6.28318530439134;
+  TargetList list;
+  list.points.resize(1, 3);
+  list.points << 1.164924819366718, 0.09682534949453785, 1.522593814642283;
+  list.rotation_vectors.resize(1, 3);
+  list.rotation_vectors << 1.9559741087621028, 0.7385697738908211,
+      -2.264551759374308;
+  const IkTarget target = IkTargetsFromList(list)[0];
+  InverseKinematicsOptions options;
+  options.match = IkMatch::kPose;
+  InverseKinematicsResult result;
+  SolveInverseKinematics(ur, ur.nominal, target, start, options, &result);
+  EXPECT_EQ(result.status, IkStatus::kConverged) << result.message;
+  EXPECT_TRUE(InsideLimits(ur, result.joints));
+  EXPECT_LE(result.position_error_m, 1e-9);
+  EXPECT_LE(result.rotation_error_rad, 1e-9);
 }
 
 TEST(InverseKinematicsTest, AWristSingularTargetIsSingular) {

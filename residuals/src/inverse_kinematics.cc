@@ -244,9 +244,18 @@ class IkSolver {
     evaluator_ = MakeEvaluator(model, parameters, options.marker);
     lower_.resize(n_);
     upper_.resize(n_);
+    period_.resize(n_);
     for (int j = 0; j < n_; ++j) {
       lower_[j] = model.links[j].joint_min;
       upper_[j] = model.links[j].joint_max;
+      // A revolute joint's reading enters as entry + gain * q into an
+      // angle: the chain repeats itself every 2 pi / |gain| of q.
+      int offset = 0, gain = 0;
+      JointEntries(model, j, &offset, &gain);
+      const double g = std::abs(parameters[gain]);
+      period_[j] = model.links[j].joint_type == JointType::kRevolute && g > 0.0
+                       ? 2.0 * M_PI / g
+                       : 0.0;
     }
   }
 
@@ -302,6 +311,17 @@ class IkSolver {
       int free_iterations = 0;
       Run(false, &free_iterate, &free_cap, &free_iterations);
       result->iterations += free_iterations;
+      if (Converged(free_iterate) && !OutsideLimits(free_iterate.q).empty()) {
+        // The free run may have wound a revolute joint whole turns past a
+        // wide range (a UR's +-2 pi): the same configuration, turned back
+        // into the range, is a solution inside the limits.
+        Joints wrapped = free_iterate.q;
+        if (WrapIntoLimits(&wrapped)) {
+          Iterate w;
+          Evaluate(wrapped, &w);
+          if (Converged(w)) free_iterate = w;
+        }
+      }
       if (Converged(free_iterate) && OutsideLimits(free_iterate.q).empty()) {
         // The path without limits found a solution inside them.
         current_ = free_iterate;
@@ -464,6 +484,25 @@ class IkSolver {
     return dq;
   }
 
+  // Turns each revolute joint outside its range by whole periods into it,
+  // as near the start as possible; false if some joint cannot be.
+  bool WrapIntoLimits(Joints* q) const {
+    for (int j = 0; j < n_; ++j) {
+      double& v = (*q)[j];
+      if (v >= lower_[j] && v <= upper_[j]) continue;
+      const double p = period_[j];
+      if (!(p > 0.0)) return false;
+      // The turn count that brings v nearest the start, then into range.
+      double k = std::round((start_[j] - v) / p);
+      double best = v + k * p;
+      if (best < lower_[j]) best += p * std::ceil((lower_[j] - best) / p);
+      if (best > upper_[j]) best -= p * std::ceil((best - upper_[j]) / p);
+      if (!(best >= lower_[j] && best <= upper_[j])) return false;
+      v = best;
+    }
+    return true;
+  }
+
   Joints Clamp(Joints q, bool limits) const {
     if (!limits) return q;
     for (int j = 0; j < n_; ++j)
@@ -549,6 +588,7 @@ class IkSolver {
   std::string setup_error_;
   std::unique_ptr<ChainEvaluator> evaluator_;
   Joints lower_, upper_;
+  Joints period_;  // revolute joints: 2 pi / |gain|; 0 otherwise
   IkTarget target_;
   Joints start_;
   Iterate current_;
