@@ -363,6 +363,65 @@ TEST(TaskCertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
   EXPECT_GT(tight, 0);
 }
 
+// A pool larger than the reduced-pool threshold: the restarts swap within
+// the poses of largest b_i, the best is polished over the whole pool. The
+// result must be a swap local optimum of the full problem (checked from
+// scratch on every pair), keep the fixed poses, name the reduction, and
+// be within a few percent of the full-pool exchange.
+TEST_F(TaskCriterionTest, ReducedPoolExchangeIsPolishedToAFullPoolOptimum) {
+  const CandidatePool& pool = *puma_;
+  const int p = pool.num_parameters();
+  const RowMatrixXd none(0, p);
+  TaskApproximateSummary approx;
+  TaskApproximateOptions ao;
+  ao.tolerance = 1e-2;
+  ASSERT_TRUE(SolveTaskApproximateDesign(pool, *w_, {}, ao, &approx))
+      << approx.message;
+  DesignConstraints constraints;
+  constraints.fixed = {7, 500};
+  TaskExchangeOptions full;
+  full.num_poses = 20;
+  full.restarts = 2;
+  full.reduced_pool_size = 0;  // always the whole pool
+  SelectionSummary f;
+  ASSERT_TRUE(TaskExchange(pool, *w_, none, constraints, full, &approx, &f))
+      << f.message;
+  EXPECT_EQ(f.message.find("reduced pool"), std::string::npos) << f.message;
+  TaskExchangeOptions reduced = full;
+  reduced.reduced_pool_size = 60;  // 729 poses > max(60, 2 * 20)
+  reduced.reduced_pool_per_pose = 2;
+  SelectionSummary r;
+  ASSERT_TRUE(
+      TaskExchange(pool, *w_, none, constraints, reduced, &approx, &r))
+      << r.message;
+  EXPECT_NE(r.message.find("reduced pool"), std::string::npos) << r.message;
+  ASSERT_EQ(r.design.size(), 20u);
+  std::vector<int64_t> sorted = r.design;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  for (int64_t i : constraints.fixed) {
+    EXPECT_NE(std::find(r.design.begin(), r.design.end(), i), r.design.end())
+        << "fixed pose " << i << " lost";
+  }
+  for (int64_t i : r.design) ASSERT_TRUE(i >= 0 && i < pool.size()) << i;
+  const double phi = TaskCriterionFromScratch(pool, *w_, none, r.design);
+  EXPECT_LE(RelativeError(r.task_criterion, phi), 1e-12);
+  EXPECT_LE(phi, f.task_criterion * 1.05);
+  for (size_t k = 0; k < r.design.size(); ++k) {
+    if (r.design[k] == 7 || r.design[k] == 500) continue;
+    for (int64_t x = 0; x < pool.size(); ++x) {
+      if (std::find(r.design.begin(), r.design.end(), x) != r.design.end()) {
+        continue;
+      }
+      std::vector<int64_t> d = r.design;
+      d[k] = x;
+      ASSERT_GE(TaskCriterionFromScratch(pool, *w_, none, d),
+                phi * (1 - 1e-8))
+          << "swap " << r.design[k] << " -> " << x;
+    }
+  }
+}
+
 // With poses already measured, a batch smaller than a non-singular design
 // has exactly the size asked, and lowers phi below the prior's own.
 TEST_F(TaskCriterionTest, ABatchWithAPriorHasTheSizeAsked) {
