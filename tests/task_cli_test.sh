@@ -164,6 +164,10 @@ assert abs(r[0]['parameter_change_task_rms_m'] - j['nominal_true_task_rms_m']) <
 assert r[-1]['true_task_rms_m'] < 1e-3 * j['nominal_true_task_rms_m']
 # The prediction is of the right size: the true error within a factor 3.
 assert all(x['true_task_rms_m'] < 3 * x['predicted_task_rms_m'] for x in r)
+# The model fits: residual sigma about the noise, no round flagged.
+assert all(x['residual_sigma_m'] is None or
+           0.3 * j['noise_m'] < x['residual_sigma_m'] < 2 * j['noise_m'] for x in r), r
+assert not any(x['residuals_exceed_noise'] for x in r)
 for name in ('d_optimal_at_nominal', 'task_optimal_at_nominal', 'random'):
     o = j['one_shot'][name]
     assert o['num_poses'] == r[-1]['num_poses'], name
