@@ -112,29 +112,30 @@ if [ "$(json next_target.json "int(j['num_poses'] > 0 and j['predicted_task_rms_
   --measured_csv=measured.csv --json_out=none.json >/dev/null
 if [ "$(json none.json "j['num_poses']")" = 0 ]; then pass "no new pose needed"; else fail "no new pose needed"; fi
 # Per-measurement sigmas weight the rows: the same file with sigma 10x
-# larger predicts more.
+# larger (per axis, as one sigma_m column, as u95_mm = 2 mm) predicts more,
+# the three forms alike; a stated sigma equal to --noise_m changes nothing.
 python3 - <<'PY'
 import csv
 rows = list(csv.DictReader(open('measured.csv')))
-fields = list(rows[0].keys())
-for f in ('sigma_x_m', 'sigma_y_m', 'sigma_z_m'):
-    if f not in fields: fields.append(f)
-for r in rows:
-    for f in ('sigma_x_m', 'sigma_y_m', 'sigma_z_m'): r[f] = '0.001'
-w = csv.DictWriter(open('measured_sigma.csv', 'w', newline=''), fieldnames=fields, lineterminator='\n')
-w.writeheader(); w.writerows(rows)
+base = list(rows[0].keys())
+for name, cols, val in (('measured_sigma.csv', ('sigma_x_m', 'sigma_y_m', 'sigma_z_m'), '0.001'),
+                        ('measured_sigma_m.csv', ('sigma_m',), '0.001'),
+                        ('measured_u95.csv', ('u95_mm',), '2'),
+                        ('measured_noise.csv', ('sigma_m',), '0.0001')):
+    w = csv.DictWriter(open(name, 'w', newline=''), fieldnames=base + list(cols), lineterminator='\n')
+    w.writeheader()
+    w.writerows([dict(r, **{c: val for c in cols}) for r in rows])
 PY
-if "$S" --levels=3 --criterion=task_rms --num_poses=10 --measured_csv=measured_sigma.csv \
-    --json_out=next_sigma.json >/dev/null 2>sigma_err.txt; then
-  cmp_sigma=$(json next_sigma.json "(j['predicted_task_rms_m'] > json.load(open('next.json'))['predicted_task_rms_m']) - (j['predicted_task_rms_m'] < json.load(open('next.json'))['predicted_task_rms_m'])")
-  case "$cmp_sigma" in
-    1) pass "measurement sigmas weight the prior" ;;
-    0) echo "note [sigma columns]: this build's measurements reader ignores sigma_*_m columns; the weighting is tested in MeasuredInformationRowsTest.MeasuredRowsAreWhitenedBySigma" ;;
-    *) fail "measurement sigmas weight the prior" ;;
-  esac
-else
-  echo "note [sigma columns]: $(cat sigma_err.txt)"
-fi
+for f in sigma sigma_m u95 noise; do
+  "$S" --levels=3 --criterion=task_rms --num_poses=10 --measured_csv=measured_$f.csv \
+    --json_out=next_$f.json >/dev/null || fail "measured with $f columns run"
+done
+if [ "$(json next_sigma.json "int(j['predicted_task_rms_m'] > 1.5 * json.load(open('next.json'))['predicted_task_rms_m'])")" = 1 ]; then
+  pass "measurement sigmas weight the prior"; else fail "measurement sigmas weight the prior"; fi
+if [ "$(json next_sigma.json "int(all(abs(j['predicted_task_rms_m'] - json.load(open(f))['predicted_task_rms_m']) <= 1e-9 * j['predicted_task_rms_m'] for f in ('next_sigma_m.json', 'next_u95.json')))")" = 1 ]; then
+  pass "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; else fail "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; fi
+if [ "$(json next_noise.json "int(abs(j['predicted_task_rms_m'] - json.load(open('next.json'))['predicted_task_rms_m']) <= 1e-9 * j['predicted_task_rms_m'])")" = 1 ]; then
+  pass "a stated sigma equal to --noise_m"; else fail "a stated sigma equal to --noise_m"; fi
 printf 'type,q1_rad,q2_rad,q3_rad,x_m,y_m,z_m\nposition,0.1,0.2,0.3,1,2,3\n' >wrong_robot.csv
 expect_fail "measured rows for another robot" "--measured_csv: wrong_robot.csv" \
   activecal_select --levels=3 --criterion=task_rms --measured_csv=wrong_robot.csv
