@@ -80,7 +80,11 @@ int Main() {
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
   std::string error;
-  if (!options.IsValid(&error)) app::Fail(error);
+  if (!options.IsValid(&error)) {
+    // The options' names are the flags' but for sigma_m (--noise_m).
+    if (error.rfind("sigma_m", 0) == 0) error.replace(0, 7, "noise_m");
+    app::Fail("--" + error);
+  }
 
   // Round 0: D-optimal; later rounds: task-optimal counting what is measured.
   auto d_optimal = [&](const CandidatePool& pool, int n,

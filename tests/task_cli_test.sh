@@ -179,8 +179,12 @@ fi
 grep -v "true:" "$data/puma560.yaml" >notruth.yaml
 expect_fail "active without true values" "--robot has no true values" \
   activecal_active --robot=notruth.yaml
-expect_fail "active target <= 0" "target_rms_m must be > 0" \
+expect_fail "active target <= 0" "activecal_active: error: --target_rms_m must be > 0" \
   activecal_active --levels=3 --target_rms_m=0
+expect_fail "active noise <= 0" "activecal_active: error: --noise_m must be > 0" \
+  activecal_active --levels=3 --noise_m=0
+expect_fail "active first batch <= 0" "activecal_active: error: --first_batch must be > 0" \
+  activecal_active --levels=3 --first_batch=0
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures failure(s)"
