@@ -142,6 +142,49 @@ expect_fail "measured rows for another robot" "--measured_csv: wrong_robot.csv" 
 expect_fail "measured with the D criterion" "--measured_csv needs --criterion=task_rms" \
   activecal_select --levels=3 --measured_csv=measured.csv
 
+# --- A URDF arm on a rail (7 revolute axes and a prismatic one), a pool
+# from CSV: the printed design gives the rail in mm, the others in deg, and
+# matches the JSON. ---
+python3 - <<'PY'
+import random
+random.seed(3)
+with open('rail_pool.csv', 'w') as f:
+    f.write('pose_index,' + ','.join('q%d_rad' % i for i in range(2, 9)) + ',q1_m\n')
+    for k in range(300):
+        f.write('%d,' % k + ','.join('%.4f' % random.uniform(-2.0, 2.0) for _ in range(7))
+                + ',%.3f\n' % random.uniform(0, 1.0))
+PY
+if "$S" --robot="$here/data/arm7_rail.urdf" --tip_link=tcp --pool_csv=rail_pool.csv \
+    --criterion=task_rms --num_poses=30 --json_out=rail.json >rail.txt 2>/dev/null; then
+  # (check_task_json recomputes for the built-in PUMA's lattice only.)
+  python3 - <<'PY' && pass "7 axes on a rail: indices and joints" || fail "7 axes on a rail: indices and joints"
+import csv, json
+j = json.load(open('rail.json'))
+rows = {int(r['pose_index']): r for r in csv.DictReader(open('rail_pool.csv'))}
+assert j['num_poses'] == len(j['pose_indices']) == len(set(j['pose_indices'])) == 30
+assert j['predicted_task_rms_m'] > 0 and 0 < j['efficiency_lower_bound'] <= 1
+for index, q in zip(j['pose_indices'], j['joint_angles_rad']):
+    r = rows[index]
+    want = [float(r['q1_m'])] + [float(r['q%d_rad' % i]) for i in range(2, 9)]
+    assert all(abs(a - b) < 1e-12 for a, b in zip(q, want)), (index, q, want)
+PY
+  python3 - <<'PY' && pass "rail printed in mm" || fail "rail printed in mm"
+import json, math
+j = json.load(open('rail.json'))
+lines = open('rail.txt').read().splitlines()
+h = [k for k, l in enumerate(lines) if 'joints (deg; prismatic mm)' in l]
+assert h, 'no header naming the prismatic unit'
+for k, (index, q) in enumerate(zip(j['pose_indices'], j['joint_angles_rad'])):
+    f = lines[h[0] + 1 + k].split()
+    assert int(f[1]) == index, (f, index)
+    shown = [float(x) for x in f[2:]]
+    want = [q[0] * 1000] + [v * 180 / math.pi for v in q[1:]]
+    assert all(abs(a - b) < 2e-3 for a, b in zip(shown, want)), (shown, want)
+PY
+else
+  fail "7 axes on a rail run"
+fi
+
 # --- The active loop: rounds read back. ---
 A="$apps/activecal_active"
 if "$A" --levels=3 --target_rms_m=1e-4 --compare --json_out=active.json >active.txt; then
