@@ -445,8 +445,8 @@ int Main() {
               static_cast<long long>(pool.size()), jacobian_seconds);
   bool any_prismatic = false;
   for (int c = 0; c < model.num_joints(); ++c) {
-    any_prismatic = any_prismatic ||
-                    model.links[c].joint_type == JointType::kPrismatic;
+    any_prismatic =
+        any_prismatic || model.links[c].joint_type == JointType::kPrismatic;
   }
   std::printf("  %-6s %-8s %s\n", "#", "index",
               from_lattice    ? "levels (joint 1..n)"

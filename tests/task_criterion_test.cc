@@ -392,8 +392,7 @@ TEST_F(TaskCriterionTest, ReducedPoolExchangeIsPolishedToAFullPoolOptimum) {
   reduced.reduced_pool_size = 60;  // 729 poses > max(60, 2 * 20)
   reduced.reduced_pool_per_pose = 2;
   SelectionSummary r;
-  ASSERT_TRUE(
-      TaskExchange(pool, *w_, none, constraints, reduced, &approx, &r))
+  ASSERT_TRUE(TaskExchange(pool, *w_, none, constraints, reduced, &approx, &r))
       << r.message;
   EXPECT_NE(r.message.find("reduced pool"), std::string::npos) << r.message;
   ASSERT_EQ(r.design.size(), 20u);
@@ -416,8 +415,7 @@ TEST_F(TaskCriterionTest, ReducedPoolExchangeIsPolishedToAFullPoolOptimum) {
       }
       std::vector<int64_t> d = r.design;
       d[k] = x;
-      ASSERT_GE(TaskCriterionFromScratch(pool, *w_, none, d),
-                phi * (1 - 1e-8))
+      ASSERT_GE(TaskCriterionFromScratch(pool, *w_, none, d), phi * (1 - 1e-8))
           << "swap " << r.design[k] << " -> " << x;
     }
   }
@@ -480,8 +478,8 @@ TEST(ActiveLoopTest, ResidualsAboveTheNoiseAreNotConvergence) {
     return true;
   };
   ActiveLoopSummary fits;
-  ASSERT_TRUE(RunActiveLoop(model, truth, joints, joints, options, first_poses,
-                            &fits))
+  ASSERT_TRUE(
+      RunActiveLoop(model, truth, joints, joints, options, first_poses, &fits))
       << fits.message;
   EXPECT_EQ(fits.termination_type, TerminationType::kConvergence)
       << fits.message;

@@ -238,9 +238,9 @@ bool RunActiveLoop(const RobotModel& model,
       std::ostringstream msg;
       msg << "the predicted task RMS " << round.predicted_task_rms_m
           << " m meets the target " << options.target_rms_m
-          << " m, but the residual sigma " << round.residual_sigma_m
-          << " m is " << round.residual_sigma_m / options.sigma_m
-          << " times the noise " << options.sigma_m
+          << " m, but the residual sigma " << round.residual_sigma_m << " m is "
+          << round.residual_sigma_m / options.sigma_m << " times the noise "
+          << options.sigma_m
           << " m: the model does not fit the measurements (a wrong local "
              "minimum or an error the model lacks), so the prediction does "
              "not hold";

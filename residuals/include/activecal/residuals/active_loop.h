@@ -85,8 +85,8 @@ struct ActiveRound {
 struct ActiveLoopSummary {
   // CONVERGENCE: the target was met; NO_CONVERGENCE: max_rounds or the
   // pool ran out first, or the target was predicted by a round whose
-  // residuals exceed the noise (the message says so); FAILURE: a batch or an identification failed;
-  // USER_FAILURE: bad options or input.
+  // residuals exceed the noise (the message says so); FAILURE: a batch or an
+  // identification failed; USER_FAILURE: bad options or input.
   TerminationType termination_type = TerminationType::kFailure;
   std::string message;
   std::vector<ActiveRound> rounds;
