@@ -48,7 +48,11 @@ nlohmann::json RoundJson(const ActiveRound& r) {
           {"predicted_task_rms_m", r.predicted_task_rms_m},
           {"true_task_rms_m", r.true_task_rms_m},
           {"parameter_change_task_rms_m", r.parameter_change_task_rms_m},
-          {"parameter_change_max_abs", r.parameter_change_max_abs}};
+          {"parameter_change_max_abs", r.parameter_change_max_abs},
+          {"residual_sigma_m", std::isfinite(r.residual_sigma_m)
+                                   ? nlohmann::json(r.residual_sigma_m)
+                                   : nlohmann::json()},
+          {"residuals_exceed_noise", r.residuals_exceed_noise}};
 }
 
 int Main() {
@@ -76,7 +80,11 @@ int Main() {
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
   std::string error;
-  if (!options.IsValid(&error)) app::Fail(error);
+  if (!options.IsValid(&error)) {
+    // The options' names are the flags' but for sigma_m (--noise_m).
+    if (error.rfind("sigma_m", 0) == 0) error.replace(0, 7, "noise_m");
+    app::Fail("--" + error);
+  }
 
   // Round 0: D-optimal; later rounds: task-optimal counting what is measured.
   auto d_optimal = [&](const CandidatePool& pool, int n,
@@ -133,13 +141,26 @@ int Main() {
       "  nominal model: true task RMS %.6g m (--nominal_error_scale "
       "%g)\n",
       summary.nominal_true_task_rms_m, FLAGS_nominal_error_scale);
-  std::printf("  %-6s %-6s %-14s %-14s %-14s %s\n", "round", "poses",
-              "predicted_m", "true_m", "change_m", "change_max");
+  std::printf("  %-6s %-6s %-14s %-14s %-14s %-14s %s\n", "round", "poses",
+              "predicted_m", "true_m", "change_m", "change_max",
+              "resid_sigma_m");
   for (size_t r = 0; r < summary.rounds.size(); ++r) {
     const ActiveRound& a = summary.rounds[r];
-    std::printf("  %-6zu %-6d %-14.6g %-14.6g %-14.6g %.6g\n", r, a.num_poses,
-                a.predicted_task_rms_m, a.true_task_rms_m,
-                a.parameter_change_task_rms_m, a.parameter_change_max_abs);
+    std::printf("  %-6zu %-6d %-14.6g %-14.6g %-14.6g %-14.6g %.6g%s\n", r,
+                a.num_poses, a.predicted_task_rms_m, a.true_task_rms_m,
+                a.parameter_change_task_rms_m, a.parameter_change_max_abs,
+                a.residual_sigma_m,
+                a.residuals_exceed_noise ? "  (above the noise)" : "");
+  }
+  for (size_t r = 0; r < summary.rounds.size(); ++r) {
+    if (!summary.rounds[r].residuals_exceed_noise) continue;
+    std::fprintf(stderr,
+                 "warning: round %zu: the residual sigma %.3g m is %.1f "
+                 "times --noise_m: the identified model does not fit the "
+                 "measurements (a wrong local minimum?); its predicted task "
+                 "RMS does not hold\n",
+                 r, summary.rounds[r].residual_sigma_m,
+                 summary.rounds[r].residual_sigma_m / FLAGS_noise_m);
   }
   nlohmann::json j;
   j["termination_type"] = TerminationTypeToString(summary.termination_type);

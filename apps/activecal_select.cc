@@ -460,8 +460,15 @@ int Main() {
   }
   std::printf("  Jacobians of %lld poses: %.3f s\n",
               static_cast<long long>(pool.size()), jacobian_seconds);
+  bool any_prismatic = false;
+  for (int c = 0; c < model.num_joints(); ++c) {
+    any_prismatic =
+        any_prismatic || model.links[c].joint_type == JointType::kPrismatic;
+  }
   std::printf("  %-6s %-8s %s\n", "#", "index",
-              from_lattice ? "levels (joint 1..n)" : "joints (deg)");
+              from_lattice    ? "levels (joint 1..n)"
+              : any_prismatic ? "joints (deg; prismatic mm)"
+                              : "joints (deg)");
   for (size_t k = 0; k < summary.design.size(); ++k) {
     const int64_t i = summary.design[k];
     std::printf("  %-6zu %-8lld", k,
@@ -470,7 +477,10 @@ int Main() {
       for (int l : lattice.Levels(i)) std::printf(" %d", l);
     } else {
       for (int c = 0; c < pool_joints.cols(); ++c) {
-        std::printf(" %.3f", pool_joints(i, c) * 180.0 / M_PI);
+        const bool prismatic =
+            model.links[c].joint_type == JointType::kPrismatic;
+        std::printf(" %.3f",
+                    pool_joints(i, c) * (prismatic ? 1000.0 : 180.0 / M_PI));
       }
     }
     std::printf("\n");

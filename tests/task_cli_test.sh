@@ -112,34 +112,78 @@ if [ "$(json next_target.json "int(j['num_poses'] > 0 and j['predicted_task_rms_
   --measured_csv=measured.csv --json_out=none.json >/dev/null
 if [ "$(json none.json "j['num_poses']")" = 0 ]; then pass "no new pose needed"; else fail "no new pose needed"; fi
 # Per-measurement sigmas weight the rows: the same file with sigma 10x
-# larger predicts more.
+# larger (per axis, as one sigma_m column, as u95_mm = 2 mm) predicts more,
+# the three forms alike; a stated sigma equal to --noise_m changes nothing.
 python3 - <<'PY'
 import csv
 rows = list(csv.DictReader(open('measured.csv')))
-fields = list(rows[0].keys())
-for f in ('sigma_x_m', 'sigma_y_m', 'sigma_z_m'):
-    if f not in fields: fields.append(f)
-for r in rows:
-    for f in ('sigma_x_m', 'sigma_y_m', 'sigma_z_m'): r[f] = '0.001'
-w = csv.DictWriter(open('measured_sigma.csv', 'w', newline=''), fieldnames=fields, lineterminator='\n')
-w.writeheader(); w.writerows(rows)
+base = list(rows[0].keys())
+for name, cols, val in (('measured_sigma.csv', ('sigma_x_m', 'sigma_y_m', 'sigma_z_m'), '0.001'),
+                        ('measured_sigma_m.csv', ('sigma_m',), '0.001'),
+                        ('measured_u95.csv', ('u95_mm',), '2'),
+                        ('measured_noise.csv', ('sigma_m',), '0.0001')):
+    w = csv.DictWriter(open(name, 'w', newline=''), fieldnames=base + list(cols), lineterminator='\n')
+    w.writeheader()
+    w.writerows([dict(r, **{c: val for c in cols}) for r in rows])
 PY
-if "$S" --levels=3 --criterion=task_rms --num_poses=10 --measured_csv=measured_sigma.csv \
-    --json_out=next_sigma.json >/dev/null 2>sigma_err.txt; then
-  cmp_sigma=$(json next_sigma.json "(j['predicted_task_rms_m'] > json.load(open('next.json'))['predicted_task_rms_m']) - (j['predicted_task_rms_m'] < json.load(open('next.json'))['predicted_task_rms_m'])")
-  case "$cmp_sigma" in
-    1) pass "measurement sigmas weight the prior" ;;
-    0) echo "note [sigma columns]: this build's measurements reader ignores sigma_*_m columns; the weighting is tested in MeasuredInformationRowsTest.MeasuredRowsAreWhitenedBySigma" ;;
-    *) fail "measurement sigmas weight the prior" ;;
-  esac
-else
-  echo "note [sigma columns]: $(cat sigma_err.txt)"
-fi
+for f in sigma sigma_m u95 noise; do
+  "$S" --levels=3 --criterion=task_rms --num_poses=10 --measured_csv=measured_$f.csv \
+    --json_out=next_$f.json >/dev/null || fail "measured with $f columns run"
+done
+if [ "$(json next_sigma.json "int(j['predicted_task_rms_m'] > 1.5 * json.load(open('next.json'))['predicted_task_rms_m'])")" = 1 ]; then
+  pass "measurement sigmas weight the prior"; else fail "measurement sigmas weight the prior"; fi
+if [ "$(json next_sigma.json "int(all(abs(j['predicted_task_rms_m'] - json.load(open(f))['predicted_task_rms_m']) <= 1e-9 * j['predicted_task_rms_m'] for f in ('next_sigma_m.json', 'next_u95.json')))")" = 1 ]; then
+  pass "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; else fail "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; fi
+if [ "$(json next_noise.json "int(abs(j['predicted_task_rms_m'] - json.load(open('next.json'))['predicted_task_rms_m']) <= 1e-9 * j['predicted_task_rms_m'])")" = 1 ]; then
+  pass "a stated sigma equal to --noise_m"; else fail "a stated sigma equal to --noise_m"; fi
 printf 'type,q1_rad,q2_rad,q3_rad,x_m,y_m,z_m\nposition,0.1,0.2,0.3,1,2,3\n' >wrong_robot.csv
 expect_fail "measured rows for another robot" "--measured_csv: wrong_robot.csv" \
   activecal_select --levels=3 --criterion=task_rms --measured_csv=wrong_robot.csv
 expect_fail "measured with the D criterion" "--measured_csv needs --criterion=task_rms" \
   activecal_select --levels=3 --measured_csv=measured.csv
+
+# --- A URDF arm on a rail (7 revolute axes and a prismatic one), a pool
+# from CSV: the printed design gives the rail in mm, the others in deg, and
+# matches the JSON. ---
+python3 - <<'PY'
+import random
+random.seed(3)
+with open('rail_pool.csv', 'w') as f:
+    f.write('pose_index,' + ','.join('q%d_rad' % i for i in range(2, 9)) + ',q1_m\n')
+    for k in range(300):
+        f.write('%d,' % k + ','.join('%.4f' % random.uniform(-2.0, 2.0) for _ in range(7))
+                + ',%.3f\n' % random.uniform(0, 1.0))
+PY
+if "$S" --robot="$here/data/arm7_rail.urdf" --tip_link=tcp --pool_csv=rail_pool.csv \
+    --criterion=task_rms --num_poses=30 --json_out=rail.json >rail.txt 2>/dev/null; then
+  # (check_task_json recomputes for the built-in PUMA's lattice only.)
+  python3 - <<'PY' && pass "7 axes on a rail: indices and joints" || fail "7 axes on a rail: indices and joints"
+import csv, json
+j = json.load(open('rail.json'))
+rows = {int(r['pose_index']): r for r in csv.DictReader(open('rail_pool.csv'))}
+assert j['num_poses'] == len(j['pose_indices']) == len(set(j['pose_indices'])) == 30
+assert j['predicted_task_rms_m'] > 0 and 0 < j['efficiency_lower_bound'] <= 1
+for index, q in zip(j['pose_indices'], j['joint_angles_rad']):
+    r = rows[index]
+    want = [float(r['q1_m'])] + [float(r['q%d_rad' % i]) for i in range(2, 9)]
+    assert all(abs(a - b) < 1e-12 for a, b in zip(q, want)), (index, q, want)
+PY
+  python3 - <<'PY' && pass "rail printed in mm" || fail "rail printed in mm"
+import json, math
+j = json.load(open('rail.json'))
+lines = open('rail.txt').read().splitlines()
+h = [k for k, l in enumerate(lines) if 'joints (deg; prismatic mm)' in l]
+assert h, 'no header naming the prismatic unit'
+for k, (index, q) in enumerate(zip(j['pose_indices'], j['joint_angles_rad'])):
+    f = lines[h[0] + 1 + k].split()
+    assert int(f[1]) == index, (f, index)
+    shown = [float(x) for x in f[2:]]
+    want = [q[0] * 1000] + [v * 180 / math.pi for v in q[1:]]
+    assert all(abs(a - b) < 2e-3 for a, b in zip(shown, want)), (shown, want)
+PY
+else
+  fail "7 axes on a rail run"
+fi
 
 # --- The active loop: rounds read back. ---
 A="$apps/activecal_active"
@@ -164,6 +208,10 @@ assert abs(r[0]['parameter_change_task_rms_m'] - j['nominal_true_task_rms_m']) <
 assert r[-1]['true_task_rms_m'] < 1e-3 * j['nominal_true_task_rms_m']
 # The prediction is of the right size: the true error within a factor 3.
 assert all(x['true_task_rms_m'] < 3 * x['predicted_task_rms_m'] for x in r)
+# The model fits: residual sigma about the noise, no round flagged.
+assert all(x['residual_sigma_m'] is None or
+           0.3 * j['noise_m'] < x['residual_sigma_m'] < 2 * j['noise_m'] for x in r), r
+assert not any(x['residuals_exceed_noise'] for x in r)
 for name in ('d_optimal_at_nominal', 'task_optimal_at_nominal', 'random'):
     o = j['one_shot'][name]
     assert o['num_poses'] == r[-1]['num_poses'], name
@@ -174,8 +222,12 @@ fi
 grep -v "true:" "$data/puma560.yaml" >notruth.yaml
 expect_fail "active without true values" "--robot has no true values" \
   activecal_active --robot=notruth.yaml
-expect_fail "active target <= 0" "target_rms_m must be > 0" \
+expect_fail "active target <= 0" "activecal_active: error: --target_rms_m must be > 0" \
   activecal_active --levels=3 --target_rms_m=0
+expect_fail "active noise <= 0" "activecal_active: error: --noise_m must be > 0" \
+  activecal_active --levels=3 --noise_m=0
+expect_fail "active first batch <= 0" "activecal_active: error: --first_batch must be > 0" \
+  activecal_active --levels=3 --first_batch=0
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures failure(s)"

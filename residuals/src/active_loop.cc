@@ -30,6 +30,8 @@ bool ActiveLoopOptions::IsValid(std::string* error) const {
     msg << "batch_size must be > 0, got " << batch_size;
   else if (max_rounds <= 0)
     msg << "max_rounds must be > 0, got " << max_rounds;
+  else if (std::isnan(residual_ratio_limit))
+    msg << "residual_ratio_limit must be a number";
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();
   return false;
@@ -131,6 +133,12 @@ bool MeasureAndIdentify(const RobotModel& model, const Eigen::VectorXd& truth,
     change = std::max(change, std::abs((*estimate)[i] - start[i]));
   }
   round->parameter_change_max_abs = change;
+  if (identified.degrees_of_freedom > 0) {
+    round->residual_sigma_m = identified.sigma_m;
+    round->residuals_exceed_noise =
+        options.residual_ratio_limit > 0 &&
+        identified.sigma_m > options.residual_ratio_limit * options.sigma_m;
+  }
   return true;
 }
 
@@ -225,6 +233,19 @@ bool RunActiveLoop(const RobotModel& model,
     estimate = next;
     summary->estimate = estimate;
     summary->rounds.push_back(round);
+    if (round.predicted_task_rms_m <= options.target_rms_m &&
+        round.residuals_exceed_noise) {
+      std::ostringstream msg;
+      msg << "the predicted task RMS " << round.predicted_task_rms_m
+          << " m meets the target " << options.target_rms_m
+          << " m, but the residual sigma " << round.residual_sigma_m << " m is "
+          << round.residual_sigma_m / options.sigma_m << " times the noise "
+          << options.sigma_m
+          << " m: the model does not fit the measurements (a wrong local "
+             "minimum or an error the model lacks), so the prediction does "
+             "not hold";
+      return finish(TerminationType::kNoConvergence, msg.str());
+    }
     if (round.predicted_task_rms_m <= options.target_rms_m) {
       std::ostringstream msg;
       msg << "the predicted task RMS " << round.predicted_task_rms_m

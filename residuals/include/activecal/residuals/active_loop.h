@@ -47,6 +47,14 @@ struct ActiveLoopOptions {
   int max_rounds = 30;
   uint64_t seed = 1;    // noise of round r from StreamSeed(seed, r)
   int num_threads = 0;  // Jacobians; results do not depend on it
+  // A round whose identification leaves residuals of standard deviation
+  // s = sqrt(SSR / (rows - free)) above residual_ratio_limit * sigma_m is
+  // flagged: the model does not explain the data (a wrong local minimum,
+  // or an error the model lacks), so its predicted task RMS, which assumes
+  // the estimate is near the truth, does not hold. When a flagged round
+  // predicts the target the loop ends NO_CONVERGENCE, saying why, instead
+  // of CONVERGENCE. <= 0: no check.
+  double residual_ratio_limit = 2.0;
 
   bool IsValid(std::string* error) const;
 };
@@ -67,12 +75,18 @@ struct ActiveRound {
   double true_task_rms_m = std::numeric_limits<double>::infinity();
   double parameter_change_task_rms_m = 0.0;
   double parameter_change_max_abs = 0.0;
+  // s = sqrt(SSR / (rows - free)) of the identification, m (NaN while
+  // rows <= free parameters), and whether it exceeds
+  // residual_ratio_limit * sigma_m.
+  double residual_sigma_m = std::numeric_limits<double>::quiet_NaN();
+  bool residuals_exceed_noise = false;
 };
 
 struct ActiveLoopSummary {
   // CONVERGENCE: the target was met; NO_CONVERGENCE: max_rounds or the
-  // pool ran out first; FAILURE: a batch or an identification failed;
-  // USER_FAILURE: bad options or input.
+  // pool ran out first, or the target was predicted by a round whose
+  // residuals exceed the noise (the message says so); FAILURE: a batch or an
+  // identification failed; USER_FAILURE: bad options or input.
   TerminationType termination_type = TerminationType::kFailure;
   std::string message;
   std::vector<ActiveRound> rounds;
