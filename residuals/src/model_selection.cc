@@ -393,6 +393,30 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
       << ", ranked by " << ParameterRankingName(options.ranking)
       << "): " << summary->best_num_kept << " of " << p
       << " free parameters kept, held-out RMS " << best << " m";
+  // Counts above the kept one that could not be tested are not shown to
+  // predict worse: on few poses the folds' training parts are too small
+  // for the larger models, and the choice falls on a smaller one by
+  // default. Said, so that it is not read as evidence.
+  std::vector<int> untested;
+  for (const ModelSelectionPoint& pt : summary->curve) {
+    if (!pt.ok && pt.num_kept > summary->best_num_kept) {
+      untested.push_back(pt.num_kept);
+    }
+  }
+  if (!untested.empty()) {
+    msg << "; not tested (a fit failed"
+        << (options.method == ModelSelectionMethod::kCrossValidation
+                ? ", too few poses in a fold's training part?"
+                : "")
+        << "), so not compared: " << untested.size() << " larger count"
+        << (untested.size() > 1 ? "s" : "") << " (";
+    for (size_t k = 0; k < untested.size(); ++k) {
+      msg << (k ? ", " : "") << untested[k];
+    }
+    msg << (options.method == ModelSelectionMethod::kCrossValidation
+                ? "); more poses or fewer folds would test them"
+                : ")");
+  }
   summary->message = msg.str();
 }
 
