@@ -176,6 +176,15 @@ expect_fail "unknown ranking" "--selection_ranking must be significance or jacob
   activecal_identify --model_selection=cv --selection_ranking=size
 expect_fail "negative default sigma" "default_sigma_m and default_sigma_rad must be finite and >= 0" \
   activecal_identify --default_sigma_m=-0.001
+if [ ${#plot_flag[@]} -gt 0 ]; then
+  # A plot into a folder that does not exist: named, not a SIGPIPE (141).
+  expect_fail "selection plot in a missing folder" \
+    "--selection_plot: cannot write no_such_dir/curve.png" \
+    activecal_identify "${ur[@]}" --measurements="$m" --selection_plot=no_such_dir/curve.png
+  expect_fail "histogram plot in a missing folder" \
+    "--plot: cannot write no_such_dir/hist.png" \
+    activecal_evaluate "${ur[@]}" --measurements="$m" --plot=no_such_dir/hist.png
+fi
 printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m\nposition,0,0,0,0,0,0,0.1,0.2,0.3\n' >puma_one.csv
 expect_fail "nominal robot of another chain" \
   "--nominal_robot: its 6 joints, 1 markers and parameters differ from those of --robot (6 joints, 1 markers): not the same robot" \
