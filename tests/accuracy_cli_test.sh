@@ -159,6 +159,10 @@ PY
 awk -F, 'BEGIN{OFS=","} /^#/ {next} {NF=6; print}' "$m" >five.csv
 expect_fail "validation file of another robot" "--validation: " \
   activecal_identify "${ur[@]}" --measurements="$m" --model_selection=validation --validation=five.csv
+{ grep '^type' "$m"; tail -n 1 "$m"; } >valid_one.csv
+expect_fail "a validation file too small to refit the registration" \
+  "--validation: model selection: the base and markers could not be refitted to the 1 validation measurements: registration needs at least 3 measured points, got 1" \
+  activecal_identify "${ur[@]}" --measurements="$m" --model_selection=validation --validation=valid_one.csv
 expect_fail "too few poses for the folds" \
   "--model_selection: cross-validation: 30 folds need at least 30 distinct poses, the measurements have 23" \
   activecal_identify "${ur[@]}" --measurements="$m" --model_selection=cv --folds=30
