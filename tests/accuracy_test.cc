@@ -538,6 +538,37 @@ TEST(EstimateWarningsTest, EachThresholdIsCrossed) {
       << w[3];
 }
 
+// Parameters of one weak direction are one line, not one per pair: a group
+// of parameters linked by pairs beyond the threshold is named once (on
+// FIGAROH's UR10e with every identifiable parameter, B.x, elbow_joint.x,
+// wrist_1_joint.x, wrist_2_joint.z, tool.y and tool.z gave eleven lines).
+TEST(EstimateWarningsTest, CorrelatedGroupIsOneLine) {
+  const RobotModel m = Puma560PaperModel();
+  const int p = m.num_free();
+  IdentificationSummary s;
+  s.names = m.FreeParameterNames();
+  s.estimates = ExtractFree(m, m.nominal);
+  s.standard_deviations = Eigen::VectorXd::Constant(p, 1e-5);
+  s.correlation = Eigen::MatrixXd::Identity(p, p);
+  auto set = [&](int a, int b, double c) {
+    s.correlation(a, b) = s.correlation(b, a) = c;
+  };
+  // 2-5 and 5-9 beyond (a chain), 2-9 not; 11-12 a pair of its own.
+  set(2, 5, 0.995);
+  set(5, 9, -0.9991);
+  set(2, 9, 0.98);
+  set(11, 12, 0.993);
+  const std::vector<std::string> w = EstimateWarnings(m, s, {});
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0], s.names[2] + ", " + s.names[5] + " and " + s.names[9] +
+                      " are correlated beyond 0.99 in 2 of their pairs (up "
+                      "to -0.9991): the measurements separate only "
+                      "combinations of them");
+  EXPECT_EQ(w[1], s.names[11] + " and " + s.names[12] +
+                      " are correlated 0.993: the measurements separate only "
+                      "their combination");
+}
+
 TEST(PostureGroupTest, RepeatedNewAndOutOfRange) {
   const RobotModel m = Puma560PaperModel();
   Eigen::MatrixXd train(3, 6);
