@@ -155,6 +155,36 @@ for a, b in zip(w["parameters"], u["parameters"]):
     assert abs(a["std"] - b["std"] * 0.001 / u["sigma_m"]) < 1e-6 * a["std"]
 PY
 
+# Sigma columns of a measurements file reach the weights: simulated PUMA
+# points with 0.5 mm noise, written in mm with a tracker's U95 of 1 mm
+# (sigma 0.5 mm) and in m with sigma_m; chi^2 / dof near 1 for both, the
+# same fit.
+python3 -c "
+import random
+random.seed(5)
+print('q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad')
+for i in range(200): print(','.join('%.6f' % random.uniform(-1.2, 1.2) for _ in range(6)))
+" >puma_poses.csv
+"$apps/activecal_simulate" --robot="$data/puma560.yaml" --poses_csv=puma_poses.csv \
+  --noise_m=0.0005 --out=puma_sim.csv >/dev/null 2>sim.err || { fail "simulate"; cat sim.err; }
+awk -F, 'NR==1{print $0",sigma_m";next}{print $0",0.0005"}' puma_sim.csv >puma_sigma.csv
+awk -F, 'BEGIN{OFS=","} NR==1{print "type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_mm,y_mm,z_mm,u95_mm";next}
+  {print $1,$2,$3,$4,$5,$6,$7,$8*1000,$9*1000,$10*1000,"1.0"}' puma_sim.csv >puma_u95.csv
+for f in puma_sigma puma_u95; do
+  "$apps/activecal_identify" --robot="$data/puma560.yaml" --measurements=$f.csv \
+    --model_selection=none --json_out=$f.json >/dev/null 2>$f.err || { fail "identify $f"; cat $f.err; }
+done
+python3 - <<'PY' && ok "sigma_m and u95_mm columns weight the rows: chi^2/dof near 1" || fail "sigma columns"
+import json
+a = json.load(open("puma_sigma.json")); b = json.load(open("puma_u95.json"))
+for r in (a, b):
+    assert r["weighted"] is True
+    assert r["degrees_of_freedom"] == 600 - len(r["parameters"])
+    assert 0.8 < r["chi_square_per_dof"] < 1.25, r["chi_square_per_dof"]
+    assert abs(r["implied_sigma_m"] - 0.0005) < 0.0001, r["implied_sigma_m"]
+assert abs(a["chi_square_per_dof"] - b["chi_square_per_dof"]) < 1e-3 * a["chi_square_per_dof"]
+PY
+
 # Bad input: one line, status 1.
 awk -F, 'BEGIN{OFS=","} /^#/ {next} {NF=6; print}' "$m" >five.csv
 expect_fail "validation file of another robot" "--validation: " \
