@@ -97,8 +97,14 @@ void PrintLine(const char* label, const EvaluationSummary& s) {
   std::printf("\n");
 }
 
-void PlotHistograms(const EvaluationSummary& before,
+void PlotHistograms(const std::vector<Measurement>& measurements,
+                    const EvaluationSummary& before,
                     const EvaluationSummary& after) {
+  if (after.position.count == 0) {
+    app::Fail(
+        "--plot: the histograms are of position errors, and the "
+        "measurements have none (distances only)");
+  }
   if (!app::GnuplotAvailable()) {
     std::printf("  --plot: gnuplot is not installed; no plot\n");
     return;
@@ -106,6 +112,9 @@ void PlotHistograms(const EvaluationSummary& before,
   std::vector<std::vector<double>> rows;
   double top = 0.0;
   for (size_t i = 0; i < after.position_errors.size(); ++i) {
+    // A distance row has no position error (stored as zero): not a 0 mm
+    // bar in the histogram.
+    if (measurements[i].type == MeasurementType::kDistance) continue;
     const double b = before.position_errors[i].norm() * 1e3;
     const double a = after.position_errors[i].norm() * 1e3;
     rows.push_back({b, a});
@@ -218,7 +227,7 @@ int Main() {
       app::Fail("--plot: no registration-only baseline to compare with: " +
                 baseline.message);
     }
-    PlotHistograms(before, summary);
+    PlotHistograms(measurements, before, summary);
   }
   if (model.base.convention == LinkConvention::kFrame &&
       model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {

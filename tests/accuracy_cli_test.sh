@@ -219,6 +219,13 @@ if [ ${#plot_flag[@]} -gt 0 ]; then
     "--plot: cannot write no_such_dir/hist.png" \
     activecal_evaluate "${ur[@]}" --measurements="$m" --plot=no_such_dir/hist.png
 fi
+# Ballbar distances only: no position error to draw (it drew every
+# distance row as a 0 mm position error).
+"$apps/activecal_simulate" --robot="$data/puma560.yaml" --poses_csv=puma_poses.csv \
+  --noise_m=0.0005 --type=distance --out=puma_dist.csv >/dev/null 2>sim.err || { fail "simulate distances"; cat sim.err; }
+expect_fail "histogram of distances only" \
+  "--plot: the histograms are of position errors, and the measurements have none (distances only)" \
+  activecal_evaluate --robot="$data/puma560.yaml" --measurements=puma_dist.csv --plot=dist.png
 printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m\nposition,0,0,0,0,0,0,0.1,0.2,0.3\n' >puma_one.csv
 expect_fail "nominal robot of another chain" \
   "--nominal_robot: its 6 joints, 1 markers and parameters differ from those of --robot (6 joints, 1 markers): not the same robot" \
