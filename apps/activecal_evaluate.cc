@@ -161,14 +161,23 @@ int Main() {
     if (!LoadRobot(FLAGS_nominal_robot, load, &nominal, &error)) {
       app::Fail("--nominal_robot: " + error);
     }
-    if (nominal.model.ParameterNames() != model.ParameterNames()) {
-      app::Fail("--nominal_robot: its " +
-                std::to_string(nominal.model.num_joints()) + " joints, " +
-                std::to_string(nominal.model.num_markers()) +
-                " markers and parameters differ from those of --robot (" +
+    const std::vector<std::string> theirs = nominal.model.ParameterNames(),
+                                   ours = model.ParameterNames();
+    if (theirs != ours) {
+      // The first parameter that differs, so that equal joint and marker
+      // counts do not read as a contradiction.
+      size_t k = 0;
+      while (k < theirs.size() && k < ours.size() && theirs[k] == ours[k]) ++k;
+      auto name = [](const std::vector<std::string>& v, size_t k) {
+        return k < v.size() ? v[k] : std::string("none");
+      };
+      app::Fail("--nominal_robot: not the same robot as --robot: parameter " +
+                std::to_string(k + 1) + " is " + name(theirs, k) +
+                " there and " + name(ours, k) + " in --robot (" +
+                std::to_string(nominal.model.num_joints()) + " and " +
                 std::to_string(model.num_joints()) + " joints, " +
-                std::to_string(model.num_markers()) +
-                " markers): not the same robot");
+                std::to_string(theirs.size()) + " and " +
+                std::to_string(ours.size()) + " parameters)");
     }
   }
   IdentificationOptions fit_options;

@@ -228,7 +228,7 @@ expect_fail "histogram of distances only" \
   activecal_evaluate --robot="$data/puma560.yaml" --measurements=puma_dist.csv --plot=dist.png
 printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m\nposition,0,0,0,0,0,0,0.1,0.2,0.3\n' >puma_one.csv
 expect_fail "nominal robot of another chain" \
-  "--nominal_robot: its 6 joints, 1 markers and parameters differ from those of --robot (6 joints, 1 markers): not the same robot" \
+  "--nominal_robot: not the same robot as --robot: parameter 1 is B.gamma there and B.x in --robot (6 and 6 joints, " \
   activecal_evaluate --robot=cal.yaml --measurements=puma_one.csv \
   --nominal_robot="$data/puma560.yaml"
 
