@@ -490,6 +490,35 @@ TEST(ModelSelectionTest, CountsThatCouldNotBeTestedAreNamed) {
       << summary.message;
 }
 
+// A pose measurement with sigma_m and no sigma_rad (FIGAROH's file with a
+// sigma_m column): the message read "measurement 0 has no standard
+// deviation for some of its rows while other measurements state one".
+TEST(WeightedIdentificationTest, PoseWithOnlyItsPositionSigmaSaysWhichHalf) {
+  RobotModel m = Ur10e().model;
+  for (int i = 0; i < 6; ++i) m.SetFree(i, true);  // the base
+  std::vector<Measurement> data(3);
+  for (int i = 0; i < 3; ++i) {
+    data[i].type = MeasurementType::kPose;
+    data[i].joints = Eigen::VectorXd::Constant(6, 0.3 * i);
+  }
+  data[0].sigma_m.setConstant(1e-3);
+  IdentificationSummary s;
+  Identify(m, data, m.nominal, {}, &s);
+  EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
+  EXPECT_NE(s.message.find("measurement 0 (a pose) states the position's "
+                           "standard deviation but not the rotation's "
+                           "(sigma_rad)"),
+            std::string::npos)
+      << s.message;
+  data[0].sigma_m.setZero();
+  data[0].sigma_rad = 1e-3;
+  Identify(m, data, m.nominal, {}, &s);
+  EXPECT_NE(s.message.find("states the rotation's standard deviation but "
+                           "not the position's"),
+            std::string::npos)
+      << s.message;
+}
+
 TEST(EstimateWarningsTest, EachThresholdIsCrossed) {
   const RobotModel m = Puma560PaperModel();
   const std::vector<int> free = m.FreeParameterIndices();
