@@ -44,7 +44,8 @@ std::vector<std::string> EstimateWarnings(
   };
   for (int a = 0; a < p; ++a) {
     for (int b = a + 1; b < p; ++b) {
-      if (beyond(a, b)) group[std::max(root(a), root(b))] = std::min(root(a), root(b));
+      if (beyond(a, b))
+        group[std::max(root(a), root(b))] = std::min(root(a), root(b));
     }
   }
   for (int r = 0; r < p; ++r) {
@@ -71,11 +72,13 @@ std::vector<std::string> EstimateWarnings(
         }
       }
       for (size_t i = 0; i < members.size(); ++i) {
-        line << (i == 0 ? "" : i + 1 == members.size() ? " and " : ", ")
+        line << (i == 0                    ? ""
+                 : i + 1 == members.size() ? " and "
+                                           : ", ")
              << summary.names[members[i]];
       }
-      line << " are correlated beyond " << options.max_abs_correlation
-           << " in " << pairs << " of their pairs (up to " << largest
+      line << " are correlated beyond " << options.max_abs_correlation << " in "
+           << pairs << " of their pairs (up to " << largest
            << "): the measurements separate only combinations of them";
     }
     lines.push_back(line.str());
