@@ -97,8 +97,14 @@ void PrintLine(const char* label, const EvaluationSummary& s) {
   std::printf("\n");
 }
 
-void PlotHistograms(const EvaluationSummary& before,
+void PlotHistograms(const std::vector<Measurement>& measurements,
+                    const EvaluationSummary& before,
                     const EvaluationSummary& after) {
+  if (after.position.count == 0) {
+    app::Fail(
+        "--plot: the histograms are of position errors, and the "
+        "measurements have none (distances only)");
+  }
   if (!app::GnuplotAvailable()) {
     std::printf("  --plot: gnuplot is not installed; no plot\n");
     return;
@@ -106,6 +112,9 @@ void PlotHistograms(const EvaluationSummary& before,
   std::vector<std::vector<double>> rows;
   double top = 0.0;
   for (size_t i = 0; i < after.position_errors.size(); ++i) {
+    // A distance row has no position error (stored as zero): not a 0 mm
+    // bar in the histogram.
+    if (measurements[i].type == MeasurementType::kDistance) continue;
     const double b = before.position_errors[i].norm() * 1e3;
     const double a = after.position_errors[i].norm() * 1e3;
     rows.push_back({b, a});
@@ -152,14 +161,23 @@ int Main() {
     if (!LoadRobot(FLAGS_nominal_robot, load, &nominal, &error)) {
       app::Fail("--nominal_robot: " + error);
     }
-    if (nominal.model.ParameterNames() != model.ParameterNames()) {
-      app::Fail("--nominal_robot: its " +
-                std::to_string(nominal.model.num_joints()) + " joints, " +
-                std::to_string(nominal.model.num_markers()) +
-                " markers and parameters differ from those of --robot (" +
+    const std::vector<std::string> theirs = nominal.model.ParameterNames(),
+                                   ours = model.ParameterNames();
+    if (theirs != ours) {
+      // The first parameter that differs, so that equal joint and marker
+      // counts do not read as a contradiction.
+      size_t k = 0;
+      while (k < theirs.size() && k < ours.size() && theirs[k] == ours[k]) ++k;
+      auto name = [](const std::vector<std::string>& v, size_t k) {
+        return k < v.size() ? v[k] : std::string("none");
+      };
+      app::Fail("--nominal_robot: not the same robot as --robot: parameter " +
+                std::to_string(k + 1) + " is " + name(theirs, k) +
+                " there and " + name(ours, k) + " in --robot (" +
+                std::to_string(nominal.model.num_joints()) + " and " +
                 std::to_string(model.num_joints()) + " joints, " +
-                std::to_string(model.num_markers()) +
-                " markers): not the same robot");
+                std::to_string(theirs.size()) + " and " +
+                std::to_string(ours.size()) + " parameters)");
     }
   }
   IdentificationOptions fit_options;
@@ -218,7 +236,7 @@ int Main() {
       app::Fail("--plot: no registration-only baseline to compare with: " +
                 baseline.message);
     }
-    PlotHistograms(before, summary);
+    PlotHistograms(measurements, before, summary);
   }
   if (model.base.convention == LinkConvention::kFrame &&
       model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {

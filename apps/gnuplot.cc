@@ -1,5 +1,6 @@
 #include "gnuplot.h"
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -34,6 +35,17 @@ bool RunGnuplot(const std::string& script, const std::string& png_path,
     *error = "the plot path must not contain quotes: " + png_path;
     return false;
   }
+  // A folder that does not exist or cannot be written: said here, before
+  // the shell fails to open the log and gnuplot's early exit ends this
+  // program with SIGPIPE.
+  {
+    std::ofstream probe(tmp);
+    if (!probe) {
+      *error = "cannot write " + png_path;
+      return false;
+    }
+  }
+  std::remove(tmp.c_str());
   const std::string command = "gnuplot 2>'" + log + "'";
   FILE* pipe = popen(command.c_str(), "w");
   if (pipe == nullptr) {
@@ -44,8 +56,12 @@ bool RunGnuplot(const std::string& script, const std::string& png_path,
       "set terminal pngcairo size 1000,650 enhanced font 'sans,11'\n"
       "set output '" +
       tmp + "'\n" + script + "\nunset output\n";
+  // gnuplot may exit before it has read the script: a failed write, not
+  // a SIGPIPE.
+  void (*previous)(int) = std::signal(SIGPIPE, SIG_IGN);
   std::fwrite(full.data(), 1, full.size(), pipe);
   const int status = pclose(pipe);
+  std::signal(SIGPIPE, previous);
   std::ifstream in(log);
   std::string first;
   std::getline(in, first);

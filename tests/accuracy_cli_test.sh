@@ -155,10 +155,44 @@ for a, b in zip(w["parameters"], u["parameters"]):
     assert abs(a["std"] - b["std"] * 0.001 / u["sigma_m"]) < 1e-6 * a["std"]
 PY
 
+# Sigma columns of a measurements file reach the weights: simulated PUMA
+# points with 0.5 mm noise, written in mm with a tracker's U95 of 1 mm
+# (sigma 0.5 mm) and in m with sigma_m; chi^2 / dof near 1 for both, the
+# same fit.
+python3 -c "
+import random
+random.seed(5)
+print('q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad')
+for i in range(200): print(','.join('%.6f' % random.uniform(-1.2, 1.2) for _ in range(6)))
+" >puma_poses.csv
+"$apps/activecal_simulate" --robot="$data/puma560.yaml" --poses_csv=puma_poses.csv \
+  --noise_m=0.0005 --out=puma_sim.csv >/dev/null 2>sim.err || { fail "simulate"; cat sim.err; }
+awk -F, 'NR==1{print $0",sigma_m";next}{print $0",0.0005"}' puma_sim.csv >puma_sigma.csv
+awk -F, 'BEGIN{OFS=","} NR==1{print "type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_mm,y_mm,z_mm,u95_mm";next}
+  {print $1,$2,$3,$4,$5,$6,$7,$8*1000,$9*1000,$10*1000,"1.0"}' puma_sim.csv >puma_u95.csv
+for f in puma_sigma puma_u95; do
+  "$apps/activecal_identify" --robot="$data/puma560.yaml" --measurements=$f.csv \
+    --model_selection=none --json_out=$f.json >/dev/null 2>$f.err || { fail "identify $f"; cat $f.err; }
+done
+python3 - <<'PY' && ok "sigma_m and u95_mm columns weight the rows: chi^2/dof near 1" || fail "sigma columns"
+import json
+a = json.load(open("puma_sigma.json")); b = json.load(open("puma_u95.json"))
+for r in (a, b):
+    assert r["weighted"] is True
+    assert r["degrees_of_freedom"] == 600 - len(r["parameters"])
+    assert 0.8 < r["chi_square_per_dof"] < 1.25, r["chi_square_per_dof"]
+    assert abs(r["implied_sigma_m"] - 0.0005) < 0.0001, r["implied_sigma_m"]
+assert abs(a["chi_square_per_dof"] - b["chi_square_per_dof"]) < 1e-3 * a["chi_square_per_dof"]
+PY
+
 # Bad input: one line, status 1.
 awk -F, 'BEGIN{OFS=","} /^#/ {next} {NF=6; print}' "$m" >five.csv
 expect_fail "validation file of another robot" "--validation: " \
   activecal_identify "${ur[@]}" --measurements="$m" --model_selection=validation --validation=five.csv
+{ grep '^type' "$m"; tail -n 1 "$m"; } >valid_one.csv
+expect_fail "a validation file too small to refit the registration" \
+  "--validation: model selection: the base and markers could not be refitted to the 1 validation measurements: registration needs at least 3 measured points, got 1" \
+  activecal_identify "${ur[@]}" --measurements="$m" --model_selection=validation --validation=valid_one.csv
 expect_fail "too few poses for the folds" \
   "--model_selection: cross-validation: 30 folds need at least 30 distinct poses, the measurements have 23" \
   activecal_identify "${ur[@]}" --measurements="$m" --model_selection=cv --folds=30
@@ -176,9 +210,25 @@ expect_fail "unknown ranking" "--selection_ranking must be significance or jacob
   activecal_identify --model_selection=cv --selection_ranking=size
 expect_fail "negative default sigma" "default_sigma_m and default_sigma_rad must be finite and >= 0" \
   activecal_identify --default_sigma_m=-0.001
+if [ ${#plot_flag[@]} -gt 0 ]; then
+  # A plot into a folder that does not exist: named, not a SIGPIPE (141).
+  expect_fail "selection plot in a missing folder" \
+    "--selection_plot: cannot write no_such_dir/curve.png" \
+    activecal_identify "${ur[@]}" --measurements="$m" --selection_plot=no_such_dir/curve.png
+  expect_fail "histogram plot in a missing folder" \
+    "--plot: cannot write no_such_dir/hist.png" \
+    activecal_evaluate "${ur[@]}" --measurements="$m" --plot=no_such_dir/hist.png
+fi
+# Ballbar distances only: no position error to draw (it drew every
+# distance row as a 0 mm position error).
+"$apps/activecal_simulate" --robot="$data/puma560.yaml" --poses_csv=puma_poses.csv \
+  --noise_m=0.0005 --type=distance --out=puma_dist.csv >/dev/null 2>sim.err || { fail "simulate distances"; cat sim.err; }
+expect_fail "histogram of distances only" \
+  "--plot: the histograms are of position errors, and the measurements have none (distances only)" \
+  activecal_evaluate --robot="$data/puma560.yaml" --measurements=puma_dist.csv --plot=dist.png
 printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m\nposition,0,0,0,0,0,0,0.1,0.2,0.3\n' >puma_one.csv
 expect_fail "nominal robot of another chain" \
-  "--nominal_robot: its 6 joints, 1 markers and parameters differ from those of --robot (6 joints, 1 markers): not the same robot" \
+  "--nominal_robot: not the same robot as --robot: parameter 1 is B.gamma there and B.x in --robot (6 and 6 joints, " \
   activecal_evaluate --robot=cal.yaml --measurements=puma_one.csv \
   --nominal_robot="$data/puma560.yaml"
 

@@ -2,6 +2,7 @@
 
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -29,18 +30,58 @@ std::vector<std::string> EstimateWarnings(
       lines.push_back(line.str());
     }
   }
+  // Correlations: parameters linked by pairs beyond the threshold form a
+  // group, one line each (a pair as such; five parameters of one weak
+  // direction are one line, not ten).
+  std::vector<int> group(p);
+  for (int k = 0; k < p; ++k) group[k] = k;
+  auto root = [&](int k) {
+    while (group[k] != k) k = group[k] = group[group[k]];
+    return k;
+  };
+  auto beyond = [&](int a, int b) {
+    return std::abs(summary.correlation(a, b)) > options.max_abs_correlation;
+  };
   for (int a = 0; a < p; ++a) {
     for (int b = a + 1; b < p; ++b) {
-      const double c = summary.correlation(a, b);
-      if (std::abs(c) > options.max_abs_correlation) {
-        std::ostringstream line;
-        line.precision(4);
-        line << summary.names[a] << " and " << summary.names[b]
-             << " are correlated " << c
-             << ": the measurements separate only their combination";
-        lines.push_back(line.str());
-      }
+      if (beyond(a, b))
+        group[std::max(root(a), root(b))] = std::min(root(a), root(b));
     }
+  }
+  for (int r = 0; r < p; ++r) {
+    std::vector<int> members;
+    for (int k = r; k < p; ++k) {
+      if (root(k) == r) members.push_back(k);
+    }
+    if (members.size() < 2) continue;
+    std::ostringstream line;
+    line.precision(4);
+    if (members.size() == 2) {
+      line << summary.names[members[0]] << " and " << summary.names[members[1]]
+           << " are correlated " << summary.correlation(members[0], members[1])
+           << ": the measurements separate only their combination";
+    } else {
+      int pairs = 0;
+      double largest = 0.0;
+      for (size_t i = 0; i < members.size(); ++i) {
+        for (size_t j = i + 1; j < members.size(); ++j) {
+          const double c = summary.correlation(members[i], members[j]);
+          if (!beyond(members[i], members[j])) continue;
+          ++pairs;
+          if (std::abs(c) > std::abs(largest)) largest = c;
+        }
+      }
+      for (size_t i = 0; i < members.size(); ++i) {
+        line << (i == 0                    ? ""
+                 : i + 1 == members.size() ? " and "
+                                           : ", ")
+             << summary.names[members[i]];
+      }
+      line << " are correlated beyond " << options.max_abs_correlation << " in "
+           << pairs << " of their pairs (up to " << largest
+           << "): the measurements separate only combinations of them";
+    }
+    lines.push_back(line.str());
   }
   // The moved ones in one line: a wrong nominal model moves many at once.
   std::ostringstream moved_line;

@@ -336,6 +336,7 @@ bool RowWeights(const std::vector<Measurement>& measurements,
                 double* rms_sigma_m, std::string* error) {
   weights->clear();
   int with = 0, without = 0, first_without = -1;
+  bool first_without_states_some = false;
   double sum_sigma2 = 0.0;
   int num_metric = 0;
   std::vector<Eigen::VectorXd> sigmas;
@@ -364,7 +365,10 @@ bool RowWeights(const std::vector<Measurement>& measurements,
       }
     } else {
       ++without;
-      if (first_without < 0) first_without = static_cast<int>(i);
+      if (first_without < 0) {
+        first_without = static_cast<int>(i);
+        first_without_states_some = stated;
+      }
     }
     sigmas.push_back(s);
   }
@@ -373,6 +377,19 @@ bool RowWeights(const std::vector<Measurement>& measurements,
   *weighted = without == 0 && !measurements.empty();
   if (!*weighted && (with > 0 || defaults)) {
     std::ostringstream msg;
+    const Measurement& m = measurements[first_without];
+    if (first_without_states_some && m.type == MeasurementType::kPose) {
+      // A pose row with a sigma for one half only: say which half.
+      msg << "measurement " << first_without << " (a pose) states the "
+          << (m.sigma_rad > 0 ? "rotation's standard deviation but not the "
+                                "position's"
+                              : "position's standard deviation but not the "
+                                "rotation's (sigma_rad)")
+          << ": give both, or a default sigma (m for points and distances, "
+             "rad for pose rotations) for the rows without";
+      if (error) *error = msg.str();
+      return false;
+    }
     msg << "measurement " << first_without
         << " has no standard deviation for some of its rows while "
         << (with > 0 ? "other measurements state one"

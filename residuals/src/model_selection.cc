@@ -322,6 +322,9 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
   const int num_tasks = num_points * num_splits;
   std::vector<char> ok(num_tasks, 0);
   std::vector<double> train_rms(num_tasks, 0.0), held_sum(num_tasks, 0.0);
+  // kValidation: why the first refit of the registration to the
+  // validation measurements failed (split 0 only, one thread writes it).
+  std::string refit_error;
   ParallelFor(num_splits, threads, [&](int64_t begin, int64_t end, int) {
     for (int64_t sp = begin; sp < end; ++sp) {
       Eigen::VectorXd from = start;
@@ -345,6 +348,7 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
             RegistrationFitSummary reg;
             FitRegistration(m, fit.parameters, validation, fast, &reg);
             good = reg.termination_type == TerminationType::kConvergence;
+            if (!good && refit_error.empty()) refit_error = reg.message;
             sum = reg.rms_m * reg.rms_m * validation.size();
           } else {
             good = SumSquares(m, fit.parameters, validation, w, &sum);
@@ -378,6 +382,13 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
     }
     summary->curve.push_back(pt);
   }
+  if (summary->best_num_kept == 0 && !refit_error.empty()) {
+    return fail(TerminationType::kFailure,
+                "model selection: the base and markers could not be "
+                "refitted to the " +
+                    std::to_string(validation.size()) +
+                    " validation measurements: " + refit_error);
+  }
   if (summary->best_num_kept == 0) {
     return fail(TerminationType::kFailure,
                 "model selection: no parameter count could be fitted and "
@@ -393,6 +404,30 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
       << ", ranked by " << ParameterRankingName(options.ranking)
       << "): " << summary->best_num_kept << " of " << p
       << " free parameters kept, held-out RMS " << best << " m";
+  // Counts above the kept one that could not be tested are not shown to
+  // predict worse: on few poses the folds' training parts are too small
+  // for the larger models, and the choice falls on a smaller one by
+  // default. Said, so that it is not read as evidence.
+  std::vector<int> untested;
+  for (const ModelSelectionPoint& pt : summary->curve) {
+    if (!pt.ok && pt.num_kept > summary->best_num_kept) {
+      untested.push_back(pt.num_kept);
+    }
+  }
+  if (!untested.empty()) {
+    msg << "; not tested (a fit failed"
+        << (options.method == ModelSelectionMethod::kCrossValidation
+                ? ", too few poses in a fold's training part?"
+                : "")
+        << "), so not compared: " << untested.size() << " larger count"
+        << (untested.size() > 1 ? "s" : "") << " (";
+    for (size_t k = 0; k < untested.size(); ++k) {
+      msg << (k ? ", " : "") << untested[k];
+    }
+    msg << (options.method == ModelSelectionMethod::kCrossValidation
+                ? "); more poses or fewer folds would test them"
+                : ")");
+  }
   summary->message = msg.str();
 }
 

@@ -3,8 +3,9 @@
 //
 //   - a standard deviation larger than a plausible range (max_std_m for
 //     lengths, max_std_rad for angles and gains): the data hardly see it;
-//   - a correlation beyond max_abs_correlation between two estimates: the
-//     data separate only their combination;
+//   - correlations beyond max_abs_correlation: the data separate only
+//     combinations; parameters linked by such pairs share one line (a
+//     pair: "A and B are correlated -0.995: ...");
 //   - a link parameter whose estimate moved more than max_moved_std of its
 //     standard deviations from the nominal value: often a wrong nominal
 //     model (e.g. a UR10e read as a UR10), so all of them share one line.
@@ -34,7 +35,8 @@ struct EstimateWarningOptions {
 
 // `model` is the one identified (its free flags and nominal values), and
 // `summary` a converged identification of it. Lines in the order: std (one
-// per parameter), correlation (one per pair, free-parameter order), moved
+// per parameter), correlation (one per group of parameters linked by pairs
+// beyond the threshold, ordered by their first parameter), moved
 // (one line naming them all, with the move and its std count).
 std::vector<std::string> EstimateWarnings(
     const RobotModel& model, const IdentificationSummary& summary,
