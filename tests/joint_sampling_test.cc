@@ -3,6 +3,8 @@
 // points puts one point in each of 2^k equal bins), one turn for full-turn
 // joints, bad input refused.
 
+#include "activecal/core/joint_sampling.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -10,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "test_util.h"

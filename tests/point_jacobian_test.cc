@@ -4,6 +4,8 @@
 // tilted axes, prismatic), a frame base, gains, a tip transform and several
 // markers; and the pool path that uses it.
 
+#include "activecal/core/point_jacobian.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -11,7 +13,6 @@
 #include <vector>
 
 #include "activecal/core/kinematics.h"
-#include "activecal/core/point_jacobian.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"

@@ -9,8 +9,7 @@
 
 namespace activecal {
 
-bool JointSamplingFromString(const std::string& name,
-                             JointSampling* sampling) {
+bool JointSamplingFromString(const std::string& name, JointSampling* sampling) {
   if (name == "sobol") {
     *sampling = JointSampling::kSobol;
   } else if (name == "random") {
@@ -82,11 +81,12 @@ bool SampleJointValues(const RobotModel& model, JointSampling sampling,
 Eigen::MatrixXd SubsampleRows(const Eigen::MatrixXd& rows, int64_t max_rows) {
   if (rows.rows() <= max_rows) return rows;
   Random random(0x5a3b1e);
-  std::vector<int64_t> chosen =
-      random.SampleWithoutReplacement(rows.rows(), std::max<int64_t>(1, max_rows));
+  std::vector<int64_t> chosen = random.SampleWithoutReplacement(
+      rows.rows(), std::max<int64_t>(1, max_rows));
   std::sort(chosen.begin(), chosen.end());
   Eigen::MatrixXd subset(chosen.size(), rows.cols());
-  for (size_t i = 0; i < chosen.size(); ++i) subset.row(i) = rows.row(chosen[i]);
+  for (size_t i = 0; i < chosen.size(); ++i)
+    subset.row(i) = rows.row(chosen[i]);
   return subset;
 }
 

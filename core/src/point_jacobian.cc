@@ -23,8 +23,8 @@ void RpyAxes(double ry, double rz, Vector3d* ax, Vector3d* ay, Vector3d* az) {
 
 // d(L x)/d p_k of one link or base block, in the block's parent frame, for
 // the point y = L x (parent frame). Writes block_size columns.
-void LinkColumns(const Link& link, const double* p, double q,
-                 const Vector3d& y, Vector3d* col) {
+void LinkColumns(const Link& link, const double* p, double q, const Vector3d& y,
+                 Vector3d* col) {
   switch (link.convention) {
     case LinkConvention::kFrame: {
       // y = Rpy(rx, ry, rz) x + t.
@@ -95,8 +95,8 @@ void LinkColumns(const Link& link, const double* p, double q,
       const bool revolute = link.joint_type == JointType::kRevolute;
       const bool prismatic = link.joint_type == JointType::kPrismatic;
       const double ca = std::cos(p[kAlpha]), sa = std::sin(p[kAlpha]);
-      const Vector3d uz(0.0, -sa, ca);          // axis of Rz(theta), Tz(d)
-      const Vector3d o(p[kA], 0.0, 0.0);        // origin of Rz(theta)
+      const Vector3d uz(0.0, -sa, ca);    // axis of Rz(theta), Tz(d)
+      const Vector3d o(p[kA], 0.0, 0.0);  // origin of Rz(theta)
       const Vector3d about_z = uz.cross(y - o);
       col[kGamma] = about_z;
       col[kAlpha] = Vector3d(0.0, -y[2], y[1]);  // x x y

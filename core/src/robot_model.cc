@@ -374,8 +374,8 @@ bool RobotModel::CheckParameters(const Eigen::VectorXd& parameters,
 
 double RobotModel::JointRangeExcess(int joint, double q) const {
   const Link& l = links[joint];
-  const double slack =
-      1e-9 * std::max(1.0, std::max(std::abs(l.joint_min), std::abs(l.joint_max)));
+  const double slack = 1e-9 * std::max(1.0, std::max(std::abs(l.joint_min),
+                                                     std::abs(l.joint_max)));
   const double excess = q > l.joint_max ? q - l.joint_max : l.joint_min - q;
   return excess > slack ? excess : 0.0;
 }
@@ -406,8 +406,7 @@ bool RobotModel::CheckJointValues(const Eigen::VectorXd& q, std::string* error,
       } else {
         msg << " m is outside its range [";
       }
-      msg << l.joint_min * scale << ", " << l.joint_max * scale << "] "
-          << unit;
+      msg << l.joint_min * scale << ", " << l.joint_max * scale << "] " << unit;
       if (tolerance > 0) {
         msg << " by more than the " << tolerance * scale << " " << unit
             << " a measured joint may lie beyond it";

@@ -1,9 +1,8 @@
 #include "activecal/residuals/pool_builder.h"
 
-#include <algorithm>
-
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 

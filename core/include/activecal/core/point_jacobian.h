@@ -32,8 +32,8 @@ class PointJacobianWorkspace {
 
  private:
   friend void MeasuredPointJacobian(const RobotModel&, const double* const*,
-                                    const double*, int,
-                                    PointJacobianWorkspace*, double*);
+                                    const double*, int, PointJacobianWorkspace*,
+                                    double*);
   std::vector<Eigen::Matrix3d> parent_rotation_;
   std::vector<Eigen::Vector3d> parent_translation_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> full_;  // 3 x num_parameters
@@ -49,8 +49,7 @@ class PointJacobianWorkspace {
 // been made for `model`.
 void MeasuredPointJacobian(const RobotModel& model, const double* const* blocks,
                            const double* q, int marker,
-                           PointJacobianWorkspace* workspace,
-                           double* jacobian);
+                           PointJacobianWorkspace* workspace, double* jacobian);
 
 }  // namespace activecal
 
