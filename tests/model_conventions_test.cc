@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <string>
 
 #include "activecal/core/csv_files.h"
@@ -155,6 +156,36 @@ TEST(ModelConventionsTest, RobotFileRoundTripKeepsStructureAndValues) {
             .norm(),
         1e-13);
   }
+}
+
+// A continuous joint (no limits in its URDF) has unbounded ends: written as
+// -.inf / .inf, read back (a --model_out of such a robot was unreadable:
+// "limits[0]: must be finite"); a finite joint's "inf" is still refused.
+TEST(ModelConventionsTest, RobotFileRoundTripsAContinuousJoint) {
+  RobotModel m = testing::UrdfStyleModel();
+  m.links[1].joint_min = -std::numeric_limits<double>::infinity();
+  m.links[1].joint_max = std::numeric_limits<double>::infinity();
+  for (AngleUnit unit : {AngleUnit::kRadian, AngleUnit::kDegree}) {
+    RobotFileOptions options;
+    options.angle_unit = unit;
+    const std::string text = RobotFileText(m, m.nominal, options);
+    EXPECT_NE(text.find("[-.inf, .inf]"), std::string::npos) << text;
+    RobotDescription back;
+    std::string error;
+    ASSERT_TRUE(ParseRobotDescription(text, "round.yaml", &back, &error))
+        << error << "\n"
+        << text;
+    EXPECT_EQ(back.model.links[1].joint_min, m.links[1].joint_min);
+    EXPECT_EQ(back.model.links[1].joint_max, m.links[1].joint_max);
+    EXPECT_EQ(back.model.links[0].joint_min, m.links[0].joint_min);
+  }
+  std::string text = RobotFileText(m, m.nominal);
+  const size_t at = text.find("[-.inf, .inf]");
+  ASSERT_NE(at, std::string::npos);
+  RobotDescription back;
+  std::string error;
+  EXPECT_FALSE(ParseRobotDescription(text.replace(at, 13, "[.inf, -.inf]"),
+                                     "bad.yaml", &back, &error));
 }
 
 TEST(ModelConventionsTest, RpyRoundTripIncludingGimbalLock) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -204,11 +205,22 @@ class Parser : public internal::YamlReader {
       if (!limits.IsSequence() || limits.size() != 2) {
         return Fail(limits.Mark(), field + ".limits", "expected [min, max]");
       }
+      // An end may be unbounded (a continuous joint): -.inf / .inf.
+      auto end = [&](int k, double sign, double* value) {
+        const YAML::Node& n = limits[k];
+        if (n.IsScalar()) {
+          const std::string t = n.Scalar();
+          const bool inf = t == ".inf" || t == ".Inf" || t == ".INF";
+          const bool minus_inf = t == "-.inf" || t == "-.Inf" || t == "-.INF";
+          if ((sign > 0 && inf) || (sign < 0 && minus_inf)) {
+            *value = sign * std::numeric_limits<double>::infinity();
+            return true;
+          }
+        }
+        return Number(n, field + ".limits[" + std::to_string(k) + "]", value);
+      };
       double lo, hi;
-      if (!Number(limits[0], field + ".limits[0]", &lo) ||
-          !Number(limits[1], field + ".limits[1]", &hi)) {
-        return false;
-      }
+      if (!end(0, -1.0, &lo) || !end(1, 1.0, &hi)) return false;
       if (!(lo <= hi)) {
         return Fail(
             limits.Mark(), field + ".limits",
@@ -374,9 +386,14 @@ std::string RobotFileText(const RobotModel& model,
         out << YAML::Key << "joint" << YAML::Value
             << JointTypeName(l.joint_type);
         const double s = l.joint_type == JointType::kRevolute ? scale : 1.0;
+        // Unbounded ends (a continuous joint) as YAML's -.inf / .inf.
+        auto end = [&](double v) {
+          if (std::isinf(v)) return std::string(v < 0 ? "-.inf" : ".inf");
+          return ShortestText(v * s);
+        };
         out << YAML::Key << "limits" << YAML::Value << YAML::Flow
-            << YAML::BeginSeq << ShortestText(l.joint_min * s)
-            << ShortestText(l.joint_max * s) << YAML::EndSeq;
+            << YAML::BeginSeq << end(l.joint_min) << end(l.joint_max)
+            << YAML::EndSeq;
       }
       if (convention == LinkConvention::kUrdf) {
         out << YAML::Key << "origin" << YAML::Value;
