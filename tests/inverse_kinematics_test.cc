@@ -266,6 +266,11 @@ TEST(InverseKinematicsTest, APointOutOfReachIsUnreachable) {
   EXPECT_GT(result.position_error_m, 3.0);
   EXPECT_NE(result.message.find("out of reach"), std::string::npos);
   EXPECT_TRUE(InsideLimits(puma, result.joints));
+  // Stalled at full stretch, a singular configuration: the message allows
+  // for a singularity on the branch (a wrist flip stalls the same way).
+  EXPECT_EQ(result.message.find("behind a singularity") != std::string::npos,
+            result.conditioning < InverseKinematicsOptions().singular_threshold)
+      << result.message << " (conditioning " << result.conditioning << ")";
 }
 
 TEST(InverseKinematicsTest, AnOrientationTheArmCannotTakeIsUnreachable) {

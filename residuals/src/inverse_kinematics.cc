@@ -361,8 +361,17 @@ class IkSolver {
       return;
     }
     result->status = IkStatus::kUnreachable;
+    // Stalled at a singular configuration: a target beyond the workspace
+    // (the arm at full stretch) or one behind a singularity on the start's
+    // branch (a wrist flip) look alike from here.
+    const bool stalled_singular =
+        result->conditioning < options_.singular_threshold;
     result->message =
-        "out of reach: the closest configuration found misses "
+        std::string(stalled_singular
+                        ? "out of reach, or behind a singularity on the "
+                          "start's branch: "
+                        : "out of reach: ") +
+        "the closest configuration found misses "
         "the target by " +
         Number(current_.position_error) + " m" +
         (pose() ? " and " + Number(current_.rotation_error) + " rad"
