@@ -67,6 +67,8 @@ Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
 
 int Main() {
   if (FLAGS_out.empty()) app::Fail("--out is required");
+  app::CheckWritableOrDie(FLAGS_out, "out");
+  app::CheckWritableOrDie(FLAGS_json_out, "json_out");
   if (FLAGS_poses_csv.empty() == FLAGS_targets_csv.empty()) {
     app::Fail(
         "give exactly one of --poses_csv (joint targets) and "

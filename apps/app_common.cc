@@ -137,6 +137,16 @@ void WriteTextOrDie(const std::string& path, const std::string& text) {
   if (!WriteFileAtomically(path, text, &error)) Fail(error);
 }
 
+void CheckWritableOrDie(const std::string& path, const std::string& flag) {
+  if (path.empty()) return;
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::app);
+    if (!out) Fail("--" + flag + ": cannot write '" + path + "'");
+  }
+  std::remove(tmp.c_str());
+}
+
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json) {
   WriteTextOrDie(path, json.dump(2) + "\n");
 }

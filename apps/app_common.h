@@ -61,6 +61,10 @@ void Init(int* argc, char*** argv, const char* usage);
 bool WriteFileAtomically(const std::string& path, const std::string& text,
                          std::string* error);
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
+// Dies with "--<flag>: cannot write '<path>' ..." unless a file can be
+// created beside `path` (empty: nothing to check): checked before the work,
+// so that one output is not written while another fails after it.
+void CheckWritableOrDie(const std::string& path, const std::string& flag);
 void WriteTextOrDie(const std::string& path, const std::string& text);
 
 // The lattice over the model with `levels` values per joint. Dies with a

@@ -246,6 +246,13 @@ else
 fi
 
 # --- bad input: status 1, one line ----------------------------------------
+rm -f written_first.csv
+expect_fail "unwritable --json_out" "--json_out: cannot write 'no_such_dir/r.json'" \
+  activecal_compensate --robot=calibrated.yaml --nominal="$puma" --poses_csv=program.csv \
+  --out=written_first.csv --json_out=no_such_dir/r.json
+[ ! -e written_first.csv ] && ok "unwritable --json_out: --out not written" ||
+  fail "unwritable --json_out: --out was written before the failure"
+
 printf 'x_m,y_m,z_m\n0.3,19.9,0.2\n0.3,nan,0.2\n' >nan.csv
 expect_fail "NaN in a target" "nan.csv:3: y_m: must be finite, got 'nan'" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=nan.csv --out=x.csv
