@@ -20,13 +20,7 @@ namespace {
 
 using internal::kDegree;
 using internal::ShortestText;
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const size_t e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
+using internal::Trim;
 
 struct Row {
   int line = 0;

@@ -20,6 +20,14 @@ inline std::string ShortestText(double value) {
   return std::string(buffer, result.ptr);
 }
 
+// `s` without leading and trailing blanks (space, tab, CR).
+inline std::string Trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const size_t e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
 // Parses the whole of `text` as a finite double (a leading '+' allowed).
 // On failure says why in *why: "expected a number, got 'abc'" or
 // "must be finite, got 'inf'".

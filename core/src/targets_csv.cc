@@ -13,13 +13,7 @@ namespace {
 
 using internal::kDegree;
 using internal::ShortestText;
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const size_t e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
+using internal::Trim;
 
 bool Revolute(const RobotModel& model, int j) {
   return model.links[j].joint_type == JointType::kRevolute;
