@@ -128,11 +128,11 @@ RestartResult FedorovRestart(const CandidatePool& pool,
               const double gain = LogDetSpd(Sx);
               if (!(gain > threshold)) continue;
               Sx_inv = Sx.inverse();
-              Wx.noalias() = pool.block(x) * V;
+              Wx.noalias() = pool.block(x).lazyProduct(V);
               for (size_t j = 0; j < num_y; ++j) {
                 const YEntry& y = ys[j];
                 if (trx - y.trace <= threshold) break;
-                Dxy.noalias() = Wx * pool.block(y.pose).transpose();
+                Dxy.noalias() = Wx.lazyProduct(pool.block(y.pose).transpose());
                 T = -Eigen::Map<const Eigen::MatrixXd>(D.data() + y.pose * tt,
                                                        t, t);
                 T.diagonal().array() += 1.0;

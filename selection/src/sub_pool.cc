@@ -45,10 +45,12 @@ SubPool::SubPool(const CandidatePool& full, const std::vector<char>& keep)
       to_full_.push_back(i);
     }
   }
+  // Always double: the exchanges run on it (a single-precision pool is
+  // widened pose by pose, and never held twice in full).
   const int t = full.block_rows();
-  RowMatrixXd rows(to_full_.size() * t, full.num_parameters());
+  RowMatrixXd rows(to_full_.size() * t, full.num_parameters()), buffer;
   for (size_t n = 0; n < to_full_.size(); ++n) {
-    rows.middleRows(n * t, t) = full.block(to_full_[n]);
+    rows.middleRows(n * t, t) = full.Rows(to_full_[n], 1, &buffer);
   }
   std::string error;
   // Rows of a valid pool: Create cannot fail here.

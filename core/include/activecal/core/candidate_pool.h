@@ -2,6 +2,12 @@
 // pose i contributes the block X_i of t rows (3 for a position measurement)
 // and p columns (free parameters). Blocks are stored stacked and row-major,
 // so each is contiguous.
+//
+// Storage is double, or single precision for pools too large to hold in
+// double (a 10^7-pose pool of a 7-axis arm: 7.4 GB in double, 3.7 GB in
+// float). A single-precision pool is read through CopyRows / CopyBlock,
+// which widen to double: every product the algorithms form with it is
+// computed in double. block() and stacked() are for double pools only.
 
 #ifndef ACTIVECAL_CORE_CANDIDATE_POOL_H_
 #define ACTIVECAL_CORE_CANDIDATE_POOL_H_
@@ -25,22 +31,44 @@ class CandidatePool {
   // a message when the shape is wrong or an entry is not finite.
   static bool Create(RowMatrixXd stacked, int block_rows, CandidatePool* pool,
                      std::string* error);
+  // The same in single precision (entries beyond float's range are refused
+  // as not finite).
+  static bool Create(RowMatrixXf stacked, int block_rows, CandidatePool* pool,
+                     std::string* error);
 
   int64_t size() const { return size_; }
   int block_rows() const { return block_rows_; }
-  int num_parameters() const { return static_cast<int>(stacked_.cols()); }
-  Block block(int64_t i) const {
-    return Block(stacked_.data() + i * block_rows_ * stacked_.cols(),
-                 block_rows_, stacked_.cols());
-  }
-  const RowMatrixXd& stacked() const { return stacked_; }
+  int num_parameters() const { return num_parameters_; }
+  bool single_precision() const { return single_; }
+  // Bytes held by the blocks.
+  int64_t storage_bytes() const;
+
+  // Pose i's block; double pools only (CHECK-fails on a single-precision
+  // pool: use CopyBlock).
+  Block block(int64_t i) const;
+  // All blocks stacked; double pools only.
+  const RowMatrixXd& stacked() const;
+
+  // Poses [begin, begin + count) stacked into `rows` (count * t x p), in
+  // double whatever the storage. For a double pool, prefer Rows().
+  void CopyRows(int64_t begin, int64_t count, RowMatrixXd* rows) const;
+  // Pose i's block in double.
+  RowMatrixXd CopyBlock(int64_t i) const;
+  // Poses [begin, begin + count) stacked: a view into a double pool, or
+  // widened into *buffer for a single-precision one. The returned map is
+  // valid while the pool and *buffer are.
+  Eigen::Map<const RowMatrixXd> Rows(int64_t begin, int64_t count,
+                                     RowMatrixXd* buffer) const;
 
   // The design matrix of a design: its blocks stacked.
   Eigen::MatrixXd Stack(const std::vector<int64_t>& design) const;
 
  private:
   RowMatrixXd stacked_;
+  RowMatrixXf stacked_float_;
+  bool single_ = false;
   int block_rows_ = 0;
+  int num_parameters_ = 0;
   int64_t size_ = 0;
 };
 

@@ -12,6 +12,8 @@ namespace activecal {
 // Row-major dynamic matrix: stacked Jacobian blocks are contiguous per pose.
 using RowMatrixXd =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatrixXf =
+    Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // Reports progress of long work: `done` of `total` units (poses, restarts,
 // rounds). It may be called from several worker threads at once, so it must
