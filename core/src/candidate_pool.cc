@@ -115,6 +115,27 @@ Eigen::Map<const RowMatrixXd> CandidatePool::Rows(int64_t begin, int64_t count,
                                        buffer->cols());
 }
 
+Eigen::Map<const RowMatrixXd> CandidatePool::ExactRows(
+    int64_t begin, int64_t count, RowMatrixXd* buffer) const {
+  if (!exact_) return Rows(begin, count, buffer);
+  CHECK(begin >= 0 && count >= 0 && begin + count <= size_)
+      << "poses [" << begin << ", " << begin + count << ") outside the pool of "
+      << size_;
+  exact_(begin, count, buffer);
+  CHECK(buffer->rows() == count * block_rows_ &&
+        buffer->cols() == num_parameters_)
+      << "the pool's exact source returned " << buffer->rows() << " x "
+      << buffer->cols() << " rows for " << count << " poses";
+  return Eigen::Map<const RowMatrixXd>(buffer->data(), buffer->rows(),
+                                       buffer->cols());
+}
+
+RowMatrixXd CandidatePool::ExactBlock(int64_t i) const {
+  RowMatrixXd buffer;
+  const Eigen::Map<const RowMatrixXd> X = ExactRows(i, 1, &buffer);
+  return X;
+}
+
 Eigen::MatrixXd CandidatePool::Stack(const std::vector<int64_t>& design) const {
   Eigen::MatrixXd X(design.size() * block_rows_, num_parameters());
   for (size_t k = 0; k < design.size(); ++k) {

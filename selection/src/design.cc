@@ -54,7 +54,8 @@ namespace internal {
 
 void ForEachQuadraticForm(
     const CandidatePool& pool, const Eigen::MatrixXd& V, int num_threads,
-    const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn) {
+    const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn,
+    PoolReading reading) {
   const int64_t n = pool.size();
   const int t = pool.block_rows();
   // Chunks of poses: W = X_chunk V in one product, then t x t blocks.
@@ -67,7 +68,9 @@ void ForEachQuadraticForm(
       const int64_t begin = c * kChunk;
       const int64_t count = std::min(kChunk, n - begin);
       // A single-precision pool is widened to double chunk by chunk.
-      const Eigen::Map<const RowMatrixXd> X = pool.Rows(begin, count, &buffer);
+      const Eigen::Map<const RowMatrixXd> X =
+          reading == PoolReading::kExact ? pool.ExactRows(begin, count, &buffer)
+                                         : pool.Rows(begin, count, &buffer);
       W.noalias() = X * V;
       for (int64_t k = 0; k < count; ++k) {
         // lazyProduct: a t x p times p x t product is too small for the
@@ -94,12 +97,15 @@ void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
 }
 
 void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
-                      int num_threads, Eigen::VectorXd* variances) {
+                      int num_threads, Eigen::VectorXd* variances,
+                      PoolReading reading) {
   variances->resize(pool.size());
   internal::ForEachQuadraticForm(
-      pool, V, num_threads, [variances](int64_t i, const Eigen::MatrixXd& D) {
+      pool, V, num_threads,
+      [variances](int64_t i, const Eigen::MatrixXd& D) {
         (*variances)[i] = D.trace();
-      });
+      },
+      reading);
 }
 
 bool PrepareCandidates(const CandidatePool& pool, int num_poses,

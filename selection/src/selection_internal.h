@@ -21,10 +21,11 @@ namespace activecal {
 namespace internal {
 
 // Calls fn(i, X_i V X_i^T) for every pool pose, in parallel chunks (fn must
-// only write per-pose results).
+// only write per-pose results), reading the stored or the exact blocks.
 void ForEachQuadraticForm(
     const CandidatePool& pool, const Eigen::MatrixXd& V, int num_threads,
-    const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn);
+    const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn,
+    PoolReading reading = PoolReading::kStored);
 
 // A design together with a way of scoring single-pose changes to it.
 // Values are natural log det X^T X (or, for the SVD scorer, the same

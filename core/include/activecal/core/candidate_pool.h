@@ -8,12 +8,20 @@
 // float). A single-precision pool is read through CopyRows / CopyBlock,
 // which widen to double: every product the algorithms form with it is
 // computed in double. block() and stacked() are for double pools only.
+//
+// A pool may also carry an exact source: a function that recomputes the
+// blocks of any poses in double (the pool builder sets one: the analytic
+// Jacobians at the poses' joint values). The certificate and the final log
+// det of a design read the blocks through ExactRows / ExactBlock, so a
+// single-precision pool still gets a certificate over the double-precision
+// blocks, computed by streaming them (no second copy of the pool).
 
 #ifndef ACTIVECAL_CORE_CANDIDATE_POOL_H_
 #define ACTIVECAL_CORE_CANDIDATE_POOL_H_
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,6 +32,10 @@ namespace activecal {
 class CandidatePool {
  public:
   using Block = Eigen::Map<const RowMatrixXd>;
+  // Fills rows (resized to count * t x p) with the blocks of poses
+  // [begin, begin + count) in double. Called from several threads at once.
+  using RowsSource =
+      std::function<void(int64_t begin, int64_t count, RowMatrixXd* rows)>;
 
   CandidatePool() = default;
 
@@ -60,6 +72,13 @@ class CandidatePool {
   Eigen::Map<const RowMatrixXd> Rows(int64_t begin, int64_t count,
                                      RowMatrixXd* buffer) const;
 
+  // The exact source (see above); without one, ExactRows = Rows.
+  void set_exact_source(RowsSource source) { exact_ = std::move(source); }
+  bool has_exact_source() const { return static_cast<bool>(exact_); }
+  Eigen::Map<const RowMatrixXd> ExactRows(int64_t begin, int64_t count,
+                                          RowMatrixXd* buffer) const;
+  RowMatrixXd ExactBlock(int64_t i) const;
+
   // The design matrix of a design: its blocks stacked.
   Eigen::MatrixXd Stack(const std::vector<int64_t>& design) const;
 
@@ -67,6 +86,7 @@ class CandidatePool {
   RowMatrixXd stacked_;
   RowMatrixXf stacked_float_;
   bool single_ = false;
+  RowsSource exact_;
   int block_rows_ = 0;
   int num_parameters_ = 0;
   int64_t size_ = 0;

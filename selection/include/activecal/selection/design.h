@@ -54,10 +54,16 @@ class Design {
 void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
                      int num_threads, Eigen::VectorXd* gains);
 
+// Which blocks a sweep over the pool reads: the stored ones (widened to
+// double from a single-precision pool), or those of the pool's exact
+// source (CandidatePool::ExactRows; the stored ones if it has none).
+enum class PoolReading { kStored, kExact };
+
 // The variance function d_i = tr(X_i V X_i^T) of every pool pose for a
 // given V (the inverse of an information matrix).
 void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
-                      int num_threads, Eigen::VectorXd* variances);
+                      int num_threads, Eigen::VectorXd* variances,
+                      PoolReading reading = PoolReading::kStored);
 
 // What every selection algorithm takes besides its own options.
 struct DesignConstraints {
