@@ -89,6 +89,16 @@ DEFINE_int64(polish_pool_size, 20000,
              "fedorov: a pool larger than this is polished in rounds over "
              "this many poses of largest variance rather than over every "
              "pose (<= 0: always every pose).");
+DEFINE_string(pool_storage, "auto",
+              "How the pool's Jacobian blocks are stored: double, float "
+              "(single precision, half the memory; the design's log det and "
+              "the certificate are still computed in double, from Jacobians "
+              "recomputed as they are swept), or auto (float when the "
+              "double blocks would take more than --max_double_pool_mib and "
+              "the algorithm is fedorov or approx). Float needs "
+              "--algorithm=fedorov or approx with the D criterion.");
+DEFINE_int64(max_double_pool_mib, 2048,
+             "--pool_storage=auto: the largest pool kept in double (MiB).");
 DEFINE_uint64(seed, 1, "Seed of every random choice.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the selected design here.");
@@ -174,8 +184,44 @@ int Main() {
                   ParameterSetName(set), d.name.c_str(), d.reason.c_str());
     }
   }
+  // Single precision where the double blocks would not fit the budget (and
+  // the algorithm reads such pools).
+  bool single_precision = false;
+  {
+    const bool reads_float =
+        (FLAGS_algorithm == "fedorov" || FLAGS_algorithm == "approx") &&
+        FLAGS_criterion != "task_rms";
+    const double double_mib = 8.0 * pool_joints.rows() *
+                              MeasurementDimension(type) * model.num_free() /
+                              (1024.0 * 1024.0);
+    if (FLAGS_pool_storage == "float") {
+      if (!reads_float) {
+        app::Fail(
+            "--pool_storage=float needs --algorithm=fedorov or approx with "
+            "the D criterion (got --algorithm=" +
+            FLAGS_algorithm + " --criterion=" + FLAGS_criterion + ")");
+      }
+      single_precision = true;
+    } else if (FLAGS_pool_storage == "auto") {
+      if (FLAGS_max_double_pool_mib < 0) {
+        app::Fail("--max_double_pool_mib must be >= 0, got " +
+                  std::to_string(FLAGS_max_double_pool_mib));
+      }
+      single_precision = reads_float && double_mib > FLAGS_max_double_pool_mib;
+    } else if (FLAGS_pool_storage != "double") {
+      app::Fail("--pool_storage must be auto, double or float, got '" +
+                FLAGS_pool_storage + "'");
+    }
+    if (single_precision) {
+      std::printf(
+          "  pool stored in single precision: %.0f MiB instead of %.0f MiB "
+          "(design log det and certificate computed in double)\n",
+          double_mib / 2, double_mib);
+    }
+  }
   double jacobian_seconds = 0;
   CandidatePoolOptions pool_options;
+  pool_options.single_precision = single_precision;
   pool_options.type = type;
   pool_options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   pool_options.num_threads = FLAGS_threads;

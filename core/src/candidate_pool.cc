@@ -71,8 +71,8 @@ int64_t CandidatePool::storage_bytes() const {
 CandidatePool::Block CandidatePool::block(int64_t i) const {
   CHECK(!single_) << "CandidatePool::block on a single-precision pool: use "
                      "CopyBlock or Rows";
-  return Block(stacked_.data() + i * block_rows_ * num_parameters_,
-               block_rows_, num_parameters_);
+  return Block(stacked_.data() + i * block_rows_ * num_parameters_, block_rows_,
+               num_parameters_);
 }
 
 const RowMatrixXd& CandidatePool::stacked() const {

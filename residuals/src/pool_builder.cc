@@ -4,12 +4,37 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <string>
 #include <utility>
 
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 
 namespace activecal {
+
+namespace {
+
+// The fixed-seed random subset of n of `blocks` poses SampleBlocks takes,
+// in pool order. Not every k-th pose: a stride equal to a lattice's level
+// count (k = 10 at --levels=10) would hold the last joint at one level in
+// every sampled pose and hide its parameters.
+std::vector<int64_t> SampleBlockIndices(int64_t blocks, int64_t n) {
+  Random random(0x5a3b1e);
+  std::vector<int64_t> chosen = random.SampleWithoutReplacement(blocks, n);
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+// What a single-precision pool's exact source recomputes its blocks from.
+struct ExactPoolData {
+  RobotModel model;
+  Eigen::VectorXd parameters;
+  Eigen::MatrixXd joints;
+  PoolJacobianOptions options;
+};
+
+}  // namespace
 
 Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
                              int64_t max_rows) {
@@ -19,12 +44,7 @@ Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
   if (rows <= max_rows) return stacked;
   const int64_t blocks = rows / block_rows;
   const int64_t n = max_rows / block_rows;
-  // A fixed-seed random subset, not every k-th pose: a stride equal to a
-  // lattice's level count (k = 10 at --levels=10) would hold the last joint
-  // at one level in every sampled pose and hide its parameters.
-  Random random(0x5a3b1e);
-  std::vector<int64_t> chosen = random.SampleWithoutReplacement(blocks, n);
-  std::sort(chosen.begin(), chosen.end());
+  const std::vector<int64_t> chosen = SampleBlockIndices(blocks, n);
   Eigen::MatrixXd sample(n * block_rows, stacked.cols());
   for (int64_t i = 0; i < n; ++i) {
     sample.middleRows(i * block_rows, block_rows) =
@@ -66,6 +86,121 @@ bool MeasuredInformationRows(const RobotModel& model,
   return true;
 }
 
+namespace {
+
+// The identifiability check (and auto-fix) of BuildCandidatePool on the
+// Jacobian rows `sample`; fixed_columns: the columns to drop, in order.
+bool CheckPoolIdentifiability(const Eigen::MatrixXd& sample,
+                              const CandidatePoolOptions& options,
+                              RobotModel* model,
+                              std::vector<int>* fixed_columns,
+                              CandidatePoolSummary* summary) {
+  if (options.auto_fix) {
+    RobotModel fixed_model = *model;
+    if (!FixUnidentifiableParameters(
+            &fixed_model, sample, options.rank_tolerance,
+            &summary->identifiability, fixed_columns, &summary->fixed_names)) {
+      summary->message = summary->identifiability.Message();
+      return false;
+    }
+    *model = std::move(fixed_model);
+    return true;
+  }
+  summary->identifiability =
+      AnalyzeIdentifiability(*model, sample, options.rank_tolerance);
+  if (!summary->identifiability.identifiable()) {
+    summary->message = summary->identifiability.Message();
+    return false;
+  }
+  return true;
+}
+
+// The single-precision pool: the identifiability check on double Jacobians
+// of the sampled poses, then the Jacobians of the final free parameters in
+// chunks, each rounded to float as it is done (the pool is never held in
+// double), and an exact source that recomputes any poses' blocks in double.
+bool BuildSinglePrecisionPool(RobotModel* model,
+                              const Eigen::VectorXd& parameters,
+                              const Eigen::MatrixXd& joints,
+                              const CandidatePoolOptions& options,
+                              const PoolJacobianOptions& jacobian_options,
+                              CandidatePool* pool,
+                              CandidatePoolSummary* summary) {
+  const int t = MeasurementDimension(options.type);
+  const int64_t n = joints.rows();
+  if (options.check_identifiability) {
+    Eigen::MatrixXd sample_joints;
+    if (n * t <= options.max_analysis_rows) {
+      sample_joints = joints;
+    } else {
+      const std::vector<int64_t> chosen =
+          SampleBlockIndices(n, options.max_analysis_rows / t);
+      sample_joints.resize(chosen.size(), joints.cols());
+      for (size_t k = 0; k < chosen.size(); ++k) {
+        sample_joints.row(k) = joints.row(chosen[k]);
+      }
+    }
+    PoolJacobianOptions sample_options = jacobian_options;
+    sample_options.progress = nullptr;
+    RowMatrixXd sample;
+    if (!PoolJacobians(*model, parameters, sample_joints, sample_options,
+                       &sample, &summary->message)) {
+      return false;
+    }
+    std::vector<int> fixed_columns;
+    if (!CheckPoolIdentifiability(sample, options, model, &fixed_columns,
+                                  summary)) {
+      return false;
+    }
+  }
+  const int p = model->num_free();
+  RowMatrixXf stacked(n * t, p);
+  constexpr int64_t kChunk = 1 << 16;
+  RowMatrixXd chunk;
+  for (int64_t begin = 0; begin < n; begin += kChunk) {
+    const int64_t count = std::min(kChunk, n - begin);
+    PoolJacobianOptions chunk_options = jacobian_options;
+    if (options.progress) {
+      chunk_options.progress = [&](int64_t done, int64_t) {
+        options.progress(begin + done, n);
+      };
+    }
+    if (!PoolJacobians(*model, parameters, joints.middleRows(begin, count),
+                       chunk_options, &chunk, &summary->message)) {
+      // Name the pose in the whole pool, not in the chunk.
+      const std::string prefix = "pool pose ";
+      if (summary->message.compare(0, prefix.size(), prefix) == 0) {
+        const size_t end = summary->message.find(':');
+        const int64_t i = std::stoll(
+            summary->message.substr(prefix.size(), end - prefix.size()));
+        summary->message =
+            prefix + std::to_string(begin + i) + summary->message.substr(end);
+      }
+      return false;
+    }
+    stacked.middleRows(begin * t, count * t) = chunk.cast<float>();
+  }
+  if (!CandidatePool::Create(std::move(stacked), t, pool, &summary->message)) {
+    return false;
+  }
+  auto data = std::make_shared<const ExactPoolData>(
+      ExactPoolData{*model, parameters, joints, jacobian_options});
+  pool->set_exact_source([data](int64_t begin, int64_t count,
+                                RowMatrixXd* rows) {
+    PoolJacobianOptions o = data->options;
+    o.num_threads = 1;  // called from the sweep's own threads
+    o.progress = nullptr;
+    std::string error;
+    // The poses were checked when the pool was built.
+    CHECK(PoolJacobians(data->model, data->parameters,
+                        data->joints.middleRows(begin, count), o, rows, &error))
+        << error;
+  });
+  return true;
+}
+
+}  // namespace
+
 bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
                         const Eigen::MatrixXd& joints,
                         const CandidatePoolOptions& options,
@@ -82,6 +217,14 @@ bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
       options.rotation_weight_m_per_rad;
   jacobian_options.num_threads = options.num_threads;
   jacobian_options.progress = options.progress;
+  if (options.single_precision) {
+    const bool ok = BuildSinglePrecisionPool(model, parameters, joints, options,
+                                             jacobian_options, pool, summary);
+    summary->jacobian_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    return ok;
+  }
   RowMatrixXd stacked;
   if (!PoolJacobians(*model, parameters, joints, jacobian_options, &stacked,
                      &summary->message)) {
@@ -94,23 +237,10 @@ bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
   if (options.check_identifiability) {
     const Eigen::MatrixXd sample =
         SampleBlocks(stacked, block_rows, options.max_analysis_rows);
-    RobotModel fixed_model = *model;
     std::vector<int> fixed_columns;
-    if (options.auto_fix) {
-      if (!FixUnidentifiableParameters(&fixed_model, sample,
-                                       options.rank_tolerance,
-                                       &summary->identifiability,
-                                       &fixed_columns, &summary->fixed_names)) {
-        summary->message = summary->identifiability.Message();
-        return false;
-      }
-    } else {
-      summary->identifiability =
-          AnalyzeIdentifiability(*model, sample, options.rank_tolerance);
-      if (!summary->identifiability.identifiable()) {
-        summary->message = summary->identifiability.Message();
-        return false;
-      }
+    if (!CheckPoolIdentifiability(sample, options, model, &fixed_columns,
+                                  summary)) {
+      return false;
     }
     if (!fixed_columns.empty()) {
       RowMatrixXd kept(stacked.rows(), stacked.cols() - fixed_columns.size());
@@ -123,7 +253,6 @@ bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
         }
       }
       stacked = std::move(kept);
-      *model = std::move(fixed_model);
     }
   }
   return CandidatePool::Create(std::move(stacked), block_rows, pool,

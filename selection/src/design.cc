@@ -75,8 +75,8 @@ void ForEachQuadraticForm(
       for (int64_t k = 0; k < count; ++k) {
         // lazyProduct: a t x p times p x t product is too small for the
         // blocked GEMM kernel (packing dominated: 3x slower at t = 3).
-        S.noalias() =
-            W.middleRows(k * t, t).lazyProduct(X.middleRows(k * t, t).transpose());
+        S.noalias() = W.middleRows(k * t, t).lazyProduct(
+            X.middleRows(k * t, t).transpose());
         fn(begin + k, S);
       }
     }

@@ -24,8 +24,22 @@ double TraceSolve(const Eigen::MatrixXd& S, const Eigen::MatrixXd& B) {
 
 Eigen::MatrixXd TaskMatrix(const CandidatePool& task_poses) {
   CHECK_GT(task_poses.size(), 0) << "no task poses";
-  const RowMatrixXd& J = task_poses.stacked();
-  Eigen::MatrixXd W = J.transpose() * J;
+  Eigen::MatrixXd W;
+  if (!task_poses.single_precision()) {
+    const RowMatrixXd& J = task_poses.stacked();
+    W = J.transpose() * J;
+  } else {
+    // Widened to double and summed chunk by chunk.
+    const int p = task_poses.num_parameters();
+    W = Eigen::MatrixXd::Zero(p, p);
+    constexpr int64_t kChunk = 1 << 14;
+    RowMatrixXd buffer;
+    for (int64_t b = 0; b < task_poses.size(); b += kChunk) {
+      const auto J =
+          task_poses.Rows(b, std::min(kChunk, task_poses.size() - b), &buffer);
+      W.noalias() += J.transpose() * J;
+    }
+  }
   W /= static_cast<double>(task_poses.size());
   return 0.5 * (W + W.transpose());
 }
@@ -38,7 +52,7 @@ double TaskCriterionFromScratch(const CandidatePool& pool,
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
   if (prior_rows.rows() > 0) M.noalias() += prior_rows.transpose() * prior_rows;
   for (int64_t i : design) {
-    const auto X = pool.block(i);
+    const RowMatrixXd X = pool.ExactBlock(i);
     M.noalias() += X.transpose() * X;
   }
   if (LogDetSpd(M) == -kInf) return kInf;
