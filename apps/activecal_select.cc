@@ -566,6 +566,8 @@ int Main() {
     j["auto_fixed"] = auto_fixed;
     j["seed"] = FLAGS_seed;
     j["pool"] = FLAGS_pool_csv.empty() ? FLAGS_pool : "csv";
+    j["pool_storage"] = pool.single_precision() ? "float" : "double";
+    j["pool_storage_mib"] = pool.storage_bytes() / (1024.0 * 1024.0);
     if (from_lattice) {
       j["levels"] = FLAGS_levels;
     } else if (!FLAGS_pool_csv.empty()) {

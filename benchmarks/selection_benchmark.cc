@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/SVD>
 
 #include "activecal/core/candidate_pool.h"
@@ -122,6 +123,39 @@ void BM_PoolJacobians(benchmark::State& state) {
 }
 BENCHMARK(BM_PoolJacobians)
     ->ArgNames({"threads", "analytic"})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Unit(benchmark::kMillisecond);
+
+// One sweep of the variance function d_i = tr(X_i V X_i^T) over the
+// 7^6 = 117,649-pose PUMA pool (what the approximate design, the reduced
+// pool, the polish rounds and the certificate each cost): args (threads,
+// float storage). items/s is poses per second.
+void BM_VarianceSweep(benchmark::State& state) {
+  const CandidatePool& pool = Pool(7);
+  CandidatePool single;
+  if (state.range(1) != 0) {
+    std::string error;
+    CandidatePool::Create(RowMatrixXf(pool.stacked().cast<float>()),
+                          pool.block_rows(), &single, &error);
+  }
+  const CandidatePool& swept = state.range(1) != 0 ? single : pool;
+  const int p = pool.num_parameters();
+  const Eigen::MatrixXd X =
+      pool.Stack(Random(1).SampleWithoutReplacement(pool.size(), 60));
+  const Eigen::MatrixXd M = X.transpose() * X;
+  const Eigen::MatrixXd V = M.llt().solve(Eigen::MatrixXd::Identity(p, p));
+  Eigen::VectorXd d;
+  for (auto _ : state) {
+    ComputeVariances(swept, V, state.range(0), &d);
+    benchmark::DoNotOptimize(d.data());
+  }
+  state.SetItemsProcessed(state.iterations() * pool.size());
+}
+BENCHMARK(BM_VarianceSweep)
+    ->ArgNames({"threads", "float"})
     ->Args({1, 0})
     ->Args({1, 1})
     ->Args({2, 0})
