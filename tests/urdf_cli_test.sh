@@ -138,6 +138,43 @@ for q in a["joint_angles_rad"]:
         assert abs(v) <= math.radians(l) + 1e-12, (v, l)
 assert a["efficiency_lower_bound"] > 0.9, a["efficiency_lower_bound"]
 EOF2
+# Single precision: --pool_storage=float, and auto crossing its budget
+# (--max_double_pool_mib=0: every pool is over it). The design's log det
+# and the certificate are computed in double; they must be those of the
+# double run to float rounding (the same design here), on 1 and 2 threads.
+for run in "float_1:--pool_storage=float --threads=1" \
+           "float_2:--pool_storage=float --threads=2" \
+           "auto:--max_double_pool_mib=0" "budget:--max_double_pool_mib=1000"; do
+  name="${run%%:*}"
+  # shellcheck disable=SC2086
+  if ! timeout 300 "$apps/activecal_select" --robot="$data/kuka_iiwa14.urdf" \
+    --pool=sobol --pool_size=3000 --num_poses=60 --algorithm=fedorov \
+    ${run#*:} --json_out="iiwa_$name.json" >"iiwa_$name.out" 2>iiwa.err; then
+    fail "iiwa float pool ($name)"; cat iiwa.err
+  fi
+done
+python3 - <<'EOF2' && ok "iiwa single-precision pool" || fail "iiwa single-precision pool (json)"
+import json
+d = json.load(open("iiwa_1.json"))
+f1 = json.load(open("iiwa_float_1.json")); f2 = json.load(open("iiwa_float_2.json"))
+auto = json.load(open("iiwa_auto.json")); budget = json.load(open("iiwa_budget.json"))
+assert d["pool_storage"] == "double" and budget["pool_storage"] == "double"
+assert f1["pool_storage"] == "float" and auto["pool_storage"] == "float"
+assert abs(f1["pool_storage_mib"] * 2 - d["pool_storage_mib"]) < 1e-9
+# Thread count does not change a float run.
+assert f1["pose_indices"] == f2["pose_indices"] and f1["log10_det"] == f2["log10_det"]
+assert f1["pose_indices"] == auto["pose_indices"]
+# Within float rounding of the double run's design quality.
+assert abs(f1["log10_det"] - d["log10_det"]) < 1e-3, (f1["log10_det"], d["log10_det"])
+assert f1["efficiency_lower_bound"] > 0.9, f1["efficiency_lower_bound"]
+assert budget["pose_indices"] == d["pose_indices"]
+EOF2
+grep -q "pool stored in single precision" iiwa_auto.out && ok "auto storage says so" \
+  || fail "auto storage does not say it stored the pool in float"
+expect_fail "float pool with eae" "--pool_storage=float needs --algorithm=fedorov or approx with the D criterion (got --algorithm=eae --criterion=det)" \
+  activecal_select --pool_storage=float
+expect_fail "bad pool storage" "--pool_storage must be auto, double or float, got 'half'" \
+  activecal_select --pool_storage=half
 expect_fail "unknown pool" "--pool must be lattice, sobol or random, got 'halton'" \
   activecal_select --pool=halton
 expect_fail "empty pool" "--pool=sobol: pool size must be >= 1, got 0" \
