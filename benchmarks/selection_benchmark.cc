@@ -132,16 +132,27 @@ BENCHMARK(BM_PoolJacobians)
 // One sweep of the variance function d_i = tr(X_i V X_i^T) over the
 // 7^6 = 117,649-pose PUMA pool (what the approximate design, the reduced
 // pool, the polish rounds and the certificate each cost): args (threads,
-// float storage). items/s is poses per second.
+// storage: 0 double, 1 float, 2 float pool swept through its exact source,
+// i.e. Jacobians recomputed in double as the certificate does). items/s is
+// poses per second.
 void BM_VarianceSweep(benchmark::State& state) {
   const CandidatePool& pool = Pool(7);
   CandidatePool single;
   if (state.range(1) != 0) {
+    // Built as the programs build it: with the exact source.
+    RobotModel model = Puma560PaperModel();
+    JointLattice lattice;
     std::string error;
-    CandidatePool::Create(RowMatrixXf(pool.stacked().cast<float>()),
-                          pool.block_rows(), &single, &error);
+    JointLattice::Create(model, 7, &lattice, &error);
+    CandidatePoolOptions options;
+    options.single_precision = true;
+    CandidatePoolSummary summary;
+    BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(), options,
+                       &single, &summary);
   }
   const CandidatePool& swept = state.range(1) != 0 ? single : pool;
+  const PoolReading reading =
+      state.range(1) == 2 ? PoolReading::kExact : PoolReading::kStored;
   const int p = pool.num_parameters();
   const Eigen::MatrixXd X =
       pool.Stack(Random(1).SampleWithoutReplacement(pool.size(), 60));
@@ -149,17 +160,19 @@ void BM_VarianceSweep(benchmark::State& state) {
   const Eigen::MatrixXd V = M.llt().solve(Eigen::MatrixXd::Identity(p, p));
   Eigen::VectorXd d;
   for (auto _ : state) {
-    ComputeVariances(swept, V, state.range(0), &d);
+    ComputeVariances(swept, V, state.range(0), &d, reading);
     benchmark::DoNotOptimize(d.data());
   }
   state.SetItemsProcessed(state.iterations() * pool.size());
 }
 BENCHMARK(BM_VarianceSweep)
-    ->ArgNames({"threads", "float"})
+    ->ArgNames({"threads", "storage"})
     ->Args({1, 0})
     ->Args({1, 1})
+    ->Args({1, 2})
     ->Args({2, 0})
     ->Args({2, 1})
+    ->Args({2, 2})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -97,27 +97,32 @@ void ComputeAddGains(const CandidatePool& pool, const InformationMatrix& info,
                                  });
 }
 
-void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
-                      int num_threads, Eigen::VectorXd* variances,
+void ComputeVariances(const CandidatePool& pool,
+                      const std::vector<Eigen::MatrixXd>& Vs, int num_threads,
+                      std::vector<Eigen::VectorXd>* variances,
                       PoolReading reading) {
   const int64_t n = pool.size();
   const int t = pool.block_rows();
-  variances->resize(n);
+  const size_t m = Vs.size();
+  variances->resize(m);
   // With V = L L^T, d_i = tr(X_i L L^T X_i^T) = ||X_i L||_F^2: a triangular
   // product (half the flops of X_i V) and a squared norm instead of a
   // t x t block. A V that is not numerically positive definite takes the
   // general path.
-  const Eigen::LLT<Eigen::MatrixXd> llt(V);
-  if (llt.info() != Eigen::Success) {
-    internal::ForEachQuadraticForm(
-        pool, V, num_threads,
-        [variances](int64_t i, const Eigen::MatrixXd& D) {
-          (*variances)[i] = D.trace();
-        },
-        reading);
-    return;
+  std::vector<Eigen::MatrixXd> Ls(m);
+  for (size_t v = 0; v < m; ++v) {
+    (*variances)[v].resize(n);
+    const Eigen::LLT<Eigen::MatrixXd> llt(Vs[v]);
+    if (llt.info() != Eigen::Success) {
+      Eigen::VectorXd* out = &(*variances)[v];
+      internal::ForEachQuadraticForm(
+          pool, Vs[v], num_threads,
+          [out](int64_t i, const Eigen::MatrixXd& D) { (*out)[i] = D.trace(); },
+          reading);
+    } else {
+      Ls[v] = llt.matrixL();
+    }
   }
-  const Eigen::MatrixXd L = llt.matrixL();
   constexpr int64_t kChunk = 512;
   const int64_t num_chunks = (n + kChunk - 1) / kChunk;
   ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
@@ -125,15 +130,30 @@ void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
     for (int64_t c = cb; c < ce; ++c) {
       const int64_t begin = c * kChunk;
       const int64_t count = std::min(kChunk, n - begin);
+      // One read of the blocks (one recomputation from an exact source)
+      // for every V.
       const Eigen::Map<const RowMatrixXd> X =
           reading == PoolReading::kExact ? pool.ExactRows(begin, count, &buffer)
                                          : pool.Rows(begin, count, &buffer);
-      W.noalias() = X * L.triangularView<Eigen::Lower>();
-      for (int64_t k = 0; k < count; ++k) {
-        (*variances)[begin + k] = W.middleRows(k * t, t).squaredNorm();
+      for (size_t v = 0; v < m; ++v) {
+        if (Ls[v].size() == 0) continue;  // done by the general path
+        W.noalias() = X * Ls[v].triangularView<Eigen::Lower>();
+        Eigen::VectorXd& d = (*variances)[v];
+        for (int64_t k = 0; k < count; ++k) {
+          d[begin + k] = W.middleRows(k * t, t).squaredNorm();
+        }
       }
     }
   });
+}
+
+void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
+                      int num_threads, Eigen::VectorXd* variances,
+                      PoolReading reading) {
+  std::vector<Eigen::VectorXd> out;
+  ComputeVariances(pool, std::vector<Eigen::MatrixXd>{V}, num_threads, &out,
+                   reading);
+  *variances = std::move(out[0]);
 }
 
 bool PrepareCandidates(const CandidatePool& pool, int num_poses,

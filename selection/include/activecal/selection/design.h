@@ -64,6 +64,13 @@ enum class PoolReading { kStored, kExact };
 void ComputeVariances(const CandidatePool& pool, const Eigen::MatrixXd& V,
                       int num_threads, Eigen::VectorXd* variances,
                       PoolReading reading = PoolReading::kStored);
+// The same for several V in one pass over the pool ((*variances)[k] for
+// Vs[k]): one read, or one recomputation from the exact source, of every
+// block for all of them.
+void ComputeVariances(const CandidatePool& pool,
+                      const std::vector<Eigen::MatrixXd>& Vs, int num_threads,
+                      std::vector<Eigen::VectorXd>* variances,
+                      PoolReading reading = PoolReading::kStored);
 
 // What every selection algorithm takes besides its own options.
 struct DesignConstraints {
