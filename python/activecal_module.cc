@@ -397,6 +397,23 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
   return out;
 }
 
+RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
+                          const std::string& measurement) {
+  ParameterSet set;
+  if (!ParseParameterSet(name, &set)) {
+    Fail("parameter_set must be registration, offsets, full or file, got '" +
+         name + "'");
+  }
+  const MeasurementType type =
+      MeasurementTypeArg(measurement, true, "measurement");
+  auto out = std::make_shared<Robot>(robot);
+  if (set != ParameterSet::kFile) {
+    ApplyParameterSet(set, type == MeasurementType::kPose,
+                      &out->description.model);
+  }
+  return out;
+}
+
 void SaveRobot(const Robot& robot, const std::string& path,
                const py::object& parameters) {
   RobotFileOptions options;
@@ -1431,6 +1448,11 @@ PYBIND11_MODULE(activecal, m) {
            "d(measured point)/d(free parameters): (3, num_free) for one "
            "pose, (n, 3, num_free) for n; type='pose' gives 6 rows "
            "(orientation rows times rotation_weight, m/rad).")
+      .def("with_parameter_set", &WithParameterSet, py::arg("name"),
+           py::arg("measurement") = "position",
+           "A copy whose free parameters are the named set (registration, "
+           "offsets, full; file: unchanged), as ApplyParameterSet; select "
+           "and identify further reduce it to what the data separate.")
       .def("save", &SaveRobot, py::arg("path"),
            py::arg("parameters") = py::none(),
            "Writes the robot YAML file with `parameters` (default: nominal) "
