@@ -1281,9 +1281,6 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
 std::string EstimateFileText(const EstimateResult& e) {
   RobotFileOptions options;
   options.angle_unit = e.robot->description.angle_unit;
-  if (e.robot->description.true_parameters.size() == e.model.num_parameters()) {
-    options.true_parameters = e.robot->description.true_parameters;
-  }
   options.comment = "Calibrated by activecal (Python) from " +
                     std::to_string(e.summary.num_measurements) +
                     " measurements, RMS residual " +
