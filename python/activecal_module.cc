@@ -51,6 +51,7 @@
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
+#include "activecal/selection/target_size.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"
@@ -258,6 +259,9 @@ struct DesignResult {
   ApproximateDesignSummary approx;
   bool with_task_approx = false;
   TaskApproximateSummary task_approx;
+  bool with_target = false;
+  TargetSizeSummary target;
+  int num_measured = 0;
 };
 
 struct EstimateResult {
@@ -725,7 +729,8 @@ std::shared_ptr<DesignResult> SelectPy(
     const py::object& parameter_set, bool auto_fix, int restarts,
     int initial_poses, int random_designs, bool certificate,
     double approx_tolerance, int64_t polish_pool_size, double noise_m,
-    const py::object& task_poses, int num_threads, const py::object& progress,
+    const py::object& task_poses, const py::object& measured,
+    const py::object& target_rms_m, int num_threads, const py::object& progress,
     const py::kwargs& kwargs) {
   NoUnknownOptions("select", kwargs);
   Progress bridge(progress);
@@ -786,7 +791,16 @@ std::shared_ptr<DesignResult> SelectPy(
     Fail("pool_indices label a pool given as an array; pool is '" + pool_kind +
          "'");
   }
-  if (num_poses <= 0 || num_poses > pool_joints.rows()) {
+  const bool with_target = !target_rms_m.is_none();
+  const double target_rms = with_target ? py::cast<double>(target_rms_m) : 0.0;
+  if (with_target && (!(target_rms > 0) || !std::isfinite(target_rms))) {
+    Fail("target_rms_m must be > 0 (m)");
+  }
+  std::vector<Measurement> measured_items;
+  if (!measured.is_none()) {
+    measured_items = py::cast<const Measurements&>(measured).items;
+  }
+  if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
     Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +
          "] (the pool size), got " + std::to_string(num_poses));
   }
@@ -815,6 +829,11 @@ std::shared_ptr<DesignResult> SelectPy(
   }
   if (!(noise_m > 0) || !std::isfinite(noise_m)) {
     Fail("noise_m must be > 0 (m)");
+  }
+  if (!measured_items.empty() && !task) {
+    Fail(
+        "measured needs criterion='task_rms' (the D-criterion algorithms "
+        "take no prior information)");
   }
   Eigen::MatrixXd task_joints;
   if (!task_poses.is_none()) {
@@ -905,7 +924,18 @@ std::shared_ptr<DesignResult> SelectPy(
         }
         W = TaskMatrix(task_pool);
       }
-      const RowMatrixXd prior(0, pool.num_parameters());
+      // The poses already measured, whitened to noise_m.
+      RowMatrixXd prior(0, pool.num_parameters());
+      if (!measured_items.empty()) {
+        std::string error;
+        if (!MeasuredInformationRows(model, model.nominal, measured_items,
+                                     rotation_weight, noise_m, &prior,
+                                     &error)) {
+          failure = "measured: " + error;
+          return;
+        }
+      }
+      const bool with_prior = prior.rows() > 0;
       const bool need_approx =
           !task &&
           (certificate || algorithm == "fedorov" || algorithm == "approx");
@@ -922,7 +952,7 @@ std::shared_ptr<DesignResult> SelectPy(
         }
       }
       const bool need_task_approx =
-          task &&
+          task && !with_prior &&
           (certificate || algorithm == "fedorov" || algorithm == "approx");
       TaskApproximateSummary& task_approx = result->task_approx;
       if (need_task_approx) {
@@ -938,76 +968,93 @@ std::shared_ptr<DesignResult> SelectPy(
       }
       SelectionSummary& summary = result->summary;
       const ProgressCallback restarts_progress = bridge.Callback("restarts");
-      bool ok = false;
-      if (task) {
-        if (algorithm == "greedy") {
-          ok = TaskGreedy(pool, W, prior, {}, num_poses, num_threads, &summary);
-        } else {
-          TaskExchangeOptions options;
+      // Designs num_poses poses by the chosen criterion and algorithm.
+      auto design_of_size = [&](int num_poses, SelectionSummary* out) {
+        SelectionSummary& summary = *out;
+        bool ok = false;
+        if (task) {
+          if (algorithm == "greedy") {
+            ok = TaskGreedy(pool, W, prior, {}, num_poses, num_threads,
+                            &summary);
+          } else {
+            TaskExchangeOptions options;
+            options.num_poses = num_poses;
+            if (restarts > 0) options.restarts = restarts;
+            options.seed = seed;
+            options.num_threads = num_threads;
+            options.progress = restarts_progress;
+            if (algorithm == "approx") {
+              options.max_swaps = 0;
+              options.restarts = 1;
+            }
+            ok = TaskExchange(pool, W, prior, {}, options,
+                              need_task_approx ? &task_approx : nullptr,
+                              &summary);
+            if (algorithm == "approx")
+              summary.algorithm = "task approx (rounded)";
+          }
+        } else if (algorithm == "eae") {
+          ExchangeAddExchangeOptions options;
+          options.num_poses = num_poses;
+          options.initial_poses = std::min(initial_poses, num_poses);
+          if (restarts > 0) options.restarts = restarts;
+          options.seed = seed;
+          options.num_threads = num_threads;
+          options.progress = restarts_progress;
+          options.criterion = criterion == "svd"
+                                  ? SelectionCriterion::kEigenvalueOi
+                                  : SelectionCriterion::kDeterminantUpdate;
+          ok = ExchangeAddExchange(pool, {}, options, &summary);
+        } else if (algorithm == "random") {
+          RandomDesignOptions options;
+          options.num_poses = num_poses;
+          options.num_designs = random_designs;
+          options.seed = seed;
+          options.num_threads = num_threads;
+          ok = SelectRandomDesigns(pool, {}, options, &summary);
+        } else if (algorithm == "fedorov" || algorithm == "approx") {
+          FedorovOptions options;
+          options.num_poses = num_poses;
+          if (pool.size() > 200000) options.restarts = 8;
+          if (restarts > 0) options.restarts = restarts;
+          options.seed = seed;
+          options.num_threads = num_threads;
+          options.progress = restarts_progress;
+          options.polish_pool_size = polish_pool_size;
+          if (algorithm == "approx") {
+            options.max_swaps = 0;
+            options.restarts = 1;
+          }
+          ok = FedorovExchange(pool, {}, options, &approx, &summary);
+          if (algorithm == "approx") summary.algorithm = "approx (rounded)";
+        } else if (algorithm == "detmax") {
+          DetmaxOptions options;
           options.num_poses = num_poses;
           if (restarts > 0) options.restarts = restarts;
           options.seed = seed;
           options.num_threads = num_threads;
           options.progress = restarts_progress;
-          if (algorithm == "approx") {
-            options.max_swaps = 0;
-            options.restarts = 1;
-          }
-          ok =
-              TaskExchange(pool, W, prior, {}, options,
-                           need_task_approx ? &task_approx : nullptr, &summary);
-          if (algorithm == "approx")
-            summary.algorithm = "task approx (rounded)";
+          ok = Detmax(pool, {}, options, &summary);
+        } else {
+          GreedyOptions options;
+          options.num_poses = num_poses;
+          options.num_threads = num_threads;
+          ok = GreedyDesign(pool, {}, options, &summary);
         }
-      } else if (algorithm == "eae") {
-        ExchangeAddExchangeOptions options;
-        options.num_poses = num_poses;
-        options.initial_poses = std::min(initial_poses, num_poses);
-        if (restarts > 0) options.restarts = restarts;
-        options.seed = seed;
-        options.num_threads = num_threads;
-        options.progress = restarts_progress;
-        options.criterion = criterion == "svd"
-                                ? SelectionCriterion::kEigenvalueOi
-                                : SelectionCriterion::kDeterminantUpdate;
-        ok = ExchangeAddExchange(pool, {}, options, &summary);
-      } else if (algorithm == "random") {
-        RandomDesignOptions options;
-        options.num_poses = num_poses;
-        options.num_designs = random_designs;
-        options.seed = seed;
-        options.num_threads = num_threads;
-        ok = SelectRandomDesigns(pool, {}, options, &summary);
-      } else if (algorithm == "fedorov" || algorithm == "approx") {
-        FedorovOptions options;
-        options.num_poses = num_poses;
-        if (pool.size() > 200000) options.restarts = 8;
-        if (restarts > 0) options.restarts = restarts;
-        options.seed = seed;
-        options.num_threads = num_threads;
-        options.progress = restarts_progress;
-        options.polish_pool_size = polish_pool_size;
-        if (algorithm == "approx") {
-          options.max_swaps = 0;
-          options.restarts = 1;
+        return ok;
+      };
+      if (with_target) {
+        TargetSizeOptions options;
+        options.sigma_m = noise_m;
+        options.target_rms_m = target_rms;
+        TargetSizeSummary& target = result->target;
+        if (!FindSizeForTarget(pool, W, prior, {}, options, design_of_size,
+                               &target)) {
+          failure = "target_rms_m: " + target.message;
+          return;
         }
-        ok = FedorovExchange(pool, {}, options, &approx, &summary);
-        if (algorithm == "approx") summary.algorithm = "approx (rounded)";
-      } else if (algorithm == "detmax") {
-        DetmaxOptions options;
-        options.num_poses = num_poses;
-        if (restarts > 0) options.restarts = restarts;
-        options.seed = seed;
-        options.num_threads = num_threads;
-        options.progress = restarts_progress;
-        ok = Detmax(pool, {}, options, &summary);
-      } else {
-        GreedyOptions options;
-        options.num_poses = num_poses;
-        options.num_threads = num_threads;
-        ok = GreedyDesign(pool, {}, options, &summary);
-      }
-      if (!ok) {
+        summary = target.design;
+      } else if (!design_of_size(num_poses, &summary)) {
         failure = summary.message;
         return;
       }
@@ -1018,7 +1065,7 @@ std::shared_ptr<DesignResult> SelectPy(
       if (certificate) {
         if (!task) {
           CertifyDesign(pool, {}, &approx, num_threads, &summary);
-        } else {
+        } else if (!with_prior) {
           CertifyTaskDesign(pool, W, {}, &task_approx, num_threads, &summary);
         }
       }
@@ -1031,6 +1078,8 @@ std::shared_ptr<DesignResult> SelectPy(
 
   SelectionSummary& summary = result->summary;
   result->criterion = task ? "task_rms" : "d";
+  result->with_target = with_target;
+  result->num_measured = static_cast<int>(measured_items.size());
   result->noise_m = noise_m;
   result->certificate = certificate;
   result->free_parameters = model.FreeParameterNames();
@@ -1678,6 +1727,23 @@ PYBIND11_MODULE(activecal, m) {
                     "Predicted RMS position error over the task poses with "
                     "noise sigma noise_m")
       .def_readonly("num_task_poses", &DesignResult::num_task_poses)
+      .def_readonly("num_measured", &DesignResult::num_measured,
+                    "Measurements counted as already made (measured=)")
+      .def_property_readonly(
+          "target",
+          [](const DesignResult& d) -> py::object {
+            if (!d.with_target) return py::none();
+            py::dict t;
+            t["message"] = d.target.message;
+            t["num_poses"] = d.target.num_poses;
+            t["predicted_task_rms_m"] = d.target.predicted_task_rms_m;
+            t["best_reachable_rms_m"] = d.target.best_reachable_rms_m;
+            t["sizes"] = py::array(py::cast(d.target.sizes));
+            t["rms_by_size_m"] = py::array(py::cast(d.target.rms_by_size_m));
+            return t;
+          },
+          "With target_rms_m: the size found and the curve size -> "
+          "predicted task RMS, or None")
       .def_property_readonly(
           "termination_type",
           [](const DesignResult& d) {
@@ -1741,13 +1807,17 @@ PYBIND11_MODULE(activecal, m) {
         py::arg("random_designs") = 5000, py::arg("certificate") = true,
         py::arg("approx_tolerance") = 2e-3, py::arg("polish_pool_size") = 20000,
         py::arg("noise_m") = 1e-4, py::arg("task_poses") = py::none(),
+        py::arg("measured") = py::none(), py::arg("target_rms_m") = py::none(),
         py::arg("num_threads") = 0, py::arg("progress") = py::none(),
         "Selects calibration poses, as activecal_select with the same "
         "options (the same design for the same seed). pool: None or "
         "'lattice' (levels per joint), 'sobol' or 'random' (pool_size "
         "poses), or an array (n, num_joints) of candidate poses. "
         "algorithm: fedorov, eae, detmax, greedy, random, approx. "
-        "criterion: d (det), svd (eae), task_rms. progress: a callable "
+        "criterion: d (det), svd (eae), task_rms (task_poses: where the "
+        "robot will work, default the pool; measured: Measurements already "
+        "made, counted; target_rms_m: the fewest poses meeting it). "
+        "progress: a callable "
         "progress(stage, done, total). The GIL is released while it runs.");
 
   // ---- Estimate

@@ -172,3 +172,37 @@ def test_bad_input(puma):
     with pytest.raises(ValueError, match="the pool: .*auto_fix=True"):
         # One pose at the same place over and over identifies nothing.
         activecal.select(puma, pool=np.zeros((40, 6)), num_poses=10)
+
+
+def test_task_design_with_measured_poses_and_target(puma, tmp_path):
+    # Poses already measured count as prior information; the fewest new
+    # poses meeting a predicted task RMS, as the program finds them.
+    first = activecal.select(puma, algorithm="greedy", levels=3,
+                             num_poses=12, certificate=False)
+    measured = activecal.simulate(puma, first.joint_angles, noise_m=1e-4)
+    path = tmp_path / "measured.csv"
+    activecal.write_measurements(puma, str(path), measured)
+    curve = tmp_path / "curve.csv"
+    expected, _ = program_design(
+        tmp_path, "fedorov", 2, criterion="task_rms",
+        extra=[f"--measured_csv={path}", "--target_rms_m=8e-5",
+               "--noise_m=1e-4", f"--curve_csv={curve}"])
+    design = activecal.select(puma, criterion="task_rms", seed=2,
+                              measured=measured, target_rms_m=8e-5,
+                              noise_m=1e-4, **SMALL)
+    assert design.num_measured == expected["num_measured"] == 12
+    assert list(design.pose_indices) == expected["pose_indices"]
+    assert design.predicted_task_rms_m == expected["predicted_task_rms_m"]
+    target = design.target
+    assert [[s, r] for s, r in zip(target["sizes"], target["rms_by_size_m"])] \
+        == expected["predicted_task_rms_by_size_m"]
+    assert target["best_reachable_rms_m"] == expected["best_reachable_rms_m"]
+    # Meaning: the size found meets the target, one fewer does not.
+    assert design.predicted_task_rms_m <= 8e-5
+    sizes = list(target["sizes"])
+    k = sizes.index(len(design.pose_indices))
+    if len(design.pose_indices) - 1 in sizes:
+        assert target["rms_by_size_m"][sizes.index(len(design.pose_indices) - 1)] > 8e-5
+    assert target["rms_by_size_m"][k] == design.predicted_task_rms_m
+    with pytest.raises(ValueError, match="measured needs criterion='task_rms'"):
+        activecal.select(puma, measured=measured, **SMALL)
