@@ -112,10 +112,15 @@ if plt is not None:
                               cmap="coolwarm")
     axes[1, 0].set_title("correlation of the estimates")
     fig.colorbar(image, ax=axes[1, 0])
-    axes[1, 1].hist([np.linalg.norm(before["position_errors_m"], axis=1),
-                     np.linalg.norm(after["position_errors_m"], axis=1)],
-                    bins=30, log=True, label=["nominal", "calibrated"])
-    axes[1, 1].set(title="held-out position errors", xlabel="m")
+    errors = [np.linalg.norm(e["position_errors_m"], axis=1)
+              for e in (before, after_random, after)]
+    bins = np.logspace(np.log10(min(e.min() for e in errors)),
+                       np.log10(max(e.max() for e in errors)), 40)
+    axes[1, 1].hist(errors, bins=bins,
+                    label=["nominal", "calibrated (random poses)",
+                           "calibrated (D-optimal)"])
+    axes[1, 1].set(title="held-out position errors", xlabel="m",
+                   xscale="log")
     axes[1, 1].legend()
     fig.tight_layout()
     fig.savefig(out / "calibration.png", dpi=120)
