@@ -39,8 +39,11 @@
 #include "activecal/core/robot_file.h"
 #include "activecal/core/robot_loader.h"
 #include "activecal/core/simulation.h"
+#include "activecal/core/targets_csv.h"
+#include "activecal/residuals/compensation.h"
 #include "activecal/residuals/estimate_warnings.h"
 #include "activecal/residuals/identification.h"
+#include "activecal/residuals/inverse_kinematics.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/model_selection.h"
 #include "activecal/residuals/parameter_reduction.h"
@@ -1383,6 +1386,107 @@ py::dict EvaluatePy(const Robot& robot, const Measurements& measurements,
   return d;
 }
 
+// ----------------------------------------------------------- compensate
+
+struct CompensationResult {
+  CompensationSummary summary;
+  RobotPtr robot;
+  std::vector<int64_t> pose_indices;
+  Eigen::MatrixXd starts;  // the program, or the targets' starts
+};
+
+std::shared_ptr<CompensationResult> CompensatePy(
+    const RobotPtr& robot, const py::object& program, const py::object& nominal,
+    const py::object& targets, const py::object& rotations,
+    const py::object& starts, const py::object& pose_indices,
+    const std::string& match, int marker, double position_tolerance_m,
+    double rotation_tolerance_rad, double rotation_weight_m, int max_iterations,
+    double singular_threshold, int num_threads, const py::kwargs& kwargs) {
+  NoUnknownOptions("compensate", kwargs);
+  const RobotModel& model = robot->model();
+  if (program.is_none() == targets.is_none()) {
+    Fail(
+        "give exactly one of program (joint targets, with nominal) and "
+        "targets (Cartesian points in the device frame)");
+  }
+  CompensationOptions options;
+  if (!ParseIkMatch(match, &options.ik.match)) {
+    Fail("match must be position or pose, got '" + match + "'");
+  }
+  options.ik.position_tolerance_m = position_tolerance_m;
+  options.ik.rotation_tolerance_rad = rotation_tolerance_rad;
+  options.ik.rotation_weight_m = rotation_weight_m;
+  options.ik.max_iterations = max_iterations;
+  options.ik.singular_threshold = singular_threshold;
+  options.num_threads = num_threads;
+  if (marker < 0 || marker >= model.num_markers()) {
+    Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
+         "], got " + std::to_string(marker));
+  }
+  options.ik.marker = marker;
+  std::string error;
+  if (!options.ik.IsValid(&error)) Fail(error);
+  auto result = std::make_shared<CompensationResult>();
+  result->robot = robot;
+  int64_t n = 0;
+  if (!program.is_none()) {
+    if (nominal.is_none()) {
+      Fail("program needs nominal: the Robot the program was taught with");
+    }
+    const Robot& taught = py::cast<const Robot&>(nominal);
+    if (!CheckSameChain(model, taught.model(), &error)) {
+      Fail("robot and nominal: " + error);
+    }
+    result->starts = MatrixArg(program, "program", model.num_joints(), false);
+    n = result->starts.rows();
+    py::gil_scoped_release release;
+    CompensateProgram(model, model.nominal, taught.model(),
+                      taught.model().nominal, result->starts, options,
+                      &result->summary);
+  } else {
+    TargetList list;
+    list.points = MatrixArg(targets, "targets", 3, false);
+    n = list.points.rows();
+    if (!rotations.is_none()) {
+      list.rotation_vectors = MatrixArg(rotations, "rotations", 3, false);
+      if (list.rotation_vectors.rows() != n) {
+        Fail("rotations: expected " + std::to_string(n) +
+             " rows (one per target), got " +
+             std::to_string(list.rotation_vectors.rows()));
+      }
+    } else if (options.ik.match == IkMatch::kPose) {
+      Fail("match='pose' needs the target orientations: rotations=");
+    }
+    if (!starts.is_none()) {
+      list.start_joints =
+          MatrixArg(starts, "starts", model.num_joints(), false);
+      if (list.start_joints.rows() != n) {
+        Fail("starts: expected " + std::to_string(n) +
+             " rows (one per target), got " +
+             std::to_string(list.start_joints.rows()));
+      }
+    }
+    result->starts = list.start_joints;
+    const std::vector<IkTarget> ik_targets = IkTargetsFromList(list);
+    py::gil_scoped_release release;
+    CompensateTargets(model, model.nominal, ik_targets, list.start_joints,
+                      Eigen::VectorXd(), options, &result->summary);
+  }
+  if (result->summary.termination_type == TerminationType::kUserFailure) {
+    Fail(result->summary.message);
+  }
+  if (pose_indices.is_none()) {
+    for (int64_t i = 0; i < n; ++i) result->pose_indices.push_back(i);
+  } else {
+    result->pose_indices = py::cast<std::vector<int64_t>>(pose_indices);
+    if (static_cast<int64_t>(result->pose_indices.size()) != n) {
+      Fail("pose_indices: expected " + std::to_string(n) + " values, got " +
+           std::to_string(result->pose_indices.size()));
+    }
+  }
+  return result;
+}
+
 py::array_t<double> HistoryLog10(const SelectionSummary& s) {
   py::array_t<double> h(s.history.size());
   auto v = h.mutable_unchecked<1>();
@@ -1931,6 +2035,128 @@ PYBIND11_MODULE(activecal, m) {
         "robust_loss, robust_scale_m, outlier_threshold, rotation_weight, "
         "default_sigma_m, default_sigma_rad, prior_std_m, prior_std_rad, "
         "seed, num_threads. The GIL is released while it runs.");
+  // ---- Compensation
+  py::class_<CompensationResult, std::shared_ptr<CompensationResult>>(
+      m, "Compensation", "A compensated program (compensate).")
+      .def_property_readonly(
+          "joint_angles",
+          [](const CompensationResult& c) {
+            Eigen::MatrixXd q(c.summary.results.size(),
+                              c.robot->model().num_joints());
+            for (size_t i = 0; i < c.summary.results.size(); ++i) {
+              const Eigen::VectorXd& j = c.summary.results[i].joints;
+              if (j.size() == q.cols()) {
+                q.row(i) = j.transpose();
+              } else {
+                q.row(i).setConstant(NAN);
+              }
+            }
+            return q;
+          },
+          "(n, num_joints): the joints to send the calibrated robot to")
+      .def_property_readonly(
+          "status",
+          [](const CompensationResult& c) {
+            std::vector<std::string> s;
+            for (const InverseKinematicsResult& r : c.summary.results) {
+              s.push_back(IkStatusName(r.status));
+            }
+            return s;
+          },
+          "Per target: converged, singular, limit, unreachable, invalid")
+      .def_property_readonly("messages",
+                             [](const CompensationResult& c) {
+                               std::vector<std::string> s;
+                               for (const auto& r : c.summary.results) {
+                                 s.push_back(r.message);
+                               }
+                               return s;
+                             })
+      .def_property_readonly("position_error_m",
+                             [](const CompensationResult& c) {
+                               Eigen::VectorXd e(c.summary.results.size());
+                               for (size_t i = 0; i < c.summary.results.size();
+                                    ++i) {
+                                 e[i] = c.summary.results[i].position_error_m;
+                               }
+                               return e;
+                             })
+      .def_property_readonly("rotation_error_rad",
+                             [](const CompensationResult& c) {
+                               Eigen::VectorXd e(c.summary.results.size());
+                               for (size_t i = 0; i < c.summary.results.size();
+                                    ++i) {
+                                 e[i] = c.summary.results[i].rotation_error_rad;
+                               }
+                               return e;
+                             })
+      .def_property_readonly(
+          "target_points",
+          [](const CompensationResult& c) {
+            Eigen::MatrixXd p(c.summary.targets.size(), 3);
+            for (size_t i = 0; i < c.summary.targets.size(); ++i) {
+              p.row(i) = c.summary.targets[i].point.transpose();
+            }
+            return p;
+          },
+          "(n, 3): what each target means in the device frame (m)")
+      .def_property_readonly("pose_indices",
+                             [](const CompensationResult& c) {
+                               return py::array(py::cast(c.pose_indices));
+                             })
+      .def_property_readonly(
+          "all_converged",
+          [](const CompensationResult& c) { return c.summary.AllConverged(); })
+      .def_property_readonly("max_position_error_m",
+                             [](const CompensationResult& c) {
+                               return c.summary.max_position_error_m;
+                             })
+      .def_property_readonly("max_joint_change",
+                             [](const CompensationResult& c) {
+                               return c.summary.max_joint_change;
+                             })
+      .def_property_readonly("rms_joint_change",
+                             [](const CompensationResult& c) {
+                               return c.summary.rms_joint_change;
+                             })
+      .def_property_readonly(
+          "termination_type",
+          [](const CompensationResult& c) {
+            return TerminationTypeToString(c.summary.termination_type);
+          })
+      .def_property_readonly(
+          "message",
+          [](const CompensationResult& c) { return c.summary.message; })
+      .def(
+          "save",
+          [](const CompensationResult& c, const std::string& path) {
+            WriteText(path, CompensatedPosesCsvText(c.robot->model(),
+                                                    c.pose_indices, c.summary));
+          },
+          py::arg("path"),
+          "Writes the compensated program as activecal_compensate --out "
+          "does (poses CSV with status and position_error_m).")
+      .def("report",
+           [](const CompensationResult& c) { return c.summary.BriefReport(); });
+
+  m.def("compensate", &CompensatePy, py::arg("robot"),
+        py::arg("program") = py::none(), py::arg("nominal") = py::none(),
+        py::arg("targets") = py::none(), py::arg("rotations") = py::none(),
+        py::arg("starts") = py::none(), py::arg("pose_indices") = py::none(),
+        py::arg("match") = "position", py::arg("marker") = 0,
+        py::arg("position_tolerance_m") = 1e-9,
+        py::arg("rotation_tolerance_rad") = 1e-9,
+        py::arg("rotation_weight_m") = 1.0, py::arg("max_iterations") = 100,
+        py::arg("singular_threshold") = 1e-6, py::arg("num_threads") = 0,
+        "Compensates a program with the calibrated robot, as "
+        "activecal_compensate: program (n, num_joints) taught with the "
+        "Robot `nominal` -> the joints at which the calibrated robot "
+        "reaches what each pose meant; or targets (n, 3) points in the "
+        "device frame (rotations (n, 3) rotation vectors for match='pose'; "
+        "starts (n, num_joints)). Targets that do not converge keep their "
+        "status (all_converged False); bad input is a ValueError. The GIL "
+        "is released while it runs.");
+
   m.def("evaluate", &EvaluatePy, py::arg("robot"), py::arg("measurements"),
         py::arg("parameters") = py::none(),
         "The errors of a model (robot's nominal, or `parameters`) on "
