@@ -606,11 +606,29 @@ Measurements MakeMeasurements(
   return out;
 }
 
+const Measurements& MeasurementsArg(const py::object& obj,
+                                    const std::string& what) {
+  if (!py::isinstance<Measurements>(obj)) {
+    Fail(what + ": expected activecal.Measurements, got " +
+         std::string(py::str(py::type::of(obj).attr("__name__"))));
+  }
+  return py::cast<const Measurements&>(obj);
+}
+
 // A column of the measurements as an array; rows without it are NaN.
 template <typename Get>
 Eigen::MatrixXd Column(const Measurements& m, int cols, Get get) {
   Eigen::MatrixXd out(m.items.size(), cols);
-  for (size_t i = 0; i < m.items.size(); ++i) out.row(i) = get(m.items[i]);
+  for (size_t i = 0; i < m.items.size(); ++i) {
+    const Eigen::RowVectorXd row = get(m.items[i]);
+    // Rows of another robot's joint count (Measurements joined with +):
+    // NaN, not an out-of-bounds write.
+    if (row.size() == cols) {
+      out.row(i) = row;
+    } else {
+      out.row(i).setConstant(NAN);
+    }
+  }
   return out;
 }
 
@@ -801,7 +819,7 @@ std::shared_ptr<DesignResult> SelectPy(
   }
   std::vector<Measurement> measured_items;
   if (!measured.is_none()) {
-    measured_items = py::cast<const Measurements&>(measured).items;
+    measured_items = MeasurementsArg(measured, "measured").items;
   }
   if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
     Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +
@@ -1154,7 +1172,7 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
        "num_threads"});
   std::vector<Measurement> selection_validation;
   if (!validation_obj.is_none()) {
-    selection_validation = py::cast<const Measurements&>(validation_obj).items;
+    selection_validation = MeasurementsArg(validation_obj, "validation").items;
   }
 
   auto result = std::make_shared<EstimateResult>();

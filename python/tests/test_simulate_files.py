@@ -111,3 +111,19 @@ def test_file_errors_name_the_file_and_line(puma, tmp_path):
     with pytest.raises(ValueError, match="cannot write"):
         activecal.write_poses(puma, str(tmp_path / "no" / "p.csv"),
                               np.zeros((2, 6)))
+
+
+def test_joined_measurements_of_different_robots_do_not_crash(puma):
+    a = activecal.Measurements("position", np.zeros((2, 6)),
+                               positions=np.zeros((2, 3)))
+    b = activecal.Measurements("position", np.zeros((2, 7)),
+                               positions=np.ones((2, 3)))
+    both = a + b
+    joints = both.joints
+    assert joints.shape == (4, 6)
+    assert np.all(joints[:2] == 0) and np.all(np.isnan(joints[2:]))
+    np.testing.assert_array_equal(both.positions[2:], np.ones((2, 3)))
+    with pytest.raises(ValueError, match="measurement 2: joints: expected 6 joint values, got 7"):
+        activecal.write_measurements(puma, "/dev/null", both)
+    with pytest.raises(ValueError, match="measured: expected activecal.Measurements, got list"):
+        activecal.select(puma, criterion="task_rms", measured=[1, 2])
