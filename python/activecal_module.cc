@@ -501,6 +501,21 @@ py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
   return py::make_tuple(list.joints, py::array(py::cast(list.pose_indices)));
 }
 
+// A Cartesian targets CSV (targets_csv.h): points, rotation vectors and
+// start joints when the file has them (else None), pose indices.
+py::tuple ReadTargetsPy(const Robot& robot, const std::string& path) {
+  TargetList list;
+  std::string error;
+  if (!ReadTargetsCsv(path, robot.model(), &list, &error)) Fail(error);
+  auto or_none = [](const Eigen::MatrixXd& m) -> py::object {
+    if (m.rows() == 0) return py::none();
+    return py::cast(m);
+  };
+  return py::make_tuple(list.points, or_none(list.rotation_vectors),
+                        or_none(list.start_joints),
+                        py::array(py::cast(list.pose_indices)));
+}
+
 void WritePosesPy(const Robot& robot, const std::string& path,
                   const py::object& joints, const py::object& indices) {
   const RobotModel& model = robot.model();
@@ -1772,6 +1787,10 @@ PYBIND11_MODULE(activecal, m) {
         "Writes a poses CSV (pose_index, joints in rad and deg) to run on "
         "the robot.");
 
+  m.def("read_targets", &ReadTargetsPy, py::arg("robot"), py::arg("path"),
+        "Reads a Cartesian targets CSV (docs/formats.md): (points (n, 3) m, "
+        "rotation vectors (n, 3) rad or None, start joints (n, num_joints) "
+        "or None, pose_indices (n,)), for compensate(targets=...).");
   m.def("simulate", &SimulatePy, py::arg("robot"), py::arg("joint_angles"),
         py::arg("noise_m") = 0.001, py::arg("seed") = 1,
         py::arg("type") = "position", py::arg("rotation_noise_rad") = 0.001,

@@ -1,5 +1,6 @@
 """compensate: the same joints as activecal_compensate, and their meaning."""
 import json
+import subprocess
 
 import numpy as np
 import pytest
@@ -86,3 +87,40 @@ def test_compensate_bad_input(puma, calibrated):
                                 tip_link="tool0")
     with pytest.raises(ValueError, match="robot and nominal: "):
         activecal.compensate(robot, program=q, nominal=ur10)
+
+
+def test_targets_file_same_as_the_program(puma, calibrated, tmp_path):
+    robot, path = calibrated
+    q = taught_program(puma, 6, 6)
+    points = robot.forward(q) + 1e-4
+    lines = ["pose_index,x_m,y_m,z_m"] + [
+        f"{10 + i},{p[0]!r},{p[1]!r},{p[2]!r}" for i, p in enumerate(points)]
+    targets_csv = tmp_path / "targets.csv"
+    targets_csv.write_text("\n".join(lines) + "\n")
+    read, rotations, starts, indices = activecal.read_targets(
+        robot, str(targets_csv))
+    np.testing.assert_array_equal(read, points)
+    assert rotations is None and starts is None
+    assert list(indices) == list(range(10, 16))
+    out = tmp_path / "out.csv"
+    json_out = tmp_path / "out.json"
+    # Each target starts from the previous result: here one of them ends
+    # at a joint limit (the program's exit status 2), which compensate
+    # reports in `status`, not as an exception.
+    done = subprocess.run([program("activecal_compensate"), f"--robot={path}",
+                           f"--targets_csv={targets_csv}", f"--out={out}",
+                           f"--json_out={json_out}"],
+                          capture_output=True, text=True)
+    assert done.returncode in (0, 2), done.stderr
+    expected = json.loads(json_out.read_text())
+    c = activecal.compensate(robot, targets=read, pose_indices=indices)
+    assert c.status == [t["status"] for t in expected["targets"]]
+    assert c.all_converged == expected["all_converged"] == (done.returncode == 0)
+    assert c.messages == [t["message"] for t in expected["targets"]]
+    np.testing.assert_array_equal(
+        c.joint_angles, np.array([t["joints"] for t in expected["targets"]]))
+    mine = tmp_path / "mine.csv"
+    c.save(str(mine))
+    assert mine.read_bytes() == out.read_bytes()
+    with pytest.raises(ValueError, match="missing.csv"):
+        activecal.read_targets(robot, str(tmp_path / "missing.csv"))
