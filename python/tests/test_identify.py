@@ -147,3 +147,14 @@ def test_identify_bad_input(puma, puma_data):
         activecal.identify(puma, wrong)
     with pytest.raises(TypeError):
         activecal.identify(puma, "measurements.csv")
+
+
+def test_identify_does_not_depend_on_threads(puma, puma_data):
+    m, _ = puma_data
+    one = activecal.identify(puma, m, num_threads=1, seed=2)
+    two = activecal.identify(puma, m, num_threads=2, seed=2)
+    assert one.parameter_names == two.parameter_names
+    np.testing.assert_array_equal(one.estimates, two.estimates)
+    np.testing.assert_array_equal(one.covariance, two.covariance)
+    assert one.model_selection_curve == two.model_selection_curve
+    assert len(one.model_selection_curve) > 1  # cv ran
