@@ -329,10 +329,14 @@ py::array_t<double> Forward(const Robot& robot, const py::object& q_obj,
           : py::array_t<double>({static_cast<py::ssize_t>(q.rows()),
                                  static_cast<py::ssize_t>(3)});
   double* o = out.mutable_data();
-  for (int r = 0; r < q.rows(); ++r) {
-    const Eigen::Vector3d x =
-        MeasuredPoint(model, p, q.row(r).transpose(), marker);
-    for (int k = 0; k < 3; ++k) o[3 * r + k] = x[k];
+  {
+    // `out` is not shared yet: filled without the GIL.
+    py::gil_scoped_release release;
+    for (int r = 0; r < q.rows(); ++r) {
+      const Eigen::Vector3d x =
+          MeasuredPoint(model, p, q.row(r).transpose(), marker);
+      for (int k = 0; k < 3; ++k) o[3 * r + k] = x[k];
+    }
   }
   return out;
 }
@@ -387,20 +391,25 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
   shape.push_back(cols);
   py::array_t<double> out(shape);
   double* o = out.mutable_data();
-  for (int r = 0; r < q.rows(); ++r) {
-    Measurement m;
-    m.type = type;
-    m.marker = marker;
-    m.joints = q.row(r).transpose();
-    Eigen::MatrixXd J;
-    std::string error;
-    if (!MeasurementJacobian(model, p, m, rotation_weight, &J, &error)) {
-      Fail(error);
-    }
-    for (int i = 0; i < rows; ++i) {
-      for (int c = 0; c < cols; ++c) o[(r * rows + i) * cols + c] = J(i, c);
+  std::string error;
+  {
+    // `out` is not shared yet: filled without the GIL.
+    py::gil_scoped_release release;
+    for (int r = 0; r < q.rows() && error.empty(); ++r) {
+      Measurement m;
+      m.type = type;
+      m.marker = marker;
+      m.joints = q.row(r).transpose();
+      Eigen::MatrixXd J;
+      if (!MeasurementJacobian(model, p, m, rotation_weight, &J, &error)) {
+        break;
+      }
+      for (int i = 0; i < rows; ++i) {
+        for (int c = 0; c < cols; ++c) o[(r * rows + i) * cols + c] = J(i, c);
+      }
     }
   }
+  if (!error.empty()) Fail(error);
   return out;
 }
 
