@@ -114,8 +114,21 @@ def test_estimate_meaning(puma, puma_data, tmp_path):
     np.testing.assert_allclose(errors, e.residual_norms, rtol=1e-9, atol=1e-15)
     ev = activecal.evaluate(calibrated, m)
     assert ev["position"]["rms"] == pytest.approx(e.rms_after_m, rel=1e-9)
-    np.testing.assert_allclose(np.linalg.norm(ev["position_errors_m"], axis=1),
-                               errors, rtol=1e-12)
+    err = ev["position_errors_m"]
+    np.testing.assert_allclose(np.linalg.norm(err, axis=1), errors,
+                               rtol=1e-12)
+    np.testing.assert_allclose(err, calibrated.forward(m.joints) - m.positions,
+                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ev["rmse_xyz_m"], np.sqrt(np.mean(err**2, 0)),
+                               rtol=1e-12)
+    np.testing.assert_allclose(ev["mean_xyz_m"], np.mean(err, 0), rtol=1e-9,
+                               atol=1e-18)
+    assert ev["position"]["max"] == pytest.approx(errors.max(), rel=1e-12)
+    assert ev["position"]["count"] == ev["num_measurements"] == len(m)
+    assert ev["rotation"]["count"] == ev["distance"]["count"] == 0
+    # sigma: the residual rows' standard deviation, sqrt(SSR / (m - p)).
+    assert e.sigma_m == pytest.approx(
+        np.sqrt(np.sum(e.residual_norms**2) / (3 * len(m) - k)), rel=1e-9)
     # save() re-read gives the same numbers.
     path = tmp_path / "calibrated.yaml"
     e.save(str(path))

@@ -43,6 +43,10 @@ def test_same_design_as_the_program(puma, tmp_path, algorithm, criterion):
                                     for x in expected["history_log10_det"]]
     assert design.predicted_task_rms_m == expected["predicted_task_rms_m"]
     assert design.algorithm == expected["algorithm"]
+    assert design.oi == expected["oi"]
+    if criterion == "d":
+        assert (design.log10_det_upper_bound ==
+                expected["log10_det_upper_bound"])
     assert design.free_parameters == expected["free_parameters"]
     np.testing.assert_array_equal(design.joint_angles,
                                   np.array(expected["joint_angles_rad"]))
