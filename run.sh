@@ -3,7 +3,8 @@
 #
 #   ./run.sh paper [flags]   install what is missing, build, run activecal_puma_paper
 #   ./run.sh test            install what is missing, then everything CI checks:
-#                            the test suite (Release), the same suite built
+#                            the test suite (Release, the Python module's
+#                            pytest suite included), the same suite built
 #                            with AddressSanitizer + UBSan, and the fuzzers
 #   ./run.sh unit            the Release test suite only (quick)
 #   ./run.sh sanitize        the ASan + UBSan test suite only (build-asan/)
@@ -11,6 +12,8 @@
 #   ./run.sh plots [flags]   run activecal_puma_paper into paper_out/, then draw
 #                            its figures with gnuplot into paper_out/plots/
 #   ./run.sh build           install what is missing and build only
+#   ./run.sh python          build the Python module only, into build/python/
+#                            (PYTHONPATH=build/python python3 -c "import activecal")
 #   ./run.sh <program> [flags]  build, then run build/apps/<program>
 #
 # Environment: BUILD_DIR (default build), JOBS (default nproc).
@@ -23,7 +26,8 @@ jobs="${JOBS:-$(nproc)}"
 packages=(build-essential cmake libceres-dev libeigen3-dev libgoogle-glog-dev
           libgflags-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
           libyaml-cpp-dev liburdfdom-dev liborocos-kdl-dev libkdl-parser-dev
-          libboost-dev gnuplot-nox clang libclang-rt-dev)
+          libboost-dev gnuplot-nox clang libclang-rt-dev
+          pybind11-dev python3-dev python3-numpy python3-pytest)
 
 install_missing() {
   local missing=()
@@ -38,9 +42,19 @@ install_missing() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 }
 
-build() {
+# The Python module is built for Debian's interpreter, the one the packages
+# above (python3-numpy, python3-pytest) are for, even when another python3
+# (pyenv, a virtualenv) comes first on PATH.
+python_flags=()
+[ -x /usr/bin/python3 ] && python_flags=(-DPython3_EXECUTABLE=/usr/bin/python3)
+
+configure() {
   install_missing
-  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${python_flags[@]}" >/dev/null
+}
+
+build() {
+  configure
   cmake --build "$build_dir" -j "$jobs" >&2
 }
 
@@ -63,6 +77,11 @@ cmd="${1:-paper}"
 [ $# -gt 0 ] && shift
 case "$cmd" in
   build) build ;;
+  python)
+    configure
+    cmake --build "$build_dir" -j "$jobs" --target activecal_python >&2
+    echo "run.sh: built $(ls "$build_dir"/python/activecal*.so); try:" >&2
+    echo "  PYTHONPATH=$build_dir/python python3 -c \"import activecal\"" >&2 ;;
   unit)
     build
     ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@" ;;

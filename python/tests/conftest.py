@@ -1,0 +1,47 @@
+"""Shared fixtures of the activecal pytest suite.
+
+Run by ctest (python_test) with PYTHONPATH=<build>/python and
+ACTIVECAL_BUILD_DIR / ACTIVECAL_SOURCE_DIR set; by hand:
+
+    PYTHONPATH=build/python python3 -m pytest -q python/tests
+"""
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+import activecal
+
+SOURCE_DIR = pathlib.Path(
+    os.environ.get("ACTIVECAL_SOURCE_DIR",
+                   pathlib.Path(__file__).resolve().parents[2]))
+BUILD_DIR = pathlib.Path(
+    os.environ.get("ACTIVECAL_BUILD_DIR", SOURCE_DIR / "build"))
+PUMA = str(SOURCE_DIR / "data" / "puma560.yaml")
+UR10 = str(SOURCE_DIR / "data" / "ur10.urdf")
+
+
+def program(name):
+    """Path of a C++ program of the same build; skips when not built."""
+    path = BUILD_DIR / "apps" / name
+    if not path.exists():
+        pytest.skip(f"{path} is not built (ACTIVECAL_BUILD_APPS=OFF?)")
+    return str(path)
+
+
+def run(args):
+    """Runs a program, failing the test with its stderr if it fails."""
+    done = subprocess.run(args, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done
+
+
+@pytest.fixture(scope="session")
+def puma():
+    return activecal.load_robot(PUMA)
+
+
+@pytest.fixture(scope="session")
+def ur10():
+    return activecal.load_robot(UR10, tip_link="tool0")
