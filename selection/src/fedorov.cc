@@ -140,6 +140,17 @@ double DetIfSpd(const Eigen::Matrix<double, kT, kT>& T) {
   }
 }
 
+// Hints the cache to fetch n doubles from x on.
+inline void Prefetch(const double* x, int64_t n) {
+#if defined(__GNUC__)
+  for (int64_t i = 0; i < n; i += 8) __builtin_prefetch(x + i);
+#else
+  (void)x;
+  (void)n;
+#endif
+}
+constexpr int64_t kPrefetch = 4;
+
 // What one scan knows of the design poses, in ys order.
 struct ScanData {
   const CandidatePool* pool;
@@ -169,18 +180,23 @@ void ScanBatch(const ScanData& c, int t, int64_t kb, int64_t ke,
   const std::vector<YEntry>& ys = *c.ys;
   struct Survivor {
     int64_t k;
-    double gain, ex, inv_c;
+    double gain;
     size_t ny;
+    size_t pass;  // offset of its pass flags (one per design pose < ny)
     MatT L;
   };
   std::vector<Survivor> survivors;
   survivors.reserve(ke - kb);
+  std::vector<char> pass;
   size_t prefix = 0;
   for (int64_t k = kb; k < ke; ++k) {
     item_lr[k] = -std::numeric_limits<double>::infinity();
     item_y[k] = -1;
     const YEntry& xe = c.xs[k];
     if (xe.trace - c.min_try <= c.threshold) continue;
+    // xs are in trace order, so D_x and X_x are read at random: fetch the
+    // next candidates' ahead (a cache miss each otherwise).
+    if (k + kPrefetch < ke) Prefetch(c.D + c.xs[k + kPrefetch].pose * tt, tt);
     const MatT Dx = Eigen::Map<const MatT>(c.D + xe.pose * tt, t, t);
     MatT Sx = Dx;
     Sx.diagonal().array() += 1.0;
@@ -191,16 +207,21 @@ void ScanBatch(const ScanData& c, int t, int64_t kb, int64_t ke,
     while (ny < c.num_y && xe.trace - ys[ny].trace > c.threshold) ++ny;
     const double inv_c = 1.0 / (1.0 + MaxEigenvalueUpper<kT>(Dx));
     const double ex = std::exp(c.threshold - gain);
+    const size_t offset = pass.size();
     size_t last = 0;
     for (size_t j = 0; j < ny; ++j) {
-      if (DetBoundFactor(&c.mu[j * t], t, inv_c) * (1.0 + kBoundSlack) > ex) {
-        last = j + 1;
-      }
+      const bool ok =
+          DetBoundFactor(&c.mu[j * t], t, inv_c) * (1.0 + kBoundSlack) > ex;
+      pass.push_back(ok);
+      if (ok) last = j + 1;
     }
-    if (last == 0) continue;
     const Eigen::LLT<MatT> llt(Sx);
-    if (llt.info() != Eigen::Success) continue;
-    survivors.push_back({k, gain, ex, inv_c, last, llt.matrixL()});
+    if (last == 0 || llt.info() != Eigen::Success) {
+      pass.resize(offset);
+      continue;
+    }
+    survivors.push_back({k, gain, last, offset, llt.matrixL()});
+    Prefetch(c.pool->block(xe.pose).data(), t * p);  // read after the loop
     prefix = std::max(prefix, last);
   }
   if (survivors.empty()) return;
@@ -212,20 +233,38 @@ void ScanBatch(const ScanData& c, int t, int64_t kb, int64_t ke,
             c.pool->block(c.xs[survivors[i].k].pose));
   }
   const Eigen::MatrixXd E = Xh * c.G.leftCols(prefix * t);
+  const Eigen::Index ld = E.rows();
   MatT T(t, t);
   for (int64_t i = 0; i < n; ++i) {
     const Survivor& s = survivors[i];
     double best = 0.0;
     int64_t best_y = -1;
     for (size_t j = 0; j < s.ny; ++j) {
-      if (!(DetBoundFactor(&c.mu[j * t], t, s.inv_c) * (1.0 + kBoundSlack) >
-            s.ex)) {
-        continue;
+      if (!pass[s.pass + j]) continue;
+      double det;
+      if constexpr (kT == 3) {
+        // T = A_y + E_xy^T E_xy: its upper triangle from the columns u of
+        // E_xy (contiguous), summed in the order of Eigen's 3 x 3 product.
+        const double* u0 = E.data() + (j * 3) * ld + i * 3;
+        const double* u1 = u0 + ld;
+        const double* u2 = u1 + ld;
+        const double* A = c.A.data() + j * 9;  // column-major
+        const auto dot = [](const double* x, const double* y) {
+          return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        };
+        const double a = A[0] + dot(u0, u0), b = A[3] + dot(u0, u1);
+        const double cc = A[6] + dot(u0, u2), d = A[4] + dot(u1, u1);
+        const double e = A[7] + dot(u1, u2), f = A[8] + dot(u2, u2);
+        const double m2 = a * d - b * b;
+        const double dt =
+            a * (d * f - e * e) - b * (b * f - cc * e) + cc * (b * e - cc * d);
+        det = a > 0 && m2 > 0 && dt > 0 ? dt : 0.0;
+      } else {
+        const auto Exy = E.block(i * t, j * t, t, t);
+        T = Eigen::Map<const MatT>(c.A.data() + j * tt, t, t);
+        T.noalias() += Exy.transpose() * Exy;
+        det = DetIfSpd<kT>(T);
       }
-      const auto Exy = E.template block<kT, kT>(i * t, j * t, t, t);
-      T = Eigen::Map<const MatT>(c.A.data() + j * tt, t, t);
-      T.noalias() += Exy.transpose() * Exy;
-      const double det = DetIfSpd<kT>(T);
       if (det > best) {  // ties: the first design pose in ys order
         best = det;
         best_y = ys[j].pose;
