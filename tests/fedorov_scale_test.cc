@@ -268,7 +268,7 @@ TEST_F(FedorovFloatTest, FloatPoolGivesNearlyTheDoubleLogDet) {
   }
   EXPECT_NEAR(f.log_det, widened, 1e-12 * std::abs(widened));
   // In double, the float run's design is within 1e-5 (natural log det) of
-  // the double run's (measured: see the report).
+  // the double run's (measured on this pool: the same design, difference 0).
   const double f_in_double = LogDetFromScratch(*pool_, f.design);
   EXPECT_NEAR(f_in_double, d.log_det, 1e-5)
       << "float design " << f_in_double << " double design " << d.log_det;

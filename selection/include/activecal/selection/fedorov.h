@@ -87,7 +87,9 @@ struct FedorovOptions {
 // eligible pool when polish_pool_size <= 0), so only sub-pools are ever
 // held in double. summary->log_det is recomputed in double from the pool's
 // exact blocks (CandidatePool::ExactBlock: the exact source if any, else
-// the stored blocks), whatever pool the swaps ran on.
+// the stored blocks), whatever pool the swaps ran on (the history's log
+// dets are those of the pool each step ran on: for a single-precision pool,
+// the widened blocks).
 // Every function here returns summary->IsSolutionUsable().
 bool FedorovExchange(const CandidatePool& pool,
                      const DesignConstraints& constraints,
