@@ -4,10 +4,12 @@
 #include "activecal/selection/fedorov.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -49,6 +51,252 @@ struct YEntry {
   int64_t pose;
 };
 
+// The pair scan's bound beyond the trace bound. For a candidate x and a
+// design pose y, with S = I + D_x, the swap's log det ratio is
+//   lr = log det S + log det T,  T = I - D_y + D_yx S^-1 D_xy.
+// Claim: D_yx S^-1 D_xy <= (l / (1 + l)) D_y, l = lambda_max(D_x). Proof:
+// with F = V^1/2 X_x^T and H = V^1/2 X_y^T (V = M^-1 is positive definite),
+// D_x = F^T F, D_xy = F^T H, D_y = H^T H, so D_yx S^-1 D_xy = H^T P H with
+// P = F (I + F^T F)^-1 F^T. P's eigenvalues are s^2 / (1 + s^2) for the
+// singular values s of F (and 0), i.e. l_i / (1 + l_i) for the eigenvalues
+// l_i of D_x, all <= l / (1 + l) (s -> s / (1 + s) increases); hence
+// P <= (l / (1 + l)) I and H^T P H <= (l / (1 + l)) H^T H. So
+//   T <= U = I - D_y / (1 + l).
+// If T is positive definite (otherwise the swap is singular and cannot
+// win), so is U, and det T <= det U (det is monotone on the positive
+// definite cone), i.e.
+//   lr <= log det S + sum_i log(1 - mu_i / (1 + l)),  mu_i = eig(D_y);
+// when some factor is <= 0, U (hence T) is not positive definite. The scan
+// uses min(this, the trace bound tr D_x - tr D_y): the trace bound orders
+// the design poses (a break), this one skips pairs and whole candidates.
+
+// det U = prod_i (1 - mu_i inv_c), inv_c = 1 / (1 + l) (l an upper
+// estimate); 0 when a factor is <= 0 (U, hence T, not positive definite).
+inline double DetBoundFactor(const double* mu, int t, double inv_c) {
+  double prod = 1.0;
+  for (int i = 0; i < t; ++i) {
+    const double f = 1.0 - mu[i] * inv_c;
+    if (!(f > 0)) return 0.0;
+    prod *= f;
+  }
+  return prod;
+}
+
+// An upper estimate of lambda_max(D) (D positive semidefinite): the 3 x 3
+// closed form is cheap but can be off by ~sqrt(eps) ||D|| near repeated
+// eigenvalues, hence the margin (over-estimating only loosens the bound);
+// never above tr D, which always bounds it.
+template <int kT>
+double MaxEigenvalueUpper(const Eigen::Matrix<double, kT, kT>& D) {
+  const double tr = D.trace();
+  if (D.rows() == 1) return D(0, 0);
+  double l;
+  if constexpr (kT == 3) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(D, Eigen::EigenvaluesOnly);
+    l = es.eigenvalues()(2);
+  } else {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(
+        D, Eigen::EigenvaluesOnly);
+    l = es.eigenvalues()(D.rows() - 1);
+  }
+  const double upper = l + 1e-6 * tr;
+  return upper < tr ? upper : tr;  // NaN: tr
+}
+
+// The eigenvalues of D_y (accurate: once per design pose and scan).
+void EigenvaluesOf(const Eigen::MatrixXd& D, double* mu) {
+  if (D.rows() == 1) {
+    mu[0] = D(0, 0);
+    return;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(
+      D, Eigen::EigenvaluesOnly);
+  for (Eigen::Index i = 0; i < D.rows(); ++i) mu[i] = es.eigenvalues()(i);
+}
+
+// Relative slack on the bound, against rounding in det T and det U.
+constexpr double kBoundSlack = 1e-9;
+
+// det T if T is positive definite (Sylvester's criterion for t = 3, as
+// LogDetSpd), else 0.
+template <int kT>
+double DetIfSpd(const Eigen::Matrix<double, kT, kT>& T) {
+  if constexpr (kT == 3) {
+    const double a = T(0, 0), b = T(0, 1), c = T(0, 2);
+    const double d = T(1, 1), e = T(1, 2), f = T(2, 2);
+    const double m2 = a * d - b * b;
+    const double det =
+        a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d);
+    return a > 0 && m2 > 0 && det > 0 ? det : 0.0;
+  } else {
+    if (T.rows() == 1) return T(0, 0) > 0 ? T(0, 0) : 0.0;
+    const Eigen::LLT<Eigen::MatrixXd> llt(T);
+    if (llt.info() != Eigen::Success) return 0.0;
+    const auto diag = llt.matrixLLT().diagonal();
+    if (!(diag.array() > 0).all()) return 0.0;
+    const double r = diag.prod();
+    return r * r;
+  }
+}
+
+// Hints the cache to fetch n doubles from x on.
+inline void Prefetch(const double* x, int64_t n) {
+#if defined(__GNUC__)
+  for (int64_t i = 0; i < n; i += 8) __builtin_prefetch(x + i);
+#else
+  (void)x;
+  (void)n;
+#endif
+}
+constexpr int64_t kPrefetch = 4;
+
+// What one scan knows of the design poses, in ys order.
+struct ScanData {
+  const CandidatePool* pool;
+  const double* D;  // every pose's t x t block D_j (column-major)
+  const YEntry* xs;
+  const std::vector<YEntry>* ys;
+  size_t num_y;
+  Eigen::MatrixXd G;       // p x |ys| t: V Y_j^T, side by side
+  std::vector<double> A;   // |ys| blocks I - D_y (column-major)
+  std::vector<double> mu;  // |ys| x t eigenvalues of D_y
+  double threshold;
+  double min_try;
+};
+
+// Best design pose to swap for each candidate k in [kb, ke) of xs (item_lr,
+// item_y; -inf / -1 when none can beat the threshold): the bounds first,
+// then the D_xy of the surviving candidates by one product, as
+// E = (L_x^-1 X_x) [V Y_1^T ... V Y_n^T] (S = L_x L_x^T), so that
+// T = (I - D_y) + E_xy^T E_xy. The candidates of a batch are fixed by
+// position, so the result does not depend on the thread count.
+template <int kT>
+void ScanBatch(const ScanData& c, int t, int64_t kb, int64_t ke,
+               double* item_lr, int64_t* item_y) {
+  using MatT = Eigen::Matrix<double, kT, kT>;
+  const int tt = t * t;
+  const int p = c.pool->num_parameters();
+  const std::vector<YEntry>& ys = *c.ys;
+  struct Survivor {
+    int64_t k;
+    double gain;
+    size_t ny;
+    size_t pass;  // offset of its pass flags (one per design pose < ny)
+    MatT L;
+  };
+  std::vector<Survivor> survivors;
+  survivors.reserve(ke - kb);
+  std::vector<char> pass;
+  size_t prefix = 0;
+  for (int64_t k = kb; k < ke; ++k) {
+    item_lr[k] = -std::numeric_limits<double>::infinity();
+    item_y[k] = -1;
+    const YEntry& xe = c.xs[k];
+    if (xe.trace - c.min_try <= c.threshold) continue;
+    // xs are in trace order, so D_x and X_x are read at random: fetch the
+    // next candidates' ahead (a cache miss each otherwise).
+    if (k + kPrefetch < ke) Prefetch(c.D + c.xs[k + kPrefetch].pose * tt, tt);
+    const MatT Dx = Eigen::Map<const MatT>(c.D + xe.pose * tt, t, t);
+    MatT Sx = Dx;
+    Sx.diagonal().array() += 1.0;
+    const double gain = LogDetSpd(Sx);
+    if (!(gain > c.threshold)) continue;
+    // The trace bound: ys ascend by trace, so a prefix passes.
+    size_t ny = 0;
+    while (ny < c.num_y && xe.trace - ys[ny].trace > c.threshold) ++ny;
+    const double inv_c = 1.0 / (1.0 + MaxEigenvalueUpper<kT>(Dx));
+    const double ex = std::exp(c.threshold - gain);
+    const size_t offset = pass.size();
+    size_t last = 0;
+    for (size_t j = 0; j < ny; ++j) {
+      const bool ok =
+          DetBoundFactor(&c.mu[j * t], t, inv_c) * (1.0 + kBoundSlack) > ex;
+      pass.push_back(ok);
+      if (ok) last = j + 1;
+    }
+    const Eigen::LLT<MatT> llt(Sx);
+    if (last == 0 || llt.info() != Eigen::Success) {
+      pass.resize(offset);
+      continue;
+    }
+    survivors.push_back({k, gain, last, offset, llt.matrixL()});
+    Prefetch(c.pool->block(xe.pose).data(), t * p);  // read after the loop
+    prefix = std::max(prefix, last);
+  }
+  if (survivors.empty()) return;
+  const int64_t n = static_cast<int64_t>(survivors.size());
+  RowMatrixXd Xh(n * t, p);
+  for (int64_t i = 0; i < n; ++i) {
+    Xh.middleRows(i * t, t) =
+        survivors[i].L.template triangularView<Eigen::Lower>().solve(
+            c.pool->block(c.xs[survivors[i].k].pose));
+  }
+  const Eigen::MatrixXd E = Xh * c.G.leftCols(prefix * t);
+  const Eigen::Index ld = E.rows();
+  MatT T(t, t);
+  for (int64_t i = 0; i < n; ++i) {
+    const Survivor& s = survivors[i];
+    double best = 0.0;
+    int64_t best_y = -1;
+    for (size_t j = 0; j < s.ny; ++j) {
+      if (!pass[s.pass + j]) continue;
+      double det;
+      if constexpr (kT == 3) {
+        // T = A_y + E_xy^T E_xy: its upper triangle from the columns u of
+        // E_xy (contiguous), summed in the order of Eigen's 3 x 3 product.
+        const double* u0 = E.data() + (j * 3) * ld + i * 3;
+        const double* u1 = u0 + ld;
+        const double* u2 = u1 + ld;
+        const double* A = c.A.data() + j * 9;  // column-major
+        const auto dot = [](const double* x, const double* y) {
+          return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        };
+        const double a = A[0] + dot(u0, u0), b = A[3] + dot(u0, u1);
+        const double cc = A[6] + dot(u0, u2), d = A[4] + dot(u1, u1);
+        const double e = A[7] + dot(u1, u2), f = A[8] + dot(u2, u2);
+        const double m2 = a * d - b * b;
+        const double dt =
+            a * (d * f - e * e) - b * (b * f - cc * e) + cc * (b * e - cc * d);
+        det = a > 0 && m2 > 0 && dt > 0 ? dt : 0.0;
+      } else {
+        const auto Exy = E.block(i * t, j * t, t, t);
+        T = Eigen::Map<const MatT>(c.A.data() + j * tt, t, t);
+        T.noalias() += Exy.transpose() * Exy;
+        det = DetIfSpd<kT>(T);
+      }
+      if (det > best) {  // ties: the first design pose in ys order
+        best = det;
+        best_y = ys[j].pose;
+      }
+    }
+    if (best_y >= 0) {
+      item_lr[s.k] = s.gain + std::log(best);
+      item_y[s.k] = best_y;
+    }
+  }
+}
+
+}  // namespace
+
+namespace internal {
+
+double SwapLogRatioBound(const Eigen::MatrixXd& Dx, const Eigen::MatrixXd& Dy) {
+  const int t = static_cast<int>(Dx.rows());
+  Eigen::MatrixXd S = Dx;
+  S.diagonal().array() += 1.0;
+  const double inv_c =
+      1.0 / (1.0 + (t == 3 ? MaxEigenvalueUpper<3>(Eigen::Matrix3d(Dx))
+                           : MaxEigenvalueUpper<Eigen::Dynamic>(Dx)));
+  std::vector<double> mu(t);
+  EigenvaluesOf(Dy, mu.data());
+  return LogDetSpd(S) + std::log(DetBoundFactor(mu.data(), t, inv_c));
+}
+
+}  // namespace internal
+
+namespace {
+
 RestartResult FedorovRestart(const CandidatePool& pool,
                              const std::vector<char>& eligible,
                              const std::vector<char>& is_fixed,
@@ -80,6 +328,7 @@ RestartResult FedorovRestart(const CandidatePool& pool,
   result.history.push_back({SelectionStep::kInitial, -1, -1, design.log_det()});
   int since_refresh = 0;
   constexpr int64_t kBlock = 256;
+  constexpr int64_t kBatch = 16;
   int swaps = 0;
   for (;;) {
     for (; swaps < options.max_swaps; ++swaps) {
@@ -106,42 +355,49 @@ RestartResult FedorovRestart(const CandidatePool& pool,
       const Eigen::MatrixXd& V = design.information().inverse();
       double best_lr = threshold0;
       int64_t best_x = -1, best_y = -1;
+      // The design poses' data for the scans, in ys order.
+      ScanData data;
+      data.pool = &pool;
+      data.D = D.data();
+      data.xs = xs.data();
+      data.ys = &ys;
+      data.min_try = min_try;
+      {
+        const int64_t ny = static_cast<int64_t>(ys.size());
+        RowMatrixXd Ys(ny * t, p);
+        data.A.resize(ny * tt);
+        data.mu.resize(ny * t);
+        for (int64_t j = 0; j < ny; ++j) {
+          Ys.middleRows(j * t, t) = pool.block(ys[j].pose);
+          const Eigen::Map<const Eigen::MatrixXd> Dy(D.data() + ys[j].pose * tt,
+                                                     t, t);
+          EigenvaluesOf(Dy, data.mu.data() + j * t);
+          Eigen::Map<Eigen::MatrixXd> Aj(data.A.data() + j * tt, t, t);
+          Aj = -Dy;
+          Aj.diagonal().array() += 1.0;
+        }
+        data.G.noalias() = V * Ys.transpose();
+      }
       std::vector<double> item_lr(kBlock);
       std::vector<int64_t> item_y(kBlock);
       // Best swap among the first num_x candidates and num_y design poses.
       auto scan = [&](size_t num_x, size_t num_y) {
+        data.num_y = num_y;
         for (size_t b = 0; b < num_x; b += kBlock) {
           if (xs[b].trace - min_try <= best_lr) break;
-          const double threshold = best_lr;
+          data.threshold = best_lr;
+          data.xs = xs.data() + b;
           const int64_t count = std::min<int64_t>(kBlock, num_x - b);
-          ParallelFor(count, threads, [&](int64_t ib, int64_t ie, int) {
-            Eigen::MatrixXd Sx(t, t), Sx_inv(t, t), Dxy(t, t), T(t, t);
-            RowMatrixXd Wx(t, p);
-            for (int64_t k = ib; k < ie; ++k) {
-              item_lr[k] = -std::numeric_limits<double>::infinity();
-              item_y[k] = -1;
-              const int64_t x = xs[b + k].pose;
-              const double trx = xs[b + k].trace;
-              if (trx - min_try <= threshold) continue;
-              Sx = Eigen::Map<const Eigen::MatrixXd>(D.data() + x * tt, t, t);
-              Sx.diagonal().array() += 1.0;
-              const double gain = LogDetSpd(Sx);
-              if (!(gain > threshold)) continue;
-              Sx_inv = Sx.inverse();
-              Wx.noalias() = pool.block(x).lazyProduct(V);
-              for (size_t j = 0; j < num_y; ++j) {
-                const YEntry& y = ys[j];
-                if (trx - y.trace <= threshold) break;
-                Dxy.noalias() = Wx.lazyProduct(pool.block(y.pose).transpose());
-                T = -Eigen::Map<const Eigen::MatrixXd>(D.data() + y.pose * tt,
-                                                       t, t);
-                T.diagonal().array() += 1.0;
-                T.noalias() += Dxy.transpose() * Sx_inv * Dxy;
-                const double lr = gain + LogDetSpd(T);
-                if (lr > item_lr[k]) {
-                  item_lr[k] = lr;
-                  item_y[k] = y.pose;
-                }
+          const int64_t batches = (count + kBatch - 1) / kBatch;
+          ParallelFor(batches, threads, [&](int64_t bb, int64_t be, int) {
+            for (int64_t q = bb; q < be; ++q) {
+              const int64_t kb = q * kBatch;
+              const int64_t ke = std::min(count, kb + kBatch);
+              if (t == 3) {
+                ScanBatch<3>(data, t, kb, ke, item_lr.data(), item_y.data());
+              } else {
+                ScanBatch<Eigen::Dynamic>(data, t, kb, ke, item_lr.data(),
+                                          item_y.data());
               }
             }
           });
@@ -242,6 +498,18 @@ RestartResult FedorovRestart(const CandidatePool& pool,
   return result;
 }
 
+// log det of a design from pool.ExactBlock (double).
+double LogDetOfExactBlocks(const CandidatePool& pool,
+                           const std::vector<int64_t>& design) {
+  const int p = pool.num_parameters();
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+  for (int64_t i : design) {
+    const RowMatrixXd X = pool.ExactBlock(i);
+    M.noalias() += X.transpose() * X;
+  }
+  return LogDetSpd(M);
+}
+
 // Swaps over the polish_pool_size poses of largest variance under the
 // current design, re-ranked after each round, until a round makes no swap
 // or max_polish_rounds have run.
@@ -252,6 +520,9 @@ RestartResult PolishInRounds(const CandidatePool& pool,
                              const FedorovOptions& options) {
   RestartResult result;
   std::vector<SelectionStep> history;
+  // <= 0 (a single-precision pool): every eligible pose.
+  const int64_t polish_size =
+      options.polish_pool_size > 0 ? options.polish_pool_size : pool.size();
   for (int round = 0;; ++round) {
     if (round >= options.max_polish_rounds) {
       result.hit_bound = true;
@@ -260,7 +531,7 @@ RestartResult PolishInRounds(const CandidatePool& pool,
     const int p = pool.num_parameters();
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
     for (int64_t i : design) {
-      const auto X = pool.block(i);
+      const RowMatrixXd X = pool.CopyBlock(i);
       M.noalias() += X.transpose() * X;
     }
     Eigen::VectorXd d;
@@ -272,8 +543,7 @@ RestartResult PolishInRounds(const CandidatePool& pool,
     for (int64_t i = 0; i < pool.size(); ++i) {
       candidate[i] = eligible[i] && !keep[i];
     }
-    for (int64_t i :
-         internal::TopByVariance(d, candidate, options.polish_pool_size)) {
+    for (int64_t i : internal::TopByVariance(d, candidate, polish_size)) {
       keep[i] = 1;
     }
     const internal::SubPool sub(pool, keep);
@@ -313,17 +583,31 @@ bool FedorovExchange(const CandidatePool& pool,
   // largest variance under it, where good exact designs live. The best
   // result is then polished by swaps over the whole pool, so it is a local
   // optimum of the full problem either way.
-  const int64_t reduced_size = std::max<int64_t>(
-      options.reduced_pool_size,
-      options.reduced_pool_per_pose * static_cast<int64_t>(options.num_poses));
+  // A single-precision pool is only ever read through Rows/CopyBlock here:
+  // the restarts need the approximate design's reduced (double) pool, and
+  // the polish runs in rounds on (double) sub-pools.
+  const bool single = pool.single_precision();
+  const bool have_approximate = approximate && !approximate->support.empty();
+  if (single && !have_approximate) {
+    summary->message =
+        "fedorov on a single-precision pool needs an approximate design (its "
+        "restarts run on the reduced double pool it gives)";
+    return false;
+  }
+  const int64_t reduced_size =
+      options.reduced_pool_size > 0
+          ? std::max<int64_t>(options.reduced_pool_size,
+                              options.reduced_pool_per_pose *
+                                  static_cast<int64_t>(options.num_poses))
+          : pool.size();
   std::unique_ptr<internal::SubPool> reduced;
   ApproximateDesignSummary reduced_approximate;
-  if (approximate && !approximate->support.empty() &&
-      options.reduced_pool_size > 0 && pool.size() > reduced_size) {
+  if (have_approximate && (single || (options.reduced_pool_size > 0 &&
+                                      pool.size() > reduced_size))) {
     const int p = pool.num_parameters();
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
     for (size_t k = 0; k < approximate->support.size(); ++k) {
-      const auto X = pool.block(approximate->support[k]);
+      const RowMatrixXd X = pool.CopyBlock(approximate->support[k]);
       M.noalias() += approximate->weights[k] * X.transpose() * X;
     }
     Eigen::VectorXd d;
@@ -338,6 +622,12 @@ bool FedorovExchange(const CandidatePool& pool,
       reduced = std::make_unique<internal::SubPool>(pool, keep);
       reduced_approximate = reduced->Restrict(*approximate);
     }
+  }
+  if (single && !reduced) {
+    summary->message =
+        "fedorov on a single-precision pool: the approximate design's "
+        "information matrix is singular";
+    return false;
   }
   const CandidatePool& work_pool = reduced ? reduced->pool() : pool;
   DesignConstraints work_constraints;
@@ -367,8 +657,10 @@ bool FedorovExchange(const CandidatePool& pool,
   if (reduced && best.ok) {
     const std::vector<int64_t> initial = reduced->ToFull(best.design);
     RestartResult polished;
-    if (options.polish_pool_size <= 0 ||
-        pool.size() <= options.polish_pool_size) {
+    const bool whole_pool =
+        !single && (options.polish_pool_size <= 0 ||
+                    pool.size() <= options.polish_pool_size);
+    if (whole_pool) {
       polished = FedorovRestart(pool, eligible, is_fixed, initial, options,
                                 options.num_threads);
     } else {
@@ -384,23 +676,34 @@ bool FedorovExchange(const CandidatePool& pool,
     polished.restart = best.restart;
     const size_t reduced_steps = best.history.size();
     polished.hit_bound = polished.hit_bound || best.hit_bound;
-    if (polished.ok) best = std::move(polished);
+    if (polished.ok) {
+      best = std::move(polished);
+    } else {
+      best.design = initial;  // the reduced pool's best, in full indices
+      reduced->ToFull(&best.history);
+    }
     std::ostringstream msg;
     msg.precision(3);
     msg << "restarts on a reduced pool of " << reduced->size() << " poses "
         << std::chrono::duration<double>(restarts_done - start).count()
         << " s, then " << best.history.size() - reduced_steps
-        << (pool.size() <= options.polish_pool_size ||
-                    options.polish_pool_size <= 0
-                ? " swaps over the whole pool "
-                : " swaps in rounds over the " +
-                      std::to_string(options.polish_pool_size) +
-                      " poses of largest variance ")
+        << (whole_pool ? " swaps over the whole pool "
+                       : " swaps in rounds over the " +
+                             std::to_string(options.polish_pool_size > 0
+                                                ? options.polish_pool_size
+                                                : pool.size()) +
+                             " poses of largest variance ")
         << std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                          restarts_done)
                .count()
         << " s";
     timing = msg.str();
+  }
+  if (best.ok) {
+    // In double from the exact blocks (the stored ones of a double pool
+    // without an exact source), whatever pool the swaps ran on.
+    best.log_det = LogDetOfExactBlocks(pool, best.design);
+    best.ok = std::isfinite(best.log_det);
   }
   std::string note = internal::NoteOf(notes, best.restart);
   if (!timing.empty()) note = note.empty() ? timing : note + "; " + timing;

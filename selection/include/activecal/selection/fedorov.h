@@ -6,8 +6,11 @@
 //      det ratio = det(I + D_x) det(I - D_y + D_xy^T (I + D_x)^-1 D_xy),
 //    in the fast form of Nguyen & Miller (1992): every candidate's block
 //    D_j = X_j V X_j^T is kept current by rank-2t updates after each swap,
-//    and swaps that cannot win are pruned by the bound
-//      ratio <= exp(tr D_x - tr D_y).
+//    and swaps that cannot win are pruned by the bounds
+//      ratio <= exp(tr D_x - tr D_y),
+//      ratio <= det(I + D_x) prod_i (1 - mu_i(D_y) / (1 + lambda_max(D_x)))
+//    (the second proved in fedorov.cc); the D_xy of the pairs that remain
+//    are computed by one matrix product per batch of candidates.
 //    With an approximate design, restart 0 starts from its N heaviest
 //    poses and restart r > 0 from N of its poses drawn without replacement
 //    with probability proportional to weight (randomized rounding);
@@ -25,6 +28,7 @@
 #ifndef ACTIVECAL_SELECTION_FEDOROV_H_
 #define ACTIVECAL_SELECTION_FEDOROV_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 
@@ -77,12 +81,30 @@ struct FedorovOptions {
 };
 
 // `approximate` (may be null): the restarts start from its roundings.
+// A single-precision pool needs one (else FAILURE): the restarts then
+// always run on the reduced pool (in double; the whole eligible pool when
+// reduced_pool_size <= 0) and the polish always in rounds (over the whole
+// eligible pool when polish_pool_size <= 0), so only sub-pools are ever
+// held in double. summary->log_det is recomputed in double from the pool's
+// exact blocks (CandidatePool::ExactBlock: the exact source if any, else
+// the stored blocks), whatever pool the swaps ran on (the history's log
+// dets are those of the pool each step ran on: for a single-precision pool,
+// the widened blocks).
 // Every function here returns summary->IsSolutionUsable().
 bool FedorovExchange(const CandidatePool& pool,
                      const DesignConstraints& constraints,
                      const FedorovOptions& options,
                      const ApproximateDesignSummary* approximate,
                      SelectionSummary* summary);
+
+namespace internal {
+// The pair scan's second bound on the log det ratio of swapping in a
+// candidate x for a design pose y, from D_x = X_x V X_x^T and
+// D_y = X_y V X_y^T (t x t, V = M^-1): log det(I + D_x) +
+// sum_i log(1 - mu_i(D_y) / (1 + lambda_max(D_x))), -inf when a factor is
+// <= 0. Exposed for its test.
+double SwapLogRatioBound(const Eigen::MatrixXd& Dx, const Eigen::MatrixXd& Dy);
+}  // namespace internal
 
 struct DetmaxOptions {
   int num_poses = 30;
