@@ -375,7 +375,7 @@ bool SolveApproximateDesign(const CandidatePool& pool,
     }
     const int64_t cap = options.max_added_per_sweep > 0
                             ? options.max_added_per_sweep
-                            : 25 * static_cast<int64_t>(p);
+                            : 100 * static_cast<int64_t>(p);
     bool warm = false;
     std::vector<int64_t> working_full;
     std::vector<double> w_full;

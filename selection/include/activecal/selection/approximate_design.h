@@ -67,7 +67,8 @@ struct ApproximateDesignOptions {
   // The subsample's random seed (the result depends on it only through
   // the subsample; any seed gives a certified solution).
   uint64_t seed = 1;
-  // Violators added to the candidate set per full-pool sweep; <= 0: 25 p.
+  // Violators added to the candidate set per full-pool sweep; <= 0: 100 p
+  // (on a 10^6-pose KUKA pool 6 full sweeps, against 8 with 25 p).
   int64_t max_added_per_sweep = 0;
   // Called after each round (done = rounds so far, total = max_rounds).
   ProgressCallback progress;
