@@ -187,6 +187,54 @@ TEST(ApproximateDesignColumnGenerationTest, FindsStrongPosesOutsideSubsample) {
   EXPECT_GE(sub.log_det_upper_bound, whole.log_det - 1e-9);
 }
 
+// A subsample that cannot identify every parameter (the last one is seen
+// by a few poses only): the solver falls back to the whole pool.
+TEST(ApproximateDesignColumnGenerationTest, SingularSubsampleFallsBack) {
+  const int p = 4, t = 2;
+  const int64_t n = 2000;
+  Random random(11);
+  RowMatrixXd rows(n * t, p);
+  for (int64_t r = 0; r < rows.rows(); ++r) {
+    for (int c = 0; c < p - 1; ++c) rows(r, c) = 2 * random.Uniform() - 1;
+    rows(r, p - 1) = 0.0;
+  }
+  for (int64_t i : {int64_t{17}, int64_t{900}, int64_t{1999}}) {
+    for (int r = 0; r < t; ++r) rows(i * t + r, p - 1) = 1.0;
+  }
+  CandidatePool pool;
+  std::string error;
+  ASSERT_TRUE(CandidatePool::Create(std::move(rows), t, &pool, &error));
+  ApproximateDesignOptions options;
+  ApproximateDesignSummary whole, sub;
+  ASSERT_TRUE(SolveApproximateDesign(pool, {}, options, &whole));
+  options.subsample_size = 40;
+  ASSERT_TRUE(SolveApproximateDesign(pool, {}, options, &sub)) << sub.message;
+  EXPECT_EQ(sub.termination_type, TerminationType::kConvergence);
+  // Solved on the whole pool: the same solution as without a subsample.
+  EXPECT_EQ(sub.message.find("subsample"), std::string::npos) << sub.message;
+  EXPECT_EQ(sub.support, whole.support);
+  EXPECT_EQ(sub.log_det, whole.log_det);
+}
+
+// The round bound reached on the subsampled path: NO_CONVERGENCE, with the
+// bounds still over the whole pool.
+TEST_F(ApproximateDesignScaleTest, RoundBoundOnSubsampleKeepsWholePoolBound) {
+  ApproximateDesignOptions options = FastOptions();
+  options.subsample_size = 100;
+  options.max_rounds = 1;
+  ApproximateDesignSummary sub;
+  ASSERT_TRUE(SolveApproximateDesign(*puma_, {}, options, &sub)) << sub.message;
+  EXPECT_EQ(sub.termination_type, TerminationType::kNoConvergence)
+      << sub.message;
+  EXPECT_EQ(sub.rounds, 1);
+  EXPECT_EQ(sub.full_sweeps, 1);
+  const int p = puma_->num_parameters();
+  EXPECT_NEAR(sub.max_variance, MaxVarianceFromScratch(*puma_, sub), 1e-9 * p);
+  ApproximateDesignSummary whole;
+  ASSERT_TRUE(SolveApproximateDesign(*puma_, {}, FastOptions(), &whole));
+  EXPECT_GE(sub.log_det_upper_bound, whole.log_det - 1e-9);
+}
+
 TEST_F(ApproximateDesignScaleTest, SubsampledSolveIsTheSameForAnyThreadCount) {
   ApproximateDesignOptions options = FastOptions();
   options.subsample_size = 150;

@@ -356,7 +356,6 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   const double target = p * (1.0 + options.tolerance);
 
   SolveState state;
-  std::vector<int64_t> support;
   bool solved_on_subsample = false;
   if (num_eligible > subsample) {
     // Phase 1: a random subsample of the eligible poses (selection
