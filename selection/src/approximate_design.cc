@@ -8,6 +8,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "activecal/core/parallel.h"
+#include "activecal/core/random.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/information_matrix.h"
 #include "selection_internal.h"
@@ -46,8 +48,10 @@ struct WeightedInformation {
   }
 };
 
-Eigen::MatrixXd Outer(const CandidatePool& pool, int64_t i) {
-  const auto X = pool.block(i);
+Eigen::MatrixXd Outer(const CandidatePool& pool, int64_t i,
+                      RowMatrixXd* buffer) {
+  // A view for a double pool (as block(i)), widened for a float one.
+  const auto X = pool.Rows(i, 1, buffer);
   return X.transpose() * X;
 }
 
@@ -85,52 +89,34 @@ double LineSearch(const Eigen::MatrixXd& G, int t, double max_step) {
   return lo;
 }
 
-}  // namespace
+// The weights on a working set of a pool, their information matrix, and
+// the variances of every pool pose under it (the last sweep).
+struct SolveState {
+  std::vector<int64_t> working;
+  std::vector<double> w;
+  WeightedInformation info;
+  Eigen::VectorXd d;
+};
 
-bool SolveApproximateDesign(const CandidatePool& pool,
-                            const DesignConstraints& constraints,
-                            const ApproximateDesignOptions& options,
-                            ApproximateDesignSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  *summary = ApproximateDesignSummary();
+// The rounds of the solver on `pool` (eligible poses only): inner
+// iterations on the working set, then a sweep over the pool that adds the
+// worst violators. Starts from *state when warm (its working set and
+// weights: M(w) must be non-singular), else from the poses of largest
+// variance under uniform weights. Runs until max d <= p (1 + tolerance)
+// over the pool or summary->rounds reaches options.max_rounds; adds to
+// summary->rounds, inner_iterations and full_sweeps (when count_sweeps).
+// Returns false with *error on failure.
+bool SolveOnPool(const CandidatePool& pool, const std::vector<char>& eligible,
+                 const ApproximateDesignOptions& options, bool warm,
+                 bool count_sweeps, SolveState* state,
+                 ApproximateDesignSummary* summary, std::string* error) {
   const int p = pool.num_parameters();
   const int t = pool.block_rows();
-  summary->num_parameters = p;
-  std::string error;
-  if (!options.IsValid(&error)) {
-    summary->message = error;
-    return false;
-  }
-  std::vector<char> eligible;
-  const int min_poses = (p + t - 1) / t;
-  if (!PrepareCandidates(pool,
-                         std::max<int>(min_poses, constraints.fixed.size()),
-                         constraints, &eligible, &error)) {
-    summary->message = error;
-    return false;
-  }
-  for (int64_t f : constraints.fixed) eligible[f] = 1;
-
-  // Start: the poses of largest variance under uniform weights on the pool.
-  Eigen::MatrixXd M0 = Eigen::MatrixXd::Zero(p, p);
-  int64_t count = 0;
-  for (int64_t i = 0; i < pool.size(); ++i) {
-    if (!eligible[i]) continue;
-    const auto X = pool.block(i);
-    M0.noalias() += X.transpose() * X;
-    ++count;
-  }
-  M0 /= static_cast<double>(count);
-  Eigen::LLT<Eigen::MatrixXd> llt0(M0);
-  if (!std::isfinite(LogDetSpd(M0))) {
-    summary->message =
-        "the pool's information matrix is singular: no design identifies all " +
-        std::to_string(p) + " parameters";
-    return false;
-  }
-  Eigen::VectorXd d;
-  ComputeVariances(pool, llt0.solve(Eigen::MatrixXd::Identity(p, p)),
-                   options.num_threads, &d);
+  std::vector<int64_t>& working = state->working;
+  std::vector<double>& w = state->w;
+  WeightedInformation& info = state->info;
+  Eigen::VectorXd& d = state->d;
+  RowMatrixXd buffer;
   // The k eligible poses outside `skip` of largest variance.
   auto top_by_variance = [&](int k, const std::vector<char>& skip) {
     std::vector<char> candidate(pool.size());
@@ -139,38 +125,67 @@ bool SolveApproximateDesign(const CandidatePool& pool,
     }
     return internal::TopByVariance(d, candidate, k);
   };
-  std::vector<char> in_set(pool.size(), 0);
-  std::vector<int64_t> working = top_by_variance(4 * p, in_set);
-  for (int64_t i : working) in_set[i] = 1;
-  std::vector<double> w(working.size(), 1.0 / working.size());
-  WeightedInformation info;
   auto rebuild = [&]() {
     info.M = Eigen::MatrixXd::Zero(p, p);
     for (size_t k = 0; k < working.size(); ++k) {
-      if (w[k] > 0) info.M.noalias() += w[k] * Outer(pool, working[k]);
+      if (w[k] > 0) info.M.noalias() += w[k] * Outer(pool, working[k], &buffer);
     }
     return info.Factor();
   };
-  // Grow the start until M(w) is non-singular.
-  while (!rebuild()) {
-    std::vector<int64_t> more = top_by_variance(p, in_set);
-    if (more.empty()) {
-      summary->message = "the eligible pool cannot identify all parameters";
+  std::vector<char> in_set(pool.size(), 0);
+  if (warm) {
+    for (int64_t i : working) in_set[i] = 1;
+    if (!rebuild()) {
+      *error = "the warm start's information matrix is singular";
       return false;
     }
-    for (int64_t i : more) {
-      in_set[i] = 1;
-      working.push_back(i);
+  } else {
+    // Start: the poses of largest variance under uniform weights on the
+    // pool.
+    Eigen::MatrixXd M0 = Eigen::MatrixXd::Zero(p, p);
+    int64_t count = 0;
+    for (int64_t i = 0; i < pool.size(); ++i) {
+      if (!eligible[i]) continue;
+      const auto X = pool.Rows(i, 1, &buffer);
+      M0.noalias() += X.transpose() * X;
+      ++count;
     }
+    M0 /= static_cast<double>(count);
+    Eigen::LLT<Eigen::MatrixXd> llt0(M0);
+    if (!std::isfinite(LogDetSpd(M0))) {
+      *error =
+          "the pool's information matrix is singular: no design identifies "
+          "all " +
+          std::to_string(p) + " parameters";
+      return false;
+    }
+    ComputeVariances(pool, llt0.solve(Eigen::MatrixXd::Identity(p, p)),
+                     options.num_threads, &d);
+    if (count_sweeps) ++summary->full_sweeps;
+    working = top_by_variance(4 * p, in_set);
+    for (int64_t i : working) in_set[i] = 1;
     w.assign(working.size(), 1.0 / working.size());
+    // Grow the start until M(w) is non-singular.
+    while (!rebuild()) {
+      std::vector<int64_t> more = top_by_variance(p, in_set);
+      if (more.empty()) {
+        *error = "the eligible pool cannot identify all parameters";
+        return false;
+      }
+      for (int64_t i : more) {
+        in_set[i] = 1;
+        working.push_back(i);
+      }
+      w.assign(working.size(), 1.0 / working.size());
+    }
   }
 
   const double target = p * (1.0 + options.tolerance);
   const double inner_target = p * (1.0 + 0.5 * options.tolerance);
   Eigen::VectorXd dw;
-  for (int round = 0; round < options.max_rounds; ++round) {
-    summary->rounds = round + 1;
-    if (options.progress) options.progress(round, options.max_rounds);
+  while (summary->rounds < options.max_rounds) {
+    if (options.progress) options.progress(summary->rounds, options.max_rounds);
+    ++summary->rounds;
     // Inner: optimise the weights on the working set. Every
     // kRecomputeInterval steps M(w), V and the variances are recomputed
     // from the weights (and a multiplicative sweep is made); in between,
@@ -179,7 +194,7 @@ bool SolveApproximateDesign(const CandidatePool& pool,
     const int64_t nw = static_cast<int64_t>(working.size());
     RowMatrixXd Xw(nw * t, p);
     for (int64_t k = 0; k < nw; ++k) {
-      Xw.middleRows(k * t, t) = pool.block(working[k]);
+      Xw.middleRows(k * t, t) = pool.Rows(working[k], 1, &buffer);
     }
     RowMatrixXd P, Q;
     auto block_traces = [&](const RowMatrixXd& A, const RowMatrixXd& B,
@@ -206,8 +221,7 @@ bool SolveApproximateDesign(const CandidatePool& pool,
           w = w_good;
           for (int64_t k = 0; k < nw; ++k) w[k] *= dw_good[k] / p;
           if (!rebuild()) {
-            summary->message =
-                "lost positive definiteness in the weight update";
+            *error = "lost positive definiteness in the weight update";
             return false;
           }
         }
@@ -247,7 +261,7 @@ bool SolveApproximateDesign(const CandidatePool& pool,
       if (!(R.determinant() > 1e-3)) {
         if (w[km] < 1e-14) w[km] = 0.0;
         if (!rebuild()) {
-          summary->message = "lost positive definiteness in the weight update";
+          *error = "lost positive definiteness in the weight update";
           return false;
         }
         P.noalias() = Xw * info.V;
@@ -269,12 +283,13 @@ bool SolveApproximateDesign(const CandidatePool& pool,
     if (!converged_inner && !rebuild()) {
       w = w_good;
       if (!rebuild()) {
-        summary->message = "lost positive definiteness in the weight update";
+        *error = "lost positive definiteness in the weight update";
         return false;
       }
     }
     // Outer: check the whole pool.
     ComputeVariances(pool, info.V, options.num_threads, &d);
+    if (count_sweeps) ++summary->full_sweeps;
     int64_t arg = -1;
     for (int64_t i = 0; i < pool.size(); ++i) {
       if (eligible[i] && (arg < 0 || d[i] > d[arg])) arg = i;
@@ -302,10 +317,136 @@ bool SolveApproximateDesign(const CandidatePool& pool,
     working = std::move(next);
     w = std::move(next_w);
   }
-  for (size_t k = 0; k < working.size(); ++k) {
-    if (w[k] > 0) {
-      summary->support.push_back(working[k]);
-      summary->weights.push_back(w[k]);
+  return true;
+}
+
+}  // namespace
+
+int64_t ApproximateDesignOptions::ResolvedSubsampleSize(
+    int num_parameters) const {
+  if (subsample_size > 0) return subsample_size;
+  return std::max<int64_t>(20000, 200 * static_cast<int64_t>(num_parameters));
+}
+
+bool SolveApproximateDesign(const CandidatePool& pool,
+                            const DesignConstraints& constraints,
+                            const ApproximateDesignOptions& options,
+                            ApproximateDesignSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  *summary = ApproximateDesignSummary();
+  const int p = pool.num_parameters();
+  summary->num_parameters = p;
+  std::string error;
+  if (!options.IsValid(&error)) {
+    summary->message = error;
+    return false;
+  }
+  std::vector<char> eligible;
+  const int min_poses = (p + pool.block_rows() - 1) / pool.block_rows();
+  if (!PrepareCandidates(pool,
+                         std::max<int>(min_poses, constraints.fixed.size()),
+                         constraints, &eligible, &error)) {
+    summary->message = error;
+    return false;
+  }
+  for (int64_t f : constraints.fixed) eligible[f] = 1;
+  const int64_t num_eligible =
+      std::count(eligible.begin(), eligible.end(), char{1});
+  const int64_t subsample = options.ResolvedSubsampleSize(p);
+  const double target = p * (1.0 + options.tolerance);
+
+  SolveState state;
+  bool solved_on_subsample = false;
+  if (num_eligible > subsample) {
+    // Phase 1: a random subsample of the eligible poses (selection
+    // sampling, Knuth's algorithm S: every subset equally likely), solved
+    // to the tolerance with sweeps over the subsample only.
+    std::vector<char> keep(pool.size(), 0);
+    Random random(options.seed);
+    int64_t needed = subsample, seen = 0;
+    for (int64_t i = 0; i < pool.size() && needed > 0; ++i) {
+      if (!eligible[i]) continue;
+      if (random.Uniform() * (num_eligible - seen) < needed) {
+        keep[i] = 1;
+        --needed;
+      }
+      ++seen;
+    }
+    const int64_t cap = options.max_added_per_sweep > 0
+                            ? options.max_added_per_sweep
+                            : 100 * static_cast<int64_t>(p);
+    bool warm = false;
+    std::vector<int64_t> working_full;
+    std::vector<double> w_full;
+    Eigen::VectorXd d;
+    for (;;) {
+      // Phase 2: solve on the candidate set warm-started from the last
+      // weights, then one sweep over the whole pool; its violators join
+      // the candidate set (column generation).
+      const internal::SubPool sub(pool, keep);
+      SolveState sub_state;
+      if (warm) {
+        sub_state.working = sub.ToSub(working_full);
+        sub_state.w = w_full;
+      }
+      if (!SolveOnPool(sub.pool(), sub.Restrict(eligible), options, warm,
+                       /*count_sweeps=*/false, &sub_state, summary, &error)) {
+        if (!warm) break;  // e.g. a singular subsample: solve on the pool
+        summary->message = error;
+        return false;
+      }
+      solved_on_subsample = true;
+      ComputeVariances(pool, sub_state.info.V, options.num_threads, &d);
+      ++summary->full_sweeps;
+      int64_t arg = -1;
+      for (int64_t i = 0; i < pool.size(); ++i) {
+        if (eligible[i] && (arg < 0 || d[i] > d[arg])) arg = i;
+      }
+      // The certificate: over the whole pool, from this sweep.
+      summary->max_variance = d[arg];
+      summary->log_det = sub_state.info.log_det;
+      state.info = sub_state.info;
+      state.working = sub.ToFull(sub_state.working);
+      state.w = sub_state.w;
+      if (d[arg] <= target || summary->rounds >= options.max_rounds) break;
+      std::vector<char> violating(pool.size(), 0);
+      for (int64_t i = 0; i < pool.size(); ++i) {
+        violating[i] = eligible[i] && !keep[i] && d[i] > target;
+      }
+      const std::vector<int64_t> added =
+          internal::TopByVariance(d, violating, cap);
+      if (added.empty()) break;  // the candidate set's solve fell short
+      for (int64_t i : added) keep[i] = 1;
+      // The warm start: the support, and the worst violators at weight 0
+      // (the rounds bring in the others from the candidate set).
+      working_full.clear();
+      w_full.clear();
+      for (size_t k = 0; k < state.working.size(); ++k) {
+        if (state.w[k] > 0) {
+          working_full.push_back(state.working[k]);
+          w_full.push_back(state.w[k]);
+        }
+      }
+      for (size_t k = 0; k < added.size() && k < 4 * static_cast<size_t>(p);
+           ++k) {
+        working_full.push_back(added[k]);
+        w_full.push_back(0.0);
+      }
+      warm = true;
+    }
+  }
+  if (!solved_on_subsample) {
+    // The whole pool at once (every sweep is over the whole pool).
+    if (!SolveOnPool(pool, eligible, options, /*warm=*/false,
+                     /*count_sweeps=*/true, &state, summary, &error)) {
+      summary->message = error;
+      return false;
+    }
+  }
+  for (size_t k = 0; k < state.working.size(); ++k) {
+    if (state.w[k] > 0) {
+      summary->support.push_back(state.working[k]);
+      summary->weights.push_back(state.w[k]);
     }
   }
   summary->log_det_upper_bound =
@@ -317,7 +458,12 @@ bool SolveApproximateDesign(const CandidatePool& pool,
   std::ostringstream msg;
   msg << "max variance " << summary->max_variance << " (p = " << p << ") on "
       << summary->support.size() << " support poses after " << summary->rounds
-      << " rounds, " << summary->inner_iterations << " inner iterations";
+      << " rounds, " << summary->inner_iterations << " inner iterations, "
+      << summary->full_sweeps << " full-pool sweeps";
+  if (solved_on_subsample) {
+    msg << " (started on a subsample of " << subsample << " of " << num_eligible
+        << " poses)";
+  }
   summary->termination_type = summary->max_variance <= target
                                   ? TerminationType::kConvergence
                                   : TerminationType::kNoConvergence;
@@ -344,28 +490,92 @@ std::string ApproximateDesignSummary::BriefReport() const {
 bool CertifyDesign(const CandidatePool& pool,
                    const DesignConstraints& constraints,
                    const ApproximateDesignSummary* approximate, int num_threads,
-                   SelectionSummary* summary) {
+                   SelectionSummary* summary, double* exact_log_det) {
   const int p = pool.num_parameters();
+  const int t = pool.block_rows();
   const double N = static_cast<double>(summary->design.size());
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
-  for (int64_t i : summary->design) M.noalias() += Outer(pool, i);
+  RowMatrixXd buffer;
+  // M of a weighted set of poses from their exact blocks.
+  auto exact_information = [&](const std::vector<int64_t>& poses,
+                               const std::vector<double>* weights) {
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+    for (size_t k = 0; k < poses.size(); ++k) {
+      const auto X = pool.ExactRows(poses[k], 1, &buffer);
+      if (weights) {
+        if ((*weights)[k] > 0)
+          M.noalias() += (*weights)[k] * (X.transpose() * X);
+      } else {
+        M.noalias() += X.transpose() * X;
+      }
+    }
+    return M;
+  };
+  const Eigen::MatrixXd M = exact_information(summary->design, nullptr);
   const double log_det = LogDetSpd(M);
   if (!std::isfinite(log_det)) return false;
-  Eigen::LLT<Eigen::MatrixXd> llt(M);
-  Eigen::VectorXd d;
-  ComputeVariances(pool, llt.solve(Eigen::MatrixXd::Identity(p, p)),
-                   num_threads, &d);
+  if (exact_log_det) *exact_log_det = log_det;
+  const Eigen::MatrixXd V =
+      Eigen::LLT<Eigen::MatrixXd>(M).solve(Eigen::MatrixXd::Identity(p, p));
+  auto counted = [&](int64_t i) {
+    return !(constraints.excluded && constraints.excluded(i));
+  };
   double max_d = 0;
-  for (int64_t i = 0; i < pool.size(); ++i) {
-    if (constraints.excluded && constraints.excluded(i)) continue;
-    max_d = std::max(max_d, d[i]);
+  // Bound (1) of the approximate design over the blocks certified.
+  double approximate_bound = std::numeric_limits<double>::infinity();
+  if (approximate && std::isfinite(approximate->log_det_upper_bound) &&
+      pool.has_exact_source() && !approximate->support.empty()) {
+    // Its bound is for the stored blocks: recompute it over the exact ones,
+    // both variance functions in one streamed sweep of the exact blocks.
+    const Eigen::MatrixXd Mw =
+        exact_information(approximate->support, &approximate->weights);
+    const double log_det_w = LogDetSpd(Mw);
+    const bool use_w = std::isfinite(log_det_w);
+    const Eigen::MatrixXd Vw =
+        use_w ? Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(Mw).solve(
+                    Eigen::MatrixXd::Identity(p, p)))
+              : V;
+    const int64_t n = pool.size();
+    constexpr int64_t kChunk = 512;
+    const int64_t num_chunks = (n + kChunk - 1) / kChunk;
+    // Per-chunk maxima, reduced after: the same for any thread count.
+    std::vector<double> chunk_d(num_chunks, 0.0), chunk_dw(num_chunks, 0.0);
+    ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
+      RowMatrixXd rows, W, Ww;
+      for (int64_t c = cb; c < ce; ++c) {
+        const int64_t begin = c * kChunk;
+        const int64_t count = std::min(kChunk, n - begin);
+        const auto X = pool.ExactRows(begin, count, &rows);
+        W.noalias() = X * V;
+        Ww.noalias() = X * Vw;
+        const Eigen::VectorXd r = W.cwiseProduct(X).rowwise().sum();
+        const Eigen::VectorXd rw = Ww.cwiseProduct(X).rowwise().sum();
+        for (int64_t k = 0; k < count; ++k) {
+          if (!counted(begin + k)) continue;
+          chunk_d[c] = std::max(chunk_d[c], r.segment(k * t, t).sum());
+          chunk_dw[c] = std::max(chunk_dw[c], rw.segment(k * t, t).sum());
+        }
+      }
+    });
+    double max_dw = 0;
+    for (int64_t c = 0; c < num_chunks; ++c) {
+      max_d = std::max(max_d, chunk_d[c]);
+      max_dw = std::max(max_dw, chunk_dw[c]);
+    }
+    if (use_w) approximate_bound = log_det_w + p * std::log(max_dw / p);
+  } else {
+    Eigen::VectorXd d;
+    ComputeVariances(pool, V, num_threads, &d, PoolReading::kExact);
+    for (int64_t i = 0; i < pool.size(); ++i) {
+      if (counted(i)) max_d = std::max(max_d, d[i]);
+    }
+    if (approximate && std::isfinite(approximate->log_det_upper_bound)) {
+      approximate_bound = approximate->log_det_upper_bound;
+    }
   }
   // Bound from the design's own variance function: w uniform on the
   // design, M(w) = M / N, d_i(w) = N d_i.
   double upper = log_det - p * std::log(N) + p * std::log(N * max_d / p);
-  if (approximate && std::isfinite(approximate->log_det_upper_bound)) {
-    upper = std::min(upper, approximate->log_det_upper_bound);
-  }
+  upper = std::min(upper, approximate_bound);
   summary->log_det_upper_bound = upper + p * std::log(N);
   summary->efficiency_lower_bound =
       std::exp((log_det - summary->log_det_upper_bound) / p);

@@ -25,8 +25,20 @@
 // The solver works on a small working set of poses (the support and the
 // poses that violate the equivalence theorem most), moving weight between
 // pairs of poses by exact line search (vertex exchange, Bohning 1986) with
-// multiplicative sweeps (Titterington 1976), and checks the whole pool
-// after each round. It stops when max_i d_i(w) <= p (1 + tolerance).
+// multiplicative sweeps (Titterington 1976), and checks its candidate set
+// after each round. It stops when max_i d_i(w) <= p (1 + tolerance) over
+// the whole pool.
+//
+// On a pool of at most subsample_size eligible poses the candidate set is
+// the pool: every round ends with a sweep over it. On a larger pool it is
+// first a random subsample (fixed seed) of subsample_size poses, solved to
+// the tolerance with sweeps over the subsample only; then one sweep over
+// the whole pool checks the equivalence theorem, its violators (largest
+// variance first, up to max_added_per_sweep) join the candidate set, the
+// candidate set is solved again from the current weights, and so on
+// (column generation): the work grows with the full sweeps needed, not
+// with the pool size times the rounds. Either way the reported
+// max_variance, and so the bounds, are from a sweep over the whole pool.
 
 #ifndef ACTIVECAL_SELECTION_APPROXIMATE_DESIGN_H_
 #define ACTIVECAL_SELECTION_APPROXIMATE_DESIGN_H_
@@ -46,13 +58,24 @@ struct ApproximateDesignOptions {
   // Stop when max_i d_i(w) <= p (1 + tolerance); w is then at least
   // 1 / (1 + tolerance) D-efficient.
   double tolerance = 1e-4;
-  int max_rounds = 200;              // full-pool checks
+  int max_rounds = 200;              // candidate-set checks, in total
   int max_inner_iterations = 20000;  // per round, on the working set
   int num_threads = 0;               // <= 0: all; result does not depend on it
+  // Pools with more eligible poses than this start on a random subsample
+  // of this many (see above); <= 0: max(20000, 200 p).
+  int64_t subsample_size = 0;
+  // The subsample's random seed (the result depends on it only through
+  // the subsample; any seed gives a certified solution).
+  uint64_t seed = 1;
+  // Violators added to the candidate set per full-pool sweep; <= 0: 100 p
+  // (on a 10^6-pose KUKA pool 6 full sweeps, against 8 with 25 p).
+  int64_t max_added_per_sweep = 0;
   // Called after each round (done = rounds so far, total = max_rounds).
   ProgressCallback progress;
 
   bool IsValid(std::string* error) const;
+  // subsample_size, or its default for p parameters.
+  int64_t ResolvedSubsampleSize(int num_parameters) const;
 };
 
 struct ApproximateDesignSummary {
@@ -73,6 +96,9 @@ struct ApproximateDesignSummary {
   double efficiency_lower_bound = 0.0;
   int rounds = 0;
   int64_t inner_iterations = 0;
+  // Sweeps of the variance function over the whole pool (those over the
+  // subsample not counted).
+  int full_sweeps = 0;
   double seconds = 0.0;
 
   bool IsSolutionUsable() const {
@@ -92,10 +118,21 @@ bool SolveApproximateDesign(const CandidatePool& pool,
 // for the exact design in summary->design, from bound (2) with `approximate`
 // (may be null) and from the design's own variance function. Returns false
 // if the design is singular.
+//
+// Everything is computed in double over the pool's exact blocks
+// (CandidatePool::ExactRows: the stored blocks when the pool has no exact
+// source): the design's M from its exact blocks, and the variance sweep
+// streamed over the exact blocks chunk by chunk, so a single-precision
+// pool with an exact source gets a certificate for the double-precision
+// blocks without holding the pool twice. With an exact source, bound (1)
+// of `approximate` is recomputed over the exact blocks too (M(w) from the
+// exact blocks of its support, max d in the same sweep): its own bound is
+// for the stored blocks. If exact_log_det is not null it receives
+// log det M of the design from the exact blocks.
 bool CertifyDesign(const CandidatePool& pool,
                    const DesignConstraints& constraints,
                    const ApproximateDesignSummary* approximate, int num_threads,
-                   SelectionSummary* summary);
+                   SelectionSummary* summary, double* exact_log_det = nullptr);
 
 }  // namespace activecal
 
