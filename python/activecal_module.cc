@@ -49,11 +49,13 @@
 #include "activecal/residuals/parameter_reduction.h"
 #include "activecal/residuals/pool_builder.h"
 #include "activecal/residuals/registration_fit.h"
+#include "activecal/residuals/selection_pool.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
+#include "activecal/selection/select_design.h"
 #include "activecal/selection/target_size.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_criterion.h"
@@ -849,32 +851,25 @@ std::shared_ptr<DesignResult> SelectPy(
     Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +
          "] (the pool size), got " + std::to_string(num_poses));
   }
-  static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
-                                            "detmax", "greedy", "approx"};
-  if (std::find(std::begin(kAlgorithms), std::end(kAlgorithms), algorithm) ==
-      std::end(kAlgorithms)) {
-    Fail(
-        "algorithm must be one of eae, random, fedorov, detmax, greedy, "
-        "approx; got '" +
-        algorithm + "'");
+  SelectDesignOptions options;
+  options.algorithm = algorithm;
+  options.criterion = criterion;
+  options.num_poses = num_poses;
+  options.restarts = restarts;
+  options.seed = seed;
+  options.num_threads = num_threads;
+  options.certificate = certificate;
+  options.approx_tolerance = approx_tolerance;
+  options.polish_pool_size = polish_pool_size;
+  options.initial_poses = initial_poses;
+  options.random_designs = random_designs;
+  options.noise_m = noise_m;
+  if (with_target) options.target_rms_m = target_rms;
+  {
+    std::string error;
+    if (!options.IsValid(&error)) Fail(error);
   }
-  if (restarts < 0) {
-    Fail("restarts must be >= 0, got " + std::to_string(restarts));
-  }
-  const bool task = criterion == "task_rms";
-  if (!task && criterion != "det" && criterion != "d" && criterion != "svd") {
-    Fail("criterion must be det (d), svd or task_rms, got '" + criterion + "'");
-  }
-  if (task && algorithm != "fedorov" && algorithm != "greedy" &&
-      algorithm != "approx") {
-    Fail(
-        "criterion='task_rms': algorithm must be fedorov, greedy or "
-        "approx, got '" +
-        algorithm + "'");
-  }
-  if (!(noise_m > 0) || !std::isfinite(noise_m)) {
-    Fail("noise_m must be > 0 (m)");
-  }
+  const bool task = options.task();
   if (!measured_items.empty() && !task) {
     Fail(
         "measured needs criterion='task_rms' (the D-criterion algorithms "
@@ -885,54 +880,36 @@ std::shared_ptr<DesignResult> SelectPy(
     task_joints =
         MatrixArg(task_poses, "task_poses", model.num_joints(), false);
   }
-  const ParameterSet set = ParameterSetArg(robot, parameter_set);
-  {
-    ApproximateDesignOptions a;
-    a.tolerance = approx_tolerance;
-    std::string error;
-    if (!a.IsValid(&error)) Fail("approx_tolerance: " + error);
-  }
+  SelectionPoolOptions pool_options;
+  pool_options.parameter_set = ParameterSetArg(robot, parameter_set);
+  pool_options.type = type;
+  pool_options.rotation_weight_m_per_rad = rotation_weight;
+  pool_options.num_threads = num_threads;
+  pool_options.auto_fix = auto_fix;
+  pool_options.progress = bridge.Callback("jacobians");
+  options.approximate_progress = bridge.Callback("approximate");
+  options.restarts_progress = bridge.Callback("restarts");
 
   std::string failure;  // set inside the GIL-free block
   {
     py::gil_scoped_release release;
     [&] {
-      // The parameters the design is for, as activecal_select: a named set
-      // reduced to what (a fixed-seed subset of) the pool separates, the
-      // pool linearised at the generic point of that analysis.
-      {
-        const Eigen::MatrixXd sample = SubsampleRows(pool_joints, 2000);
-        Eigen::VectorXd point = model.nominal;
-        std::vector<DroppedParameter> dropped;
-        std::string error;
-        if (!ApplyAndReduceParameterSet(set, MeasurementPlan(sample, type),
-                                        rotation_weight, &model, &point,
-                                        &dropped, &error)) {
-          failure = "parameter_set=" + std::string(ParameterSetName(set)) +
-                    ": " + error;
-          return;
-        }
-        model.nominal = point;
-        for (const DroppedParameter& d : dropped) {
-          result->auto_fixed.push_back(d.name);
-          result->notes.push_back(
-              "parameter_set=" + std::string(ParameterSetName(set)) + ": " +
-              d.name + " held fixed: " + d.reason);
-        }
-      }
-      CandidatePoolOptions pool_options;
-      pool_options.type = type;
-      pool_options.rotation_weight_m_per_rad = rotation_weight;
-      pool_options.num_threads = num_threads;
-      pool_options.check_identifiability = true;
-      pool_options.auto_fix = auto_fix;
-      pool_options.progress = bridge.Callback("jacobians");
+      // The parameters, the pool, the task and the design, as
+      // activecal_select.
       CandidatePool pool;
-      CandidatePoolSummary pool_summary;
-      if (!BuildCandidatePool(&model, model.nominal, pool_joints, pool_options,
-                              &pool, &pool_summary)) {
-        const IdentifiabilityReport& report = pool_summary.identifiability;
-        if (!report.identifiable() && report.num_free > 0) {
+      SelectionPoolSummary pool_summary;
+      const bool pool_built = BuildSelectionPool(
+          &model, pool_joints, pool_options, &pool, &pool_summary);
+      for (const DroppedParameter& d : pool_summary.dropped) {
+        result->notes.push_back(
+            "parameter_set=" +
+            std::string(ParameterSetName(pool_options.parameter_set)) + ": " +
+            d.name + " held fixed: " + d.reason);
+      }
+      if (!pool_built) {
+        const IdentifiabilityReport& report = pool_summary.pool.identifiability;
+        if (!pool_summary.reduction_failed && !report.identifiable() &&
+            report.num_free > 0) {
           failure = "the pool: " + report.Message();
           if (!auto_fix && report.num_equations >= report.num_free) {
             failure +=
@@ -944,178 +921,41 @@ std::shared_ptr<DesignResult> SelectPy(
         }
         return;
       }
-      for (const std::string& f : pool_summary.fixed_names) {
-        result->auto_fixed.push_back(f);
+      result->auto_fixed = pool_summary.HeldFixed();
+      for (const std::string& f : pool_summary.pool.fixed_names) {
         result->notes.push_back("auto_fix: " + f + " held fixed");
       }
-      // The task: position rows at the task poses (the pool by default).
-      Eigen::MatrixXd W;
       result->num_task_poses =
           task_joints.rows() ? task_joints.rows() : pool_joints.rows();
-      if (task_joints.rows() == 0 && type == MeasurementType::kPosition) {
-        W = TaskMatrix(pool);
-      } else {
-        CandidatePoolOptions task_options;
-        task_options.type = MeasurementType::kPosition;
-        task_options.num_threads = num_threads;
-        RobotModel task_model = model;
-        CandidatePool task_pool;
-        CandidatePoolSummary task_summary;
-        if (!BuildCandidatePool(&task_model, model.nominal,
-                                task_joints.rows() ? task_joints : pool_joints,
-                                task_options, &task_pool, &task_summary)) {
-          failure = "task_poses: " + task_summary.message;
-          return;
-        }
-        W = TaskMatrix(task_pool);
-      }
-      // The poses already measured, whitened to noise_m.
-      RowMatrixXd prior(0, pool.num_parameters());
-      if (!measured_items.empty()) {
-        std::string error;
-        if (!MeasuredInformationRows(model, model.nominal, measured_items,
-                                     rotation_weight, noise_m, &prior,
-                                     &error)) {
-          failure = "measured: " + error;
-          return;
-        }
-      }
-      const bool with_prior = prior.rows() > 0;
-      const bool need_approx =
-          !task &&
-          (certificate || algorithm == "fedorov" || algorithm == "approx");
-      ApproximateDesignSummary& approx = result->approx;
-      if (need_approx) {
-        ApproximateDesignOptions options;
-        options.progress = bridge.Callback("approximate");
-        options.tolerance = approx_tolerance;
-        options.num_threads = num_threads;
-        if (!SolveApproximateDesign(pool, {}, options, &approx) &&
-            approx.support.empty()) {
-          failure = "approximate design: " + approx.message;
-          return;
-        }
-      }
-      const bool need_task_approx =
-          task && !with_prior &&
-          (certificate || algorithm == "fedorov" || algorithm == "approx");
-      TaskApproximateSummary& task_approx = result->task_approx;
-      if (need_task_approx) {
-        TaskApproximateOptions options;
-        // activecal_select's default for the task design.
-        options.tolerance = 1e-2;
-        options.num_threads = num_threads;
-        std::string error;
-        if (!SolveTaskApproximateDesign(pool, W, {}, options, &task_approx)) {
-          failure = "approximate task design: " + task_approx.message;
-          return;
-        }
-      }
-      SelectionSummary& summary = result->summary;
-      const ProgressCallback restarts_progress = bridge.Callback("restarts");
-      // Designs num_poses poses by the chosen criterion and algorithm.
-      auto design_of_size = [&](int num_poses, SelectionSummary* out) {
-        SelectionSummary& summary = *out;
-        bool ok = false;
-        if (task) {
-          if (algorithm == "greedy") {
-            ok = TaskGreedy(pool, W, prior, {}, num_poses, num_threads,
-                            &summary);
-          } else {
-            TaskExchangeOptions options;
-            options.num_poses = num_poses;
-            if (restarts > 0) options.restarts = restarts;
-            options.seed = seed;
-            options.num_threads = num_threads;
-            options.progress = restarts_progress;
-            if (algorithm == "approx") {
-              options.max_swaps = 0;
-              options.restarts = 1;
-            }
-            ok = TaskExchange(pool, W, prior, {}, options,
-                              need_task_approx ? &task_approx : nullptr,
-                              &summary);
-            if (algorithm == "approx")
-              summary.algorithm = "task approx (rounded)";
-          }
-        } else if (algorithm == "eae") {
-          ExchangeAddExchangeOptions options;
-          options.num_poses = num_poses;
-          options.initial_poses = std::min(initial_poses, num_poses);
-          if (restarts > 0) options.restarts = restarts;
-          options.seed = seed;
-          options.num_threads = num_threads;
-          options.progress = restarts_progress;
-          options.criterion = criterion == "svd"
-                                  ? SelectionCriterion::kEigenvalueOi
-                                  : SelectionCriterion::kDeterminantUpdate;
-          ok = ExchangeAddExchange(pool, {}, options, &summary);
-        } else if (algorithm == "random") {
-          RandomDesignOptions options;
-          options.num_poses = num_poses;
-          options.num_designs = random_designs;
-          options.seed = seed;
-          options.num_threads = num_threads;
-          ok = SelectRandomDesigns(pool, {}, options, &summary);
-        } else if (algorithm == "fedorov" || algorithm == "approx") {
-          FedorovOptions options;
-          options.num_poses = num_poses;
-          if (pool.size() > 200000) options.restarts = 8;
-          if (restarts > 0) options.restarts = restarts;
-          options.seed = seed;
-          options.num_threads = num_threads;
-          options.progress = restarts_progress;
-          options.polish_pool_size = polish_pool_size;
-          if (algorithm == "approx") {
-            options.max_swaps = 0;
-            options.restarts = 1;
-          }
-          ok = FedorovExchange(pool, {}, options, &approx, &summary);
-          if (algorithm == "approx") summary.algorithm = "approx (rounded)";
-        } else if (algorithm == "detmax") {
-          DetmaxOptions options;
-          options.num_poses = num_poses;
-          if (restarts > 0) options.restarts = restarts;
-          options.seed = seed;
-          options.num_threads = num_threads;
-          options.progress = restarts_progress;
-          ok = Detmax(pool, {}, options, &summary);
-        } else {
-          GreedyOptions options;
-          options.num_poses = num_poses;
-          options.num_threads = num_threads;
-          ok = GreedyDesign(pool, {}, options, &summary);
-        }
-        return ok;
-      };
-      if (with_target) {
-        TargetSizeOptions options;
-        options.sigma_m = noise_m;
-        options.target_rms_m = target_rms;
-        TargetSizeSummary& target = result->target;
-        if (!FindSizeForTarget(pool, W, prior, {}, options, design_of_size,
-                               &target)) {
-          failure = "target_rms_m: " + target.message;
-          return;
-        }
-        summary = target.design;
-      } else if (!design_of_size(num_poses, &summary)) {
-        failure = summary.message;
+      CandidatePool task_pool;
+      bool task_is_pool = false;
+      std::string error;
+      if (!BuildTaskPool(model, pool_joints, task_joints, pool_options,
+                         &task_pool, &task_is_pool, &error)) {
+        failure = "task_poses: " + error;
         return;
       }
-      summary.task_criterion =
-          TaskCriterionFromScratch(pool, W, prior, summary.design);
-      result->predicted_task_rms_m =
-          PredictedTaskRms(summary.task_criterion, noise_m);
-      if (certificate) {
-        if (!task) {
-          CertifyDesign(pool, {}, &approx, num_threads, &summary);
-        } else if (!with_prior) {
-          CertifyTaskDesign(pool, W, {}, &task_approx, num_threads, &summary);
-        }
+      const Eigen::MatrixXd W = TaskMatrix(task_is_pool ? pool : task_pool);
+      // The poses already measured, whitened to noise_m.
+      RowMatrixXd prior(0, pool.num_parameters());
+      if (!measured_items.empty() &&
+          !MeasuredInformationRows(model, model.nominal, measured_items,
+                                   rotation_weight, noise_m, &prior, &error)) {
+        failure = "measured: " + error;
+        return;
       }
-      result->with_approx = need_approx;
-      result->with_task_approx = need_task_approx;
+      SelectDesignSummary select;
+      if (!SelectDesign(pool, W, prior, options, &select)) {
+        failure = select.message;
+        return;
+      }
+      result->summary = select.selection;
+      result->predicted_task_rms_m = select.predicted_task_rms_m;
+      result->with_approx = select.with_approx;
+      result->approx = std::move(select.approx);
+      result->with_task_approx = select.with_task_approx;
+      result->task_approx = std::move(select.task_approx);
+      result->target = std::move(select.target);
     }();
   }
   bridge.RaiseIfFailed();
