@@ -193,6 +193,7 @@ int Main() {
     pool_options.progress = line.callback();
     pool_built = BuildSelectionPool(&model, pool_joints, pool_options, &pool,
                                     &pool_summary);
+    pool_options.progress = nullptr;  // the line ends here
   }
   if (pool_summary.reduction_failed) app::Fail("--" + pool_summary.message);
   if (pool_summary.termination_type == TerminationType::kUserFailure) {

@@ -1,10 +1,7 @@
 // Shared by the files of the Python module `activecal` (module.cc binds
-// them): conversions between numpy and Eigen, errors, the GIL-aware
-// progress bridge, the result classes, and the functions each file
-// defines.
-//
-// The Python module `activecal`: thin pybind11 bindings over the library,
-// numpy in and out (docs/python.md).
+// what they define): conversions between numpy and Eigen, errors, the
+// GIL-aware progress bridge, the result classes, and the declarations of
+// each file's functions.
 //
 // Every function composes the library's free functions the way the
 // programs under apps/ do, with the same defaults, so that a call gives
