@@ -16,16 +16,10 @@
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/robot_loader.h"
-#include "activecal/residuals/parameter_reduction.h"
-#include "activecal/selection/approximate_design.h"
-#include "activecal/selection/criteria.h"
-#include "activecal/selection/exchange_add_exchange.h"
-#include "activecal/selection/fedorov.h"
-#include "activecal/selection/random_designs.h"
-#include "activecal/selection/target_size.h"
-#include "activecal/selection/task_approximate.h"
+#include "activecal/residuals/pool_builder.h"
+#include "activecal/residuals/selection_pool.h"
+#include "activecal/selection/select_design.h"
 #include "activecal/selection/task_criterion.h"
-#include "activecal/selection/task_exchange.h"
 #include "app_common.h"
 
 DEFINE_int32(levels, 5,
@@ -160,119 +154,111 @@ int Main() {
               std::to_string(pool_joints.rows()) + "] (the pool size), got " +
               std::to_string(FLAGS_num_poses));
   }
+  // How the pool is stored: single precision where the double blocks would
+  // not fit the budget (and the algorithm reads such pools).
+  SelectionPoolOptions pool_options;
+  pool_options.reads_float =
+      (FLAGS_algorithm == "fedorov" || FLAGS_algorithm == "approx") &&
+      FLAGS_criterion != "task_rms";
+  if (!PoolStorageFromString(FLAGS_pool_storage, &pool_options.storage)) {
+    app::Fail("--pool_storage must be auto, double or float, got '" +
+              FLAGS_pool_storage + "'");
+  }
+  if (pool_options.storage == PoolStorage::kFloat &&
+      !pool_options.reads_float) {
+    app::Fail(
+        "--pool_storage=float needs --algorithm=fedorov or approx with "
+        "the D criterion (got --algorithm=" +
+        FLAGS_algorithm + " --criterion=" + FLAGS_criterion + ")");
+  }
+  if (pool_options.storage == PoolStorage::kAuto &&
+      FLAGS_max_double_pool_mib < 0) {
+    app::Fail("--max_double_pool_mib must be >= 0, got " +
+              std::to_string(FLAGS_max_double_pool_mib));
+  }
+  pool_options.max_double_pool_mib = FLAGS_max_double_pool_mib;
   // The parameters the design is for: a named set is reduced to what the
-  // pool separates (analysed on at most 2,000 of its poses, a fixed-seed
-  // random subset), and the pool is linearised at the generic point of that
+  // pool separates, and the pool is linearised at the generic point of that
   // analysis.
-  std::vector<std::string> auto_fixed;
-  {
-    const ParameterSet set = app::ParameterSetOrDie(IsUrdfPath(FLAGS_robot));
-    const Eigen::MatrixXd sample = SubsampleRows(pool_joints, 2000);
-    Eigen::VectorXd point = model.nominal;
-    std::vector<DroppedParameter> dropped;
-    std::string error;
-    if (!ApplyAndReduceParameterSet(set, MeasurementPlan(sample, type),
-                                    FLAGS_rotation_weight, &model, &point,
-                                    &dropped, &error)) {
-      app::Fail("--parameter_set=" + std::string(ParameterSetName(set)) + ": " +
-                error);
-    }
-    model.nominal = point;
-    for (const DroppedParameter& d : dropped) {
-      auto_fixed.push_back(d.name);
-      std::printf("  --parameter_set=%s: %s held fixed: %s\n",
-                  ParameterSetName(set), d.name.c_str(), d.reason.c_str());
-    }
-  }
-  // Single precision where the double blocks would not fit the budget (and
-  // the algorithm reads such pools).
-  bool single_precision = false;
-  {
-    const bool reads_float =
-        (FLAGS_algorithm == "fedorov" || FLAGS_algorithm == "approx") &&
-        FLAGS_criterion != "task_rms";
-    const double double_mib = 8.0 * pool_joints.rows() *
-                              MeasurementDimension(type) * model.num_free() /
-                              (1024.0 * 1024.0);
-    if (FLAGS_pool_storage == "float") {
-      if (!reads_float) {
-        app::Fail(
-            "--pool_storage=float needs --algorithm=fedorov or approx with "
-            "the D criterion (got --algorithm=" +
-            FLAGS_algorithm + " --criterion=" + FLAGS_criterion + ")");
-      }
-      single_precision = true;
-    } else if (FLAGS_pool_storage == "auto") {
-      if (FLAGS_max_double_pool_mib < 0) {
-        app::Fail("--max_double_pool_mib must be >= 0, got " +
-                  std::to_string(FLAGS_max_double_pool_mib));
-      }
-      single_precision = reads_float && double_mib > FLAGS_max_double_pool_mib;
-    } else if (FLAGS_pool_storage != "double") {
-      app::Fail("--pool_storage must be auto, double or float, got '" +
-                FLAGS_pool_storage + "'");
-    }
-    if (single_precision) {
-      std::printf(
-          "  pool stored in single precision: %.0f MiB instead of %.0f MiB "
-          "(design log det and certificate computed in double)\n",
-          double_mib / 2, double_mib);
-    }
-  }
-  double jacobian_seconds = 0;
-  CandidatePoolOptions pool_options;
-  pool_options.single_precision = single_precision;
+  pool_options.parameter_set = app::ParameterSetOrDie(IsUrdfPath(FLAGS_robot));
   pool_options.type = type;
   pool_options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
-  pool_options.num_threads = FLAGS_threads;
-  pool_options.check_identifiability = true;
   pool_options.auto_fix = FLAGS_auto_fix;
-  std::vector<std::string> pool_fixed;
-  const CandidatePool pool =
-      app::BuildPoolOrDie(&model, pool_joints, pool_options, "the pool",
-                          &jacobian_seconds, &pool_fixed);
-  auto_fixed.insert(auto_fixed.end(), pool_fixed.begin(), pool_fixed.end());
-
-  static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
-                                            "detmax", "greedy", "approx"};
-  if (std::find(std::begin(kAlgorithms), std::end(kAlgorithms),
-                FLAGS_algorithm) == std::end(kAlgorithms)) {
-    app::Fail(
-        "--algorithm must be one of eae, random, fedorov, detmax, "
-        "greedy, approx; got '" +
-        FLAGS_algorithm + "'");
+  pool_options.num_threads = FLAGS_threads;
+  CandidatePool pool;
+  SelectionPoolSummary pool_summary;
+  bool pool_built;
+  {
+    app::ProgressLine line("Jacobians of the pool poses");
+    pool_options.progress = line.callback();
+    pool_built = BuildSelectionPool(&model, pool_joints, pool_options, &pool,
+                                    &pool_summary);
+    pool_options.progress = nullptr;  // the line ends here
   }
-  if (FLAGS_restarts < 0) {
-    app::Fail("--restarts must be >= 0, got " + std::to_string(FLAGS_restarts));
+  if (pool_summary.reduction_failed) app::Fail("--" + pool_summary.message);
+  if (pool_summary.termination_type == TerminationType::kUserFailure) {
+    app::Fail(pool_summary.message);
   }
-  const bool task = FLAGS_criterion == "task_rms";
-  if (!task && FLAGS_criterion != "det" && FLAGS_criterion != "d" &&
-      FLAGS_criterion != "svd") {
-    app::Fail("--criterion must be det (d), svd or task_rms, got '" +
-              FLAGS_criterion + "'");
+  for (const DroppedParameter& d : pool_summary.dropped) {
+    std::printf("  --parameter_set=%s: %s held fixed: %s\n",
+                ParameterSetName(pool_options.parameter_set), d.name.c_str(),
+                d.reason.c_str());
   }
-  std::string algorithm = FLAGS_algorithm;
-  if (task) {
-    // The best the library has for the task criterion, not the paper's EAE.
-    if (gflags::GetCommandLineFlagInfoOrDie("algorithm").is_default) {
-      algorithm = "fedorov";
-    } else if (algorithm != "fedorov" && algorithm != "greedy" &&
-               algorithm != "approx") {
-      app::Fail(
-          "--criterion=task_rms: --algorithm must be fedorov, greedy "
-          "or approx, got '" +
-          algorithm + "'");
+  if (pool_summary.single_precision) {
+    std::printf(
+        "  pool stored in single precision: %.0f MiB instead of %.0f MiB "
+        "(design log det and certificate computed in double)\n",
+        pool_summary.double_mib / 2, pool_summary.double_mib);
+  }
+  if (!pool_built) {
+    const IdentifiabilityReport& report = pool_summary.pool.identifiability;
+    if (!report.identifiable() && report.num_free > 0) {
+      app::FailUnidentifiable(report, "the pool", FLAGS_auto_fix);
     }
+    app::Fail(pool_summary.message);
   }
-  if (!(FLAGS_noise_m > 0) || !std::isfinite(FLAGS_noise_m)) {
-    app::Fail("--noise_m must be > 0 (m), got " + Number(FLAGS_noise_m, 6));
+  app::NoteAutoFixed(pool_summary.pool.fixed_names,
+                     pool_summary.pool.num_free_before, "the pool",
+                     "--auto_fix");
+  const double jacobian_seconds = pool_summary.pool.jacobian_seconds;
+  const std::vector<std::string> auto_fixed = pool_summary.HeldFixed();
+
+  // The design's options; the task criterion's algorithm is the best the
+  // library has for it (fedorov) unless set, not the paper's EAE.
+  SelectDesignOptions options;
+  options.algorithm = FLAGS_algorithm;
+  options.criterion = FLAGS_criterion;
+  const bool task = options.task();
+  if (task && gflags::GetCommandLineFlagInfoOrDie("algorithm").is_default) {
+    options.algorithm = "fedorov";
   }
+  options.num_poses = FLAGS_num_poses;
+  options.restarts = FLAGS_restarts;
+  options.seed = FLAGS_seed;
+  options.num_threads = FLAGS_threads;
+  options.certificate = FLAGS_certificate;
+  options.approx_tolerance = FLAGS_approx_tolerance;
+  // The task design: 1e-2 unless set (docs/design_algorithms.md).
+  if (!gflags::GetCommandLineFlagInfoOrDie("approx_tolerance").is_default) {
+    options.task_approx_tolerance = FLAGS_approx_tolerance;
+  }
+  options.polish_pool_size = FLAGS_polish_pool_size;
+  options.initial_poses = FLAGS_initial_poses;
+  options.random_designs = FLAGS_random_designs;
+  options.noise_m = FLAGS_noise_m;
   const bool with_target =
       !gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default;
-  if (with_target &&
-      (!(FLAGS_target_rms_m > 0) || !std::isfinite(FLAGS_target_rms_m))) {
-    app::Fail("--target_rms_m must be > 0 (m), got " +
-              Number(FLAGS_target_rms_m, 6));
+  if (with_target) options.target_rms_m = FLAGS_target_rms_m;
+  {
+    std::string error;
+    if (!options.IsValid(&error)) {
+      // The options' names are the flags'.
+      const std::string task_prefix = "criterion=task_rms: ";
+      app::Fail(error.rfind(task_prefix, 0) == 0
+                    ? "--" + task_prefix + "--" +
+                          error.substr(task_prefix.size())
+                    : "--" + error);
+    }
   }
   if (!FLAGS_measured_csv.empty() && !task) {
     app::Fail(
@@ -295,22 +281,14 @@ int Main() {
       task_joints = std::move(list.joints);
       num_task_poses = task_joints.rows();
     }
-    if (task_joints.rows() == 0 && type == MeasurementType::kPosition) {
-      W = TaskMatrix(pool);
-    } else {
-      CandidatePoolOptions task_options;
-      task_options.type = MeasurementType::kPosition;
-      task_options.num_threads = FLAGS_threads;
-      RobotModel task_model = model;
-      CandidatePool task_pool;
-      CandidatePoolSummary task_summary;
-      if (!BuildCandidatePool(&task_model, model.nominal,
-                              task_joints.rows() ? task_joints : pool_joints,
-                              task_options, &task_pool, &task_summary)) {
-        app::Fail("--task_poses_csv: " + task_summary.message);
-      }
-      W = TaskMatrix(task_pool);
+    CandidatePool task_pool;
+    bool task_is_pool = false;
+    std::string error;
+    if (!BuildTaskPool(model, pool_joints, task_joints, pool_options,
+                       &task_pool, &task_is_pool, &error)) {
+      app::Fail("--task_poses_csv: " + error);
     }
+    W = TaskMatrix(task_is_pool ? pool : task_pool);
   }
   // The poses already measured, whitened to --noise_m.
   RowMatrixXd prior(0, pool.num_parameters());
@@ -330,155 +308,28 @@ int Main() {
   }
   const bool with_prior = prior.rows() > 0;
 
-  const bool need_approx =
-      !task &&
-      (FLAGS_certificate || algorithm == "fedorov" || algorithm == "approx");
-  ApproximateDesignSummary approx;
-  if (need_approx) {
-    app::ProgressLine line("approximate design, rounds");
-    ApproximateDesignOptions options;
-    options.progress = line.callback();
-    options.tolerance = FLAGS_approx_tolerance;
-    options.num_threads = FLAGS_threads;
-    std::string error;
-    if (!options.IsValid(&error)) app::Fail("--approx_tolerance: " + error);
-    if (!SolveApproximateDesign(pool, {}, options, &approx) &&
-        approx.support.empty()) {
-      app::Fail("approximate design: " + approx.message);
+  SelectDesignSummary select;
+  {
+    app::ProgressLine approx_line("approximate design, rounds");
+    app::ProgressLine restarts_line(options.algorithm + " restarts");
+    options.approximate_progress = approx_line.callback();
+    options.restarts_progress = restarts_line.callback();
+    if (!SelectDesign(pool, W, prior, options, &select)) {
+      // The target's failures name the flag.
+      app::Fail(select.message.rfind("target_rms_m: ", 0) == 0
+                    ? "--" + select.message
+                    : select.message);
     }
   }
-  // The approximate task design (for the starts and the certificate); it
-  // ignores the prior, so with measured poses it is not used.
-  const bool need_task_approx =
-      task && !with_prior &&
-      (FLAGS_certificate || algorithm == "fedorov" || algorithm == "approx");
-  TaskApproximateSummary task_approx;
-  if (need_task_approx) {
-    TaskApproximateOptions options;
-    // 1e-2 unless set: the task design's multiplicative updates slow down
-    // near the optimum (docs/design_algorithms.md).
-    options.tolerance =
-        gflags::GetCommandLineFlagInfoOrDie("approx_tolerance").is_default
-            ? 1e-2
-            : FLAGS_approx_tolerance;
-    options.num_threads = FLAGS_threads;
-    std::string error;
-    if (!options.IsValid(&error)) app::Fail("--approx_tolerance: " + error);
-    if (!SolveTaskApproximateDesign(pool, W, {}, options, &task_approx)) {
-      app::Fail("approximate task design: " + task_approx.message);
-    }
-  }
-
-  app::ProgressLine restarts_line(algorithm + " restarts");
-  // Designs num_poses poses by the chosen criterion and algorithm.
-  auto design_of_size = [&](int num_poses, SelectionSummary* summary) {
-    if (task) {
-      if (algorithm == "greedy") {
-        return TaskGreedy(pool, W, prior, {}, num_poses, FLAGS_threads,
-                          summary);
-      }
-      TaskExchangeOptions options;
-      options.num_poses = num_poses;
-      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-      options.seed = FLAGS_seed;
-      options.num_threads = FLAGS_threads;
-      options.progress = restarts_line.callback();
-      if (algorithm == "approx") {
-        options.max_swaps = 0;
-        options.restarts = 1;
-      }
-      const bool ok =
-          TaskExchange(pool, W, prior, {}, options,
-                       need_task_approx ? &task_approx : nullptr, summary);
-      if (algorithm == "approx") summary->algorithm = "task approx (rounded)";
-      return ok;
-    }
-    if (algorithm == "eae") {
-      ExchangeAddExchangeOptions options;
-      options.num_poses = num_poses;
-      options.initial_poses = std::min(FLAGS_initial_poses, num_poses);
-      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-      options.seed = FLAGS_seed;
-      options.num_threads = FLAGS_threads;
-      options.criterion = FLAGS_criterion == "svd"
-                              ? SelectionCriterion::kEigenvalueOi
-                              : SelectionCriterion::kDeterminantUpdate;
-      return ExchangeAddExchange(pool, {}, options, summary);
-    }
-    if (algorithm == "random") {
-      RandomDesignOptions options;
-      options.num_poses = num_poses;
-      options.num_designs = FLAGS_random_designs;
-      options.seed = FLAGS_seed;
-      options.num_threads = FLAGS_threads;
-      return SelectRandomDesigns(pool, {}, options, summary);
-    }
-    if (algorithm == "fedorov" || algorithm == "approx") {
-      FedorovOptions options;
-      options.num_poses = num_poses;
-      // Past 200,000 poses the restarts find designs within 0.1% of each
-      // other (docs/scaling.md): half as many keep the run short.
-      if (pool.size() > 200000) options.restarts = 8;
-      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-      options.seed = FLAGS_seed;
-      options.num_threads = FLAGS_threads;
-      options.progress = restarts_line.callback();
-      options.polish_pool_size = FLAGS_polish_pool_size;
-      if (algorithm == "approx") {
-        // Only the rounding: no swaps.
-        options.max_swaps = 0;
-        options.restarts = 1;
-      }
-      const bool ok = FedorovExchange(pool, {}, options, &approx, summary);
-      if (algorithm == "approx") summary->algorithm = "approx (rounded)";
-      return ok;
-    }
-    if (algorithm == "detmax") {
-      DetmaxOptions options;
-      options.num_poses = num_poses;
-      if (FLAGS_restarts > 0) options.restarts = FLAGS_restarts;
-      options.seed = FLAGS_seed;
-      options.num_threads = FLAGS_threads;
-      options.progress = restarts_line.callback();
-      return Detmax(pool, {}, options, summary);
-    }
-    GreedyOptions options;
-    options.num_poses = num_poses;
-    options.num_threads = FLAGS_threads;
-    return GreedyDesign(pool, {}, options, summary);
-  };
-
-  SelectionSummary summary;
-  TargetSizeSummary target;
-  if (with_target) {
-    TargetSizeOptions options;
-    options.sigma_m = FLAGS_noise_m;
-    options.target_rms_m = FLAGS_target_rms_m;
-    if (!FindSizeForTarget(pool, W, prior, {}, options, design_of_size,
-                           &target)) {
-      app::Fail("--target_rms_m: " + target.message);
-    }
-    summary = target.design;
-  } else if (!design_of_size(FLAGS_num_poses, &summary)) {
-    app::Fail(summary.message);
-  }
-  // The task criterion of whatever design was chosen.
-  summary.task_criterion =
-      TaskCriterionFromScratch(pool, W, prior, summary.design);
-  const double predicted_rms =
-      PredictedTaskRms(summary.task_criterion, FLAGS_noise_m);
-
-  if (FLAGS_certificate) {
-    if (!task) {
-      CertifyDesign(pool, {}, &approx, FLAGS_threads, &summary);
-    } else if (!with_prior) {
-      CertifyTaskDesign(pool, W, {}, &task_approx, FLAGS_threads, &summary);
-    }
-  }
+  const SelectionSummary& summary = select.selection;
+  const TargetSizeSummary& target = select.target;
+  const ApproximateDesignSummary& approx = select.approx;
+  const TaskApproximateSummary& task_approx = select.task_approx;
+  const bool need_approx = select.with_approx;
+  const bool need_task_approx = select.with_task_approx;
+  const double predicted_rms = select.predicted_task_rms_m;
   const double total_seconds = app::Seconds(start);
-  std::printf("%s", summary.BriefReport().c_str());
-  if (need_approx) std::printf("%s", approx.BriefReport().c_str());
-  if (need_task_approx) std::printf("%s", task_approx.BriefReport().c_str());
+  std::printf("%s", select.BriefReport().c_str());
   std::printf("  predicted task RMS %.6g m over %lld task poses (sigma %g m",
               predicted_rms, static_cast<long long>(num_task_poses),
               FLAGS_noise_m);

@@ -1,0 +1,103 @@
+// The Python module `activecal`: compensate.
+
+#include "common.h"
+
+namespace activecal {
+namespace python {
+
+// ----------------------------------------------------------- compensate
+
+std::shared_ptr<CompensationResult> CompensatePy(
+    const RobotPtr& robot, const py::object& program, const py::object& nominal,
+    const py::object& targets, const py::object& rotations,
+    const py::object& starts, const py::object& pose_indices,
+    const std::string& match, int marker, double position_tolerance_m,
+    double rotation_tolerance_rad, double rotation_weight_m, int max_iterations,
+    double singular_threshold, int num_threads, const py::kwargs& kwargs) {
+  NoUnknownOptions("compensate", kwargs);
+  const RobotModel& model = robot->model();
+  if (program.is_none() == targets.is_none()) {
+    Fail(
+        "give exactly one of program (joint targets, with nominal) and "
+        "targets (Cartesian points in the device frame)");
+  }
+  CompensationOptions options;
+  if (!ParseIkMatch(match, &options.ik.match)) {
+    Fail("match must be position or pose, got '" + match + "'");
+  }
+  options.ik.position_tolerance_m = position_tolerance_m;
+  options.ik.rotation_tolerance_rad = rotation_tolerance_rad;
+  options.ik.rotation_weight_m = rotation_weight_m;
+  options.ik.max_iterations = max_iterations;
+  options.ik.singular_threshold = singular_threshold;
+  options.num_threads = num_threads;
+  if (marker < 0 || marker >= model.num_markers()) {
+    Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
+         "], got " + std::to_string(marker));
+  }
+  options.ik.marker = marker;
+  std::string error;
+  if (!options.ik.IsValid(&error)) Fail(error);
+  auto result = std::make_shared<CompensationResult>();
+  result->robot = robot;
+  int64_t n = 0;
+  if (!program.is_none()) {
+    if (nominal.is_none()) {
+      Fail("program needs nominal: the Robot the program was taught with");
+    }
+    const Robot& taught = py::cast<const Robot&>(nominal);
+    if (!CheckSameChain(model, taught.model(), &error)) {
+      Fail("robot and nominal: " + error);
+    }
+    result->starts = MatrixArg(program, "program", model.num_joints(), false);
+    n = result->starts.rows();
+    py::gil_scoped_release release;
+    CompensateProgram(model, model.nominal, taught.model(),
+                      taught.model().nominal, result->starts, options,
+                      &result->summary);
+  } else {
+    TargetList list;
+    list.points = MatrixArg(targets, "targets", 3, false);
+    n = list.points.rows();
+    if (!rotations.is_none()) {
+      list.rotation_vectors = MatrixArg(rotations, "rotations", 3, false);
+      if (list.rotation_vectors.rows() != n) {
+        Fail("rotations: expected " + std::to_string(n) +
+             " rows (one per target), got " +
+             std::to_string(list.rotation_vectors.rows()));
+      }
+    } else if (options.ik.match == IkMatch::kPose) {
+      Fail("match='pose' needs the target orientations: rotations=");
+    }
+    if (!starts.is_none()) {
+      list.start_joints =
+          MatrixArg(starts, "starts", model.num_joints(), false);
+      if (list.start_joints.rows() != n) {
+        Fail("starts: expected " + std::to_string(n) +
+             " rows (one per target), got " +
+             std::to_string(list.start_joints.rows()));
+      }
+    }
+    result->starts = list.start_joints;
+    const std::vector<IkTarget> ik_targets = IkTargetsFromList(list);
+    py::gil_scoped_release release;
+    CompensateTargets(model, model.nominal, ik_targets, list.start_joints,
+                      Eigen::VectorXd(), options, &result->summary);
+  }
+  if (result->summary.termination_type == TerminationType::kUserFailure) {
+    Fail(result->summary.message);
+  }
+  if (pose_indices.is_none()) {
+    for (int64_t i = 0; i < n; ++i) result->pose_indices.push_back(i);
+  } else {
+    result->pose_indices = py::cast<std::vector<int64_t>>(pose_indices);
+    if (static_cast<int64_t>(result->pose_indices.size()) != n) {
+      Fail("pose_indices: expected " + std::to_string(n) + " values, got " +
+           std::to_string(result->pose_indices.size()));
+    }
+  }
+  return result;
+}
+
+}  // namespace python
+}  // namespace activecal

@@ -1,0 +1,230 @@
+// The Python module `activecal`: select: the pool, the task and the design, by
+// the library (selection_pool.h, select_design.h).
+
+#include "common.h"
+
+namespace activecal {
+namespace python {
+
+// --------------------------------------------------------------- select
+
+std::shared_ptr<DesignResult> SelectPy(
+    const Robot& robot, std::string algorithm, int num_poses, uint64_t seed,
+    int levels, const py::object& pool_obj, const std::string& criterion,
+    int64_t pool_size, const py::object& pool_indices,
+    const std::string& measurement, double rotation_weight,
+    const py::object& parameter_set, bool auto_fix, int restarts,
+    int initial_poses, int random_designs, bool certificate,
+    double approx_tolerance, int64_t polish_pool_size, double noise_m,
+    const py::object& task_poses, const py::object& measured,
+    const py::object& target_rms_m, int num_threads, const py::object& progress,
+    const py::kwargs& kwargs) {
+  NoUnknownOptions("select", kwargs);
+  Progress bridge(progress);
+  auto result = std::make_shared<DesignResult>();
+  RobotModel model = robot.model();
+  const MeasurementType type =
+      MeasurementTypeArg(measurement, false, "measurement");
+
+  // The candidate poses: a lattice, sampled, or given.
+  Eigen::MatrixXd pool_joints;
+  std::vector<int64_t> labels;
+  std::string pool_kind = "lattice";
+  if (!pool_obj.is_none() && py::isinstance<py::str>(pool_obj)) {
+    pool_kind = py::str(pool_obj);
+  } else if (!pool_obj.is_none()) {
+    pool_kind = "array";
+  }
+  if (pool_kind == "lattice") {
+    JointLattice lattice;
+    std::string error;
+    if (!JointLattice::Create(model, levels, &lattice, &error)) {
+      Fail("levels=" + std::to_string(levels) + ": " + error);
+    }
+    for (int j = 0; j < model.num_joints(); ++j) {
+      if (lattice.one_turn(j)) {
+        result->notes.push_back(
+            "joint " + std::to_string(j + 1) + " (" + model.block_name(j + 1) +
+            ") spans a full turn: its " + std::to_string(levels) +
+            " levels cover one turn (both ends would repeat a pose)");
+      }
+    }
+    pool_joints = lattice.AllJointValues();
+  } else if (pool_kind == "array") {
+    pool_joints = MatrixArg(pool_obj, "pool", model.num_joints(), false);
+    if (!pool_indices.is_none()) {
+      labels = py::cast<std::vector<int64_t>>(pool_indices);
+      if (static_cast<int64_t>(labels.size()) != pool_joints.rows()) {
+        Fail("pool_indices: expected " + std::to_string(pool_joints.rows()) +
+             " values (one per pool pose), got " +
+             std::to_string(labels.size()));
+      }
+    }
+  } else {
+    JointSampling sampling;
+    if (!JointSamplingFromString(pool_kind, &sampling)) {
+      Fail(
+          "pool must be 'lattice', 'sobol', 'random' or an array of joint "
+          "values, got '" +
+          pool_kind + "'");
+    }
+    std::string error;
+    if (!SampleJointValues(model, sampling, pool_size, seed, &pool_joints,
+                           &error)) {
+      Fail("pool=" + pool_kind + ": " + error);
+    }
+  }
+  if (!pool_indices.is_none() && pool_kind != "array") {
+    Fail("pool_indices label a pool given as an array; pool is '" + pool_kind +
+         "'");
+  }
+  const bool with_target = !target_rms_m.is_none();
+  const double target_rms = with_target ? py::cast<double>(target_rms_m) : 0.0;
+  if (with_target && (!(target_rms > 0) || !std::isfinite(target_rms))) {
+    Fail("target_rms_m must be > 0 (m)");
+  }
+  std::vector<Measurement> measured_items;
+  if (!measured.is_none()) {
+    measured_items = MeasurementsArg(measured, "measured").items;
+  }
+  if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
+    Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +
+         "] (the pool size), got " + std::to_string(num_poses));
+  }
+  SelectDesignOptions options;
+  options.algorithm = algorithm;
+  options.criterion = criterion;
+  options.num_poses = num_poses;
+  options.restarts = restarts;
+  options.seed = seed;
+  options.num_threads = num_threads;
+  options.certificate = certificate;
+  options.approx_tolerance = approx_tolerance;
+  options.polish_pool_size = polish_pool_size;
+  options.initial_poses = initial_poses;
+  options.random_designs = random_designs;
+  options.noise_m = noise_m;
+  if (with_target) options.target_rms_m = target_rms;
+  {
+    std::string error;
+    if (!options.IsValid(&error)) Fail(error);
+  }
+  const bool task = options.task();
+  if (!measured_items.empty() && !task) {
+    Fail(
+        "measured needs criterion='task_rms' (the D-criterion algorithms "
+        "take no prior information)");
+  }
+  Eigen::MatrixXd task_joints;
+  if (!task_poses.is_none()) {
+    task_joints =
+        MatrixArg(task_poses, "task_poses", model.num_joints(), false);
+  }
+  SelectionPoolOptions pool_options;
+  pool_options.parameter_set = ParameterSetArg(robot, parameter_set);
+  pool_options.type = type;
+  pool_options.rotation_weight_m_per_rad = rotation_weight;
+  pool_options.num_threads = num_threads;
+  pool_options.auto_fix = auto_fix;
+  pool_options.progress = bridge.Callback("jacobians");
+  options.approximate_progress = bridge.Callback("approximate");
+  options.restarts_progress = bridge.Callback("restarts");
+
+  std::string failure;  // set inside the GIL-free block
+  {
+    py::gil_scoped_release release;
+    [&] {
+      // The parameters, the pool, the task and the design, as
+      // activecal_select.
+      CandidatePool pool;
+      SelectionPoolSummary pool_summary;
+      const bool pool_built = BuildSelectionPool(
+          &model, pool_joints, pool_options, &pool, &pool_summary);
+      for (const DroppedParameter& d : pool_summary.dropped) {
+        result->notes.push_back(
+            "parameter_set=" +
+            std::string(ParameterSetName(pool_options.parameter_set)) + ": " +
+            d.name + " held fixed: " + d.reason);
+      }
+      if (!pool_built) {
+        const IdentifiabilityReport& report = pool_summary.pool.identifiability;
+        if (!pool_summary.reduction_failed && !report.identifiable() &&
+            report.num_free > 0) {
+          failure = "the pool: " + report.Message();
+          if (!auto_fix && report.num_equations >= report.num_free) {
+            failure +=
+                ". Fix them in the robot file (remove them from 'free') or "
+                "pass auto_fix=True";
+          }
+        } else {
+          failure = pool_summary.message;
+        }
+        return;
+      }
+      result->auto_fixed = pool_summary.HeldFixed();
+      for (const std::string& f : pool_summary.pool.fixed_names) {
+        result->notes.push_back("auto_fix: " + f + " held fixed");
+      }
+      result->num_task_poses =
+          task_joints.rows() ? task_joints.rows() : pool_joints.rows();
+      CandidatePool task_pool;
+      bool task_is_pool = false;
+      std::string error;
+      if (!BuildTaskPool(model, pool_joints, task_joints, pool_options,
+                         &task_pool, &task_is_pool, &error)) {
+        failure = "task_poses: " + error;
+        return;
+      }
+      const Eigen::MatrixXd W = TaskMatrix(task_is_pool ? pool : task_pool);
+      // The poses already measured, whitened to noise_m.
+      RowMatrixXd prior(0, pool.num_parameters());
+      if (!measured_items.empty() &&
+          !MeasuredInformationRows(model, model.nominal, measured_items,
+                                   rotation_weight, noise_m, &prior, &error)) {
+        failure = "measured: " + error;
+        return;
+      }
+      SelectDesignSummary select;
+      if (!SelectDesign(pool, W, prior, options, &select)) {
+        failure = select.message;
+        return;
+      }
+      result->summary = select.selection;
+      result->predicted_task_rms_m = select.predicted_task_rms_m;
+      result->with_approx = select.with_approx;
+      result->approx = std::move(select.approx);
+      result->with_task_approx = select.with_task_approx;
+      result->task_approx = std::move(select.task_approx);
+      result->target = std::move(select.target);
+    }();
+  }
+  bridge.RaiseIfFailed();
+  if (!failure.empty()) Fail(failure);
+
+  SelectionSummary& summary = result->summary;
+  result->criterion = task ? "task_rms" : "d";
+  result->with_target = with_target;
+  result->num_measured = static_cast<int>(measured_items.size());
+  result->noise_m = noise_m;
+  result->certificate = certificate;
+  result->free_parameters = model.FreeParameterNames();
+  result->joint_angles.resize(summary.design.size(), model.num_joints());
+  for (size_t k = 0; k < summary.design.size(); ++k) {
+    const int64_t i = summary.design[k];
+    result->joint_angles.row(k) = pool_joints.row(i);
+    result->pose_indices.push_back(labels.empty() ? i : labels[i]);
+  }
+  return result;
+}
+
+py::array_t<double> HistoryLog10(const SelectionSummary& s) {
+  py::array_t<double> h(s.history.size());
+  auto v = h.mutable_unchecked<1>();
+  for (size_t k = 0; k < s.history.size(); ++k) {
+    v(k) = s.history[k].log_det / std::log(10.0);
+  }
+  return h;
+}
+
+}  // namespace python
+}  // namespace activecal

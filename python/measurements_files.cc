@@ -1,0 +1,314 @@
+// The Python module `activecal`: Files (measurements, poses, targets CSV),
+// Measurements, simulate.
+
+#include "common.h"
+
+namespace activecal {
+namespace python {
+
+// ------------------------------------------------------------ files
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.flush();
+  if (!out) Fail("cannot write '" + path + "'");
+}
+
+Measurements ReadMeasurementsPy(const Robot& robot, const std::string& path,
+                                bool strict_limits, bool columns_strict) {
+  MeasurementsCsvOptions options;
+  options.strict_limits = strict_limits;
+  options.columns_strict = columns_strict;
+  Measurements m;
+  MeasurementsCsvReport report;
+  std::string error;
+  if (!ReadMeasurementsCsv(path, robot.model(), options, &m.items, &report,
+                           &error)) {
+    Fail(error);
+  }
+  m.warnings = report.warnings;
+  m.notes = report.notes;
+  return m;
+}
+
+void WriteMeasurementsPy(const Robot& robot, const std::string& path,
+                         const Measurements& m, bool millimetres,
+                         bool joint_degrees, bool joint_names,
+                         const std::string& orientation) {
+  MeasurementsCsvFormat format;
+  format.millimetres = millimetres;
+  format.joint_degrees = joint_degrees;
+  format.joint_names = joint_names;
+  if (orientation == "rotation_vector") {
+    format.orientation = OrientationFormat::kRotationVector;
+  } else if (orientation == "quaternion") {
+    format.orientation = OrientationFormat::kQuaternion;
+  } else if (orientation == "rpy_rad") {
+    format.orientation = OrientationFormat::kRpyRad;
+  } else if (orientation == "rpy_deg") {
+    format.orientation = OrientationFormat::kRpyDeg;
+  } else {
+    Fail(
+        "orientation must be rotation_vector, quaternion, rpy_rad or "
+        "rpy_deg, got '" +
+        orientation + "'");
+  }
+  for (size_t i = 0; i < m.items.size(); ++i) {
+    std::string error;
+    if (!CheckMeasurement(robot.model(), m.items[i], &error)) {
+      Fail("measurement " + std::to_string(i) + ": " + error);
+    }
+  }
+  WriteText(path, MeasurementsCsvText(robot.model(), m.items, format));
+}
+
+py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
+                      bool reject_duplicates) {
+  PoseList list;
+  std::string error;
+  if (!ReadPosesCsv(path, robot.model(), reject_duplicates, &list, &error)) {
+    Fail(error);
+  }
+  return py::make_tuple(list.joints, py::array(py::cast(list.pose_indices)));
+}
+
+// A Cartesian targets CSV (targets_csv.h): points, rotation vectors and
+// start joints when the file has them (else None), pose indices.
+py::tuple ReadTargetsPy(const Robot& robot, const std::string& path) {
+  TargetList list;
+  std::string error;
+  if (!ReadTargetsCsv(path, robot.model(), &list, &error)) Fail(error);
+  auto or_none = [](const Eigen::MatrixXd& m) -> py::object {
+    if (m.rows() == 0) return py::none();
+    return py::cast(m);
+  };
+  return py::make_tuple(list.points, or_none(list.rotation_vectors),
+                        or_none(list.start_joints),
+                        py::array(py::cast(list.pose_indices)));
+}
+
+void WritePosesPy(const Robot& robot, const std::string& path,
+                  const py::object& joints, const py::object& indices) {
+  const RobotModel& model = robot.model();
+  PoseList list;
+  list.joints = MatrixArg(joints, "joint_angles", model.num_joints(), false);
+  if (indices.is_none()) {
+    for (int64_t i = 0; i < list.joints.rows(); ++i) {
+      list.pose_indices.push_back(i);
+    }
+  } else {
+    list.pose_indices = py::cast<std::vector<int64_t>>(indices);
+    if (static_cast<int64_t>(list.pose_indices.size()) != list.joints.rows()) {
+      Fail("pose_indices: expected " + std::to_string(list.joints.rows()) +
+           " values (one per pose), got " +
+           std::to_string(list.pose_indices.size()));
+    }
+  }
+  for (int r = 0; r < list.joints.rows(); ++r) {
+    std::string error;
+    if (!model.CheckJointValues(list.joints.row(r).transpose(), &error)) {
+      Fail("joint_angles row " + std::to_string(r) + ": " + error);
+    }
+  }
+  WriteText(path, PosesCsvText(model, list));
+}
+
+// --------------------------------------------------------- measurements
+
+Measurements MakeMeasurements(
+    const std::string& type_name, const py::object& joints_obj,
+    const py::object& positions, const py::object& rotations,
+    const py::object& joints2, const py::object& distances,
+    const py::object& markers, const py::object& sigma_m,
+    const py::object& sigma_rad) {
+  const MeasurementType type = MeasurementTypeArg(type_name, true, "type");
+  const auto ja = DoubleArray(joints_obj, "joints");
+  if (ja.ndim() != 2) {
+    Fail("joints: expected an array of shape (n, num_joints), got shape " +
+         Shape(ja));
+  }
+  const int n = static_cast<int>(ja.shape(0));
+  const int nj = static_cast<int>(ja.shape(1));
+  const Eigen::MatrixXd J = MatrixArg(joints_obj, "joints", nj, false);
+  auto need = [&](const py::object& o, const char* name) {
+    if (o.is_none()) {
+      Fail(std::string("type=") + type_name + " needs " + name);
+    }
+  };
+  Eigen::MatrixXd P, Rv, J2, S;
+  Eigen::VectorXd D, SR;
+  if (type != MeasurementType::kDistance) {
+    need(positions, "positions");
+    P = MatrixArg(positions, "positions", 3, false);
+    if (P.rows() != n)
+      Fail("positions: expected " + std::to_string(n) +
+           " rows (one per measurement), got " + std::to_string(P.rows()));
+  }
+  if (type == MeasurementType::kPose) {
+    need(rotations, "rotations");
+    Rv = MatrixArg(rotations, "rotations", 3, false);
+    if (Rv.rows() != n)
+      Fail("rotations: expected " + std::to_string(n) + " rows, got " +
+           std::to_string(Rv.rows()));
+  }
+  if (type == MeasurementType::kDistance) {
+    need(joints2, "joints2");
+    need(distances, "distances");
+    J2 = MatrixArg(joints2, "joints2", nj, false);
+    if (J2.rows() != n)
+      Fail("joints2: expected " + std::to_string(n) + " rows, got " +
+           std::to_string(J2.rows()));
+    D = VectorArg(distances, "distances", n);
+  }
+  if (!sigma_m.is_none()) {
+    S = MatrixArg(sigma_m, "sigma_m", 3, false);
+    if (S.rows() != n)
+      Fail("sigma_m: expected " + std::to_string(n) + " rows, got " +
+           std::to_string(S.rows()));
+  }
+  if (!sigma_rad.is_none()) SR = VectorArg(sigma_rad, "sigma_rad", n);
+  std::vector<int> mk;
+  if (!markers.is_none()) {
+    mk = py::cast<std::vector<int>>(markers);
+    if (static_cast<int>(mk.size()) != n) {
+      Fail("markers: expected " + std::to_string(n) + " values, got " +
+           std::to_string(mk.size()));
+    }
+  }
+  Measurements out;
+  out.items.resize(n);
+  for (int i = 0; i < n; ++i) {
+    Measurement& m = out.items[i];
+    m.type = type;
+    m.joints = J.row(i).transpose();
+    if (P.size()) m.position = P.row(i).transpose();
+    if (Rv.size()) m.rotation = Rv.row(i).transpose();
+    if (J2.size()) m.joints2 = J2.row(i).transpose();
+    if (D.size()) m.distance = D[i];
+    if (S.size()) m.sigma_m = S.row(i).transpose();
+    if (SR.size()) m.sigma_rad = SR[i];
+    if (!mk.empty()) m.marker = mk[i];
+  }
+  return out;
+}
+
+const Measurements& MeasurementsArg(const py::object& obj,
+                                    const std::string& what) {
+  if (!py::isinstance<Measurements>(obj)) {
+    Fail(what + ": expected activecal.Measurements, got " +
+         std::string(py::str(py::type::of(obj).attr("__name__"))));
+  }
+  return py::cast<const Measurements&>(obj);
+}
+
+int NumJoints(const Measurements& m) {
+  return m.items.empty() ? 0 : static_cast<int>(m.items[0].joints.size());
+}
+
+Measurements Subset(const Measurements& m, const py::object& key) {
+  const int64_t n = static_cast<int64_t>(m.items.size());
+  std::vector<int64_t> index;
+  if (py::isinstance<py::slice>(key)) {
+    py::ssize_t start, stop, step, length;
+    if (!py::cast<py::slice>(key).compute(n, &start, &stop, &step, &length)) {
+      throw py::error_already_set();
+    }
+    for (py::ssize_t k = 0; k < length; ++k) index.push_back(start + k * step);
+  } else {
+    py::array a = py::array::ensure(key);
+    if (!a) Fail("measurements index: expected an int, a slice or an array");
+    if (a.dtype().kind() == 'b') {
+      auto b = py::array_t<bool>::ensure(a);
+      if (b.ndim() != 1 || b.shape(0) != n) {
+        Fail("measurements index: a boolean mask needs shape (" +
+             std::to_string(n) + ",), got shape " + Shape(a));
+      }
+      for (int64_t i = 0; i < n; ++i) {
+        if (b.at(i)) index.push_back(i);
+      }
+    } else if (a.dtype().kind() == 'i' || a.dtype().kind() == 'u') {
+      auto v = py::array_t<int64_t, py::array::forcecast>::ensure(a);
+      if (v.ndim() > 1) Fail("measurements index: expected a 1-D array");
+      for (py::ssize_t k = 0; k < v.size(); ++k) {
+        int64_t i = v.data()[k];
+        if (i < 0) i += n;
+        if (i < 0 || i >= n) {
+          throw py::index_error(
+              "measurement index " + std::to_string(v.data()[k]) +
+              " out of range for " + std::to_string(n) + " measurements");
+        }
+        index.push_back(i);
+      }
+    } else {
+      Fail("measurements index: expected an int, a slice or an array");
+    }
+  }
+  Measurements out;
+  for (int64_t i : index) out.items.push_back(m.items[i]);
+  return out;
+}
+
+// ------------------------------------------------------------- simulate
+
+Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
+                        double noise_m, uint64_t seed,
+                        const std::string& type_name, double rotation_noise_rad,
+                        const py::object& parameters,
+                        const py::kwargs& kwargs) {
+  NoUnknownOptions("simulate", kwargs);
+  const RobotModel& model = robot.model();
+  const MeasurementType type = MeasurementTypeArg(type_name, true, "type");
+  Eigen::VectorXd truth;
+  if (parameters.is_none()) {
+    if (robot.description.true_parameters.size() != model.num_parameters()) {
+      Fail("robot '" + robot.path +
+           "' has no true values to simulate from: add 'true:' entries to "
+           "its blocks (docs/formats.md) or pass parameters=");
+    }
+    truth = robot.description.true_parameters;
+  } else {
+    truth = ParametersArg(robot, parameters);
+  }
+  const Eigen::MatrixXd joints =
+      MatrixArg(joint_angles, "joint_angles", model.num_joints(), false);
+  // The plan as activecal_simulate makes it from a poses file.
+  std::vector<Measurement> plan;
+  const int n = static_cast<int>(joints.rows());
+  if (type == MeasurementType::kDistance) {
+    if (n < 2) {
+      Fail("type=distance needs at least 2 poses, got " + std::to_string(n));
+    }
+    for (int i = 0; i + 1 < n; ++i) {
+      if (joints.row(i) == joints.row(i + 1)) {
+        Fail("type=distance: poses " + std::to_string(i) + " and " +
+             std::to_string(i + 1) +
+             " (rows of joint_angles) are identical: a distance between "
+             "them measures nothing; remove one");
+      }
+      Measurement m;
+      m.type = type;
+      m.joints = joints.row(i).transpose();
+      m.joints2 = joints.row(i + 1).transpose();
+      plan.push_back(m);
+    }
+  } else {
+    plan = MeasurementPlan(joints, type);
+  }
+  SimulationNoise noise;
+  noise.position_m = noise_m;
+  noise.rotation_rad = rotation_noise_rad;
+  Measurements out;
+  std::string error;
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    ok = SimulateMeasurements(model, truth, plan, noise, seed, &out.items,
+                              &error);
+  }
+  if (!ok) Fail(error);
+  return out;
+}
+
+}  // namespace python
+}  // namespace activecal

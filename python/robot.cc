@@ -1,0 +1,172 @@
+// The Python module `activecal`: Robot: load_robot, puma560, forward, frame,
+// jacobian, with_parameter_set, save.
+
+#include "common.h"
+
+namespace activecal {
+namespace python {
+
+// ------------------------------------------------------------- load_robot
+
+RobotPtr LoadRobotPy(const std::string& path, const py::object& base_link,
+                     const py::object& tip_link, const py::object& frames) {
+  RobotLoadOptions options;
+  if (!base_link.is_none()) options.chain.base_link = py::str(base_link);
+  if (!tip_link.is_none()) options.chain.tip_link = py::str(tip_link);
+  if (!frames.is_none()) options.frames_path = py::str(frames);
+  auto robot = std::make_shared<Robot>();
+  std::string error;
+  if (!LoadRobot(path, options, &robot->description, &error)) Fail(error);
+  robot->path = path;
+  robot->urdf = IsUrdfPath(path);
+  return robot;
+}
+
+RobotPtr Puma560() {
+  auto robot = std::make_shared<Robot>();
+  robot->description.model = Puma560PaperModel();
+  robot->description.true_parameters = Puma560TrueParameters();
+  return robot;
+}
+
+py::array_t<bool> FreeFlags(const RobotModel& model) {
+  py::array_t<bool> flags(model.num_parameters());
+  auto f = flags.mutable_unchecked<1>();
+  for (int i = 0; i < model.num_parameters(); ++i) f(i) = model.IsFree(i);
+  return flags;
+}
+
+// forward(q): the measured point (m) at joint readings q, (3,) or (n, 3).
+py::array_t<double> Forward(const Robot& robot, const py::object& q_obj,
+                            const py::object& parameters, int marker) {
+  const RobotModel& model = robot.model();
+  if (marker < 0 || marker >= model.num_markers()) {
+    Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
+         "], got " + std::to_string(marker));
+  }
+  bool one = false;
+  const Eigen::MatrixXd q =
+      MatrixArg(q_obj, "q", model.num_joints(), true, &one);
+  const Eigen::VectorXd p = ParametersArg(robot, parameters);
+  for (int r = 0; r < q.rows(); ++r) CheckQ(model, q.row(r), r, !one);
+  py::array_t<double> out =
+      one ? py::array_t<double>(3)
+          : py::array_t<double>({static_cast<py::ssize_t>(q.rows()),
+                                 static_cast<py::ssize_t>(3)});
+  double* o = out.mutable_data();
+  {
+    // `out` is not shared yet: filled without the GIL.
+    py::gil_scoped_release release;
+    for (int r = 0; r < q.rows(); ++r) {
+      const Eigen::Vector3d x =
+          MeasuredPoint(model, p, q.row(r).transpose(), marker);
+      for (int k = 0; k < 3; ++k) o[3 * r + k] = x[k];
+    }
+  }
+  return out;
+}
+
+// frame(q): the 4 x 4 transform of the measured target frame.
+Eigen::Matrix4d Frame(const Robot& robot, const py::object& q_obj,
+                      const py::object& parameters, int marker) {
+  const RobotModel& model = robot.model();
+  if (marker < 0 || marker >= model.num_markers()) {
+    Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
+         "], got " + std::to_string(marker));
+  }
+  const Eigen::VectorXd q =
+      MatrixArg(q_obj, "q", model.num_joints(), true).row(0).transpose();
+  if (DoubleArray(q_obj, "q").ndim() != 1) {
+    Fail("q: frame takes one pose, an array of shape (" +
+         std::to_string(model.num_joints()) + ",)");
+  }
+  CheckQ(model, q, 0, false);
+  const Eigen::VectorXd p = ParametersArg(robot, parameters);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  TargetFrame(model, p, q, &R, &t, marker);
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  T.topLeftCorner<3, 3>() = R;
+  T.topRightCorner<3, 1>() = t;
+  return T;
+}
+
+// jacobian(q): d(measurement)/d(free parameters), (rows, num_free) or
+// (n, rows, num_free); rows 3 (position) or 6 (pose).
+py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
+                               const py::object& parameters, int marker,
+                               const std::string& type_name,
+                               double rotation_weight) {
+  const RobotModel& model = robot.model();
+  const MeasurementType type = MeasurementTypeArg(type_name, false, "type");
+  if (marker < 0 || marker >= model.num_markers()) {
+    Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
+         "], got " + std::to_string(marker));
+  }
+  bool one = false;
+  const Eigen::MatrixXd q =
+      MatrixArg(q_obj, "q", model.num_joints(), true, &one);
+  const Eigen::VectorXd p = ParametersArg(robot, parameters);
+  for (int r = 0; r < q.rows(); ++r) CheckQ(model, q.row(r), r, !one);
+  const int rows = MeasurementDimension(type);
+  const int cols = model.num_free();
+  std::vector<py::ssize_t> shape;
+  if (!one) shape.push_back(q.rows());
+  shape.push_back(rows);
+  shape.push_back(cols);
+  py::array_t<double> out(shape);
+  double* o = out.mutable_data();
+  std::string error;
+  {
+    // `out` is not shared yet: filled without the GIL.
+    py::gil_scoped_release release;
+    for (int r = 0; r < q.rows() && error.empty(); ++r) {
+      Measurement m;
+      m.type = type;
+      m.marker = marker;
+      m.joints = q.row(r).transpose();
+      Eigen::MatrixXd J;
+      if (!MeasurementJacobian(model, p, m, rotation_weight, &J, &error)) {
+        break;
+      }
+      for (int i = 0; i < rows; ++i) {
+        for (int c = 0; c < cols; ++c) o[(r * rows + i) * cols + c] = J(i, c);
+      }
+    }
+  }
+  if (!error.empty()) Fail(error);
+  return out;
+}
+
+RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
+                          const std::string& measurement) {
+  ParameterSet set;
+  if (!ParseParameterSet(name, &set)) {
+    Fail("parameter_set must be registration, offsets, full or file, got '" +
+         name + "'");
+  }
+  const MeasurementType type =
+      MeasurementTypeArg(measurement, true, "measurement");
+  auto out = std::make_shared<Robot>(robot);
+  if (set != ParameterSet::kFile) {
+    ApplyParameterSet(set, type == MeasurementType::kPose,
+                      &out->description.model);
+  }
+  return out;
+}
+
+void SaveRobot(const Robot& robot, const std::string& path,
+               const py::object& parameters) {
+  RobotFileOptions options;
+  options.angle_unit = robot.description.angle_unit;
+  options.true_parameters = robot.description.true_parameters;
+  const std::string text =
+      RobotFileText(robot.model(), ParametersArg(robot, parameters), options);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out || !(out << text) || !out.flush()) {
+    Fail("cannot write '" + path + "'");
+  }
+}
+
+}  // namespace python
+}  // namespace activecal
