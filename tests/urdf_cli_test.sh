@@ -140,8 +140,8 @@ assert a["efficiency_lower_bound"] > 0.9, a["efficiency_lower_bound"]
 EOF2
 # Single precision: --pool_storage=float, and auto crossing its budget
 # (--max_double_pool_mib=0: every pool is over it). The design's log det
-# and the certificate are computed in double; they must be those of the
-# double run to float rounding (the same design here), on 1 and 2 threads.
+# and the certificate are computed in double; the float run is the same on
+# 1 and 2 threads.
 for run in "float_1:--pool_storage=float --threads=1" \
            "float_2:--pool_storage=float --threads=2" \
            "auto:--max_double_pool_mib=0" "budget:--max_double_pool_mib=1000"; do
@@ -164,9 +164,14 @@ assert abs(f1["pool_storage_mib"] * 2 - d["pool_storage_mib"]) < 1e-9
 # Thread count does not change a float run.
 assert f1["pose_indices"] == f2["pose_indices"] and f1["log10_det"] == f2["log10_det"]
 assert f1["pose_indices"] == auto["pose_indices"]
-# Within float rounding of the double run's design quality.
-assert abs(f1["log10_det"] - d["log10_det"]) < 1e-3, (f1["log10_det"], d["log10_det"])
-assert f1["efficiency_lower_bound"] > 0.9, f1["efficiency_lower_bound"]
+# Float storage changes the exchanges' path (a single-precision pool always
+# swaps on the reduced pool and polishes in rounds, and rounding moves near
+# ties), so the design may be another local optimum: measured 0 to +0.0087
+# in log10 det over seeds 1-4 (docs/scaling.md). Its log det and
+# certificate are computed in double from the exact blocks.
+assert abs(f1["log10_det"] - d["log10_det"]) < 0.02, (f1["log10_det"], d["log10_det"])
+assert f1["efficiency_lower_bound"] > 0.98, f1["efficiency_lower_bound"]
+assert f1["log10_det_upper_bound"] >= f1["log10_det"]
 assert budget["pose_indices"] == d["pose_indices"]
 EOF2
 grep -q "pool stored in single precision" iiwa_auto.out && ok "auto storage says so" \
