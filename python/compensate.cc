@@ -90,7 +90,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
   if (pose_indices.is_none()) {
     for (int64_t i = 0; i < n; ++i) result->pose_indices.push_back(i);
   } else {
-    result->pose_indices = py::cast<std::vector<int64_t>>(pose_indices);
+    result->pose_indices = IntegerVector(pose_indices, "pose_indices");
     if (static_cast<int64_t>(result->pose_indices.size()) != n) {
       Fail("pose_indices: expected " + std::to_string(n) + " values, got " +
            std::to_string(result->pose_indices.size()));

@@ -53,7 +53,7 @@ std::shared_ptr<DesignResult> SelectPy(
   } else if (pool_kind == "array") {
     pool_joints = MatrixArg(pool_obj, "pool", model.num_joints(), false);
     if (!pool_indices.is_none()) {
-      labels = py::cast<std::vector<int64_t>>(pool_indices);
+      labels = IntegerVector(pool_indices, "pool_indices");
       if (static_cast<int64_t>(labels.size()) != pool_joints.rows()) {
         Fail("pool_indices: expected " + std::to_string(pool_joints.rows()) +
              " values (one per pool pose), got " +
@@ -79,13 +79,21 @@ std::shared_ptr<DesignResult> SelectPy(
          "'");
   }
   const bool with_target = !target_rms_m.is_none();
-  const double target_rms = with_target ? py::cast<double>(target_rms_m) : 0.0;
+  double target_rms = 0.0;
+  if (with_target) {
+    try {
+      target_rms = py::cast<double>(target_rms_m);
+    } catch (const py::cast_error&) {
+      Fail("target_rms_m: expected a number (m), got " + Repr(target_rms_m));
+    }
+  }
   if (with_target && (!(target_rms > 0) || !std::isfinite(target_rms))) {
     Fail("target_rms_m must be > 0 (m)");
   }
   std::vector<Measurement> measured_items;
   if (!measured.is_none()) {
     measured_items = MeasurementsArg(measured, "measured").items;
+    CheckMarkers(model, measured_items, "measured");
   }
   if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
     Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +

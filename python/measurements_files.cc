@@ -15,8 +15,9 @@ void WriteText(const std::string& path, const std::string& text) {
   if (!out) Fail("cannot write '" + path + "'");
 }
 
-Measurements ReadMeasurementsPy(const Robot& robot, const std::string& path,
+Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path_obj,
                                 bool strict_limits, bool columns_strict) {
+  const std::string path = PathArg(path_obj);
   MeasurementsCsvOptions options;
   options.strict_limits = strict_limits;
   options.columns_strict = columns_strict;
@@ -32,10 +33,11 @@ Measurements ReadMeasurementsPy(const Robot& robot, const std::string& path,
   return m;
 }
 
-void WriteMeasurementsPy(const Robot& robot, const std::string& path,
+void WriteMeasurementsPy(const Robot& robot, const py::object& path_obj,
                          const Measurements& m, bool millimetres,
                          bool joint_degrees, bool joint_names,
                          const std::string& orientation) {
+  const std::string path = PathArg(path_obj);
   MeasurementsCsvFormat format;
   format.millimetres = millimetres;
   format.joint_degrees = joint_degrees;
@@ -54,6 +56,7 @@ void WriteMeasurementsPy(const Robot& robot, const std::string& path,
         "rpy_deg, got '" +
         orientation + "'");
   }
+  CheckMarkers(robot.model(), m.items, "measurements");
   for (size_t i = 0; i < m.items.size(); ++i) {
     std::string error;
     if (!CheckMeasurement(robot.model(), m.items[i], &error)) {
@@ -63,8 +66,9 @@ void WriteMeasurementsPy(const Robot& robot, const std::string& path,
   WriteText(path, MeasurementsCsvText(robot.model(), m.items, format));
 }
 
-py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
+py::tuple ReadPosesPy(const Robot& robot, const py::object& path_obj,
                       bool reject_duplicates) {
+  const std::string path = PathArg(path_obj);
   PoseList list;
   std::string error;
   if (!ReadPosesCsv(path, robot.model(), reject_duplicates, &list, &error)) {
@@ -75,7 +79,8 @@ py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
 
 // A Cartesian targets CSV (targets_csv.h): points, rotation vectors and
 // start joints when the file has them (else None), pose indices.
-py::tuple ReadTargetsPy(const Robot& robot, const std::string& path) {
+py::tuple ReadTargetsPy(const Robot& robot, const py::object& path_obj) {
+  const std::string path = PathArg(path_obj);
   TargetList list;
   std::string error;
   if (!ReadTargetsCsv(path, robot.model(), &list, &error)) Fail(error);
@@ -88,8 +93,9 @@ py::tuple ReadTargetsPy(const Robot& robot, const std::string& path) {
                         py::array(py::cast(list.pose_indices)));
 }
 
-void WritePosesPy(const Robot& robot, const std::string& path,
+void WritePosesPy(const Robot& robot, const py::object& path_obj,
                   const py::object& joints, const py::object& indices) {
+  const std::string path = PathArg(path_obj);
   const RobotModel& model = robot.model();
   PoseList list;
   list.joints = MatrixArg(joints, "joint_angles", model.num_joints(), false);
@@ -98,7 +104,7 @@ void WritePosesPy(const Robot& robot, const std::string& path,
       list.pose_indices.push_back(i);
     }
   } else {
-    list.pose_indices = py::cast<std::vector<int64_t>>(indices);
+    list.pose_indices = IntegerVector(indices, "pose_indices");
     if (static_cast<int64_t>(list.pose_indices.size()) != list.joints.rows()) {
       Fail("pose_indices: expected " + std::to_string(list.joints.rows()) +
            " values (one per pose), got " +
@@ -168,12 +174,19 @@ Measurements MakeMeasurements(
            std::to_string(S.rows()));
   }
   if (!sigma_rad.is_none()) SR = VectorArg(sigma_rad, "sigma_rad", n);
-  std::vector<int> mk;
+  std::vector<int64_t> mk;
   if (!markers.is_none()) {
-    mk = py::cast<std::vector<int>>(markers);
+    mk = IntegerVector(markers, "markers");
     if (static_cast<int>(mk.size()) != n) {
       Fail("markers: expected " + std::to_string(n) + " values, got " +
            std::to_string(mk.size()));
+    }
+    for (size_t i = 0; i < mk.size(); ++i) {
+      if (mk[i] < 0 || mk[i] > std::numeric_limits<int>::max()) {
+        Fail("markers: expected marker numbers >= 0 (markers are numbered "
+             "from 0), got " +
+             std::to_string(mk[i]) + " in row " + std::to_string(i));
+      }
     }
   }
   Measurements out;
@@ -188,7 +201,7 @@ Measurements MakeMeasurements(
     if (D.size()) m.distance = D[i];
     if (S.size()) m.sigma_m = S.row(i).transpose();
     if (SR.size()) m.sigma_rad = SR[i];
-    if (!mk.empty()) m.marker = mk[i];
+    if (!mk.empty()) m.marker = static_cast<int>(mk[i]);
   }
   return out;
 }

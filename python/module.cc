@@ -519,8 +519,8 @@ PYBIND11_MODULE(activecal, m) {
           "The calibrated Robot: identified values as nominal")
       .def(
           "save",
-          [](const EstimateResult& e, const std::string& path) {
-            WriteText(path, EstimateFileText(e));
+          [](const EstimateResult& e, const py::object& path) {
+            WriteText(PathArg(path), EstimateFileText(e));
           },
           py::arg("path"),
           "Writes the calibrated robot YAML (as activecal_identify "
@@ -637,8 +637,8 @@ PYBIND11_MODULE(activecal, m) {
           [](const CompensationResult& c) { return c.summary.message; })
       .def(
           "save",
-          [](const CompensationResult& c, const std::string& path) {
-            WriteText(path, CompensatedPosesCsvText(c.robot->model(),
+          [](const CompensationResult& c, const py::object& path) {
+            WriteText(PathArg(path), CompensatedPosesCsvText(c.robot->model(),
                                                     c.pose_indices, c.summary));
           },
           py::arg("path"),

@@ -8,12 +8,13 @@ namespace python {
 
 // ------------------------------------------------------------- load_robot
 
-RobotPtr LoadRobotPy(const std::string& path, const py::object& base_link,
+RobotPtr LoadRobotPy(const py::object& path_obj, const py::object& base_link,
                      const py::object& tip_link, const py::object& frames) {
+  const std::string path = PathArg(path_obj);
   RobotLoadOptions options;
   if (!base_link.is_none()) options.chain.base_link = py::str(base_link);
   if (!tip_link.is_none()) options.chain.tip_link = py::str(tip_link);
-  if (!frames.is_none()) options.frames_path = py::str(frames);
+  if (!frames.is_none()) options.frames_path = PathArg(frames);
   auto robot = std::make_shared<Robot>();
   std::string error;
   if (!LoadRobot(path, options, &robot->description, &error)) Fail(error);
@@ -155,8 +156,9 @@ RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
   return out;
 }
 
-void SaveRobot(const Robot& robot, const std::string& path,
+void SaveRobot(const Robot& robot, const py::object& path_obj,
                const py::object& parameters) {
+  const std::string path = PathArg(path_obj);
   RobotFileOptions options;
   options.angle_unit = robot.description.angle_unit;
   options.true_parameters = robot.description.true_parameters;
