@@ -1,6 +1,8 @@
 // The Python module `activecal`: select: the pool, the task and the design, by
 // the library (selection_pool.h, select_design.h).
 
+#include <unistd.h>
+
 #include "common.h"
 
 namespace activecal {
@@ -67,6 +69,21 @@ std::shared_ptr<DesignResult> SelectPy(
           "pool must be 'lattice', 'sobol', 'random' or an array of joint "
           "values, got '" +
           pool_kind + "'");
+    }
+    // A pool too large for memory is refused up front (the alternative is
+    // std::bad_alloc midway): its joint values and at least one Jacobian
+    // column per measurement row.
+    const double need = static_cast<double>(pool_size) *
+                        (model.num_joints() + MeasurementDimension(type)) *
+                        sizeof(double);
+    const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
+                        static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (pool_size > 0 && have > 0 && need > have) {
+      std::ostringstream s;
+      s << "pool_size=" << pool_size << ": the pool needs at least "
+        << need / (1 << 30) << " GiB (joint values and Jacobians), more "
+        << "than this machine's " << have / (1 << 30) << " GiB";
+      Fail(s.str());
     }
     std::string error;
     if (!SampleJointValues(model, sampling, pool_size, seed, &pool_joints,

@@ -30,6 +30,7 @@ Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path_obj,
   }
   m.warnings = report.warnings;
   m.notes = report.notes;
+  m.num_joints = robot.model().num_joints();
   return m;
 }
 
@@ -190,6 +191,7 @@ Measurements MakeMeasurements(
     }
   }
   Measurements out;
+  out.num_joints = nj;
   out.items.resize(n);
   for (int i = 0; i < n; ++i) {
     Measurement& m = out.items[i];
@@ -216,7 +218,8 @@ const Measurements& MeasurementsArg(const py::object& obj,
 }
 
 int NumJoints(const Measurements& m) {
-  return m.items.empty() ? 0 : static_cast<int>(m.items[0].joints.size());
+  return m.items.empty() ? m.num_joints
+                         : static_cast<int>(m.items[0].joints.size());
 }
 
 Measurements Subset(const Measurements& m, const py::object& key) {
@@ -231,7 +234,9 @@ Measurements Subset(const Measurements& m, const py::object& key) {
   } else {
     py::array a = py::array::ensure(key);
     if (!a) Fail("measurements index: expected an int, a slice or an array");
-    if (a.dtype().kind() == 'b') {
+    if (a.size() == 0 && a.ndim() == 1) {
+      // m[[]]: numpy makes [] float64; empty, as an empty index array.
+    } else if (a.dtype().kind() == 'b') {
       auto b = py::array_t<bool>::ensure(a);
       if (b.ndim() != 1 || b.shape(0) != n) {
         Fail("measurements index: a boolean mask needs shape (" +
@@ -257,7 +262,12 @@ Measurements Subset(const Measurements& m, const py::object& key) {
       Fail("measurements index: expected an int, a slice or an array");
     }
   }
+  // The subset keeps the reader's warnings and notes (they are about the
+  // file) and the joint count (an empty subset's joints: (0, num_joints)).
   Measurements out;
+  out.warnings = m.warnings;
+  out.notes = m.notes;
+  out.num_joints = NumJoints(m);
   for (int64_t i : index) out.items.push_back(m.items[i]);
   return out;
 }
@@ -312,6 +322,7 @@ Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
   noise.position_m = noise_m;
   noise.rotation_rad = rotation_noise_rad;
   Measurements out;
+  out.num_joints = model.num_joints();
   std::string error;
   bool ok;
   {

@@ -148,6 +148,10 @@ PYBIND11_MODULE(activecal, m) {
            [](const Measurements& a, const Measurements& b) {
              Measurements out = a;
              out.items.insert(out.items.end(), b.items.begin(), b.items.end());
+             out.warnings.insert(out.warnings.end(), b.warnings.begin(),
+                                 b.warnings.end());
+             out.notes.insert(out.notes.end(), b.notes.begin(), b.notes.end());
+             out.num_joints = NumJoints(a) ? NumJoints(a) : NumJoints(b);
              return out;
            })
       .def_property_readonly("types",
@@ -645,7 +649,18 @@ PYBIND11_MODULE(activecal, m) {
           "Writes the compensated program as activecal_compensate --out "
           "does (poses CSV with status and position_error_m).")
       .def("report",
-           [](const CompensationResult& c) { return c.summary.BriefReport(); });
+           [](const CompensationResult& c) { return c.summary.BriefReport(); })
+      .def("__repr__", [](const CompensationResult& c) {
+        int converged = 0;
+        for (const InverseKinematicsResult& r : c.summary.results) {
+          converged += r.status == IkStatus::kConverged;
+        }
+        std::ostringstream s;
+        s << "<activecal.Compensation: " << c.summary.results.size()
+          << " targets, " << converged << " converged, max position error "
+          << c.summary.max_position_error_m << " m>";
+        return s.str();
+      });
 
   m.def("compensate", &CompensatePy, py::arg("robot"),
         py::arg("program") = py::none(), py::arg("nominal") = py::none(),

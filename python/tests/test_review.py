@@ -108,13 +108,66 @@ def test_paths_may_be_pathlib(puma, tmp_path):
                       "(`pathlib.Path`)")
 
 
-def test_indexing_always_gives_measurements(measured):
+def test_indexing_always_gives_measurements(puma, measured, tmp_path):
+    # Finding 8: m[[]] was refused, subsets lost the reader's warnings and
+    # notes, an empty Measurements had joints of shape (0, 0).
     one = measured[0]
     assert isinstance(one, activecal.Measurements) and len(one) == 1
     assert len(measured[np.array([], dtype=int)]) == 0
-    with pytest.raises(ValueError, match="measurements index"):
-        measured[[]]
-    assert documented("`m[[]]` is refused")
+    assert len(measured[[]]) == 0
+    assert measured[[]].joints.shape == (0, 6)
+    assert measured[:0].joints2.shape == (0, 6)
+    empty = activecal.Measurements("position", np.zeros((0, 6)),
+                                   positions=np.zeros((0, 3)))
+    assert empty.joints.shape == (0, 6)
+    assert (empty + measured[:2]).joints.shape == (2, 6)
+    # A file whose reader notes and warns: subsets keep both.
+    q = np.array(puma.joint_limits)[:, 1] + 0.01  # just beyond the limits
+    m = activecal.simulate(puma, np.vstack([q, q * 0]), seed=1)
+    path = tmp_path / "m.csv"
+    activecal.write_measurements(puma, path, m)
+    text = path.read_text().splitlines()
+    text[0] += ",extra"
+    text[1:] = [line + ",1" for line in text[1:]]
+    path.write_text("\n".join(text) + "\n")
+    read = activecal.read_measurements(puma, path)
+    assert read.warnings and read.notes
+    for sub in (read[:1], read[[0]], read[np.array([True, False])]):
+        assert sub.warnings == read.warnings and sub.notes == read.notes
+    assert documented("`m[[]]` is empty, as `m[np.array([], dtype=int)]`")
+
+
+def test_complex_and_out_of_range_inputs_are_value_errors(puma, measured):
+    # Finding 9.
+    q = measured.joints[:2].astype(complex)
+    with pytest.raises(ValueError,
+                       match="q: expected real numbers, got dtype complex128"):
+        puma.forward(q)
+    with pytest.raises(ValueError, match=r"pool_size=1000000000000: the pool "
+                       r"needs at least .* GiB"):
+        activecal.select(puma, pool="sobol", pool_size=10**12)
+    # polish_pool_size <= 0 means every pose, as the program's flag.
+    a = activecal.select(puma, pool="sobol", pool_size=300, num_poses=20,
+                         polish_pool_size=-1, certificate=False)
+    b = activecal.select(puma, pool="sobol", pool_size=300, num_poses=20,
+                         polish_pool_size=0, certificate=False)
+    assert np.array_equal(a.pose_indices, b.pose_indices)
+    bad = measured.joints[:2].copy()
+    bad[1, 2] = np.nan
+    with pytest.raises(ValueError, match="program row 1: "):
+        activecal.compensate(puma, program=bad, nominal=puma)
+    with pytest.raises(ValueError, match="starts row 1: "):
+        activecal.compensate(puma, targets=measured.positions[:2],
+                             starts=bad)
+    assert documented("Complex arrays are a `ValueError`")
+    assert documented("`polish_pool_size` <= 0: every pose")
+
+
+def test_compensation_repr(puma, measured):
+    # Finding 6.
+    c = activecal.compensate(puma, program=measured.joints[:3], nominal=puma)
+    assert re.fullmatch(r"<activecal\.Compensation: 3 targets, 3 converged, "
+                        r"max position error \S+ m>", repr(c))
 
 
 def test_marker_messages_number_markers_from_zero(puma, measured):
