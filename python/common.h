@@ -423,6 +423,13 @@ RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
 void SaveRobot(const Robot& robot, const py::object& path,
                const py::object& parameters);
 
+// Pickling: a Robot as its robot file text (radians, true values) with its
+// path and kind; Measurements as arrays.
+py::tuple RobotState(const Robot& robot);
+RobotPtr RobotFromState(const py::tuple& state);
+py::tuple MeasurementsState(const Measurements& m);
+Measurements MeasurementsFromState(const py::tuple& state);
+
 // measurements_files.cc: Files (measurements, poses, targets CSV),
 // Measurements, simulate.
 void WriteText(const std::string& path, const std::string& text);

@@ -272,6 +272,78 @@ Measurements Subset(const Measurements& m, const py::object& key) {
   return out;
 }
 
+// Pickle state: per row the type, marker, joint counts, sigma_rad and
+// distance; the joints (both poses) concatenated; positions, rotations,
+// sigma_m as (n, 3).
+py::tuple MeasurementsState(const Measurements& m) {
+  const size_t n = m.items.size();
+  std::vector<int> types(n), markers(n), nj(n), nj2(n);
+  std::vector<double> joints, scalars(2 * n);
+  Eigen::MatrixXd vectors(n, 9);
+  for (size_t i = 0; i < n; ++i) {
+    const Measurement& x = m.items[i];
+    types[i] = static_cast<int>(x.type);
+    markers[i] = x.marker;
+    nj[i] = static_cast<int>(x.joints.size());
+    nj2[i] = static_cast<int>(x.joints2.size());
+    joints.insert(joints.end(), x.joints.data(), x.joints.data() + nj[i]);
+    joints.insert(joints.end(), x.joints2.data(), x.joints2.data() + nj2[i]);
+    scalars[2 * i] = x.distance;
+    scalars[2 * i + 1] = x.sigma_rad;
+    vectors.row(i) << x.position.transpose(), x.rotation.transpose(),
+        x.sigma_m.transpose();
+  }
+  return py::make_tuple(1, m.num_joints, py::array(py::cast(types)),
+                        py::array(py::cast(markers)), py::array(py::cast(nj)),
+                        py::array(py::cast(nj2)), py::array(py::cast(joints)),
+                        py::array(py::cast(scalars)), py::cast(vectors),
+                        m.warnings, m.notes);
+}
+
+Measurements MeasurementsFromState(const py::tuple& state) {
+  if (state.size() != 11 || py::cast<int>(state[0]) != 1) {
+    Fail("Measurements: unknown pickle state");
+  }
+  Measurements m;
+  m.num_joints = py::cast<int>(state[1]);
+  const auto types = py::cast<std::vector<int>>(state[2]);
+  const auto markers = py::cast<std::vector<int>>(state[3]);
+  const auto nj = py::cast<std::vector<int>>(state[4]);
+  const auto nj2 = py::cast<std::vector<int>>(state[5]);
+  const auto joints = py::cast<std::vector<double>>(state[6]);
+  const auto scalars = py::cast<std::vector<double>>(state[7]);
+  const auto vectors = py::cast<Eigen::MatrixXd>(state[8]);
+  const size_t n = types.size();
+  if (markers.size() != n || nj.size() != n || nj2.size() != n ||
+      scalars.size() != 2 * n || vectors.rows() != static_cast<int64_t>(n) ||
+      vectors.cols() != 9) {
+    Fail("Measurements: inconsistent pickle state");
+  }
+  size_t k = 0;
+  m.items.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    Measurement& x = m.items[i];
+    if (types[i] < 0 || types[i] > static_cast<int>(MeasurementType::kDistance) ||
+        nj[i] < 0 || nj2[i] < 0 || k + nj[i] + nj2[i] > joints.size()) {
+      Fail("Measurements: inconsistent pickle state");
+    }
+    x.type = static_cast<MeasurementType>(types[i]);
+    x.marker = markers[i];
+    x.joints = Eigen::Map<const Eigen::VectorXd>(joints.data() + k, nj[i]);
+    k += nj[i];
+    x.joints2 = Eigen::Map<const Eigen::VectorXd>(joints.data() + k, nj2[i]);
+    k += nj2[i];
+    x.distance = scalars[2 * i];
+    x.sigma_rad = scalars[2 * i + 1];
+    x.position = vectors.row(i).segment<3>(0).transpose();
+    x.rotation = vectors.row(i).segment<3>(3).transpose();
+    x.sigma_m = vectors.row(i).segment<3>(6).transpose();
+  }
+  m.warnings = py::cast<std::vector<std::string>>(state[9]);
+  m.notes = py::cast<std::vector<std::string>>(state[10]);
+  return m;
+}
+
 // ------------------------------------------------------------- simulate
 
 Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,

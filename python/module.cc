@@ -107,6 +107,11 @@ PYBIND11_MODULE(activecal, m) {
            "A copy whose free parameters are the named set (registration, "
            "offsets, full; file: unchanged), as ApplyParameterSet; select "
            "and identify further reduce it to what the data separate.")
+      .def(py::pickle(&RobotState, &RobotFromState))
+      .def("__copy__", [](const RobotPtr& r) { return r; })
+      .def(
+          "__deepcopy__", [](const RobotPtr& r, py::object) { return r; },
+          py::arg("memo"))
       .def("save", &SaveRobot, py::arg("path"),
            py::arg("parameters") = py::none(),
            "Writes the robot YAML file with `parameters` (default: nominal) "
@@ -142,6 +147,7 @@ PYBIND11_MODULE(activecal, m) {
            "positions (n, 3) m; rotations (n, 3) rotation vectors (rad, "
            "pose); joints2 (n, num_joints) and distances (n,) m (distance); "
            "markers (n,) 0-based; sigma_m (n, 3); sigma_rad (n,).")
+      .def(py::pickle(&MeasurementsState, &MeasurementsFromState))
       .def("__len__", [](const Measurements& m) { return m.items.size(); })
       .def("__getitem__", &Subset)
       .def("__add__",

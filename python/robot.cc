@@ -170,5 +170,36 @@ void SaveRobot(const Robot& robot, const py::object& path_obj,
   }
 }
 
+// The file text in radians (the file's unit would round angles through
+// degrees), the unit kept beside it.
+py::tuple RobotState(const Robot& robot) {
+  RobotFileOptions options;
+  options.true_parameters = robot.description.true_parameters;
+  const std::string text =
+      RobotFileText(robot.model(), robot.model().nominal, options);
+  return py::make_tuple(
+      1, py::bytes(text), robot.path, robot.urdf,
+      robot.description.angle_unit == AngleUnit::kDegree,
+      robot.description.true_parameters.size() > 0);
+}
+
+RobotPtr RobotFromState(const py::tuple& state) {
+  if (state.size() != 6 || py::cast<int>(state[0]) != 1) {
+    Fail("Robot: unknown pickle state");
+  }
+  auto robot = std::make_shared<Robot>();
+  std::string error;
+  if (!ParseRobotDescription(py::cast<std::string>(state[1]), "<pickle>",
+                             &robot->description, &error)) {
+    Fail("Robot: " + error);
+  }
+  robot->path = py::cast<std::string>(state[2]);
+  robot->urdf = py::cast<bool>(state[3]);
+  robot->description.angle_unit =
+      py::cast<bool>(state[4]) ? AngleUnit::kDegree : AngleUnit::kRadian;
+  if (!py::cast<bool>(state[5])) robot->description.true_parameters.resize(0);
+  return robot;
+}
+
 }  // namespace python
 }  // namespace activecal
