@@ -5,8 +5,15 @@ installed; skipped otherwise).
 
     ./run.sh python
     PYTHONPATH=build/python python3 examples/calibrate.py [--levels 4]
+    PYTHONPATH=build/python python3 examples/calibrate.py \
+        --robot data/ur10.urdf --tip-link tool0
 
-Everything is SI (m, rad). With real data, replace the simulate() cell by
+Everything is SI (m, rad). The measurements are simulated from the robot
+file's true values; a robot without them (a URDF) is simulated from its
+nominal values perturbed (seeded by --seed): every parameter of the
+"full" set in metres by N(0, --perturb-m), in radians by
+N(0, --perturb-rad); other parameters stay nominal. With real data,
+replace the simulate() cell by
 activecal.read_measurements(robot, "measurements.csv").
 """
 # %% Setup
@@ -21,6 +28,17 @@ import activecal
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--robot", default=str(
     pathlib.Path(__file__).resolve().parents[1] / "data" / "puma560.yaml"))
+parser.add_argument("--base-link", default=None,
+                    help="URDF: the chain's first link")
+parser.add_argument("--tip-link", default=None,
+                    help="URDF: the chain's last link (e.g. tool0 for "
+                    "data/ur10.urdf)")
+parser.add_argument("--perturb-m", type=float, default=1e-3,
+                    help="no true values in the robot file: std of the "
+                    "perturbation of lengths (m)")
+parser.add_argument("--perturb-rad", type=float, default=1e-3,
+                    help="no true values in the robot file: std of the "
+                    "perturbation of angles (rad)")
 parser.add_argument("--levels", type=int, default=4,
                     help="lattice values per joint of the candidate pool")
 parser.add_argument("--num-poses", type=int, default=30)
@@ -31,8 +49,24 @@ parser.add_argument("--out", default="calibrate_out",
                     help="directory of the figures")
 args = parser.parse_args()
 
-robot = activecal.load_robot(args.robot)
+robot = activecal.load_robot(args.robot, base_link=args.base_link,
+                             tip_link=args.tip_link)
 print(robot)
+
+# The values the simulated robot has: the file's true values, or (a URDF
+# has none) the nominal values perturbed, seeded.
+truth = robot.true_parameters
+if truth is None:
+    full = robot.with_parameter_set("full")
+    units = np.array(full.parameter_units)
+    scale = np.where(units == "m", args.perturb_m,
+                     np.where(units == "rad", args.perturb_rad, 0.0))
+    scale[~full.free] = 0.0
+    truth = robot.nominal + scale * np.random.default_rng(
+        args.seed).standard_normal(robot.num_parameters)
+    print(f"no true values in {args.robot}: simulating from the nominal "
+          f"values perturbed by {args.perturb_m} m / {args.perturb_rad} rad "
+          f"(seed {args.seed})")
 
 # %% Plan: a D-optimal design over the joint lattice, with its certificate.
 def progress(stage, done, total):
@@ -56,9 +90,11 @@ random_joints = lo + (hi - lo) * rng.random((args.num_poses, robot.num_joints))
 
 # %% Measure (simulated here: the file's true values plus Gaussian noise).
 measured = activecal.simulate(robot, design.joint_angles,
-                              noise_m=args.noise_m, seed=args.seed)
+                              noise_m=args.noise_m, seed=args.seed,
+                              parameters=truth)
 measured_random = activecal.simulate(robot, random_joints,
-                                     noise_m=args.noise_m, seed=args.seed)
+                                     noise_m=args.noise_m, seed=args.seed,
+                                     parameters=truth)
 
 # %% Identify.
 estimate = activecal.identify(robot, measured, model_selection="none")
@@ -72,7 +108,7 @@ print(f"std of the estimates: the random poses' are {ratio:.2f}x the "
 # %% Check on poses not used in the fit.
 check_joints = lo + (hi - lo) * rng.random((200, robot.num_joints))
 check = activecal.simulate(robot, check_joints, noise_m=args.noise_m,
-                           seed=args.seed + 1)
+                           seed=args.seed + 1, parameters=truth)
 before = activecal.evaluate(robot, check)
 after = activecal.evaluate(estimate.robot, check)
 after_random = activecal.evaluate(estimate_random.robot, check)
@@ -94,8 +130,7 @@ if plt is not None:
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     names = estimate.parameter_names
-    truth = robot.true_parameters[[robot.parameter_names.index(n)
-                                   for n in names]]
+    truth = truth[[robot.parameter_names.index(n) for n in names]]
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
     axes[0, 0].plot(design.history, marker=".")
     axes[0, 0].set(title="design: log10 det per step",

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -85,15 +86,52 @@ inline std::string Shape(const py::array& a) {
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
-// `obj` as an array of doubles (any numeric dtype, any sequence), or a
-// ValueError naming `what`.
+inline std::string Repr(const py::handle& obj) { return py::repr(obj); }
+
+// `obj` as an array of doubles (any real numeric dtype, any sequence), or a
+// ValueError naming `what`. Complex arrays are refused (numpy would drop
+// the imaginary part with only a warning).
 inline py::array_t<double, py::array::c_style> DoubleArray(
     const py::handle& obj, const std::string& what) {
+  const py::array raw = py::array::ensure(obj);
+  if (raw && raw.dtype().kind() == 'c') {
+    Fail(what + ": expected real numbers, got dtype " +
+         std::string(py::str(raw.dtype())));
+  }
   auto a =
       py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
-          obj);
+          raw ? py::handle(raw) : obj);
   if (!a) Fail(what + ": expected an array of numbers");
   return a;
+}
+
+// `obj` as integers (markers, indices): a 1-D array of any integer dtype
+// or a sequence of ints ([] is empty). Floats, bools, strings: a
+// ValueError naming `what` and the dtype.
+inline std::vector<int64_t> IntegerVector(const py::handle& obj,
+                                          const std::string& what) {
+  const py::array a = py::array::ensure(obj);
+  if (!a) Fail(what + ": expected an array of integers");
+  if (a.ndim() != 1) {
+    Fail(what + ": expected a 1-D array of integers, got shape " + Shape(a));
+  }
+  if (a.size() == 0) return {};  // numpy makes [] float64
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u') {
+    Fail(what + ": expected integers, got dtype " +
+         std::string(py::str(a.dtype())));
+  }
+  const auto v =
+      py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(
+          a);
+  if (!v) Fail(what + ": expected an array of integers");
+  return std::vector<int64_t>(v.data(), v.data() + v.size());
+}
+
+// A path argument: str, bytes or os.PathLike (pathlib.Path), as os.fsdecode
+// takes them; anything else is its TypeError.
+inline std::string PathArg(const py::handle& obj) {
+  return py::str(py::module_::import("os").attr("fsdecode")(obj));
 }
 
 // A (rows x cols) matrix from a 2-D array; a 1-D array of `cols` values is
@@ -253,7 +291,26 @@ struct Measurements {
   std::vector<Measurement> items;
   std::vector<std::string> warnings;  // from the CSV reader
   std::vector<std::string> notes;
+  int num_joints = 0;  // the joints' columns when there are no rows
 };
+
+// The markers of `items` against the robot, 0-based as the API counts
+// them (the library's messages count from 1, as the CSV files do).
+inline void CheckMarkers(const RobotModel& model,
+                         const std::vector<Measurement>& items,
+                         const std::string& what) {
+  const int k = model.num_markers();
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (items[i].marker < 0 || items[i].marker >= k) {
+      Fail(what + " row " + std::to_string(i) + ": marker " +
+           std::to_string(items[i].marker) +
+           " is not a marker of the robot (it has " + std::to_string(k) +
+           ", numbered from 0: " +
+           (k == 1 ? std::string("0") : "0 to " + std::to_string(k - 1)) +
+           ")");
+    }
+  }
+}
 
 struct DesignResult {
   SelectionSummary summary;
@@ -307,17 +364,26 @@ Eigen::MatrixXd Column(const Measurements& m, int cols, Get get) {
   return out;
 }
 
+// identify's option `name` taken out of kwargs: `value` when absent or
+// None, else the value converted to T or a ValueError naming what T takes.
 template <typename T>
 T Option(py::kwargs& kwargs, const char* name, T value) {
   if (kwargs.contains(name)) {
-    try {
-      value = py::cast<T>(kwargs[name]);
-    } catch (const py::cast_error&) {
-      Fail(std::string("identify: option ") + name + ": expected a " +
-           (std::is_same<T, std::string>::value ? "string"
-            : std::is_same<T, bool>::value      ? "bool"
-                                                : "number") +
-           ", got " + std::string(py::str(kwargs[name])));
+    const py::object given = kwargs[name];
+    if (!given.is_none()) {
+      try {
+        value = py::cast<T>(given);
+      } catch (const py::cast_error&) {
+        const char* want =
+            std::is_same<T, std::string>::value ? "a string"
+            : std::is_same<T, bool>::value      ? "True or False"
+            : std::is_integral<T>::value && std::is_unsigned<T>::value
+                ? "a non-negative integer"
+            : std::is_integral<T>::value ? "an integer"
+                                         : "a number";
+        Fail(std::string("identify: option ") + name + ": expected " + want +
+             ", got " + Repr(given));
+      }
     }
     PyDict_DelItemString(kwargs.ptr(), name);
   }
@@ -333,7 +399,7 @@ struct CompensationResult {
 
 // robot.cc: Robot: load_robot, puma560, forward, frame, jacobian,
 // with_parameter_set, save.
-RobotPtr LoadRobotPy(const std::string& path, const py::object& base_link,
+RobotPtr LoadRobotPy(const py::object& path, const py::object& base_link,
                      const py::object& tip_link, const py::object& frames);
 
 RobotPtr Puma560();
@@ -354,27 +420,34 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
 RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
                           const std::string& measurement);
 
-void SaveRobot(const Robot& robot, const std::string& path,
+void SaveRobot(const Robot& robot, const py::object& path,
                const py::object& parameters);
+
+// Pickling: a Robot as its robot file text (radians, true values) with its
+// path and kind; Measurements as arrays.
+py::tuple RobotState(const Robot& robot);
+RobotPtr RobotFromState(const py::tuple& state);
+py::tuple MeasurementsState(const Measurements& m);
+Measurements MeasurementsFromState(const py::tuple& state);
 
 // measurements_files.cc: Files (measurements, poses, targets CSV),
 // Measurements, simulate.
 void WriteText(const std::string& path, const std::string& text);
 
-Measurements ReadMeasurementsPy(const Robot& robot, const std::string& path,
+Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path,
                                 bool strict_limits, bool columns_strict);
 
-void WriteMeasurementsPy(const Robot& robot, const std::string& path,
+void WriteMeasurementsPy(const Robot& robot, const py::object& path,
                          const Measurements& m, bool millimetres,
                          bool joint_degrees, bool joint_names,
                          const std::string& orientation);
 
-py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
+py::tuple ReadPosesPy(const Robot& robot, const py::object& path,
                       bool reject_duplicates);
 
-py::tuple ReadTargetsPy(const Robot& robot, const std::string& path);
+py::tuple ReadTargetsPy(const Robot& robot, const py::object& path);
 
-void WritePosesPy(const Robot& robot, const std::string& path,
+void WritePosesPy(const Robot& robot, const py::object& path,
                   const py::object& joints, const py::object& indices);
 
 Measurements MakeMeasurements(

@@ -7,6 +7,21 @@ namespace python {
 
 // ----------------------------------------------------------- compensate
 
+// Joint rows given to compensate: finite, within the ranges widened by the
+// tolerance for measured joints (a NaN row is bad input, not a target
+// that did not converge).
+static void CheckRows(const RobotModel& model, const Eigen::MatrixXd& rows,
+               const std::string& what) {
+  for (int r = 0; r < rows.rows(); ++r) {
+    std::string error;
+    if (!model.CheckJointValues(rows.row(r).transpose(), &error,
+                                kMeasuredJointToleranceRad,
+                                kMeasuredJointToleranceM)) {
+      Fail(what + " row " + std::to_string(r) + ": " + error);
+    }
+  }
+}
+
 std::shared_ptr<CompensationResult> CompensatePy(
     const RobotPtr& robot, const py::object& program, const py::object& nominal,
     const py::object& targets, const py::object& rotations,
@@ -51,6 +66,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
     }
     result->starts = MatrixArg(program, "program", model.num_joints(), false);
     n = result->starts.rows();
+    CheckRows(taught.model(), result->starts, "program");
     py::gil_scoped_release release;
     CompensateProgram(model, model.nominal, taught.model(),
                       taught.model().nominal, result->starts, options,
@@ -72,6 +88,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
     if (!starts.is_none()) {
       list.start_joints =
           MatrixArg(starts, "starts", model.num_joints(), false);
+      CheckRows(model, list.start_joints, "starts");
       if (list.start_joints.rows() != n) {
         Fail("starts: expected " + std::to_string(n) +
              " rows (one per target), got " +
@@ -90,7 +107,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
   if (pose_indices.is_none()) {
     for (int64_t i = 0; i < n; ++i) result->pose_indices.push_back(i);
   } else {
-    result->pose_indices = py::cast<std::vector<int64_t>>(pose_indices);
+    result->pose_indices = IntegerVector(pose_indices, "pose_indices");
     if (static_cast<int64_t>(result->pose_indices.size()) != n) {
       Fail("pose_indices: expected " + std::to_string(n) + " values, got " +
            std::to_string(result->pose_indices.size()));

@@ -1,6 +1,8 @@
 // The Python module `activecal`: select: the pool, the task and the design, by
 // the library (selection_pool.h, select_design.h).
 
+#include <unistd.h>
+
 #include "common.h"
 
 namespace activecal {
@@ -53,7 +55,7 @@ std::shared_ptr<DesignResult> SelectPy(
   } else if (pool_kind == "array") {
     pool_joints = MatrixArg(pool_obj, "pool", model.num_joints(), false);
     if (!pool_indices.is_none()) {
-      labels = py::cast<std::vector<int64_t>>(pool_indices);
+      labels = IntegerVector(pool_indices, "pool_indices");
       if (static_cast<int64_t>(labels.size()) != pool_joints.rows()) {
         Fail("pool_indices: expected " + std::to_string(pool_joints.rows()) +
              " values (one per pool pose), got " +
@@ -68,6 +70,21 @@ std::shared_ptr<DesignResult> SelectPy(
           "values, got '" +
           pool_kind + "'");
     }
+    // A pool too large for memory is refused up front (the alternative is
+    // std::bad_alloc midway): its joint values and at least one Jacobian
+    // column per measurement row.
+    const double need = static_cast<double>(pool_size) *
+                        (model.num_joints() + MeasurementDimension(type)) *
+                        sizeof(double);
+    const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
+                        static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (pool_size > 0 && have > 0 && need > have) {
+      std::ostringstream s;
+      s << "pool_size=" << pool_size << ": the pool needs at least "
+        << need / (1 << 30) << " GiB (joint values and Jacobians), more "
+        << "than this machine's " << have / (1 << 30) << " GiB";
+      Fail(s.str());
+    }
     std::string error;
     if (!SampleJointValues(model, sampling, pool_size, seed, &pool_joints,
                            &error)) {
@@ -79,13 +96,21 @@ std::shared_ptr<DesignResult> SelectPy(
          "'");
   }
   const bool with_target = !target_rms_m.is_none();
-  const double target_rms = with_target ? py::cast<double>(target_rms_m) : 0.0;
+  double target_rms = 0.0;
+  if (with_target) {
+    try {
+      target_rms = py::cast<double>(target_rms_m);
+    } catch (const py::cast_error&) {
+      Fail("target_rms_m: expected a number (m), got " + Repr(target_rms_m));
+    }
+  }
   if (with_target && (!(target_rms > 0) || !std::isfinite(target_rms))) {
     Fail("target_rms_m must be > 0 (m)");
   }
   std::vector<Measurement> measured_items;
   if (!measured.is_none()) {
     measured_items = MeasurementsArg(measured, "measured").items;
+    CheckMarkers(model, measured_items, "measured");
   }
   if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
     Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +

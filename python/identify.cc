@@ -46,6 +46,7 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   std::vector<Measurement> selection_validation;
   if (!validation_obj.is_none()) {
     selection_validation = MeasurementsArg(validation_obj, "validation").items;
+    CheckMarkers(robot.model(), selection_validation, "validation");
   }
 
   auto result = std::make_shared<EstimateResult>();
@@ -53,6 +54,7 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   RobotModel model = robot.model();
   const std::vector<Measurement>& training = measurements.items;
   if (training.empty()) Fail("identify: no measurements");
+  CheckMarkers(model, training, "measurements");
 
   IdentificationOptions options;
   if (!ParseRobustLoss(robust_loss, &options.robust_loss)) {
@@ -253,6 +255,7 @@ py::dict Stats(const ErrorStatistics& s) {
 py::dict EvaluatePy(const Robot& robot, const Measurements& measurements,
                     const py::object& parameters) {
   const Eigen::VectorXd p = ParametersArg(robot, parameters);
+  CheckMarkers(robot.model(), measurements.items, "measurements");
   EvaluationSummary s;
   {
     py::gil_scoped_release release;

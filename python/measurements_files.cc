@@ -15,8 +15,9 @@ void WriteText(const std::string& path, const std::string& text) {
   if (!out) Fail("cannot write '" + path + "'");
 }
 
-Measurements ReadMeasurementsPy(const Robot& robot, const std::string& path,
+Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path_obj,
                                 bool strict_limits, bool columns_strict) {
+  const std::string path = PathArg(path_obj);
   MeasurementsCsvOptions options;
   options.strict_limits = strict_limits;
   options.columns_strict = columns_strict;
@@ -29,13 +30,15 @@ Measurements ReadMeasurementsPy(const Robot& robot, const std::string& path,
   }
   m.warnings = report.warnings;
   m.notes = report.notes;
+  m.num_joints = robot.model().num_joints();
   return m;
 }
 
-void WriteMeasurementsPy(const Robot& robot, const std::string& path,
+void WriteMeasurementsPy(const Robot& robot, const py::object& path_obj,
                          const Measurements& m, bool millimetres,
                          bool joint_degrees, bool joint_names,
                          const std::string& orientation) {
+  const std::string path = PathArg(path_obj);
   MeasurementsCsvFormat format;
   format.millimetres = millimetres;
   format.joint_degrees = joint_degrees;
@@ -54,6 +57,7 @@ void WriteMeasurementsPy(const Robot& robot, const std::string& path,
         "rpy_deg, got '" +
         orientation + "'");
   }
+  CheckMarkers(robot.model(), m.items, "measurements");
   for (size_t i = 0; i < m.items.size(); ++i) {
     std::string error;
     if (!CheckMeasurement(robot.model(), m.items[i], &error)) {
@@ -63,8 +67,9 @@ void WriteMeasurementsPy(const Robot& robot, const std::string& path,
   WriteText(path, MeasurementsCsvText(robot.model(), m.items, format));
 }
 
-py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
+py::tuple ReadPosesPy(const Robot& robot, const py::object& path_obj,
                       bool reject_duplicates) {
+  const std::string path = PathArg(path_obj);
   PoseList list;
   std::string error;
   if (!ReadPosesCsv(path, robot.model(), reject_duplicates, &list, &error)) {
@@ -75,7 +80,8 @@ py::tuple ReadPosesPy(const Robot& robot, const std::string& path,
 
 // A Cartesian targets CSV (targets_csv.h): points, rotation vectors and
 // start joints when the file has them (else None), pose indices.
-py::tuple ReadTargetsPy(const Robot& robot, const std::string& path) {
+py::tuple ReadTargetsPy(const Robot& robot, const py::object& path_obj) {
+  const std::string path = PathArg(path_obj);
   TargetList list;
   std::string error;
   if (!ReadTargetsCsv(path, robot.model(), &list, &error)) Fail(error);
@@ -88,8 +94,9 @@ py::tuple ReadTargetsPy(const Robot& robot, const std::string& path) {
                         py::array(py::cast(list.pose_indices)));
 }
 
-void WritePosesPy(const Robot& robot, const std::string& path,
+void WritePosesPy(const Robot& robot, const py::object& path_obj,
                   const py::object& joints, const py::object& indices) {
+  const std::string path = PathArg(path_obj);
   const RobotModel& model = robot.model();
   PoseList list;
   list.joints = MatrixArg(joints, "joint_angles", model.num_joints(), false);
@@ -98,7 +105,7 @@ void WritePosesPy(const Robot& robot, const std::string& path,
       list.pose_indices.push_back(i);
     }
   } else {
-    list.pose_indices = py::cast<std::vector<int64_t>>(indices);
+    list.pose_indices = IntegerVector(indices, "pose_indices");
     if (static_cast<int64_t>(list.pose_indices.size()) != list.joints.rows()) {
       Fail("pose_indices: expected " + std::to_string(list.joints.rows()) +
            " values (one per pose), got " +
@@ -168,15 +175,23 @@ Measurements MakeMeasurements(
            std::to_string(S.rows()));
   }
   if (!sigma_rad.is_none()) SR = VectorArg(sigma_rad, "sigma_rad", n);
-  std::vector<int> mk;
+  std::vector<int64_t> mk;
   if (!markers.is_none()) {
-    mk = py::cast<std::vector<int>>(markers);
+    mk = IntegerVector(markers, "markers");
     if (static_cast<int>(mk.size()) != n) {
       Fail("markers: expected " + std::to_string(n) + " values, got " +
            std::to_string(mk.size()));
     }
+    for (size_t i = 0; i < mk.size(); ++i) {
+      if (mk[i] < 0 || mk[i] > std::numeric_limits<int>::max()) {
+        Fail("markers: expected marker numbers >= 0 (markers are numbered "
+             "from 0), got " +
+             std::to_string(mk[i]) + " in row " + std::to_string(i));
+      }
+    }
   }
   Measurements out;
+  out.num_joints = nj;
   out.items.resize(n);
   for (int i = 0; i < n; ++i) {
     Measurement& m = out.items[i];
@@ -188,7 +203,7 @@ Measurements MakeMeasurements(
     if (D.size()) m.distance = D[i];
     if (S.size()) m.sigma_m = S.row(i).transpose();
     if (SR.size()) m.sigma_rad = SR[i];
-    if (!mk.empty()) m.marker = mk[i];
+    if (!mk.empty()) m.marker = static_cast<int>(mk[i]);
   }
   return out;
 }
@@ -203,7 +218,8 @@ const Measurements& MeasurementsArg(const py::object& obj,
 }
 
 int NumJoints(const Measurements& m) {
-  return m.items.empty() ? 0 : static_cast<int>(m.items[0].joints.size());
+  return m.items.empty() ? m.num_joints
+                         : static_cast<int>(m.items[0].joints.size());
 }
 
 Measurements Subset(const Measurements& m, const py::object& key) {
@@ -218,7 +234,9 @@ Measurements Subset(const Measurements& m, const py::object& key) {
   } else {
     py::array a = py::array::ensure(key);
     if (!a) Fail("measurements index: expected an int, a slice or an array");
-    if (a.dtype().kind() == 'b') {
+    if (a.size() == 0 && a.ndim() == 1) {
+      // m[[]]: numpy makes [] float64; empty, as an empty index array.
+    } else if (a.dtype().kind() == 'b') {
       auto b = py::array_t<bool>::ensure(a);
       if (b.ndim() != 1 || b.shape(0) != n) {
         Fail("measurements index: a boolean mask needs shape (" +
@@ -244,9 +262,86 @@ Measurements Subset(const Measurements& m, const py::object& key) {
       Fail("measurements index: expected an int, a slice or an array");
     }
   }
+  // The subset keeps the reader's warnings and notes (they are about the
+  // file) and the joint count (an empty subset's joints: (0, num_joints)).
   Measurements out;
+  out.warnings = m.warnings;
+  out.notes = m.notes;
+  out.num_joints = NumJoints(m);
   for (int64_t i : index) out.items.push_back(m.items[i]);
   return out;
+}
+
+// Pickle state: per row the type, marker, joint counts, sigma_rad and
+// distance; the joints (both poses) concatenated; positions, rotations,
+// sigma_m as (n, 3).
+py::tuple MeasurementsState(const Measurements& m) {
+  const size_t n = m.items.size();
+  std::vector<int> types(n), markers(n), nj(n), nj2(n);
+  std::vector<double> joints, scalars(2 * n);
+  Eigen::MatrixXd vectors(n, 9);
+  for (size_t i = 0; i < n; ++i) {
+    const Measurement& x = m.items[i];
+    types[i] = static_cast<int>(x.type);
+    markers[i] = x.marker;
+    nj[i] = static_cast<int>(x.joints.size());
+    nj2[i] = static_cast<int>(x.joints2.size());
+    joints.insert(joints.end(), x.joints.data(), x.joints.data() + nj[i]);
+    joints.insert(joints.end(), x.joints2.data(), x.joints2.data() + nj2[i]);
+    scalars[2 * i] = x.distance;
+    scalars[2 * i + 1] = x.sigma_rad;
+    vectors.row(i) << x.position.transpose(), x.rotation.transpose(),
+        x.sigma_m.transpose();
+  }
+  return py::make_tuple(1, m.num_joints, py::array(py::cast(types)),
+                        py::array(py::cast(markers)), py::array(py::cast(nj)),
+                        py::array(py::cast(nj2)), py::array(py::cast(joints)),
+                        py::array(py::cast(scalars)), py::cast(vectors),
+                        m.warnings, m.notes);
+}
+
+Measurements MeasurementsFromState(const py::tuple& state) {
+  if (state.size() != 11 || py::cast<int>(state[0]) != 1) {
+    Fail("Measurements: unknown pickle state");
+  }
+  Measurements m;
+  m.num_joints = py::cast<int>(state[1]);
+  const auto types = py::cast<std::vector<int>>(state[2]);
+  const auto markers = py::cast<std::vector<int>>(state[3]);
+  const auto nj = py::cast<std::vector<int>>(state[4]);
+  const auto nj2 = py::cast<std::vector<int>>(state[5]);
+  const auto joints = py::cast<std::vector<double>>(state[6]);
+  const auto scalars = py::cast<std::vector<double>>(state[7]);
+  const auto vectors = py::cast<Eigen::MatrixXd>(state[8]);
+  const size_t n = types.size();
+  if (markers.size() != n || nj.size() != n || nj2.size() != n ||
+      scalars.size() != 2 * n || vectors.rows() != static_cast<int64_t>(n) ||
+      vectors.cols() != 9) {
+    Fail("Measurements: inconsistent pickle state");
+  }
+  size_t k = 0;
+  m.items.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    Measurement& x = m.items[i];
+    if (types[i] < 0 || types[i] > static_cast<int>(MeasurementType::kDistance) ||
+        nj[i] < 0 || nj2[i] < 0 || k + nj[i] + nj2[i] > joints.size()) {
+      Fail("Measurements: inconsistent pickle state");
+    }
+    x.type = static_cast<MeasurementType>(types[i]);
+    x.marker = markers[i];
+    x.joints = Eigen::Map<const Eigen::VectorXd>(joints.data() + k, nj[i]);
+    k += nj[i];
+    x.joints2 = Eigen::Map<const Eigen::VectorXd>(joints.data() + k, nj2[i]);
+    k += nj2[i];
+    x.distance = scalars[2 * i];
+    x.sigma_rad = scalars[2 * i + 1];
+    x.position = vectors.row(i).segment<3>(0).transpose();
+    x.rotation = vectors.row(i).segment<3>(3).transpose();
+    x.sigma_m = vectors.row(i).segment<3>(6).transpose();
+  }
+  m.warnings = py::cast<std::vector<std::string>>(state[9]);
+  m.notes = py::cast<std::vector<std::string>>(state[10]);
+  return m;
 }
 
 // ------------------------------------------------------------- simulate
@@ -299,6 +394,7 @@ Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
   noise.position_m = noise_m;
   noise.rotation_rad = rotation_noise_rad;
   Measurements out;
+  out.num_joints = model.num_joints();
   std::string error;
   bool ok;
   {

@@ -107,6 +107,11 @@ PYBIND11_MODULE(activecal, m) {
            "A copy whose free parameters are the named set (registration, "
            "offsets, full; file: unchanged), as ApplyParameterSet; select "
            "and identify further reduce it to what the data separate.")
+      .def(py::pickle(&RobotState, &RobotFromState))
+      .def("__copy__", [](const RobotPtr& r) { return r; })
+      .def(
+          "__deepcopy__", [](const RobotPtr& r, py::object) { return r; },
+          py::arg("memo"))
       .def("save", &SaveRobot, py::arg("path"),
            py::arg("parameters") = py::none(),
            "Writes the robot YAML file with `parameters` (default: nominal) "
@@ -142,12 +147,17 @@ PYBIND11_MODULE(activecal, m) {
            "positions (n, 3) m; rotations (n, 3) rotation vectors (rad, "
            "pose); joints2 (n, num_joints) and distances (n,) m (distance); "
            "markers (n,) 0-based; sigma_m (n, 3); sigma_rad (n,).")
+      .def(py::pickle(&MeasurementsState, &MeasurementsFromState))
       .def("__len__", [](const Measurements& m) { return m.items.size(); })
       .def("__getitem__", &Subset)
       .def("__add__",
            [](const Measurements& a, const Measurements& b) {
              Measurements out = a;
              out.items.insert(out.items.end(), b.items.begin(), b.items.end());
+             out.warnings.insert(out.warnings.end(), b.warnings.begin(),
+                                 b.warnings.end());
+             out.notes.insert(out.notes.end(), b.notes.begin(), b.notes.end());
+             out.num_joints = NumJoints(a) ? NumJoints(a) : NumJoints(b);
              return out;
            })
       .def_property_readonly("types",
@@ -519,8 +529,8 @@ PYBIND11_MODULE(activecal, m) {
           "The calibrated Robot: identified values as nominal")
       .def(
           "save",
-          [](const EstimateResult& e, const std::string& path) {
-            WriteText(path, EstimateFileText(e));
+          [](const EstimateResult& e, const py::object& path) {
+            WriteText(PathArg(path), EstimateFileText(e));
           },
           py::arg("path"),
           "Writes the calibrated robot YAML (as activecal_identify "
@@ -637,15 +647,26 @@ PYBIND11_MODULE(activecal, m) {
           [](const CompensationResult& c) { return c.summary.message; })
       .def(
           "save",
-          [](const CompensationResult& c, const std::string& path) {
-            WriteText(path, CompensatedPosesCsvText(c.robot->model(),
+          [](const CompensationResult& c, const py::object& path) {
+            WriteText(PathArg(path), CompensatedPosesCsvText(c.robot->model(),
                                                     c.pose_indices, c.summary));
           },
           py::arg("path"),
           "Writes the compensated program as activecal_compensate --out "
           "does (poses CSV with status and position_error_m).")
       .def("report",
-           [](const CompensationResult& c) { return c.summary.BriefReport(); });
+           [](const CompensationResult& c) { return c.summary.BriefReport(); })
+      .def("__repr__", [](const CompensationResult& c) {
+        int converged = 0;
+        for (const InverseKinematicsResult& r : c.summary.results) {
+          converged += r.status == IkStatus::kConverged;
+        }
+        std::ostringstream s;
+        s << "<activecal.Compensation: " << c.summary.results.size()
+          << " targets, " << converged << " converged, max position error "
+          << c.summary.max_position_error_m << " m>";
+        return s.str();
+      });
 
   m.def("compensate", &CompensatePy, py::arg("robot"),
         py::arg("program") = py::none(), py::arg("nominal") = py::none(),

@@ -8,12 +8,13 @@ namespace python {
 
 // ------------------------------------------------------------- load_robot
 
-RobotPtr LoadRobotPy(const std::string& path, const py::object& base_link,
+RobotPtr LoadRobotPy(const py::object& path_obj, const py::object& base_link,
                      const py::object& tip_link, const py::object& frames) {
+  const std::string path = PathArg(path_obj);
   RobotLoadOptions options;
   if (!base_link.is_none()) options.chain.base_link = py::str(base_link);
   if (!tip_link.is_none()) options.chain.tip_link = py::str(tip_link);
-  if (!frames.is_none()) options.frames_path = py::str(frames);
+  if (!frames.is_none()) options.frames_path = PathArg(frames);
   auto robot = std::make_shared<Robot>();
   std::string error;
   if (!LoadRobot(path, options, &robot->description, &error)) Fail(error);
@@ -155,8 +156,9 @@ RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
   return out;
 }
 
-void SaveRobot(const Robot& robot, const std::string& path,
+void SaveRobot(const Robot& robot, const py::object& path_obj,
                const py::object& parameters) {
+  const std::string path = PathArg(path_obj);
   RobotFileOptions options;
   options.angle_unit = robot.description.angle_unit;
   options.true_parameters = robot.description.true_parameters;
@@ -166,6 +168,37 @@ void SaveRobot(const Robot& robot, const std::string& path,
   if (!out || !(out << text) || !out.flush()) {
     Fail("cannot write '" + path + "'");
   }
+}
+
+// The file text in radians (the file's unit would round angles through
+// degrees), the unit kept beside it.
+py::tuple RobotState(const Robot& robot) {
+  RobotFileOptions options;
+  options.true_parameters = robot.description.true_parameters;
+  const std::string text =
+      RobotFileText(robot.model(), robot.model().nominal, options);
+  return py::make_tuple(
+      1, py::bytes(text), robot.path, robot.urdf,
+      robot.description.angle_unit == AngleUnit::kDegree,
+      robot.description.true_parameters.size() > 0);
+}
+
+RobotPtr RobotFromState(const py::tuple& state) {
+  if (state.size() != 6 || py::cast<int>(state[0]) != 1) {
+    Fail("Robot: unknown pickle state");
+  }
+  auto robot = std::make_shared<Robot>();
+  std::string error;
+  if (!ParseRobotDescription(py::cast<std::string>(state[1]), "<pickle>",
+                             &robot->description, &error)) {
+    Fail("Robot: " + error);
+  }
+  robot->path = py::cast<std::string>(state[2]);
+  robot->urdf = py::cast<bool>(state[3]);
+  robot->description.angle_unit =
+      py::cast<bool>(state[4]) ? AngleUnit::kDegree : AngleUnit::kRadian;
+  if (!py::cast<bool>(state[5])) robot->description.true_parameters.resize(0);
+  return robot;
 }
 
 }  // namespace python

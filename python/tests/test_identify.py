@@ -146,7 +146,7 @@ def test_identify_bad_input(puma, puma_data):
         activecal.identify(puma, m, robust_loss="l1")
     with pytest.raises(ValueError, match="model_selection must be none, validation or cv"):
         activecal.identify(puma, m, model_selection="aic")
-    with pytest.raises(ValueError, match="option folds: expected a number"):
+    with pytest.raises(ValueError, match="option folds: expected an integer"):
         activecal.identify(puma, m, folds="five")
     with pytest.raises(ValueError, match="choose one"):
         activecal.identify(puma, m, prior_std_m=1e-3)
