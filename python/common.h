@@ -306,8 +306,7 @@ inline void CheckMarkers(const RobotModel& model,
            std::to_string(items[i].marker) +
            " is not a marker of the robot (it has " + std::to_string(k) +
            ", numbered from 0: " +
-           (k == 1 ? std::string("0") : "0 to " + std::to_string(k - 1)) +
-           ")");
+           (k == 1 ? std::string("0") : "0 to " + std::to_string(k - 1)) + ")");
     }
   }
 }
@@ -331,6 +330,7 @@ struct DesignResult {
   bool with_target = false;
   TargetSizeSummary target;
   int num_measured = 0;
+  bool single_precision = false;  // the pool's storage
 };
 
 struct EstimateResult {
@@ -478,8 +478,9 @@ std::shared_ptr<DesignResult> SelectPy(
     const std::string& measurement, double rotation_weight,
     const py::object& parameter_set, bool auto_fix, int restarts,
     int initial_poses, int random_designs, bool certificate,
-    double approx_tolerance, int64_t polish_pool_size, double noise_m,
-    const py::object& task_poses, const py::object& measured,
+    double approx_tolerance, int64_t polish_pool_size,
+    const std::string& pool_storage, int64_t max_double_pool_mib,
+    double noise_m, const py::object& task_poses, const py::object& measured,
     const py::object& target_rms_m, int num_threads, const py::object& progress,
     const py::kwargs& kwargs);
 

@@ -17,8 +17,9 @@ std::shared_ptr<DesignResult> SelectPy(
     const std::string& measurement, double rotation_weight,
     const py::object& parameter_set, bool auto_fix, int restarts,
     int initial_poses, int random_designs, bool certificate,
-    double approx_tolerance, int64_t polish_pool_size, double noise_m,
-    const py::object& task_poses, const py::object& measured,
+    double approx_tolerance, int64_t polish_pool_size,
+    const std::string& pool_storage, int64_t max_double_pool_mib,
+    double noise_m, const py::object& task_poses, const py::object& measured,
     const py::object& target_rms_m, int num_threads, const py::object& progress,
     const py::kwargs& kwargs) {
   NoUnknownOptions("select", kwargs);
@@ -151,6 +152,19 @@ std::shared_ptr<DesignResult> SelectPy(
   pool_options.rotation_weight_m_per_rad = rotation_weight;
   pool_options.num_threads = num_threads;
   pool_options.auto_fix = auto_fix;
+  // Single precision past the budget, as activecal_select --pool_storage.
+  pool_options.reads_float =
+      (algorithm == "fedorov" || algorithm == "approx") &&
+      criterion != "task_rms";
+  if (!PoolStorageFromString(pool_storage, &pool_options.storage)) {
+    Fail("pool_storage must be 'auto', 'double' or 'float', got '" +
+         pool_storage + "'");
+  }
+  pool_options.max_double_pool_mib = max_double_pool_mib;
+  {
+    std::string error;
+    if (!pool_options.IsValid(&error)) Fail(error);
+  }
   pool_options.progress = bridge.Callback("jacobians");
   options.approximate_progress = bridge.Callback("approximate");
   options.restarts_progress = bridge.Callback("restarts");
@@ -165,6 +179,7 @@ std::shared_ptr<DesignResult> SelectPy(
       SelectionPoolSummary pool_summary;
       const bool pool_built = BuildSelectionPool(
           &model, pool_joints, pool_options, &pool, &pool_summary);
+      result->single_precision = pool_summary.single_precision;
       for (const DroppedParameter& d : pool_summary.dropped) {
         result->notes.push_back(
             "parameter_set=" +

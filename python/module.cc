@@ -342,6 +342,13 @@ PYBIND11_MODULE(activecal, m) {
       .def_property_readonly(
           "pool_size",
           [](const DesignResult& d) { return d.summary.pool_size; })
+      .def_property_readonly(
+          "pool_storage",
+          [](const DesignResult& d) {
+            return std::string(d.single_precision ? "float" : "double");
+          },
+          "How the pool's blocks were stored: 'double' or 'float' "
+          "(pool_storage='auto' past max_double_pool_mib)")
       .def_readonly("free_parameters", &DesignResult::free_parameters)
       .def_readonly("auto_fixed", &DesignResult::auto_fixed)
       .def_readonly("notes", &DesignResult::notes)
@@ -428,6 +435,7 @@ PYBIND11_MODULE(activecal, m) {
         py::arg("restarts") = 0, py::arg("initial_poses") = 12,
         py::arg("random_designs") = 5000, py::arg("certificate") = true,
         py::arg("approx_tolerance") = 2e-3, py::arg("polish_pool_size") = 20000,
+        py::arg("pool_storage") = "auto", py::arg("max_double_pool_mib") = 2048,
         py::arg("noise_m") = 1e-4, py::arg("task_poses") = py::none(),
         py::arg("measured") = py::none(), py::arg("target_rms_m") = py::none(),
         py::arg("num_threads") = 0, py::arg("progress") = py::none(),
@@ -648,8 +656,9 @@ PYBIND11_MODULE(activecal, m) {
       .def(
           "save",
           [](const CompensationResult& c, const py::object& path) {
-            WriteText(PathArg(path), CompensatedPosesCsvText(c.robot->model(),
-                                                    c.pose_indices, c.summary));
+            WriteText(PathArg(path),
+                      CompensatedPosesCsvText(c.robot->model(), c.pose_indices,
+                                              c.summary));
           },
           py::arg("path"),
           "Writes the compensated program as activecal_compensate --out "

@@ -210,3 +210,29 @@ def test_task_design_with_measured_poses_and_target(puma, tmp_path):
     assert target["rms_by_size_m"][k] == design.predicted_task_rms_m
     with pytest.raises(ValueError, match="measured needs criterion='task_rms'"):
         activecal.select(puma, measured=measured, **SMALL)
+
+
+def test_single_precision_pool_as_the_program(puma, tmp_path):
+    # pool_storage='float' (and 'auto' past max_double_pool_mib=0): the
+    # same design, log det and certificate as activecal_select with the
+    # same flags; the pool is stored in float, the numbers are in double.
+    expected, _ = program_design(tmp_path, "fedorov", 2,
+                                 extra=["--pool_storage=float"])
+    assert expected["pool_storage"] == "float"
+    design = activecal.select(puma, algorithm="fedorov", seed=2,
+                              pool_storage="float", **SMALL)
+    assert design.pool_storage == "float"
+    assert list(design.pose_indices) == expected["pose_indices"]
+    assert design.log10_det == expected["log10_det"]
+    assert design.efficiency_lower_bound == expected["efficiency_lower_bound"]
+    auto = activecal.select(puma, algorithm="fedorov", seed=2,
+                            max_double_pool_mib=0, **SMALL)
+    assert auto.pool_storage == "float"
+    assert list(auto.pose_indices) == expected["pose_indices"]
+    # Within the budget (and by default) the pool stays in double.
+    assert activecal.select(puma, seed=2, **SMALL).pool_storage == "double"
+    # Only fedorov/approx with the D criterion read float pools.
+    with pytest.raises(ValueError, match="float storage needs a design"):
+        activecal.select(puma, algorithm="eae", pool_storage="float", **SMALL)
+    with pytest.raises(ValueError, match="pool_storage must be 'auto'"):
+        activecal.select(puma, pool_storage="half", **SMALL)
