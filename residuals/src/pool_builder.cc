@@ -38,7 +38,10 @@ void RenamePoolPose(const std::function<int64_t(int64_t)>& to_pool,
   if (at == std::string::npos) return;
   const size_t first = at + key.size();
   size_t last = first;
-  while (last < message->size() && std::isdigit(static_cast<unsigned char>((*message)[last]))) ++last;
+  while (last < message->size() &&
+         std::isdigit(static_cast<unsigned char>((*message)[last]))) {
+    ++last;
+  }
   if (last == first) return;
   const int64_t i = std::stoll(message->substr(first, last - first));
   message->replace(first, last - first, std::to_string(to_pool(i)));
