@@ -40,9 +40,9 @@ TEST(ScaleReviewTest, SinglePrecisionWithCheckNamesTheBadPoseInTheWholePool) {
       CandidatePoolSummary summary;
       EXPECT_FALSE(BuildCandidatePool(&model, model.nominal, j, options, &pool,
                                       &summary));
-      EXPECT_EQ(summary.message.rfind("pool pose " + std::to_string(bad) + ":",
-                                      0),
-                0u)
+      EXPECT_EQ(
+          summary.message.rfind("pool pose " + std::to_string(bad) + ":", 0),
+          0u)
           << summary.message;
     }
   }

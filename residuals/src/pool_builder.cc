@@ -168,8 +168,7 @@ bool BuildSinglePrecisionPool(RobotModel* model,
                        &sample, &summary->message)) {
       // Name the pose in the whole pool, not in the sample.
       if (!chosen.empty()) {
-        RenamePoolPose([&](int64_t i) { return chosen[i]; },
-                       &summary->message);
+        RenamePoolPose([&](int64_t i) { return chosen[i]; }, &summary->message);
       }
       return false;
     }
