@@ -2,12 +2,17 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/residuals/pool_builder.h"
+#include "activecal/selection/approximate_design.h"
+#include "activecal/selection/fedorov.h"
 
 namespace activecal {
 namespace {
@@ -46,6 +51,69 @@ TEST(ScaleReviewTest, SinglePrecisionWithCheckNamesTheBadPoseInTheWholePool) {
           << summary.message;
     }
   }
+}
+
+// The process's peak resident set (VmHWM), in bytes; reset by writing 5 to
+// /proc/self/clear_refs. -1 where unavailable.
+int64_t PeakRssBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) {
+      std::istringstream in(line.substr(6));
+      int64_t kb = -1;
+      in >> kb;
+      return kb * 1024;
+    }
+  }
+  return -1;
+}
+bool ResetPeakRss() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.close();
+  return static_cast<bool>(clear);
+}
+
+TEST(ScaleReviewTest, RoundingOnlyOnAFloatPoolDoesNotHoldItInDouble) {
+  // approx is FedorovExchange with max_swaps = 0: the rounding only. On a
+  // single-precision pool with polish_pool_size <= 0 the polish (which can
+  // make no swap) built a double sub-pool of the whole eligible pool: the
+  // pool held twice, in float and in double.
+  const Eigen::MatrixXd joints = PumaLatticeJoints(8);  // 262,144 poses
+  RobotModel m = Puma560PaperModel();
+  CandidatePoolOptions pool_options;
+  pool_options.single_precision = true;
+  pool_options.num_threads = 2;
+  CandidatePool pool;
+  CandidatePoolSummary pool_summary;
+  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, joints, pool_options, &pool,
+                                 &pool_summary))
+      << pool_summary.message;
+  const int64_t double_bytes = pool.storage_bytes() * 2;  // 170 MB
+  ApproximateDesignOptions a;
+  a.tolerance = 1e-2;
+  a.num_threads = 2;
+  ApproximateDesignSummary approx;
+  ASSERT_TRUE(SolveApproximateDesign(pool, {}, a, &approx)) << approx.message;
+  FedorovOptions o;
+  o.num_poses = 30;
+  o.restarts = 1;
+  o.max_swaps = 0;
+  o.polish_pool_size = 0;
+  o.num_threads = 2;
+  if (!ResetPeakRss()) GTEST_SKIP() << "cannot reset the peak RSS";
+  const int64_t before = PeakRssBytes();
+  ASSERT_GT(before, 0);
+  SelectionSummary summary;
+  ASSERT_TRUE(FedorovExchange(pool, {}, o, &approx, &summary))
+      << summary.message;
+  const int64_t grown = PeakRssBytes() - before;
+  EXPECT_LT(grown, double_bytes / 2)
+      << "peak RSS grew by " << grown << " bytes; the pool in double is "
+      << double_bytes << " bytes";
+  EXPECT_EQ(summary.design.size(), 30u);
+  EXPECT_TRUE(std::isfinite(summary.log_det));
 }
 
 }  // namespace
