@@ -3,7 +3,9 @@
 #include <glog/logging.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -24,6 +26,25 @@ std::vector<int64_t> SampleBlockIndices(int64_t blocks, int64_t n) {
   std::vector<int64_t> chosen = random.SampleWithoutReplacement(blocks, n);
   std::sort(chosen.begin(), chosen.end());
   return chosen;
+}
+
+// PoolJacobians names a failing pose by its row in the joints it was given
+// ("pool pose N: ..." or "... at pool pose N"): rewrites N to to_pool(N),
+// its index in the whole pool.
+void RenamePoolPose(const std::function<int64_t(int64_t)>& to_pool,
+                    std::string* message) {
+  const std::string key = "pool pose ";
+  const size_t at = message->find(key);
+  if (at == std::string::npos) return;
+  const size_t first = at + key.size();
+  size_t last = first;
+  while (last < message->size() &&
+         std::isdigit(static_cast<unsigned char>((*message)[last]))) {
+    ++last;
+  }
+  if (last == first) return;
+  const int64_t i = std::stoll(message->substr(first, last - first));
+  message->replace(first, last - first, std::to_string(to_pool(i)));
 }
 
 // What a single-precision pool's exact source recomputes its blocks from.
@@ -130,11 +151,11 @@ bool BuildSinglePrecisionPool(RobotModel* model,
   const int64_t n = joints.rows();
   if (options.check_identifiability) {
     Eigen::MatrixXd sample_joints;
+    std::vector<int64_t> chosen;  // empty: every pose
     if (n * t <= options.max_analysis_rows) {
       sample_joints = joints;
     } else {
-      const std::vector<int64_t> chosen =
-          SampleBlockIndices(n, options.max_analysis_rows / t);
+      chosen = SampleBlockIndices(n, options.max_analysis_rows / t);
       sample_joints.resize(chosen.size(), joints.cols());
       for (size_t k = 0; k < chosen.size(); ++k) {
         sample_joints.row(k) = joints.row(chosen[k]);
@@ -145,6 +166,10 @@ bool BuildSinglePrecisionPool(RobotModel* model,
     RowMatrixXd sample;
     if (!PoolJacobians(*model, parameters, sample_joints, sample_options,
                        &sample, &summary->message)) {
+      // Name the pose in the whole pool, not in the sample.
+      if (!chosen.empty()) {
+        RenamePoolPose([&](int64_t i) { return chosen[i]; }, &summary->message);
+      }
       return false;
     }
     std::vector<int> fixed_columns;
@@ -168,14 +193,8 @@ bool BuildSinglePrecisionPool(RobotModel* model,
     if (!PoolJacobians(*model, parameters, joints.middleRows(begin, count),
                        chunk_options, &chunk, &summary->message)) {
       // Name the pose in the whole pool, not in the chunk.
-      const std::string prefix = "pool pose ";
-      if (summary->message.compare(0, prefix.size(), prefix) == 0) {
-        const size_t end = summary->message.find(':');
-        const int64_t i = std::stoll(
-            summary->message.substr(prefix.size(), end - prefix.size()));
-        summary->message =
-            prefix + std::to_string(begin + i) + summary->message.substr(end);
-      }
+      RenamePoolPose([begin](int64_t i) { return begin + i; },
+                     &summary->message);
       return false;
     }
     stacked.middleRows(begin * t, count * t) = chunk.cast<float>();

@@ -660,7 +660,14 @@ bool FedorovExchange(const CandidatePool& pool,
     const bool whole_pool =
         !single && (options.polish_pool_size <= 0 ||
                     pool.size() <= options.polish_pool_size);
-    if (whole_pool) {
+    if (options.max_swaps == 0) {
+      // Rounding only: the polish could make no swap, and would build a
+      // double sub-pool (of the whole eligible pool at polish_pool_size <= 0:
+      // a single-precision pool held twice).
+      polished.ok = true;
+      polished.design = initial;
+      polished.history.push_back(SelectionStep());  // skipped below
+    } else if (whole_pool) {
       polished = FedorovRestart(pool, eligible, is_fixed, initial, options,
                                 options.num_threads);
     } else {
