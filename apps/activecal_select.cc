@@ -206,7 +206,7 @@ int Main() {
   }
   if (pool_summary.single_precision) {
     std::printf(
-        "  pool stored in single precision: %.0f MiB instead of %.0f MiB "
+        "  pool stored in single precision: %.4g MiB instead of %.4g MiB "
         "(design log det and certificate computed in double)\n",
         pool_summary.double_mib / 2, pool_summary.double_mib);
   }
@@ -330,6 +330,11 @@ int Main() {
   const double predicted_rms = select.predicted_task_rms_m;
   const double total_seconds = app::Seconds(start);
   std::printf("%s", select.BriefReport().c_str());
+  if (need_approx && pool.single_precision()) {
+    std::printf(
+        "  (the approximate design's bound is over the stored float blocks; "
+        "the design's log det and certificate are over the double ones)\n");
+  }
   std::printf("  predicted task RMS %.6g m over %lld task poses (sigma %g m",
               predicted_rms, static_cast<long long>(num_task_poses),
               FLAGS_noise_m);
