@@ -11,7 +11,7 @@ namespace python {
 // tolerance for measured joints (a NaN row is bad input, not a target
 // that did not converge).
 static void CheckRows(const RobotModel& model, const Eigen::MatrixXd& rows,
-               const std::string& what) {
+                      const std::string& what) {
   for (int r = 0; r < rows.rows(); ++r) {
     std::string error;
     if (!model.CheckJointValues(rows.row(r).transpose(), &error,

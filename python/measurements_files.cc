@@ -184,9 +184,10 @@ Measurements MakeMeasurements(
     }
     for (size_t i = 0; i < mk.size(); ++i) {
       if (mk[i] < 0 || mk[i] > std::numeric_limits<int>::max()) {
-        Fail("markers: expected marker numbers >= 0 (markers are numbered "
-             "from 0), got " +
-             std::to_string(mk[i]) + " in row " + std::to_string(i));
+        Fail(
+            "markers: expected marker numbers >= 0 (markers are numbered "
+            "from 0), got " +
+            std::to_string(mk[i]) + " in row " + std::to_string(i));
       }
     }
   }
@@ -323,8 +324,9 @@ Measurements MeasurementsFromState(const py::tuple& state) {
   m.items.resize(n);
   for (size_t i = 0; i < n; ++i) {
     Measurement& x = m.items[i];
-    if (types[i] < 0 || types[i] > static_cast<int>(MeasurementType::kDistance) ||
-        nj[i] < 0 || nj2[i] < 0 || k + nj[i] + nj2[i] > joints.size()) {
+    if (types[i] < 0 ||
+        types[i] > static_cast<int>(MeasurementType::kDistance) || nj[i] < 0 ||
+        nj2[i] < 0 || k + nj[i] + nj2[i] > joints.size()) {
       Fail("Measurements: inconsistent pickle state");
     }
     x.type = static_cast<MeasurementType>(types[i]);

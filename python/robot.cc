@@ -177,10 +177,9 @@ py::tuple RobotState(const Robot& robot) {
   options.true_parameters = robot.description.true_parameters;
   const std::string text =
       RobotFileText(robot.model(), robot.model().nominal, options);
-  return py::make_tuple(
-      1, py::bytes(text), robot.path, robot.urdf,
-      robot.description.angle_unit == AngleUnit::kDegree,
-      robot.description.true_parameters.size() > 0);
+  return py::make_tuple(1, py::bytes(text), robot.path, robot.urdf,
+                        robot.description.angle_unit == AngleUnit::kDegree,
+                        robot.description.true_parameters.size() > 0);
 }
 
 RobotPtr RobotFromState(const py::tuple& state) {
