@@ -37,19 +37,30 @@ py::array_t<bool> FreeFlags(const RobotModel& model) {
   return flags;
 }
 
-// forward(q): the measured point (m) at joint readings q, (3,) or (n, 3).
-py::array_t<double> Forward(const Robot& robot, const py::object& q_obj,
-                            const py::object& parameters, int marker) {
+// The arguments forward and jacobian share: the marker, the joint
+// readings q (one pose or n, checked against the ranges) and the
+// parameters.
+static void PointArgs(const Robot& robot, const py::object& q_obj,
+                      const py::object& parameters, int marker,
+                      Eigen::MatrixXd* q, Eigen::VectorXd* p, bool* one) {
   const RobotModel& model = robot.model();
   if (marker < 0 || marker >= model.num_markers()) {
     Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
          "], got " + std::to_string(marker));
   }
+  *q = MatrixArg(q_obj, "q", model.num_joints(), true, one);
+  *p = ParametersArg(robot, parameters);
+  for (int r = 0; r < q->rows(); ++r) CheckQ(model, q->row(r), r, !*one);
+}
+
+// forward(q): the measured point (m) at joint readings q, (3,) or (n, 3).
+py::array_t<double> Forward(const Robot& robot, const py::object& q_obj,
+                            const py::object& parameters, int marker) {
+  const RobotModel& model = robot.model();
   bool one = false;
-  const Eigen::MatrixXd q =
-      MatrixArg(q_obj, "q", model.num_joints(), true, &one);
-  const Eigen::VectorXd p = ParametersArg(robot, parameters);
-  for (int r = 0; r < q.rows(); ++r) CheckQ(model, q.row(r), r, !one);
+  Eigen::MatrixXd q;
+  Eigen::VectorXd p;
+  PointArgs(robot, q_obj, parameters, marker, &q, &p, &one);
   py::array_t<double> out =
       one ? py::array_t<double>(3)
           : py::array_t<double>({static_cast<py::ssize_t>(q.rows()),
@@ -100,15 +111,10 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
                                double rotation_weight) {
   const RobotModel& model = robot.model();
   const MeasurementType type = MeasurementTypeArg(type_name, false, "type");
-  if (marker < 0 || marker >= model.num_markers()) {
-    Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
-         "], got " + std::to_string(marker));
-  }
   bool one = false;
-  const Eigen::MatrixXd q =
-      MatrixArg(q_obj, "q", model.num_joints(), true, &one);
-  const Eigen::VectorXd p = ParametersArg(robot, parameters);
-  for (int r = 0; r < q.rows(); ++r) CheckQ(model, q.row(r), r, !one);
+  Eigen::MatrixXd q;
+  Eigen::VectorXd p;
+  PointArgs(robot, q_obj, parameters, marker, &q, &p, &one);
   const int rows = MeasurementDimension(type);
   const int cols = model.num_free();
   std::vector<py::ssize_t> shape;

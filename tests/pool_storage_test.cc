@@ -20,13 +20,7 @@
 namespace activecal {
 namespace {
 
-Eigen::MatrixXd PumaLatticeJoints(int levels) {
-  const RobotModel m = Puma560PaperModel();
-  JointLattice lattice;
-  std::string error;
-  EXPECT_TRUE(JointLattice::Create(m, levels, &lattice, &error)) << error;
-  return lattice.AllJointValues();
-}
+using testing::PumaLatticeJoints;
 
 TEST(CandidatePoolStorageTest, FloatPoolReadsWidenedAndRefusesDoubleViews) {
   RowMatrixXd rows = RowMatrixXd::Random(12, 5);

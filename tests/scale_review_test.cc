@@ -13,17 +13,12 @@
 #include "activecal/residuals/pool_builder.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/fedorov.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
 
-Eigen::MatrixXd PumaLatticeJoints(int levels) {
-  const RobotModel m = Puma560PaperModel();
-  JointLattice lattice;
-  std::string error;
-  EXPECT_TRUE(JointLattice::Create(m, levels, &lattice, &error)) << error;
-  return lattice.AllJointValues();
-}
+using testing::PumaLatticeJoints;
 
 TEST(ScaleReviewTest, SinglePrecisionWithCheckNamesTheBadPoseInTheWholePool) {
   // 7^6 = 117,649 poses, more rows than max_analysis_rows: the

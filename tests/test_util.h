@@ -37,6 +37,15 @@ inline CandidatePool PumaPool(int levels, JointLattice* lattice_out = nullptr) {
   return pool;
 }
 
+// The PUMA lattice's joint values with `levels` values per joint.
+inline Eigen::MatrixXd PumaLatticeJoints(int levels) {
+  const RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(m, levels, &lattice, &error)) << error;
+  return lattice.AllJointValues();
+}
+
 // Random joint values inside the model's ranges.
 inline Eigen::VectorXd RandomJoints(const RobotModel& model, Random* random) {
   Eigen::VectorXd q(model.num_joints());
