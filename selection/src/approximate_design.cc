@@ -1,7 +1,6 @@
 #include "activecal/selection/approximate_design.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include "activecal/selection/information_matrix.h"
 #include "selection_internal.h"
 #include "sub_pool.h"
+#include "weight_exchange.h"
 
 namespace activecal {
 
@@ -31,62 +31,13 @@ bool ApproximateDesignOptions::IsValid(std::string* error) const {
 
 namespace {
 
-constexpr double kNegInf = -std::numeric_limits<double>::infinity();
-
-// M(w) over a working set and its inverse.
-struct WeightedInformation {
-  Eigen::MatrixXd M, V;
-  double log_det = kNegInf;
-  bool Factor() {
-    // Cholesky with a relative pivot test: a numerically singular M(w)
-    // would give a meaningless inverse.
-    Eigen::LLT<Eigen::MatrixXd> llt(M);
-    log_det = LogDetSpd(M);
-    if (!std::isfinite(log_det)) return false;
-    V = llt.solve(Eigen::MatrixXd::Identity(M.rows(), M.cols()));
-    return true;
-  }
-};
+using internal::WeightedInformation;
 
 Eigen::MatrixXd Outer(const CandidatePool& pool, int64_t i,
                       RowMatrixXd* buffer) {
   // A view for a double pool (as block(i)), widened for a float one.
   const auto X = pool.Rows(i, 1, buffer);
   return X.transpose() * X;
-}
-
-// The step alpha in [0, max_step] maximising log det(M + alpha (A+ - A-)),
-// A+ = X+^T X+, A- = X-^T X-. With U = [X+^T X-^T], G = U^T V U and
-// S = diag(I, -I), log det(M + alpha B) - log det M = log det(I + alpha S G),
-// whose derivative tr((I + alpha S G)^-1 S G) decreases in alpha.
-double LineSearch(const Eigen::MatrixXd& G, int t, double max_step) {
-  const int n = 2 * t;
-  Eigen::MatrixXd SG = G;
-  SG.bottomRows(t) *= -1.0;
-  auto derivative = [&](double a) {
-    Eigen::MatrixXd A = a * SG;
-    A.diagonal().array() += 1.0;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu(A);
-    // det(I + a S G) = det M(w') / det M(w): at or near zero the step
-    // would make M(w') singular; treat the derivative as -inf there.
-    if (!(lu.determinant() > 1e-8)) return kNegInf;
-    return lu.solve(SG).trace();
-  };
-  if (derivative(0.0) <= 0) return 0.0;
-  const double at_max = derivative(max_step);
-  if (at_max >= 0 && std::isfinite(at_max)) return max_step;
-  double lo = 0.0, hi = max_step;
-  for (int k = 0; k < 60; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    const double d = derivative(mid);
-    if (d > 0 && std::isfinite(d)) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  (void)n;
-  return lo;
 }
 
 // The weights on a working set of a pool, their information matrix, and
@@ -133,6 +84,9 @@ bool SolveOnPool(const CandidatePool& pool, const std::vector<char>& eligible,
     return info.Factor();
   };
   std::vector<char> in_set(pool.size(), 0);
+  // The largest variance over the pool at the last sweep (for the warm
+  // start: the caller's, if it made one).
+  double pool_max = summary->max_variance;
   if (warm) {
     for (int64_t i : working) in_set[i] = 1;
     if (!rebuild()) {
@@ -163,6 +117,7 @@ bool SolveOnPool(const CandidatePool& pool, const std::vector<char>& eligible,
                      options.num_threads, &d);
     if (count_sweeps) ++summary->full_sweeps;
     working = top_by_variance(4 * p, in_set);
+    if (!working.empty()) pool_max = d[working.front()];
     for (int64_t i : working) in_set[i] = 1;
     w.assign(working.size(), 1.0 / working.size());
     // Grow the start until M(w) is non-singular.
@@ -185,107 +140,27 @@ bool SolveOnPool(const CandidatePool& pool, const std::vector<char>& eligible,
   Eigen::VectorXd dw;
   while (summary->rounds < options.max_rounds) {
     if (options.progress) options.progress(summary->rounds, options.max_rounds);
-    ++summary->rounds;
-    // Inner: optimise the weights on the working set. Every
-    // kRecomputeInterval steps M(w), V and the variances are recomputed
-    // from the weights (and a multiplicative sweep is made); in between,
-    // vertex exchanges update V and the variances by rank-2t formulas.
-    constexpr int kRecomputeInterval = 25;
+    // Inner: optimise the weights on the working set.
     const int64_t nw = static_cast<int64_t>(working.size());
     RowMatrixXd Xw(nw * t, p);
     for (int64_t k = 0; k < nw; ++k) {
       Xw.middleRows(k * t, t) = pool.Rows(working[k], 1, &buffer);
     }
-    RowMatrixXd P, Q;
-    auto block_traces = [&](const RowMatrixXd& A, const RowMatrixXd& B,
-                            Eigen::VectorXd* out) {
-      // out_k = sum over block k's rows of the row-wise dot of A and B.
-      const Eigen::VectorXd rows = A.cwiseProduct(B).rowwise().sum();
-      out->resize(nw);
-      for (int64_t k = 0; k < nw; ++k) (*out)[k] = rows.segment(k * t, t).sum();
-    };
-    Eigen::VectorXd delta, dw_good;
-    std::vector<double> w_good = w;
-    bool converged_inner = false;
-    for (int it = 0; it < options.max_inner_iterations; ++it) {
-      ++summary->inner_iterations;
-      if (it % kRecomputeInterval == 0) {
-        if (it > 0) {
-          // Multiplicative sweep: w_k <- w_k d_k / p (sum is preserved).
-          for (int64_t k = 0; k < nw; ++k) w[k] *= dw[k] / p;
-        }
-        if (!rebuild()) {
-          // Rounding took M(w) to the edge of singularity: go back to the
-          // last good weights and take a multiplicative sweep from there
-          // (it keeps every weight positive).
-          w = w_good;
-          for (int64_t k = 0; k < nw; ++k) w[k] *= dw_good[k] / p;
-          if (!rebuild()) {
-            *error = "lost positive definiteness in the weight update";
-            return false;
-          }
-        }
-        w_good = w;
-        P.noalias() = Xw * info.V;
-        block_traces(P, Xw, &dw);
-        dw_good = dw;
-      }
-      int kp = 0, km = -1;
-      for (int64_t k = 0; k < nw; ++k) {
-        if (dw[k] > dw[kp]) kp = k;
-        if (w[k] > 0 && (km < 0 || dw[k] < dw[km])) km = k;
-      }
-      if (dw[kp] <= inner_target && it % kRecomputeInterval == 0) {
-        converged_inner = true;
-        break;
-      }
-      if (kp == km) continue;
-      // Vertex exchange: weight from the weakest support pose to the
-      // strongest pose, by exact line search.
-      Eigen::MatrixXd U(p, 2 * t);
-      U.leftCols(t) = Xw.middleRows(kp * t, t).transpose();
-      U.rightCols(t) = Xw.middleRows(km * t, t).transpose();
-      const Eigen::MatrixXd VU = info.V * U;
-      const Eigen::MatrixXd G = U.transpose() * VU;
-      const double alpha = LineSearch(G, t, w[km]);
-      if (!(alpha > 0)) continue;
-      w[kp] += alpha;
-      w[km] -= alpha;
-      // det M(w') / det M(w) = det(I + alpha S G). A step that takes most
-      // of the information out of some direction is not trusted to the
-      // update formula: recompute from the weights.
-      Eigen::MatrixXd SG = G;
-      SG.bottomRows(t) *= -1.0;
-      Eigen::MatrixXd R = alpha * SG;
-      R.diagonal().array() += 1.0;
-      if (!(R.determinant() > 1e-3)) {
-        if (w[km] < 1e-14) w[km] = 0.0;
-        if (!rebuild()) {
-          *error = "lost positive definiteness in the weight update";
-          return false;
-        }
-        P.noalias() = Xw * info.V;
-        block_traces(P, Xw, &dw);
-        continue;
-      }
-      // V' = V - VU K VU^T with K = (S / alpha + G)^-1, S = diag(I, -I).
-      Eigen::MatrixXd C = G;
-      C.diagonal().head(t).array() += 1.0 / alpha;
-      C.diagonal().tail(t).array() -= 1.0 / alpha;
-      const Eigen::MatrixXd K = C.inverse();
-      info.V.noalias() -= VU * K * VU.transpose();
-      P.noalias() = Xw * VU;
-      Q.noalias() = P * K;
-      block_traces(P, Q, &delta);
-      dw -= delta;
-      if (w[km] < 1e-14) w[km] = 0.0;
-    }
-    if (!converged_inner && !rebuild()) {
-      w = w_good;
-      if (!rebuild()) {
-        *error = "lost positive definiteness in the weight update";
-        return false;
-      }
+    internal::WeightExchangeOptions inner;
+    // The working set is solved only as far as the last sweep's violation
+    // warrants: to a quarter of the pool's excess over p (the tolerance
+    // at the end). The working set changes after every sweep, so solving
+    // it further is wasted; the stopping test is over the whole pool.
+    inner.target = std::isfinite(pool_max)
+                       ? std::max(inner_target, p + 0.25 * (pool_max - p))
+                       : inner_target;
+    inner.max_iterations = options.max_inner_iterations;
+    inner.num_top = p;
+    Random random(Random::StreamSeed(options.seed, summary->rounds));
+    ++summary->rounds;
+    if (!internal::ExchangeWeights(Xw, t, inner, &random, &w, &info, &dw,
+                                   &summary->inner_iterations, error)) {
+      return false;
     }
     // Outer: check the whole pool.
     ComputeVariances(pool, info.V, options.num_threads, &d);
@@ -294,7 +169,7 @@ bool SolveOnPool(const CandidatePool& pool, const std::vector<char>& eligible,
     for (int64_t i = 0; i < pool.size(); ++i) {
       if (eligible[i] && (arg < 0 || d[i] > d[arg])) arg = i;
     }
-    summary->max_variance = d[arg];
+    summary->max_variance = pool_max = d[arg];
     summary->log_det = info.log_det;
     if (d[arg] <= target) break;
     // Add the worst violators, drop dead weight that is far from optimal.

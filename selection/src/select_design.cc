@@ -144,6 +144,7 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
     a.progress = options.approximate_progress;
     a.tolerance = options.approx_tolerance;
     a.num_threads = options.num_threads;
+    a.seed = options.seed;
     if (!SolveApproximateDesign(pool, {}, a, &s.approx) &&
         s.approx.support.empty()) {
       return fail(TerminationType::kFailure,

@@ -24,10 +24,15 @@
 //
 // The solver works on a small working set of poses (the support and the
 // poses that violate the equivalence theorem most), moving weight between
-// pairs of poses by exact line search (vertex exchange, Bohning 1986) with
-// multiplicative sweeps (Titterington 1976), and checks its candidate set
-// after each round. It stops when max_i d_i(w) <= p (1 + tolerance) over
-// the whole pool.
+// pairs of poses by exact line search: the vertex exchange (Bohning 1986)
+// between the poses of largest and least variance, and exchanges within
+// random pairs of the support and the poses of largest variance
+// (randomized exchange, after Harman, Filova & Richtarik 2020), each
+// pair's variances read from an inverse kept by rank-2t updates and
+// recomputed from the weights every iteration. Each round solves the
+// working set to a quarter of the last whole-pool excess max_i d_i - p
+// (to tolerance / 2 at the end), then checks its candidate set. It stops
+// when max_i d_i(w) <= p (1 + tolerance) over the whole pool.
 //
 // On a pool of at most subsample_size eligible poses the candidate set is
 // the pool: every round ends with a sweep over it. On a larger pool it is
@@ -59,13 +64,16 @@ struct ApproximateDesignOptions {
   // 1 / (1 + tolerance) D-efficient.
   double tolerance = 1e-4;
   int max_rounds = 200;              // candidate-set checks, in total
-  int max_inner_iterations = 20000;  // per round, on the working set
+  // Per round, on the working set: recomputations of M(w), each followed
+  // by one vertex exchange and one pass of random pair exchanges.
+  int max_inner_iterations = 20000;
   int num_threads = 0;               // <= 0: all; result does not depend on it
   // Pools with more eligible poses than this start on a random subsample
   // of this many (see above); <= 0: max(20000, 200 p).
   int64_t subsample_size = 0;
-  // The subsample's random seed (the result depends on it only through
-  // the subsample; any seed gives a certified solution).
+  // The seed of the subsample and of the random exchange pairs (any seed
+  // gives a certified solution; the weights found depend on it within the
+  // tolerance).
   uint64_t seed = 1;
   // Violators added to the candidate set per full-pool sweep; <= 0: 100 p
   // (on a 10^6-pose KUKA pool 6 full sweeps, against 8 with 25 p).
