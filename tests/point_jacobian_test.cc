@@ -117,6 +117,41 @@ TEST(PointJacobianTest, UrdfPrismaticFirstJoint) {
   ExpectAnalyticEqualsAutoDiff(UrdfWithFixedAndPrismaticStart(), 20, 5);
 }
 
+// A workspace keeps the per-block trigonometry of URDF links between calls:
+// when the parameters change (one angle of one link, or every value), the
+// Jacobian is the one a fresh workspace computes, bit for bit, and the
+// auto-diff one.
+TEST(PointJacobianTest, UrdfCacheFollowsTheParameters) {
+  Random random(9);
+  const RobotModel m = AllFree(testing::UrdfStyleModel(), &random);
+  const int p = m.num_free();
+  Eigen::VectorXd other = m.nominal;
+  other[m.block_offset(2) + kUrdfRy] += 0.01;  // one angle of one link
+  Eigen::VectorXd moved = m.nominal;
+  for (int i : m.FreeParameterIndices()) moved[i] += 0.02;
+  PointJacobianWorkspace reused(m);
+  using Row3 = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+  for (int call = 0; call < 9; ++call) {
+    const Eigen::VectorXd& params =
+        call % 3 == 0 ? m.nominal : (call % 3 == 1 ? other : moved);
+    const std::vector<const double*> blocks = BlockPointers(m, params.data());
+    const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+    Row3 a(3, p), b(3, p);
+    MeasuredPointJacobian(m, blocks.data(), q.data(), 0, &reused, a.data());
+    PointJacobianWorkspace fresh(m);
+    MeasuredPointJacobian(m, blocks.data(), q.data(), 0, &fresh, b.data());
+    EXPECT_EQ(a, b) << "call " << call;
+    Measurement meas;
+    meas.joints = q;
+    Eigen::MatrixXd autodiff;
+    std::string error;
+    ASSERT_TRUE(MeasurementJacobian(m, params, meas, 1.0, &autodiff, &error));
+    EXPECT_LE((a - autodiff).cwiseAbs().maxCoeff(),
+              1e-12 * std::max(1.0, autodiff.cwiseAbs().maxCoeff()))
+        << "call " << call;
+  }
+}
+
 // Only free columns, in free-parameter order, with some parameters held.
 TEST(PointJacobianTest, FreeColumnsOnly) {
   RobotModel m = testing::UrdfStyleModel();

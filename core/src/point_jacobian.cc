@@ -1,6 +1,7 @@
 #include "activecal/core/point_jacobian.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "activecal/core/kinematics.h"
@@ -24,6 +25,7 @@ void RpyAxes(double ry, double rz, Vector3d* ax, Vector3d* ay, Vector3d* az) {
 // d(L x)/d p_k of one link or base block, in the block's parent frame, for
 // the point y = L x (parent frame). Writes block_size columns.
 void LinkColumns(const Link& link, const double* p, double q, const Vector3d& y,
+                 const PointJacobianWorkspace::UrdfLinkCache* urdf,
                  Vector3d* col) {
   switch (link.convention) {
     case LinkConvention::kFrame: {
@@ -41,22 +43,18 @@ void LinkColumns(const Link& link, const double* p, double q, const Vector3d& y,
     }
     case LinkConvention::kUrdf: {
       // y = o + Ro (tc + Rc M(x)), M the joint motion; w = Rc M(x).
-      const Matrix3d Ro = RpyRotation(link.origin_rpy[0], link.origin_rpy[1],
-                                      link.origin_rpy[2]);
+      const Matrix3d& Ro = urdf->origin_rotation;
       const Vector3d tc(p[kUrdfX], p[kUrdfY], p[kUrdfZ]);
       const Vector3d w = Ro.transpose() * (y - link.origin_xyz) - tc;
-      Vector3d ax, ay, az;
-      RpyAxes(p[kUrdfRy], p[kUrdfRz], &ax, &ay, &az);
       col[kUrdfX] = Ro.col(0);
       col[kUrdfY] = Ro.col(1);
       col[kUrdfZ] = Ro.col(2);
-      col[kUrdfRx] = Ro * ax.cross(w);
-      col[kUrdfRy] = Ro * ay.cross(w);
-      col[kUrdfRz] = Ro * az.cross(w);
+      col[kUrdfRx] = Ro * urdf->ax.cross(w);
+      col[kUrdfRy] = Ro * urdf->ay.cross(w);
+      col[kUrdfRz] = Ro * Vector3d::UnitZ().cross(w);
       Vector3d motion = Vector3d::Zero();  // d y / d s, s = offset + gain q
       if (link.joint_type != JointType::kFixed) {
-        const Vector3d axis =
-            RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]) * link.axis;
+        const Vector3d& axis = urdf->axis;
         motion = Ro * (link.joint_type == JointType::kRevolute
                            ? Vector3d(axis.cross(w))
                            : axis);
@@ -110,10 +108,47 @@ void LinkColumns(const Link& link, const double* p, double q, const Vector3d& y,
   }
 }
 
+// A URDF link's transform from its cache: the expressions (and so the
+// bits) of LinkTransform.
+void UrdfTransform(const Link& link, const double* p, double q,
+                   const PointJacobianWorkspace::UrdfLinkCache& c, Matrix3d* R,
+                   Vector3d* t) {
+  Vector3d tc(p[kUrdfX], p[kUrdfY], p[kUrdfZ]);
+  const double s = p[kUrdfOffset] + p[kUrdfGain] * q;
+  if (link.joint_type == JointType::kRevolute) {
+    *R = c.link_rotation * AxisRotation(link.axis, s);
+  } else {
+    if (link.joint_type == JointType::kPrismatic) {
+      tc += c.correction_rotation * (link.axis * s);
+    }
+    *R = c.link_rotation;
+  }
+  *t = link.origin_xyz + c.origin_rotation * tc;
+}
+
+// The cache of a URDF link for the block p: recomputed only when p changed.
+const PointJacobianWorkspace::UrdfLinkCache& PrepareUrdfLink(
+    const Link& link, const double* p,
+    PointJacobianWorkspace::UrdfLinkCache* c) {
+  constexpr int n = kMaxBlockSize;
+  if (c->valid && std::equal(p, p + n, c->key)) return *c;
+  std::copy(p, p + n, c->key);
+  c->origin_rotation =
+      RpyRotation(link.origin_rpy[0], link.origin_rpy[1], link.origin_rpy[2]);
+  c->correction_rotation = RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]);
+  c->link_rotation = c->origin_rotation * c->correction_rotation;
+  c->axis = c->correction_rotation * link.axis;
+  Vector3d az;
+  RpyAxes(p[kUrdfRy], p[kUrdfRz], &c->ax, &c->ay, &az);
+  c->valid = true;
+  return *c;
+}
+
 }  // namespace
 
 PointJacobianWorkspace::PointJacobianWorkspace(const RobotModel& model)
-    : parent_rotation_(model.num_joints() + 2),
+    : urdf_(model.num_blocks()),
+      parent_rotation_(model.num_joints() + 2),
       parent_translation_(model.num_joints() + 2),
       full_(3, model.num_parameters()),
       free_indices_(model.FreeParameterIndices()),
@@ -136,8 +171,16 @@ void MeasuredPointJacobian(const RobotModel& model, const double* const* blocks,
   tp[0].setZero();
   Matrix3d R;
   Vector3d t;
+  std::vector<PointJacobianWorkspace::UrdfLinkCache>& urdf = workspace->urdf_;
   for (int b = 0; b <= n; ++b) {
-    LinkTransform(model.link(b), blocks[b], b == 0 ? 0.0 : q[b - 1], &R, &t);
+    const Link& link = model.link(b);
+    const double qb = b == 0 ? 0.0 : q[b - 1];
+    if (link.convention == LinkConvention::kUrdf) {
+      UrdfTransform(link, blocks[b], qb,
+                    PrepareUrdfLink(link, blocks[b], &urdf[b]), &R, &t);
+    } else {
+      LinkTransform(link, blocks[b], qb, &R, &t);
+    }
     tp[b + 1] = tp[b] + Rp[b] * t;
     Rp[b + 1] = Rp[b] * R;
   }
@@ -153,7 +196,8 @@ void MeasuredPointJacobian(const RobotModel& model, const double* const* blocks,
   Vector3d col[kMaxBlockSize];
   for (int b = 0; b <= n; ++b) {
     const Vector3d y = Rp[b].transpose() * (point - tp[b]);
-    LinkColumns(model.link(b), blocks[b], b == 0 ? 0.0 : q[b - 1], y, col);
+    LinkColumns(model.link(b), blocks[b], b == 0 ? 0.0 : q[b - 1], y, &urdf[b],
+                col);
     const int offset = workspace->block_offsets_[b];
     for (int k = 0; k < model.block_size(b); ++k) {
       full.col(offset + k).noalias() = Rp[b] * col[k];

@@ -30,10 +30,25 @@ class PointJacobianWorkspace {
  public:
   explicit PointJacobianWorkspace(const RobotModel& model);
 
+  // What a URDF link's transform and columns need that depends on its
+  // parameter block only (not on the joint reading): the sines and
+  // cosines of its origin and correction angles, computed once per block
+  // value instead of once per pose (a pool's poses share the parameters).
+  struct UrdfLinkCache {
+    bool valid = false;
+    double key[kMaxBlockSize] = {};
+    Eigen::Matrix3d origin_rotation;      // Ro
+    Eigen::Matrix3d correction_rotation;  // Rc
+    Eigen::Matrix3d link_rotation;        // Ro Rc
+    Eigen::Vector3d axis;                 // Rc * link.axis
+    Eigen::Vector3d ax, ay;               // RpyAxes of the correction
+  };
+
  private:
   friend void MeasuredPointJacobian(const RobotModel&, const double* const*,
                                     const double*, int, PointJacobianWorkspace*,
                                     double*);
+  std::vector<UrdfLinkCache> urdf_;
   std::vector<Eigen::Matrix3d> parent_rotation_;
   std::vector<Eigen::Vector3d> parent_translation_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> full_;  // 3 x num_parameters
