@@ -233,6 +233,38 @@ TEST(WeightExchangeTest, PairUpdateOfVMatchesRecomputation) {
   }
 }
 
+// The fallback: an iteration whose weights M(w) fails the singularity
+// test (here the relative empty-column test of LogDetSpd: the optimum
+// (1/2, 1/2) puts 1.5e-15 on a column against 0.5 on the other) ends the
+// solve on the last good weights, reported as success (the caller's
+// whole-pool sweep judges them), with M, V and d recomputed from them.
+TEST(WeightExchangeTest, SingularIterationFallsBackToTheLastGoodWeights) {
+  const int t = 1, p = 2;
+  RowMatrixXd X(2, p);
+  X << std::sqrt(3e-15), 0, 0, 1;
+  std::vector<double> w = {0.99, 0.01};
+  const std::vector<double> start = w;
+  internal::WeightExchangeOptions options;
+  options.target = p * (1 + 1e-6);
+  options.max_iterations = 100;
+  options.num_top = p;
+  Random random(1);
+  internal::WeightedInformation info;
+  Eigen::VectorXd d;
+  int64_t iterations = 0;
+  std::string error;
+  ASSERT_TRUE(internal::ExchangeWeights(X, t, options, &random, &w, &info, &d,
+                                        &iterations, &error))
+      << error;
+  EXPECT_EQ(iterations, 1);
+  EXPECT_EQ(w, start);
+  EXPECT_GT(d.maxCoeff(), options.target);  // not converged
+  const Eigen::MatrixXd M = Information(X, t, w);
+  EXPECT_LE((info.M - M).norm(), 1e-12 * M.norm());
+  EXPECT_NEAR(d[0], 1 / w[0], 1e-9);
+  EXPECT_NEAR(d[1], 1 / w[1], 1e-9);
+}
+
 TEST(WeightExchangeTest, SolverReachesTheEquivalenceTheoremAndIsSeeded) {
   const int t = 3, p = 12, m = 150;
   const RowMatrixXd X = RandomBlocks(m, t, p, 11);
