@@ -334,3 +334,72 @@ TEST_F(ApproximateDesignScaleTest, CertificateReadsTheExactBlocks) {
 
 }  // namespace
 }  // namespace activecal
+
+namespace activecal {
+namespace {
+
+// Constraints on the column-generation path (a subsample, warm starts, the
+// quarter-excess inner target) and tiny p: no excluded pose in the
+// support, weights >= 0 summing to 1, and the certificate is the maximum
+// over the eligible poses of the whole pool, recomputed from the weights.
+TEST(ApproximateDesignColumnGenerationTest, ExcludedPosesAndSmallP) {
+  for (int p : {1, 2, 5}) {
+    for (int t : {1, 3}) {
+      const int64_t n = 3000;
+      Random random(100 * p + t);
+      RowMatrixXd rows(n * t, p);
+      for (int64_t r = 0; r < rows.rows(); ++r) {
+        for (int c = 0; c < p; ++c) rows(r, c) = 0.1 * random.Gaussian();
+      }
+      // Strong poses, every third one excluded.
+      const std::vector<int64_t> strong = random.SampleWithoutReplacement(n, 30);
+      std::vector<char> excluded(n, 0);
+      for (size_t k = 0; k < strong.size(); ++k) {
+        rows.middleRows(strong[k] * t, t) *= 10.0;
+        if (k % 3 == 0) excluded[strong[k]] = 1;
+      }
+      CandidatePool pool;
+      std::string error;
+      ASSERT_TRUE(CandidatePool::Create(std::move(rows), t, &pool, &error));
+      DesignConstraints constraints;
+      constraints.excluded = [&](int64_t i) { return excluded[i] != 0; };
+      for (int64_t subsample : {int64_t{0}, int64_t{200}}) {
+        ApproximateDesignOptions options;
+        options.subsample_size = subsample;
+        options.max_added_per_sweep = 5;
+        options.seed = 3;
+        ApproximateDesignSummary s;
+        ASSERT_TRUE(SolveApproximateDesign(pool, constraints, options, &s))
+            << s.message;
+        EXPECT_EQ(s.termination_type, TerminationType::kConvergence)
+            << s.message;
+        EXPECT_EQ(subsample > 0,
+                  s.message.find("subsample") != std::string::npos)
+            << s.message;
+        double total = 0;
+        for (size_t k = 0; k < s.support.size(); ++k) {
+          EXPECT_FALSE(excluded[s.support[k]]) << "p " << p << " t " << t;
+          EXPECT_GT(s.weights[k], 0.0);
+          total += s.weights[k];
+        }
+        EXPECT_NEAR(total, 1.0, 1e-12);
+        const Eigen::MatrixXd M = WeightedInformationOf(pool, s);
+        Eigen::VectorXd d;
+        ComputeVariances(pool,
+                         Eigen::LLT<Eigen::MatrixXd>(M).solve(
+                             Eigen::MatrixXd::Identity(p, p)),
+                         1, &d);
+        double eligible_max = 0;
+        for (int64_t i = 0; i < n; ++i) {
+          if (!excluded[i]) eligible_max = std::max(eligible_max, d[i]);
+        }
+        EXPECT_NEAR(s.max_variance, eligible_max, 1e-9 * p)
+            << "p " << p << " t " << t << " subsample " << subsample;
+        EXPECT_LE(s.max_variance, p * (1 + options.tolerance));
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace activecal

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -150,6 +151,53 @@ TEST(PointJacobianTest, UrdfCacheFollowsTheParameters) {
               1e-12 * std::max(1.0, autodiff.cwiseAbs().maxCoeff()))
         << "call " << call;
   }
+}
+
+// The cache holds what depends on the link too (its nominal origin and
+// axis): a workspace reused for a model that differs only there, or for a
+// block of the same values but other signs of zero, gives the fresh
+// workspace's bits.
+TEST(PointJacobianTest, UrdfCacheFollowsTheLinkAndTheBits) {
+  Random random(10);
+  const RobotModel m = AllFree(testing::UrdfStyleModel(), &random);
+  RobotModel m2 = m;
+  for (Link& link : m2.links) {
+    if (link.convention != LinkConvention::kUrdf) continue;
+    link.origin_rpy += Eigen::Vector3d(0.1, -0.2, 0.3);
+    link.axis = Eigen::Vector3d(link.axis + Eigen::Vector3d(0.1, 0.2, 0.3))
+                    .normalized();
+  }
+  ASSERT_TRUE(m2.Validate(nullptr));
+  const int p = m.num_free();
+  using Row3 = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+  PointJacobianWorkspace reused(m);
+  auto expect_fresh = [&](const RobotModel& model, const Eigen::VectorXd& x,
+                          const char* what) {
+    const std::vector<const double*> blocks = BlockPointers(model, x.data());
+    const Eigen::VectorXd q = testing::RandomJoints(model, &random);
+    Row3 a(3, p), b(3, p);
+    MeasuredPointJacobian(model, blocks.data(), q.data(), 0, &reused, a.data());
+    PointJacobianWorkspace fresh(model);
+    MeasuredPointJacobian(model, blocks.data(), q.data(), 0, &fresh, b.data());
+    EXPECT_EQ(0, std::memcmp(a.data(), b.data(), sizeof(double) * 3 * p))
+        << what;
+  };
+  expect_fresh(m, m.nominal, "model");
+  expect_fresh(m2, m2.nominal, "the same blocks, another origin and axis");
+  // Zero angles of either sign.
+  Eigen::VectorXd plus = m.nominal, minus = m.nominal;
+  for (int b = 0; b < m.num_blocks(); ++b) {
+    if (m.is_marker_block(b) ||
+        m.link(b).convention != LinkConvention::kUrdf) {
+      continue;
+    }
+    for (int k : {kUrdfRx, kUrdfRy, kUrdfRz}) {
+      plus[m.block_offset(b) + k] = 0.0;
+      minus[m.block_offset(b) + k] = -0.0;
+    }
+  }
+  expect_fresh(m, plus, "+0");
+  expect_fresh(m, minus, "-0");
 }
 
 // Only free columns, in free-parameter order, with some parameters held.

@@ -95,6 +95,96 @@ TEST(WeightExchangeTest, StepMaximisesLogDetAlongTheExchange) {
   }
 }
 
+// The step against a brute-force search (a grid refined by golden
+// section) on random and adversarial pairs: duplicate and collinear blocks,
+// a zero block, a loser that alone carries a direction (the step may not
+// empty it), rank-deficient blocks, scales 1e6 apart, and losing or gaining
+// weights of 1e-12 and 1e-300. The step stays in [0, max_step], never
+// decreases log det, and is the maximiser to 1e-9 in log det.
+TEST(WeightExchangeTest, StepAgainstBruteForceOnAdversarialPairs) {
+  Random random(5);
+  int checked = 0;
+  for (int t : {1, 2, 3, 6}) {
+    for (int seed = 0; seed < 48; ++seed) {
+      const int p = 4 + seed % 9, m = std::max(3, 2 * p / t + 1 + seed % 5);
+      RowMatrixXd X = RandomBlocks(m, t, p, 1000 * t + seed);
+      const int kind = seed % 8;
+      int a = 0, b = 1;
+      if (kind == 1) X.middleRows(b * t, t) = X.middleRows(a * t, t);
+      if (kind == 2) X.middleRows(a * t, t) = 2.0 * X.middleRows(b * t, t);
+      if (kind == 3) X.middleRows(b * t, t) = 0.5 * X.middleRows(a * t, t);
+      if (kind == 4) X.middleRows(b * t, t).setZero();
+      if (kind == 5) {  // only b sees the last coordinate
+        for (int k = 0; k < m; ++k) {
+          if (k != b) X.block(k * t, p - 1, t, 1).setZero();
+        }
+      }
+      if (kind == 6) X.middleRows(a * t, t).rightCols(p - 1).setZero();
+      if (kind == 7) {
+        X *= 1e6;
+        X.middleRows(b * t, t) *= 1e-6;
+      }
+      std::vector<double> w(m);
+      for (double& x : w) x = 0.01 + random.Uniform();
+      const double total = std::accumulate(w.begin(), w.end(), 0.0);
+      for (double& x : w) x /= total;
+      if (seed % 3 == 0) w[b] = seed % 6 == 0 ? 1e-300 : 1e-12;
+      const Eigen::MatrixXd M = Information(X, t, w);
+      if (Eigen::LLT<Eigen::MatrixXd>(M).info() != Eigen::Success) continue;
+      const Eigen::MatrixXd V = M.inverse();
+      Eigen::MatrixXd G = PairG(X, t, a, b, V);
+      if (G.topLeftCorner(t, t).trace() < G.bottomRightCorner(t, t).trace()) {
+        std::swap(a, b);
+        G = PairG(X, t, a, b, V);
+      }
+      const Eigen::MatrixXd B =
+          X.middleRows(a * t, t).transpose() * X.middleRows(a * t, t) -
+          X.middleRows(b * t, t).transpose() * X.middleRows(b * t, t);
+      const double l0 = LogDet(M);
+      auto f = [&](double x) {
+        const Eigen::LLT<Eigen::MatrixXd> llt(M + x * B);
+        if (llt.info() != Eigen::Success) return -HUGE_VAL;
+        const double v = LogDet(M + x * B) - l0;
+        return std::isfinite(v) ? v : -HUGE_VAL;
+      };
+      const double ms = w[b];
+      double ratio = 0;
+      const double alpha = internal::ExchangeStep(G, t, ms, &ratio);
+      ASSERT_GE(alpha, 0.0) << "t " << t << " seed " << seed;
+      ASSERT_LE(alpha, ms) << "t " << t << " seed " << seed;
+      double best = 0, best_f = 0;
+      constexpr int kGrid = 1000;
+      for (int k = 1; k <= kGrid; ++k) {
+        const double v = f(ms * k / kGrid);
+        if (v > best_f) {
+          best_f = v;
+          best = ms * k / kGrid;
+        }
+      }
+      double lo = std::max(0.0, best - ms / kGrid);
+      double hi = std::min(ms, best + ms / kGrid);
+      for (int k = 0; k < 200; ++k) {
+        const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+        if (f(m1) < f(m2)) {
+          lo = m1;
+        } else {
+          hi = m2;
+        }
+      }
+      best_f = std::max(best_f, f(0.5 * (lo + hi)));
+      const double fa = f(alpha);
+      EXPECT_GE(fa, -1e-12 * std::max(1.0, std::fabs(l0)))
+          << "t " << t << " seed " << seed;
+      EXPECT_GE(fa, best_f - 1e-9 * std::max(1.0, best_f))
+          << "t " << t << " seed " << seed << " alpha " << alpha << " best "
+          << best;
+      EXPECT_TRUE(std::isfinite(ratio));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 150);
+}
+
 TEST(WeightExchangeTest, StepTakesTheWholeWeightOrNothing) {
   // b = 0.5 a: moving all of b's weight to a only adds information.
   const int p = 3, t = 1;
@@ -141,6 +231,38 @@ TEST(WeightExchangeTest, PairUpdateOfVMatchesRecomputation) {
     for (double x : w) EXPECT_GE(x, 0.0);
     EXPECT_NEAR(std::accumulate(w.begin(), w.end(), 0.0), 1.0, 1e-12);
   }
+}
+
+// The fallback: an iteration whose weights M(w) fails the singularity
+// test (here the relative empty-column test of LogDetSpd: the optimum
+// (1/2, 1/2) puts 1.5e-15 on a column against 0.5 on the other) ends the
+// solve on the last good weights, reported as success (the caller's
+// whole-pool sweep judges them), with M, V and d recomputed from them.
+TEST(WeightExchangeTest, SingularIterationFallsBackToTheLastGoodWeights) {
+  const int t = 1, p = 2;
+  RowMatrixXd X(2, p);
+  X << std::sqrt(3e-15), 0, 0, 1;
+  std::vector<double> w = {0.99, 0.01};
+  const std::vector<double> start = w;
+  internal::WeightExchangeOptions options;
+  options.target = p * (1 + 1e-6);
+  options.max_iterations = 100;
+  options.num_top = p;
+  Random random(1);
+  internal::WeightedInformation info;
+  Eigen::VectorXd d;
+  int64_t iterations = 0;
+  std::string error;
+  ASSERT_TRUE(internal::ExchangeWeights(X, t, options, &random, &w, &info, &d,
+                                        &iterations, &error))
+      << error;
+  EXPECT_EQ(iterations, 1);
+  EXPECT_EQ(w, start);
+  EXPECT_GT(d.maxCoeff(), options.target);  // not converged
+  const Eigen::MatrixXd M = Information(X, t, w);
+  EXPECT_LE((info.M - M).norm(), 1e-12 * M.norm());
+  EXPECT_NEAR(d[0], 1 / w[0], 1e-9);
+  EXPECT_NEAR(d[1], 1 / w[1], 1e-9);
 }
 
 TEST(WeightExchangeTest, SolverReachesTheEquivalenceTheoremAndIsSeeded) {

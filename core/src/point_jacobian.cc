@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "activecal/core/kinematics.h"
 
@@ -131,8 +132,14 @@ const PointJacobianWorkspace::UrdfLinkCache& PrepareUrdfLink(
     const Link& link, const double* p,
     PointJacobianWorkspace::UrdfLinkCache* c) {
   constexpr int n = kMaxBlockSize;
-  if (c->valid && std::equal(p, p + n, c->key)) return *c;
-  std::copy(p, p + n, c->key);
+  double key[n + 6];
+  std::copy(p, p + n, key);
+  for (int k = 0; k < 3; ++k) {
+    key[n + k] = link.origin_rpy[k];
+    key[n + 3 + k] = link.axis[k];
+  }
+  if (c->valid && std::memcmp(key, c->key, sizeof(key)) == 0) return *c;
+  std::copy(key, key + n + 6, c->key);
   c->origin_rotation =
       RpyRotation(link.origin_rpy[0], link.origin_rpy[1], link.origin_rpy[2]);
   c->correction_rotation = RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]);

@@ -24,9 +24,13 @@ bool WeightedInformation::Factor() {
 
 double ExchangeStep(const Eigen::MatrixXd& G, int t, double max_step,
                     double* det_ratio) {
-  // |f'| below this fraction of f'(0) ends the search: the gain lost is
-  // second order in it (and every step in (0, argmax] increases f).
-  constexpr double kNewtonTolerance = 1e-6;
+  // The search ends when the gain still possible is below this (in log
+  // det): f' decreases, so f(a*) - f(lo) <= f'(lo) (hi - lo) and
+  // f(a*) - f(hi) <= -f'(hi) (hi - lo) for a* in [lo, hi]. (A tolerance
+  // relative to f'(0) stopped far short of the maximiser when f' falls
+  // steeply, as log(1 + a g) with g ~ 1e12 for a pose of near-zero weight
+  // in a direction the support hardly covers.)
+  constexpr double kGainTolerance = 1e-12;
   // f(a) = log det(I + a S G): f'(a) = tr(B), f''(a) = -tr(B B) with
   // B = (I + a S G)^-1 S G; f' decreases in a. Safeguarded Newton on f'
   // inside a bracket [lo, hi] with f'(lo) > 0.
@@ -59,10 +63,9 @@ double ExchangeStep(const Eigen::MatrixXd& G, int t, double max_step,
     return max_step;
   }
   evaluate(0.0);
-  const double f1_start = f1;
   double lo = 0.0, hi = max_step, a = 0.0;
   double lo_det = 1.0;
-  for (int k = 0; k < 100; ++k) {
+  for (int k = 0; k < 200; ++k) {
     double next = f2 < 0 ? a - f1 / f2 : hi;
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) break;  // the bracket is one ulp wide
@@ -70,14 +73,14 @@ double ExchangeStep(const Eigen::MatrixXd& G, int t, double max_step,
     if (evaluate(a) && f1 > 0) {
       lo = a;
       lo_det = det;
-      if (f1 <= kNewtonTolerance * f1_start) break;
+      if (f1 * (hi - lo) <= kGainTolerance) break;
     } else {
       hi = a;
       if (!std::isfinite(det) || !(det > 1e-12)) {
         // No derivative here: continue from the bracket's left end.
         evaluate(lo);
         a = lo;
-      } else if (-f1 <= kNewtonTolerance * f1_start) {
+      } else if (-f1 * (hi - lo) <= kGainTolerance) {
         // Converged from the right: a is the maximiser to the tolerance.
         *det_ratio = det;
         return a;

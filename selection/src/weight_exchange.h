@@ -75,8 +75,10 @@ struct WeightExchangeOptions {
 // Optimises the weights w (>= 0, sum 1; M(w) non-singular) of the nw
 // blocks of t rows of Xw. On return *info holds M(w) and V recomputed from
 // the returned weights, *d their variances, *iterations the iterations
-// made (added). Returns false with *error if M(w) became singular (then w
-// are the last weights whose M(w) was not).
+// made (added). If an iteration leaves M(w) numerically singular (to
+// LogDetSpd's relative tests), stops on the weights before it and returns
+// true: the caller's check judges them. Returns false with *error only if
+// the starting M(w) is singular.
 bool ExchangeWeights(const RowMatrixXd& Xw, int t,
                      const WeightExchangeOptions& options, Random* random,
                      std::vector<double>* w, WeightedInformation* info,

@@ -36,7 +36,10 @@ class PointJacobianWorkspace {
   // value instead of once per pose (a pool's poses share the parameters).
   struct UrdfLinkCache {
     bool valid = false;
-    double key[kMaxBlockSize] = {};
+    // The block's values and the link's nominal origin_rpy and axis the
+    // entries were computed from (compared bit for bit: a workspace reused
+    // for another model, or -0.0 for 0.0, recomputes).
+    double key[kMaxBlockSize + 6] = {};
     Eigen::Matrix3d origin_rotation;      // Ro
     Eigen::Matrix3d correction_rotation;  // Rc
     Eigen::Matrix3d link_rotation;        // Ro Rc
