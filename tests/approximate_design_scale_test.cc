@@ -352,7 +352,8 @@ TEST(ApproximateDesignColumnGenerationTest, ExcludedPosesAndSmallP) {
         for (int c = 0; c < p; ++c) rows(r, c) = 0.1 * random.Gaussian();
       }
       // Strong poses, every third one excluded.
-      const std::vector<int64_t> strong = random.SampleWithoutReplacement(n, 30);
+      const std::vector<int64_t> strong =
+          random.SampleWithoutReplacement(n, 30);
       std::vector<char> excluded(n, 0);
       for (size_t k = 0; k < strong.size(); ++k) {
         rows.middleRows(strong[k] * t, t) *= 10.0;

@@ -187,8 +187,7 @@ TEST(PointJacobianTest, UrdfCacheFollowsTheLinkAndTheBits) {
   // Zero angles of either sign.
   Eigen::VectorXd plus = m.nominal, minus = m.nominal;
   for (int b = 0; b < m.num_blocks(); ++b) {
-    if (m.is_marker_block(b) ||
-        m.link(b).convention != LinkConvention::kUrdf) {
+    if (m.is_marker_block(b) || m.link(b).convention != LinkConvention::kUrdf) {
       continue;
     }
     for (int k : {kUrdfRx, kUrdfRy, kUrdfRz}) {

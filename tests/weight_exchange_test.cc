@@ -53,6 +53,19 @@ Eigen::MatrixXd PairG(const RowMatrixXd& X, int t, int a, int b,
   return U.transpose() * V * U;
 }
 
+// Orders the pair so that a has the larger variance (it gains); G of the
+// ordered pair and B = A_a - A_b, the direction of the exchange in M.
+void OrderPair(const RowMatrixXd& X, int t, const Eigen::MatrixXd& V, int* a,
+               int* b, Eigen::MatrixXd* G, Eigen::MatrixXd* B) {
+  *G = PairG(X, t, *a, *b, V);
+  if (G->topLeftCorner(t, t).trace() < G->bottomRightCorner(t, t).trace()) {
+    std::swap(*a, *b);
+    *G = PairG(X, t, *a, *b, V);
+  }
+  *B = X.middleRows(*a * t, t).transpose() * X.middleRows(*a * t, t) -
+       X.middleRows(*b * t, t).transpose() * X.middleRows(*b * t, t);
+}
+
 TEST(WeightExchangeTest, StepMaximisesLogDetAlongTheExchange) {
   for (int t : {1, 3, 6}) {
     for (uint64_t seed = 1; seed <= 20; ++seed) {
@@ -62,14 +75,8 @@ TEST(WeightExchangeTest, StepMaximisesLogDetAlongTheExchange) {
       const Eigen::MatrixXd M = Information(X, t, w);
       const Eigen::MatrixXd V = M.inverse();
       int a = static_cast<int>(seed % m), b = static_cast<int>((seed + 1) % m);
-      Eigen::MatrixXd G = PairG(X, t, a, b, V);
-      if (G.topLeftCorner(t, t).trace() < G.bottomRightCorner(t, t).trace()) {
-        std::swap(a, b);
-        G = PairG(X, t, a, b, V);
-      }
-      const Eigen::MatrixXd B =
-          X.middleRows(a * t, t).transpose() * X.middleRows(a * t, t) -
-          X.middleRows(b * t, t).transpose() * X.middleRows(b * t, t);
+      Eigen::MatrixXd G, B;
+      OrderPair(X, t, V, &a, &b, &G, &B);
       auto f = [&](double alpha) { return LogDet(M + alpha * B) - LogDet(M); };
       double ratio = 0;
       const double alpha = internal::ExchangeStep(G, t, w[b], &ratio);
@@ -132,14 +139,8 @@ TEST(WeightExchangeTest, StepAgainstBruteForceOnAdversarialPairs) {
       const Eigen::MatrixXd M = Information(X, t, w);
       if (Eigen::LLT<Eigen::MatrixXd>(M).info() != Eigen::Success) continue;
       const Eigen::MatrixXd V = M.inverse();
-      Eigen::MatrixXd G = PairG(X, t, a, b, V);
-      if (G.topLeftCorner(t, t).trace() < G.bottomRightCorner(t, t).trace()) {
-        std::swap(a, b);
-        G = PairG(X, t, a, b, V);
-      }
-      const Eigen::MatrixXd B =
-          X.middleRows(a * t, t).transpose() * X.middleRows(a * t, t) -
-          X.middleRows(b * t, t).transpose() * X.middleRows(b * t, t);
+      Eigen::MatrixXd G, B;
+      OrderPair(X, t, V, &a, &b, &G, &B);
       const double l0 = LogDet(M);
       auto f = [&](double x) {
         const Eigen::LLT<Eigen::MatrixXd> llt(M + x * B);

@@ -63,11 +63,11 @@ struct ApproximateDesignOptions {
   // Stop when max_i d_i(w) <= p (1 + tolerance); w is then at least
   // 1 / (1 + tolerance) D-efficient.
   double tolerance = 1e-4;
-  int max_rounds = 200;              // candidate-set checks, in total
+  int max_rounds = 200;  // candidate-set checks, in total
   // Per round, on the working set: recomputations of M(w), each followed
   // by one vertex exchange and one pass of random pair exchanges.
   int max_inner_iterations = 20000;
-  int num_threads = 0;               // <= 0: all; result does not depend on it
+  int num_threads = 0;  // <= 0: all; result does not depend on it
   // Pools with more eligible poses than this start on a random subsample
   // of this many (see above); <= 0: max(20000, 200 p).
   int64_t subsample_size = 0;
