@@ -12,7 +12,7 @@
 #include <string>
 
 #include "activecal/core/random.h"
-#include "activecal/residuals/active_loop.h"
+#include "activecal/calibration/active_loop.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "activecal/core/csv_files.h"
-#include "activecal/core/robot_loader.h"
-#include "activecal/core/targets_csv.h"
-#include "activecal/residuals/compensation.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/io/targets_csv.h"
+#include "activecal/kinematics/compensation.h"
 #include "app_common.h"
 
 DEFINE_string(nominal, "",

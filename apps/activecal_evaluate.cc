@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "activecal/core/csv_files.h"
-#include "activecal/core/evaluation.h"
-#include "activecal/core/robot_loader.h"
-#include "activecal/residuals/registration_fit.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/estimation/evaluation.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/estimation/registration_fit.h"
 #include "app_common.h"
 #include "gnuplot.h"
 

@@ -9,9 +9,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/random.h"
-#include "activecal/residuals/monte_carlo.h"
+#include "activecal/estimation/monte_carlo.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "app_common.h"
 

@@ -22,7 +22,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"

@@ -12,13 +12,13 @@
 #include <iostream>
 #include <string>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
-#include "activecal/core/robot_loader.h"
-#include "activecal/residuals/pool_builder.h"
-#include "activecal/residuals/selection_pool.h"
-#include "activecal/selection/select_design.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/selection_pool.h"
+#include "activecal/calibration/select_design.h"
 #include "activecal/selection/task_criterion.h"
 #include "app_common.h"
 

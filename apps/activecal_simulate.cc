@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/simulation.h"
 #include "app_common.h"
 

@@ -9,10 +9,10 @@
 #include <fstream>
 #include <iostream>
 
-#include "activecal/core/frames_file.h"
+#include "activecal/io/frames_file.h"
 #include "activecal/core/puma560.h"
-#include "activecal/core/robot_loader.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/selection/criteria.h"
 
 DEFINE_string(robot, "",

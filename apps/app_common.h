@@ -13,14 +13,14 @@
 #include <vector>
 
 #include "activecal/core/candidate_pool.h"
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
-#include "activecal/core/robot_file.h"
+#include "activecal/io/robot_file.h"
 #include "activecal/core/robot_model.h"
-#include "activecal/residuals/identification.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/estimation/identification.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/design.h"
 
 // --robot (with --base_link, --tip_link, --frames), shared by every program.

@@ -23,8 +23,8 @@
 
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/robot_loader.h"
-#include "activecal/residuals/compensation.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/kinematics/compensation.h"
 
 DEFINE_int32(targets, 10000, "Targets per program.");
 DEFINE_int32(repeats, 5, "Runs per case; the fastest is reported.");

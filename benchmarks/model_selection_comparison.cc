@@ -15,17 +15,17 @@
 #include <string>
 #include <vector>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/registration.h"
+#include "activecal/estimation/registration.h"
 #include "activecal/core/simulation.h"
-#include "activecal/core/urdf_robot.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/io/urdf_robot.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/model_selection.h"
-#include "activecal/residuals/parameter_reduction.h"
+#include "activecal/estimation/model_selection.h"
+#include "activecal/estimation/parameter_reduction.h"
 
 namespace activecal {
 namespace {

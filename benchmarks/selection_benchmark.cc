@@ -14,7 +14,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
 

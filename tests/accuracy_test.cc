@@ -8,20 +8,20 @@
 #include <cmath>
 #include <string>
 
-#include "activecal/core/evaluation.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/registration.h"
+#include "activecal/estimation/registration.h"
 #include "activecal/core/simulation.h"
-#include "activecal/core/urdf_robot.h"
-#include "activecal/residuals/estimate_warnings.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/io/urdf_robot.h"
+#include "activecal/estimation/estimate_warnings.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/model_selection.h"
-#include "activecal/residuals/parameter_reduction.h"
-#include "activecal/residuals/registration_fit.h"
+#include "activecal/estimation/model_selection.h"
+#include "activecal/estimation/parameter_reduction.h"
+#include "activecal/estimation/registration_fit.h"
 #include "test_util.h"
 
 namespace activecal {

@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/calibration/pool_builder.h"
 
 namespace {
 

@@ -10,13 +10,13 @@
 #include <cstdio>
 #include <string>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/robot_file.h"
+#include "activecal/io/robot_file.h"
 #include "activecal/core/simulation.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/estimation/identification.h"
 #include "test_util.h"
 
 namespace activecal {

@@ -1,4 +1,4 @@
-#include "activecal/residuals/identification.h"
+#include "activecal/estimation/identification.h"
 
 #include <gtest/gtest.h>
 

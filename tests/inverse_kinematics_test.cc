@@ -3,7 +3,7 @@
 // convergence on every convention, each status provoked, limits never
 // violated, compensation round trips, thread-count determinism.
 
-#include "activecal/residuals/inverse_kinematics.h"
+#include "activecal/kinematics/inverse_kinematics.h"
 
 #include <gtest/gtest.h>
 
@@ -14,18 +14,18 @@
 #include <string>
 #include <vector>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/registration.h"
-#include "activecal/core/robot_loader.h"
+#include "activecal/estimation/registration.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/core/simulation.h"
-#include "activecal/core/targets_csv.h"
-#include "activecal/residuals/compensation.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/io/targets_csv.h"
+#include "activecal/kinematics/compensation.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/parameter_reduction.h"
+#include "activecal/estimation/parameter_reduction.h"
 #include "activecal/selection/fedorov.h"
 #include "test_util.h"
 

@@ -10,7 +10,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/residuals/jacobians.h"
 #include "test_util.h"
 

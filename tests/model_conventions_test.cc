@@ -9,13 +9,13 @@
 #include <limits>
 #include <string>
 
-#include "activecal/core/csv_files.h"
-#include "activecal/core/frames_file.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/frames_file.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/robot_file.h"
+#include "activecal/io/robot_file.h"
 #include "activecal/core/simulation.h"
 #include "test_util.h"
 

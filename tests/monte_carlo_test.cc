@@ -1,7 +1,7 @@
 // The identification's predicted covariance agrees with the scatter of its
 // estimates over repeated noise, within sampling error.
 
-#include "activecal/residuals/monte_carlo.h"
+#include "activecal/estimation/monte_carlo.h"
 
 #include <gtest/gtest.h>
 

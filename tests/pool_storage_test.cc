@@ -12,7 +12,7 @@
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/design.h"
 #include "activecal/selection/task_criterion.h"
 #include "test_util.h"

@@ -2,7 +2,7 @@
 // needs no initial guess of the device's frame: 20 random frames 400 mm and
 // 90 degrees away from the robot.
 
-#include "activecal/core/registration.h"
+#include "activecal/estimation/registration.h"
 
 #include <gtest/gtest.h>
 
@@ -14,10 +14,10 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
-#include "activecal/core/urdf_robot.h"
-#include "activecal/residuals/identification.h"
+#include "activecal/io/urdf_robot.h"
+#include "activecal/estimation/identification.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/parameter_reduction.h"
+#include "activecal/estimation/parameter_reduction.h"
 #include "test_util.h"
 
 namespace activecal {

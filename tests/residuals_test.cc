@@ -11,7 +11,7 @@
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/calibration/pool_builder.h"
 #include "test_util.h"
 
 namespace activecal {

@@ -1,7 +1,7 @@
 // SelectDesign (the design step of activecal_select and the Python module)
 // and BuildSelectionPool (its pool side).
 
-#include "activecal/selection/select_design.h"
+#include "activecal/calibration/select_design.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/residuals/selection_pool.h"
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/task_criterion.h"

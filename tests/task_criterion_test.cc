@@ -13,9 +13,9 @@
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/residuals/active_loop.h"
+#include "activecal/calibration/active_loop.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_exchange.h"

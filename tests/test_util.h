@@ -15,7 +15,7 @@
 #include "activecal/core/random.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/residuals/pool_builder.h"
+#include "activecal/calibration/pool_builder.h"
 
 namespace activecal {
 namespace testing {

@@ -2,7 +2,7 @@
 // kinematics checked against an independent implementation, orocos KDL
 // (through kdl_parser), to 1e-12 m over random configurations.
 
-#include "activecal/core/urdf_robot.h"
+#include "activecal/io/urdf_robot.h"
 
 #include <gtest/gtest.h>
 
@@ -15,11 +15,11 @@
 #include <sstream>
 #include <string>
 
-#include "activecal/core/csv_files.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/core/urdf_export.h"
+#include "activecal/io/urdf_export.h"
 #include "test_util.h"
 
 namespace activecal {

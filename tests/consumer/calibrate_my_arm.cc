@@ -6,10 +6,10 @@
 
 #include <activecal/core/candidate_pool.h>
 #include <activecal/core/lattice.h>
-#include <activecal/core/robot_file.h>
+#include <activecal/io/robot_file.h>
 #include <activecal/core/simulation.h>
-#include <activecal/residuals/identification.h>
-#include <activecal/residuals/pool_builder.h>
+#include <activecal/estimation/identification.h>
+#include <activecal/calibration/pool_builder.h>
 #include <activecal/selection/approximate_design.h>
 #include <activecal/selection/fedorov.h>
 

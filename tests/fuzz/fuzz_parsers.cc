@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "activecal/core/csv_files.h"
-#include "activecal/core/frames_file.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/frames_file.h"
 #include "activecal/core/puma560.h"
-#include "activecal/core/robot_file.h"
-#include "activecal/core/targets_csv.h"
-#include "activecal/core/urdf_export.h"
-#include "activecal/core/urdf_robot.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/targets_csv.h"
+#include "activecal/io/urdf_export.h"
+#include "activecal/io/urdf_robot.h"
 
 namespace {
 

@@ -1,0 +1,103 @@
+// BuildCandidatePool: the pipeline from joint values to the candidate pool a
+// design is selected from. The Jacobian of every pose at the given
+// parameter values (jacobians.h), optionally an identifiability check
+// with the auto-fix policy (identification.h: FixUnidentifiableParameters),
+// then the CandidatePool.
+//
+//   CandidatePoolOptions options;
+//   options.check_identifiability = true;
+//   options.auto_fix = true;
+//   CandidatePool pool;
+//   CandidatePoolSummary summary;
+//   if (!BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(),
+//                           options, &pool, &summary)) {
+//     LOG(ERROR) << summary.message;
+//   }
+//   // summary.fixed_names: the parameters now held fixed in model.
+
+#ifndef ACTIVECAL_CALIBRATION_POOL_BUILDER_H_
+#define ACTIVECAL_CALIBRATION_POOL_BUILDER_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "activecal/core/candidate_pool.h"
+#include "activecal/core/measurement.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/core/types.h"
+#include "activecal/estimation/identification.h"
+
+namespace activecal {
+
+struct CandidatePoolOptions {
+  // What is measured at each pose: kPosition (3 rows) or kPose (6 rows).
+  MeasurementType type = MeasurementType::kPosition;
+  double rotation_weight_m_per_rad = 1.0;
+  int num_threads = 1;  // for the Jacobians; the result does not depend on it
+  ProgressCallback progress;
+
+  // Check that the pool identifies every free parameter. A pool of more
+  // than max_analysis_rows rows is analysed through a fixed-seed random
+  // subset of its poses (whole blocks, all rows of each pose), enough to
+  // expose structural rank loss.
+  bool check_identifiability = false;
+  int64_t max_analysis_rows = 300000;
+  double rank_tolerance = 1e-10;
+  // When the check fails: hold the parameters FixUnidentifiableParameters
+  // names fixed (and drop their columns) instead of failing.
+  bool auto_fix = false;
+
+  // Store the blocks in single precision (half the memory: a 10^7-pose pool
+  // of 31 parameters takes 3.7 GB instead of 7.4 GB). The Jacobians are
+  // computed in double in chunks of 65,536 poses and rounded to float as
+  // each chunk is done, so the pool is never held in double; the
+  // identifiability check runs on double Jacobians of its sampled poses.
+  // The pool gets an exact source (CandidatePool::set_exact_source) that
+  // recomputes any poses' blocks in double from a copy of the model,
+  // parameters and joint values, for the certificate and the final log det.
+  bool single_precision = false;
+};
+
+struct CandidatePoolSummary {
+  std::string message;                    // why it failed
+  IdentifiabilityReport identifiability;  // of the pool, before any fixing
+  std::vector<std::string> fixed_names;   // held fixed by auto_fix
+  int num_free_before = 0;                // free parameters before fixing
+  double jacobian_seconds = 0.0;
+};
+
+// Builds the pool of the poses `joints` (one per row) at `parameters`.
+// With options.auto_fix, *model may lose free parameters (named in
+// summary->fixed_names). Returns false with summary->message on bad input
+// or when the pool cannot identify the free parameters.
+bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
+                        const Eigen::MatrixXd& joints,
+                        const CandidatePoolOptions& options,
+                        CandidatePool* pool, CandidatePoolSummary* summary);
+
+// The information of measurements already made, as whitened Jacobian rows
+// R (so that M0 = R^T R): each measurement's rows at `parameters` (the
+// current estimate: a next batch is designed where the robot is now),
+// scaled to the reference noise sigma_m. A row whose measurement gives its
+// own standard deviation (Measurement::sigma_m, sigma_rad; 0 = not given)
+// is scaled by sigma_m / that value, the others by 1: position and
+// distance rows by sigma_m / sigma_m[axis], pose rotation rows by
+// sigma_m / (rotation_weight * sigma_rad). Returns false with the message
+// of the first bad measurement.
+bool MeasuredInformationRows(const RobotModel& model,
+                             const Eigen::VectorXd& parameters,
+                             const std::vector<Measurement>& measured,
+                             double rotation_weight_m_per_rad, double sigma_m,
+                             RowMatrixXd* rows, std::string* error);
+
+// A fixed-seed random subset of the blocks of `block_rows` rows of
+// `stacked`, whole and in pool order, of max_rows / block_rows blocks (all
+// of it when it is not taller than max_rows). Deterministic.
+Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
+                             int64_t max_rows);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CALIBRATION_POOL_BUILDER_H_

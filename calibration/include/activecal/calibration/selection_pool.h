@@ -1,0 +1,97 @@
+// The pool side of activecal_select (and the Python module's select): the
+// parameters a design is for, the storage of the pool's Jacobian blocks,
+// the pool itself, and the task's pool when it is not the pool.
+//
+//   SelectionPoolOptions options;  // parameter set, measurement, storage
+//   CandidatePool pool;
+//   SelectionPoolSummary summary;
+//   if (!BuildSelectionPool(&model, pool_joints, options, &pool, &summary))
+//     ...summary.message...
+//   CandidatePool task_pool;
+//   bool task_is_pool;
+//   BuildTaskPool(model, pool_joints, task_joints, options, &task_pool,
+//                 &task_is_pool, &error);
+//   W = TaskMatrix(task_is_pool ? pool : task_pool);  // selection layer
+
+#ifndef ACTIVECAL_CALIBRATION_SELECTION_POOL_H_
+#define ACTIVECAL_CALIBRATION_SELECTION_POOL_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "activecal/core/candidate_pool.h"
+#include "activecal/core/measurement.h"
+#include "activecal/core/parameter_sets.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/core/types.h"
+#include "activecal/estimation/parameter_reduction.h"
+#include "activecal/calibration/pool_builder.h"
+
+namespace activecal {
+
+enum class PoolStorage { kAuto, kDouble, kFloat };
+
+// "auto", "double", "float".
+bool PoolStorageFromString(const std::string& name, PoolStorage* storage);
+
+struct SelectionPoolOptions {
+  // Reduced to what the pool separates (analysed on at most
+  // reduction_sample_size of its poses, a fixed-seed subset); the pool is
+  // linearised at the generic point of that analysis.
+  ParameterSet parameter_set = ParameterSet::kFile;
+  int64_t reduction_sample_size = 2000;
+  MeasurementType type = MeasurementType::kPosition;  // position or pose
+  double rotation_weight_m_per_rad = 1.0;
+  // Hold parameters the pool cannot identify at their nominal values
+  // instead of failing.
+  bool auto_fix = false;
+  int num_threads = 0;
+  // kAuto: single precision when the double blocks would take more than
+  // max_double_pool_mib and the design reads such pools (reads_float:
+  // fedorov or approx with the D criterion). kFloat needs reads_float.
+  PoolStorage storage = PoolStorage::kDouble;
+  int64_t max_double_pool_mib = 2048;
+  bool reads_float = false;
+  ProgressCallback progress;  // the pool's Jacobians
+
+  bool IsValid(std::string* error) const;
+};
+
+struct SelectionPoolSummary {
+  // CONVERGENCE: the pool was built; USER_FAILURE: bad options; FAILURE:
+  // the reduction or the pool failed (message; the pool's
+  // identifiability report in pool.identifiability).
+  TerminationType termination_type = TerminationType::kFailure;
+  std::string message;
+  bool reduction_failed = false;  // message is "parameter_set=<name>: ..."
+  std::vector<DroppedParameter> dropped;  // by the reduction
+  bool single_precision = false;          // the storage chosen
+  double double_mib = 0;                  // the blocks' size in double
+  CandidatePoolSummary pool;  // auto_fix's fixed_names, jacobian_seconds
+
+  // dropped, then the pool's fixed_names.
+  std::vector<std::string> HeldFixed() const;
+};
+
+// Applies and reduces options.parameter_set on *model (its nominal becomes
+// the analysis point), chooses the storage and builds *pool at
+// pool_joints with the identifiability check.
+bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
+                        const SelectionPoolOptions& options,
+                        CandidatePool* pool, SelectionPoolSummary* summary);
+
+// The task: position rows at task_joints (the pool's poses when it has no
+// rows). When those are the pool's own rows (no task joints, a position
+// pool), *task_is_pool is set and *task_pool left empty; otherwise
+// *task_pool is built at model.nominal. False with *error on failure.
+bool BuildTaskPool(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
+                   const Eigen::MatrixXd& task_joints,
+                   const SelectionPoolOptions& options,
+                   CandidatePool* task_pool, bool* task_is_pool,
+                   std::string* error);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CALIBRATION_SELECTION_POOL_H_

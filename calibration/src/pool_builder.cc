@@ -1,0 +1,281 @@
+#include "activecal/calibration/pool_builder.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "activecal/core/random.h"
+#include "activecal/residuals/jacobians.h"
+
+namespace activecal {
+
+namespace {
+
+// The fixed-seed random subset of n of `blocks` poses SampleBlocks takes,
+// in pool order. Not every k-th pose: a stride equal to a lattice's level
+// count (k = 10 at --levels=10) would hold the last joint at one level in
+// every sampled pose and hide its parameters.
+std::vector<int64_t> SampleBlockIndices(int64_t blocks, int64_t n) {
+  Random random(0x5a3b1e);
+  std::vector<int64_t> chosen = random.SampleWithoutReplacement(blocks, n);
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+// PoolJacobians names a failing pose by its row in the joints it was given
+// ("pool pose N: ..." or "... at pool pose N"): rewrites N to to_pool(N),
+// its index in the whole pool.
+void RenamePoolPose(const std::function<int64_t(int64_t)>& to_pool,
+                    std::string* message) {
+  const std::string key = "pool pose ";
+  const size_t at = message->find(key);
+  if (at == std::string::npos) return;
+  const size_t first = at + key.size();
+  size_t last = first;
+  while (last < message->size() &&
+         std::isdigit(static_cast<unsigned char>((*message)[last]))) {
+    ++last;
+  }
+  if (last == first) return;
+  const int64_t i = std::stoll(message->substr(first, last - first));
+  message->replace(first, last - first, std::to_string(to_pool(i)));
+}
+
+// What a single-precision pool's exact source recomputes its blocks from.
+struct ExactPoolData {
+  RobotModel model;
+  Eigen::VectorXd parameters;
+  Eigen::MatrixXd joints;
+  PoolJacobianOptions options;
+};
+
+}  // namespace
+
+Eigen::MatrixXd SampleBlocks(const RowMatrixXd& stacked, int block_rows,
+                             int64_t max_rows) {
+  CHECK_GT(block_rows, 0);
+  CHECK_GE(max_rows, block_rows);
+  const int64_t rows = stacked.rows();
+  if (rows <= max_rows) return stacked;
+  const int64_t blocks = rows / block_rows;
+  const int64_t n = max_rows / block_rows;
+  const std::vector<int64_t> chosen = SampleBlockIndices(blocks, n);
+  Eigen::MatrixXd sample(n * block_rows, stacked.cols());
+  for (int64_t i = 0; i < n; ++i) {
+    sample.middleRows(i * block_rows, block_rows) =
+        stacked.middleRows(chosen[i] * block_rows, block_rows);
+  }
+  return sample;
+}
+
+bool MeasuredInformationRows(const RobotModel& model,
+                             const Eigen::VectorXd& parameters,
+                             const std::vector<Measurement>& measured,
+                             double rotation_weight_m_per_rad, double sigma_m,
+                             RowMatrixXd* rows, std::string* error) {
+  CHECK(rows != nullptr);
+  CHECK_GT(sigma_m, 0.0);
+  Eigen::MatrixXd J;
+  if (!StackedJacobian(model, parameters, measured, rotation_weight_m_per_rad,
+                       &J, error)) {
+    return false;
+  }
+  *rows = J;
+  int64_t r = 0;
+  for (const Measurement& m : measured) {
+    const int dim = m.dimension();
+    for (int k = 0; k < dim; ++k) {
+      double sigma = 0;
+      if (m.type == MeasurementType::kDistance) {
+        sigma = m.sigma_m[0];
+      } else if (k < 3) {
+        sigma = m.sigma_m[k];
+      } else {
+        sigma = rotation_weight_m_per_rad * m.sigma_rad;
+      }
+      if (sigma > 0) rows->row(r + k) *= sigma_m / sigma;
+    }
+    r += dim;
+  }
+  CHECK_EQ(r, rows->rows());
+  return true;
+}
+
+namespace {
+
+// The identifiability check (and auto-fix) of BuildCandidatePool on the
+// Jacobian rows `sample`; fixed_columns: the columns to drop, in order.
+bool CheckPoolIdentifiability(const Eigen::MatrixXd& sample,
+                              const CandidatePoolOptions& options,
+                              RobotModel* model,
+                              std::vector<int>* fixed_columns,
+                              CandidatePoolSummary* summary) {
+  if (options.auto_fix) {
+    RobotModel fixed_model = *model;
+    if (!FixUnidentifiableParameters(
+            &fixed_model, sample, options.rank_tolerance,
+            &summary->identifiability, fixed_columns, &summary->fixed_names)) {
+      summary->message = summary->identifiability.Message();
+      return false;
+    }
+    *model = std::move(fixed_model);
+    return true;
+  }
+  summary->identifiability =
+      AnalyzeIdentifiability(*model, sample, options.rank_tolerance);
+  if (!summary->identifiability.identifiable()) {
+    summary->message = summary->identifiability.Message();
+    return false;
+  }
+  return true;
+}
+
+// The single-precision pool: the identifiability check on double Jacobians
+// of the sampled poses, then the Jacobians of the final free parameters in
+// chunks, each rounded to float as it is done (the pool is never held in
+// double), and an exact source that recomputes any poses' blocks in double.
+bool BuildSinglePrecisionPool(RobotModel* model,
+                              const Eigen::VectorXd& parameters,
+                              const Eigen::MatrixXd& joints,
+                              const CandidatePoolOptions& options,
+                              const PoolJacobianOptions& jacobian_options,
+                              CandidatePool* pool,
+                              CandidatePoolSummary* summary) {
+  const int t = MeasurementDimension(options.type);
+  const int64_t n = joints.rows();
+  if (options.check_identifiability) {
+    Eigen::MatrixXd sample_joints;
+    std::vector<int64_t> chosen;  // empty: every pose
+    if (n * t <= options.max_analysis_rows) {
+      sample_joints = joints;
+    } else {
+      chosen = SampleBlockIndices(n, options.max_analysis_rows / t);
+      sample_joints.resize(chosen.size(), joints.cols());
+      for (size_t k = 0; k < chosen.size(); ++k) {
+        sample_joints.row(k) = joints.row(chosen[k]);
+      }
+    }
+    PoolJacobianOptions sample_options = jacobian_options;
+    sample_options.progress = nullptr;
+    RowMatrixXd sample;
+    if (!PoolJacobians(*model, parameters, sample_joints, sample_options,
+                       &sample, &summary->message)) {
+      // Name the pose in the whole pool, not in the sample.
+      if (!chosen.empty()) {
+        RenamePoolPose([&](int64_t i) { return chosen[i]; }, &summary->message);
+      }
+      return false;
+    }
+    std::vector<int> fixed_columns;
+    if (!CheckPoolIdentifiability(sample, options, model, &fixed_columns,
+                                  summary)) {
+      return false;
+    }
+  }
+  const int p = model->num_free();
+  RowMatrixXf stacked(n * t, p);
+  constexpr int64_t kChunk = 1 << 16;
+  RowMatrixXd chunk;
+  for (int64_t begin = 0; begin < n; begin += kChunk) {
+    const int64_t count = std::min(kChunk, n - begin);
+    PoolJacobianOptions chunk_options = jacobian_options;
+    if (options.progress) {
+      chunk_options.progress = [&](int64_t done, int64_t) {
+        options.progress(begin + done, n);
+      };
+    }
+    if (!PoolJacobians(*model, parameters, joints.middleRows(begin, count),
+                       chunk_options, &chunk, &summary->message)) {
+      // Name the pose in the whole pool, not in the chunk.
+      RenamePoolPose([begin](int64_t i) { return begin + i; },
+                     &summary->message);
+      return false;
+    }
+    stacked.middleRows(begin * t, count * t) = chunk.cast<float>();
+  }
+  if (!CandidatePool::Create(std::move(stacked), t, pool, &summary->message)) {
+    return false;
+  }
+  auto data = std::make_shared<const ExactPoolData>(
+      ExactPoolData{*model, parameters, joints, jacobian_options});
+  pool->set_exact_source([data](int64_t begin, int64_t count,
+                                RowMatrixXd* rows) {
+    PoolJacobianOptions o = data->options;
+    o.num_threads = 1;  // called from the sweep's own threads
+    o.progress = nullptr;
+    std::string error;
+    // The poses were checked when the pool was built.
+    CHECK(PoolJacobians(data->model, data->parameters,
+                        data->joints.middleRows(begin, count), o, rows, &error))
+        << error;
+  });
+  return true;
+}
+
+}  // namespace
+
+bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
+                        const Eigen::MatrixXd& joints,
+                        const CandidatePoolOptions& options,
+                        CandidatePool* pool, CandidatePoolSummary* summary) {
+  CHECK(model != nullptr);
+  CHECK(pool != nullptr);
+  CHECK(summary != nullptr);
+  *summary = CandidatePoolSummary();
+  summary->num_free_before = model->num_free();
+  const auto start = std::chrono::steady_clock::now();
+  PoolJacobianOptions jacobian_options;
+  jacobian_options.type = options.type;
+  jacobian_options.rotation_weight_m_per_rad =
+      options.rotation_weight_m_per_rad;
+  jacobian_options.num_threads = options.num_threads;
+  jacobian_options.progress = options.progress;
+  if (options.single_precision) {
+    const bool ok = BuildSinglePrecisionPool(model, parameters, joints, options,
+                                             jacobian_options, pool, summary);
+    summary->jacobian_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    return ok;
+  }
+  RowMatrixXd stacked;
+  if (!PoolJacobians(*model, parameters, joints, jacobian_options, &stacked,
+                     &summary->message)) {
+    return false;
+  }
+  summary->jacobian_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  const int block_rows = MeasurementDimension(options.type);
+  if (options.check_identifiability) {
+    const Eigen::MatrixXd sample =
+        SampleBlocks(stacked, block_rows, options.max_analysis_rows);
+    std::vector<int> fixed_columns;
+    if (!CheckPoolIdentifiability(sample, options, model, &fixed_columns,
+                                  summary)) {
+      return false;
+    }
+    if (!fixed_columns.empty()) {
+      RowMatrixXd kept(stacked.rows(), stacked.cols() - fixed_columns.size());
+      for (int c = 0, d = 0, k = 0; c < stacked.cols(); ++c) {
+        if (d < static_cast<int>(fixed_columns.size()) &&
+            fixed_columns[d] == c) {
+          ++d;
+        } else {
+          kept.col(k++) = stacked.col(c);
+        }
+      }
+      stacked = std::move(kept);
+    }
+  }
+  return CandidatePool::Create(std::move(stacked), block_rows, pool,
+                               &summary->message);
+}
+
+}  // namespace activecal

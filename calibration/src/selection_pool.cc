@@ -1,0 +1,119 @@
+#include "activecal/calibration/selection_pool.h"
+
+#include "activecal/core/joint_sampling.h"
+
+namespace activecal {
+
+bool PoolStorageFromString(const std::string& name, PoolStorage* storage) {
+  if (name == "auto") {
+    *storage = PoolStorage::kAuto;
+  } else if (name == "double") {
+    *storage = PoolStorage::kDouble;
+  } else if (name == "float") {
+    *storage = PoolStorage::kFloat;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool SelectionPoolOptions::IsValid(std::string* error) const {
+  std::string e;
+  if (type != MeasurementType::kPosition && type != MeasurementType::kPose) {
+    e = "measurement must be position or pose";
+  } else if (storage == PoolStorage::kFloat && !reads_float) {
+    e = "float storage needs a design that reads single-precision pools "
+        "(fedorov or approx with the D criterion)";
+  } else if (storage == PoolStorage::kAuto && max_double_pool_mib < 0) {
+    e = "max_double_pool_mib must be >= 0, got " +
+        std::to_string(max_double_pool_mib);
+  } else if (reduction_sample_size <= 0) {
+    e = "reduction_sample_size must be > 0, got " +
+        std::to_string(reduction_sample_size);
+  }
+  if (e.empty()) return true;
+  if (error) *error = e;
+  return false;
+}
+
+std::vector<std::string> SelectionPoolSummary::HeldFixed() const {
+  std::vector<std::string> names;
+  for (const DroppedParameter& d : dropped) names.push_back(d.name);
+  names.insert(names.end(), pool.fixed_names.begin(), pool.fixed_names.end());
+  return names;
+}
+
+bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
+                        const SelectionPoolOptions& options,
+                        CandidatePool* pool, SelectionPoolSummary* summary) {
+  *summary = SelectionPoolSummary();
+  std::string error;
+  if (!options.IsValid(&error)) {
+    summary->termination_type = TerminationType::kUserFailure;
+    summary->message = error;
+    return false;
+  }
+  {
+    const Eigen::MatrixXd sample =
+        SubsampleRows(pool_joints, options.reduction_sample_size);
+    Eigen::VectorXd point = model->nominal;
+    if (!ApplyAndReduceParameterSet(options.parameter_set,
+                                    MeasurementPlan(sample, options.type),
+                                    options.rotation_weight_m_per_rad, model,
+                                    &point, &summary->dropped, &error)) {
+      summary->reduction_failed = true;
+      summary->message = "parameter_set=" +
+                         std::string(ParameterSetName(options.parameter_set)) +
+                         ": " + error;
+      return false;
+    }
+    model->nominal = point;
+  }
+  summary->double_mib = 8.0 * pool_joints.rows() *
+                        MeasurementDimension(options.type) * model->num_free() /
+                        (1024.0 * 1024.0);
+  summary->single_precision =
+      options.storage == PoolStorage::kFloat ||
+      (options.storage == PoolStorage::kAuto && options.reads_float &&
+       summary->double_mib > options.max_double_pool_mib);
+
+  CandidatePoolOptions pool_options;
+  pool_options.single_precision = summary->single_precision;
+  pool_options.type = options.type;
+  pool_options.rotation_weight_m_per_rad = options.rotation_weight_m_per_rad;
+  pool_options.num_threads = options.num_threads;
+  pool_options.check_identifiability = true;
+  pool_options.auto_fix = options.auto_fix;
+  pool_options.progress = options.progress;
+  if (!BuildCandidatePool(model, model->nominal, pool_joints, pool_options,
+                          pool, &summary->pool)) {
+    summary->message = summary->pool.message;
+    return false;
+  }
+  summary->termination_type = TerminationType::kConvergence;
+  return true;
+}
+
+bool BuildTaskPool(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
+                   const Eigen::MatrixXd& task_joints,
+                   const SelectionPoolOptions& options,
+                   CandidatePool* task_pool, bool* task_is_pool,
+                   std::string* error) {
+  *task_is_pool =
+      task_joints.rows() == 0 && options.type == MeasurementType::kPosition;
+  if (*task_is_pool) return true;
+  CandidatePoolOptions task_options;
+  task_options.type = MeasurementType::kPosition;
+  task_options.num_threads = options.num_threads;
+  RobotModel task_model = model;
+  CandidatePoolSummary task_summary;
+  if (!BuildCandidatePool(&task_model, model.nominal,
+                          task_joints.rows() ? task_joints : pool_joints,
+                          task_options, task_pool, &task_summary)) {
+    if (error) *error = task_summary.message;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace activecal

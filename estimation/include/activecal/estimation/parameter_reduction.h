@@ -1,0 +1,73 @@
+// Reducing a named parameter set (core/parameter_sets.h) to the parameters
+// the measurements can separate, by a rule a calibration engineer can
+// predict: parameters are considered in a fixed priority order and each is
+// kept when its Jacobian column adds a direction the kept ones do not span.
+//
+// Priority: the base frame, then the markers, then the links from base to
+// tip, each link's joint offset before its geometric corrections; inside a
+// block, the block's own order. So a redundancy between the base frame and
+// the first joint's origin is resolved for the base (the registration stays
+// whole), a marker's point wins over the last joint's origin, and an offset
+// over a rotation about the same axis. Columns are scaled to unit norm (the
+// rule does not depend on units); a column is dropped when the part of it
+// outside the span of the kept columns is shorter than `tolerance`
+// (default 1e-7: structural redundancies, which are ~1e-15 at a generic
+// point, not weak parameters). Ties cannot occur: the order is total. The
+// result is the same on every platform up to rounding of that test.
+//
+//   std::vector<DroppedParameter> dropped;
+//   ReduceToIdentifiable(&model, J, 1e-7, &dropped);
+//   // dropped[k].name = "shoulder_pan_joint.rx",
+//   // dropped[k].reason = "a combination of B.rx, B.ry (residual 2e-16)"
+
+#ifndef ACTIVECAL_ESTIMATION_PARAMETER_REDUCTION_H_
+#define ACTIVECAL_ESTIMATION_PARAMETER_REDUCTION_H_
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "activecal/core/measurement.h"
+#include "activecal/core/parameter_sets.h"
+#include "activecal/core/robot_model.h"
+
+namespace activecal {
+
+struct DroppedParameter {
+  std::string name;
+  // "has no effect on these measurements" or "a combination of A, B, ...
+  // (residual r)" naming the kept parameters that explain it, largest
+  // coefficients first.
+  std::string reason;
+};
+
+// Free parameters of `model` in the priority order above (indices into the
+// full parameter vector).
+std::vector<int> ReductionPriority(const RobotModel& model);
+
+// `jacobian`: m x num_free, columns in model->FreeParameterNames() order.
+// Marks the dropped parameters not free in *model and describes them in
+// *dropped (priority order). Returns the number kept.
+int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
+                         double tolerance,
+                         std::vector<DroppedParameter>* dropped);
+
+// The whole step from a named parameter set to the parameters to identify:
+// applies `set` to *model (with marker angles free when `measurements` hold
+// 6D poses) and, unless it is kFile, reduces the set to what the Jacobian
+// of `measurements` at GenericPoint(*point) separates. *point (a full
+// parameter vector, e.g. the nominal or registered start) keeps every held
+// parameter exactly; the free marker parameters move to the generic point
+// (about 1 mm), the start the fit needs to see every kept direction.
+// Returns false with *error when a Jacobian cannot be evaluated or nothing
+// is left free.
+bool ApplyAndReduceParameterSet(ParameterSet set,
+                                const std::vector<Measurement>& measurements,
+                                double rotation_weight_m_per_rad,
+                                RobotModel* model, Eigen::VectorXd* point,
+                                std::vector<DroppedParameter>* dropped,
+                                std::string* error);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_ESTIMATION_PARAMETER_REDUCTION_H_

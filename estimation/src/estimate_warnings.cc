@@ -1,0 +1,113 @@
+#include "activecal/estimation/estimate_warnings.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace activecal {
+
+std::vector<std::string> EstimateWarnings(
+    const RobotModel& model, const IdentificationSummary& summary,
+    const EstimateWarningOptions& options) {
+  std::vector<std::string> lines;
+  const std::vector<int> free = model.FreeParameterIndices();
+  const int p = static_cast<int>(free.size());
+  CHECK_EQ(summary.standard_deviations.size(), p);
+  CHECK_EQ(summary.correlation.rows(), p);
+  auto is_length = [&](int k) {
+    return std::string(model.ParameterUnit(free[k])) == "m";
+  };
+  for (int k = 0; k < p; ++k) {
+    const double sd = summary.standard_deviations[k];
+    const double limit = is_length(k) ? options.max_std_m : options.max_std_rad;
+    if (sd > limit) {
+      std::ostringstream line;
+      line << summary.names[k] << " has std " << sd << " "
+           << model.ParameterUnit(free[k]) << " > " << limit
+           << ": the measurements hardly determine it";
+      lines.push_back(line.str());
+    }
+  }
+  // Correlations: parameters linked by pairs beyond the threshold form a
+  // group, one line each (a pair as such; five parameters of one weak
+  // direction are one line, not ten).
+  std::vector<int> group(p);
+  for (int k = 0; k < p; ++k) group[k] = k;
+  auto root = [&](int k) {
+    while (group[k] != k) k = group[k] = group[group[k]];
+    return k;
+  };
+  auto beyond = [&](int a, int b) {
+    return std::abs(summary.correlation(a, b)) > options.max_abs_correlation;
+  };
+  for (int a = 0; a < p; ++a) {
+    for (int b = a + 1; b < p; ++b) {
+      if (beyond(a, b))
+        group[std::max(root(a), root(b))] = std::min(root(a), root(b));
+    }
+  }
+  for (int r = 0; r < p; ++r) {
+    std::vector<int> members;
+    for (int k = r; k < p; ++k) {
+      if (root(k) == r) members.push_back(k);
+    }
+    if (members.size() < 2) continue;
+    std::ostringstream line;
+    line.precision(4);
+    if (members.size() == 2) {
+      line << summary.names[members[0]] << " and " << summary.names[members[1]]
+           << " are correlated " << summary.correlation(members[0], members[1])
+           << ": the measurements separate only their combination";
+    } else {
+      int pairs = 0;
+      double largest = 0.0;
+      for (size_t i = 0; i < members.size(); ++i) {
+        for (size_t j = i + 1; j < members.size(); ++j) {
+          const double c = summary.correlation(members[i], members[j]);
+          if (!beyond(members[i], members[j])) continue;
+          ++pairs;
+          if (std::abs(c) > std::abs(largest)) largest = c;
+        }
+      }
+      for (size_t i = 0; i < members.size(); ++i) {
+        line << (i == 0                    ? ""
+                 : i + 1 == members.size() ? " and "
+                                           : ", ")
+             << summary.names[members[i]];
+      }
+      line << " are correlated beyond " << options.max_abs_correlation << " in "
+           << pairs << " of their pairs (up to " << largest
+           << "): the measurements separate only combinations of them";
+    }
+    lines.push_back(line.str());
+  }
+  // The moved ones in one line: a wrong nominal model moves many at once.
+  std::ostringstream moved_line;
+  moved_line.precision(3);
+  int num_moved = 0;
+  for (int k = 0; k < p; ++k) {
+    const int i = free[k];
+    const int block = model.BlockOf(i);
+    if (block == 0 || model.is_marker_block(block)) continue;
+    const double sd = summary.standard_deviations[k];
+    const double moved = summary.estimates[k] - model.nominal[i];
+    if (sd > 0 && std::abs(moved) > options.max_moved_std * sd) {
+      moved_line << (num_moved++ ? ", " : " ") << summary.names[k] << " "
+                 << moved << " " << model.ParameterUnit(i) << " ("
+                 << std::abs(moved) / sd << " std)";
+    }
+  }
+  if (num_moved > 0) {
+    std::ostringstream line;
+    line << num_moved << " link parameter" << (num_moved > 1 ? "s" : "")
+         << " moved more than " << options.max_moved_std
+         << " std from nominal (is the nominal model the right one?):"
+         << moved_line.str();
+    lines.push_back(line.str());
+  }
+  return lines;
+}
+
+}  // namespace activecal

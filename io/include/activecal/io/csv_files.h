@@ -1,0 +1,153 @@
+// The CSV files of the calibration workflow (docs/formats.md):
+//
+//   poses        what to run on the robot: pose_index, then each joint in SI
+//                units (q1_rad, or q3_m for a prismatic joint) and in the
+//                unit a robot pendant shows (q1_deg, q3_mm). Reading needs
+//                one of the two per joint; when both are there they must
+//                agree.
+//   measurements what the device reported: type (position, pose, distance;
+//                without the column: pose when the file has orientation
+//                columns, position otherwise), the joints (q1_rad / q1_deg /
+//                q3_m / q3_mm, or by URDF joint name: elbow_joint_rad), and
+//                the measured values: the point (x_m,y_m,z_m or
+//                x_mm,y_mm,z_mm), the orientation of a pose (rotation
+//                vector rx_rad,ry_rad,rz_rad; unit quaternion qw,qx,qy,qz;
+//                or roll_rad,pitch_rad,yaw_rad / _deg with R = Rz(yaw)
+//                Ry(pitch) Rx(roll)), the second pose's joints (q1_rad_2 ...)
+//                and distance_m / distance_mm (distance); standard
+//                deviations sigma_m (or sigma_x_m,sigma_y_m,sigma_z_m, or a
+//                95% expanded uncertainty u95_m = 2 sigma; _mm forms too)
+//                and sigma_rad / sigma_deg (pose). One representation per
+//                quantity per file. Fields a row's type does not use are
+//                left empty. An optional "marker" column names the model's
+//                marker a row measured (its name, or its number 1, 2, ...;
+//                empty or no column: the first). The wide form of motion
+//                capture, x1_m,y1_m,z1_m,x2_m,..., gives one position per
+//                marker k (the model's marker k, 1-based) and row; a
+//                marker's empty cells mean it was not seen. Columns
+//                activecal does not know (a device's temperature,
+//                timestamps, ...) are ignored and listed in a note.
+//
+// Lines starting with '#' are comments. The text may be as spreadsheets
+// and device software write it: CRLF line ends, a UTF-8 byte order mark,
+// quoted fields ("P1, north"), rows of separators only and columns with no
+// name that stay empty; the separator is ',' (';', tabs and UTF-16 are
+// named as errors). Every reader names the file, the line and the column of
+// a problem: "poses.csv:7: q3_rad: expected a number, got 'abc'".
+
+#ifndef ACTIVECAL_IO_CSV_FILES_H_
+#define ACTIVECAL_IO_CSV_FILES_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "activecal/core/measurement.h"
+#include "activecal/core/robot_model.h"
+
+namespace activecal {
+
+// The SI column name of joint j (0-based): "q1_rad" or "q1_m".
+std::string JointColumn(const RobotModel& model, int j);
+
+struct PoseList {
+  Eigen::MatrixXd joints;             // one pose per row, SI units
+  std::vector<int64_t> pose_indices;  // from pose_index, or 0, 1, 2, ...
+};
+
+std::string PosesCsvText(const RobotModel& model, const PoseList& poses);
+// Checks each pose against the joint limits; with reject_duplicates, two
+// identical poses are an error naming both lines.
+bool ParsePosesCsv(const std::string& text, const std::string& source,
+                   const RobotModel& model, bool reject_duplicates,
+                   PoseList* poses, std::string* error);
+bool ReadPosesCsv(const std::string& path, const RobotModel& model,
+                  bool reject_duplicates, PoseList* poses, std::string* error);
+
+// How a pose's orientation is written. Roll, pitch, yaw are fixed-axis
+// angles, R = Rz(yaw) Ry(pitch) Rx(roll) (the URDF/ROS convention).
+enum class OrientationFormat {
+  kRotationVector,  // rx_rad, ry_rad, rz_rad: axis times angle
+  kQuaternion,      // qw, qx, qy, qz: unit quaternion, qw >= 0
+  kRpyRad,          // roll_rad, pitch_rad, yaw_rad
+  kRpyDeg,          // roll_deg, pitch_deg, yaw_deg
+};
+
+// The columns MeasurementsCsvText writes. The default is SI throughout and
+// reads back bit for bit; the others round-trip to rounding (1e-15
+// relative).
+struct MeasurementsCsvFormat {
+  bool millimetres = false;    // x_mm.., distance_mm, sigma_mm
+  bool joint_degrees = false;  // q1_deg / q3_mm instead of q1_rad / q3_m
+  bool joint_names = false;    // <joint name>_rad instead of q<j>_rad
+  OrientationFormat orientation = OrientationFormat::kRotationVector;
+};
+
+// Writes one row per measurement; the sigma columns (sigma_m, or
+// sigma_x_m,sigma_y_m,sigma_z_m for rows whose axes differ, and sigma_rad)
+// when any measurement carries them.
+std::string MeasurementsCsvText(const RobotModel& model,
+                                const std::vector<Measurement>& measurements,
+                                const MeasurementsCsvFormat& format = {});
+
+// How a measurements file is read.
+struct MeasurementsCsvOptions {
+  // Joint readings beyond the model's joint ranges are accepted when they
+  // lie within the tolerance below, with one warning per file (real
+  // readings do: a torso reads 0.35018 m against a 0.35 m limit); beyond
+  // the tolerance they are an error (a wrong file or wrong units). With
+  // strict_limits every reading beyond a range is an error. The tolerances
+  // may be tightened, not widened: CheckMeasurement (and so Identify,
+  // EvaluateModel) holds readings to kMeasuredJointTolerance*.
+  bool strict_limits = false;
+  double limit_tolerance_rad = kMeasuredJointToleranceRad;  // revolute
+  double limit_tolerance_m = kMeasuredJointToleranceM;      // prismatic
+  // Columns activecal does not know: listed in a note (false) or an error.
+  bool columns_strict = false;
+
+  // Tolerances in [0, kMeasuredJointToleranceRad] and
+  // [0, kMeasuredJointToleranceM].
+  bool IsValid(std::string* error) const;
+};
+
+// What reading a file had to say besides the measurements: each entry one
+// line, naming the file.
+struct MeasurementsCsvReport {
+  // Joint readings beyond the ranges, within the tolerance: at most one
+  // line per file, naming the rows, joints and excess in the file's units.
+  std::vector<std::string> warnings;
+  // Ignored columns; marker positions not seen (empty cells) that were
+  // skipped.
+  std::vector<std::string> notes;
+  // Rows of the file each measurement came from (1-based line numbers).
+  std::vector<int> lines;
+};
+
+// Parses a measurements file; `report` may be null. On failure returns
+// false with "<source>:<line>: <column>: <what is wrong>" in *error.
+bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
+                          const RobotModel& model,
+                          const MeasurementsCsvOptions& options,
+                          std::vector<Measurement>* measurements,
+                          MeasurementsCsvReport* report, std::string* error);
+bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,
+                         const MeasurementsCsvOptions& options,
+                         std::vector<Measurement>* measurements,
+                         MeasurementsCsvReport* report, std::string* error);
+// The same with the default options, the report dropped.
+bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
+                          const RobotModel& model,
+                          std::vector<Measurement>* measurements,
+                          std::string* error);
+bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,
+                         std::vector<Measurement>* measurements,
+                         std::string* error);
+
+// Reads a whole file; false with "<path>: cannot open ..." on failure.
+bool ReadTextFile(const std::string& path, std::string* text,
+                  std::string* error);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_IO_CSV_FILES_H_

@@ -1,0 +1,54 @@
+// The targets CSV: Cartesian targets for the robot's marker, one per row,
+// in the measuring device's (base/tracker) frame (docs/formats.md):
+//
+//   pose_index,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,q1_rad,...,q6_rad
+//   0,0.61,20.3,0.92,0.1,-1.2,0.4,0.1,...,0.3
+//
+//   pose_index     optional label (default: the row number, from 0)
+//   x_m, y_m, z_m  the target point (m), required
+//   rx_rad, ry_rad, rz_rad
+//                  optional, all three or none: the target orientation of
+//                  the marker frame as a rotation vector (axis times angle,
+//                  angle <= pi), as in the measurements CSV
+//   q<j>_rad / q<j>_m (or q<j>_deg / q<j>_mm)
+//                  optional, every joint or none: the start configuration
+//                  of each target (e.g. the controller's own solution); it
+//                  must be inside the joint limits
+//
+// Lines starting with '#' are comments; fields may have spaces around them.
+// Every error names the file, the line and the column.
+
+#ifndef ACTIVECAL_IO_TARGETS_CSV_H_
+#define ACTIVECAL_IO_TARGETS_CSV_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "activecal/core/robot_model.h"
+
+namespace activecal {
+
+struct TargetList {
+  std::vector<int64_t> pose_indices;  // from pose_index, or 0, 1, 2, ...
+  Eigen::MatrixXd points;             // n x 3 (m)
+  // n x 3 rotation vectors (rad), or 0 rows when the file has none.
+  Eigen::MatrixXd rotation_vectors;
+  // n x num_joints start configurations (SI), or 0 rows when none.
+  Eigen::MatrixXd start_joints;
+};
+
+bool ParseTargetsCsv(const std::string& text, const std::string& source,
+                     const RobotModel& model, TargetList* targets,
+                     std::string* error);
+bool ReadTargetsCsv(const std::string& path, const RobotModel& model,
+                    TargetList* targets, std::string* error);
+
+// The file text of `targets` (the columns it has); numbers in their
+// shortest form that reads back to the same double.
+std::string TargetsCsvText(const RobotModel& model, const TargetList& targets);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_IO_TARGETS_CSV_H_

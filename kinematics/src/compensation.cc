@@ -1,0 +1,327 @@
+#include "activecal/kinematics/compensation.h"
+
+#include <glog/logging.h>
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "activecal/io/csv_files.h"
+#include "activecal/core/kinematics.h"
+#include "activecal/core/parallel.h"
+
+namespace activecal {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Counts, maxima and the termination of a finished run.
+void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
+  summary->num_converged = summary->num_singular = summary->num_limit = 0;
+  summary->num_unreachable = summary->num_invalid = 0;
+  double sum_change2 = 0.0;
+  int first_failure = -1;
+  const int n = static_cast<int>(summary->results.size());
+  for (int i = 0; i < n; ++i) {
+    const InverseKinematicsResult& r = summary->results[i];
+    switch (r.status) {
+      case IkStatus::kConverged:
+        ++summary->num_converged;
+        break;
+      case IkStatus::kSingular:
+        ++summary->num_singular;
+        break;
+      case IkStatus::kLimit:
+        ++summary->num_limit;
+        break;
+      case IkStatus::kUnreachable:
+        ++summary->num_unreachable;
+        break;
+      case IkStatus::kInvalid:
+        ++summary->num_invalid;
+        break;
+    }
+    if (r.status != IkStatus::kConverged && first_failure < 0)
+      first_failure = i;
+    summary->max_position_error_m =
+        std::max(summary->max_position_error_m, r.position_error_m);
+    summary->max_rotation_error_rad =
+        std::max(summary->max_rotation_error_rad, r.rotation_error_rad);
+    if (r.joints.size() == starts.cols()) {
+      const Eigen::VectorXd change = r.joints - starts.row(i).transpose();
+      summary->max_joint_change =
+          std::max(summary->max_joint_change, change.cwiseAbs().maxCoeff());
+      sum_change2 += change.squaredNorm();
+    }
+  }
+  summary->rms_joint_change = n > 0 ? std::sqrt(sum_change2 / n) : 0.0;
+  if (first_failure < 0) {
+    summary->termination_type = TerminationType::kConvergence;
+    summary->message.clear();
+    return;
+  }
+  summary->termination_type = TerminationType::kFailure;
+  const InverseKinematicsResult& r = summary->results[first_failure];
+  summary->message = std::to_string(n - summary->num_converged) + " of " +
+                     std::to_string(n) +
+                     " targets did not converge; the first, target " +
+                     std::to_string(first_failure) + ", is " +
+                     IkStatusName(r.status) + ": " + r.message;
+}
+
+void UserFailure(const std::string& message, CompensationSummary* summary) {
+  *summary = CompensationSummary();
+  summary->termination_type = TerminationType::kUserFailure;
+  summary->message = message;
+}
+
+}  // namespace
+
+bool CheckSameChain(const RobotModel& calibrated, const RobotModel& nominal,
+                    std::string* error) {
+  auto fail = [error](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (calibrated.num_joints() != nominal.num_joints()) {
+    return fail("the calibrated model '" + calibrated.name + "' has " +
+                std::to_string(calibrated.num_joints()) +
+                " joints, the nominal model '" + nominal.name + "' " +
+                std::to_string(nominal.num_joints()) + ": not the same robot");
+  }
+  for (int j = 0; j < calibrated.num_joints(); ++j) {
+    const JointType a = calibrated.links[j].joint_type;
+    const JointType b = nominal.links[j].joint_type;
+    if (a != b) {
+      return fail("joint " + std::to_string(j + 1) +
+                  ": the calibrated model's is " + JointTypeName(a) +
+                  ", the nominal model's " + JointTypeName(b) +
+                  ": not the same robot");
+    }
+  }
+  if (calibrated.base.convention != nominal.base.convention) {
+    return fail(
+        std::string("the base frames differ: the calibrated model's is ") +
+        LinkConventionName(calibrated.base.convention) +
+        ", the nominal model's " + LinkConventionName(nominal.base.convention) +
+        " (the program is placed with the calibrated base frame, so "
+        "both need the same kind of base)");
+  }
+  if (calibrated.num_markers() != nominal.num_markers()) {
+    return fail("the calibrated model has " +
+                std::to_string(calibrated.num_markers()) +
+                " markers, the nominal model " +
+                std::to_string(nominal.num_markers()) + ": not the same tool");
+  }
+  return true;
+}
+
+Eigen::VectorXd ProgramMeaningParameters(
+    const RobotModel& calibrated, const Eigen::VectorXd& calibrated_values,
+    const RobotModel& nominal, const Eigen::VectorXd& nominal_values) {
+  CHECK_EQ(calibrated.block_size(0), nominal.block_size(0));
+  Eigen::VectorXd meaning = nominal_values;
+  meaning.head(nominal.block_size(0)) =
+      calibrated_values.head(calibrated.block_size(0));
+  return meaning;
+}
+
+bool CompensationSummary::AllConverged() const {
+  return termination_type == TerminationType::kConvergence;
+}
+
+std::string CompensationSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "compensation: " << TerminationTypeToString(termination_type) << ", "
+      << results.size() << " targets: " << num_converged << " converged";
+  if (num_singular) out << ", " << num_singular << " singular";
+  if (num_limit) out << ", " << num_limit << " limit";
+  if (num_unreachable) out << ", " << num_unreachable << " unreachable";
+  if (num_invalid) out << ", " << num_invalid << " invalid";
+  out << "\n  largest error left " << max_position_error_m << " m";
+  if (max_rotation_error_rad > 0)
+    out << ", " << max_rotation_error_rad << " rad";
+  out << "; joint change: largest " << max_joint_change << ", RMS "
+      << rms_joint_change << " (rad or m)\n  " << seconds << " s";
+  if (seconds > 0) out << " (" << results.size() / seconds << " targets/s)";
+  out << "\n";
+  if (!message.empty()) out << "  " << message << "\n";
+  return out.str();
+}
+
+void CompensateProgram(const RobotModel& calibrated,
+                       const Eigen::VectorXd& calibrated_values,
+                       const RobotModel& nominal,
+                       const Eigen::VectorXd& nominal_values,
+                       const Eigen::MatrixXd& program,
+                       const CompensationOptions& options,
+                       CompensationSummary* summary) {
+  CHECK(summary != nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  if (!CheckSameChain(calibrated, nominal, &error) ||
+      !calibrated.CheckParameters(calibrated_values, &error) ||
+      !nominal.CheckParameters(nominal_values, &error) ||
+      !options.ik.IsValid(&error)) {
+    UserFailure(error, summary);
+    return;
+  }
+  if (program.cols() != calibrated.num_joints()) {
+    UserFailure("the program has " + std::to_string(program.cols()) +
+                    " joints per row, the robot '" + calibrated.name + "' " +
+                    std::to_string(calibrated.num_joints()),
+                summary);
+    return;
+  }
+  if (options.ik.marker < 0 || options.ik.marker >= nominal.num_markers()) {
+    UserFailure("marker " + std::to_string(options.ik.marker + 1) +
+                    " is not a marker of the model",
+                summary);
+    return;
+  }
+  *summary = CompensationSummary();
+  const Eigen::VectorXd meaning = ProgramMeaningParameters(
+      calibrated, calibrated_values, nominal, nominal_values);
+  const int n = static_cast<int>(program.rows());
+  summary->targets.resize(n);
+  const std::vector<const double*> blocks =
+      BlockPointers<double>(nominal, meaning.data());
+  ParallelFor(
+      n, options.num_threads, [&](int64_t begin, int64_t end, int /*thread*/) {
+        for (int64_t i = begin; i < end; ++i) {
+          const Eigen::VectorXd q = program.row(i).transpose();
+          IkTarget& target = summary->targets[i];
+          if (!q.allFinite()) {
+            // Solved as invalid below.
+            target.point.setConstant(NAN);
+            continue;
+          }
+          TargetFrame(nominal, blocks.data(), q.data(), &target.rotation,
+                      &target.point, options.ik.marker);
+        }
+      });
+  SolveInverseKinematicsBatch(calibrated, calibrated_values, summary->targets,
+                              program, options.ik, options.num_threads,
+                              &summary->results);
+  summary->seconds = SecondsSince(start);
+  Summarize(program, summary);
+}
+
+void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
+                       const std::vector<IkTarget>& targets,
+                       const Eigen::MatrixXd& starts,
+                       const Eigen::VectorXd& first_start,
+                       const CompensationOptions& options,
+                       CompensationSummary* summary) {
+  CHECK(summary != nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  if (!model.CheckParameters(values, &error) || !options.ik.IsValid(&error)) {
+    UserFailure(error, summary);
+    return;
+  }
+  const int n = static_cast<int>(targets.size());
+  if (starts.rows() != 0 &&
+      (starts.rows() != n || starts.cols() != model.num_joints())) {
+    UserFailure("expected " + std::to_string(n) + " start configurations of " +
+                    std::to_string(model.num_joints()) + " joints, got " +
+                    std::to_string(starts.rows()) + " x " +
+                    std::to_string(starts.cols()),
+                summary);
+    return;
+  }
+  *summary = CompensationSummary();
+  summary->targets = targets;
+  if (starts.rows() == n) {
+    SolveInverseKinematicsBatch(model, values, targets, starts, options.ik,
+                                options.num_threads, &summary->results);
+    summary->seconds = SecondsSince(start);
+    Summarize(starts, summary);
+    return;
+  }
+  Eigen::VectorXd q = first_start;
+  if (q.size() == 0) {
+    q.resize(model.num_joints());
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const Link& l = model.links[j];
+      const double lo = std::isfinite(l.joint_min) ? l.joint_min : -M_PI;
+      const double hi = std::isfinite(l.joint_max) ? l.joint_max : M_PI;
+      q[j] = 0.5 * (lo + hi);
+    }
+  }
+  if (!model.CheckJointValues(q, &error)) {
+    UserFailure("first start configuration: " + error, summary);
+    return;
+  }
+  Eigen::MatrixXd used(n, model.num_joints());
+  summary->results.resize(n);
+  for (int i = 0; i < n; ++i) {
+    used.row(i) = q.transpose();
+    SolveInverseKinematics(model, values, targets[i], q, options.ik,
+                           &summary->results[i]);
+    if (summary->results[i].status != IkStatus::kInvalid) {
+      q = summary->results[i].joints;
+    }
+  }
+  summary->seconds = SecondsSince(start);
+  Summarize(used, summary);
+}
+
+std::vector<IkTarget> IkTargetsFromList(const TargetList& list) {
+  const int n = static_cast<int>(list.points.rows());
+  std::vector<IkTarget> targets(n);
+  for (int i = 0; i < n; ++i) {
+    targets[i].point = list.points.row(i).transpose();
+    if (list.rotation_vectors.rows() == n) {
+      const Eigen::Vector3d v = list.rotation_vectors.row(i).transpose();
+      const double angle = v.norm();
+      if (angle > 0.0) {
+        targets[i].rotation =
+            Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+      }
+    }
+  }
+  return targets;
+}
+
+std::string CompensatedPosesCsvText(const RobotModel& model,
+                                    const std::vector<int64_t>& pose_indices,
+                                    const CompensationSummary& summary) {
+  const int n = static_cast<int>(summary.results.size());
+  PoseList poses;
+  poses.joints.resize(n, model.num_joints());
+  for (int i = 0; i < n; ++i) {
+    CHECK_EQ(summary.results[i].joints.size(), model.num_joints());
+    poses.joints.row(i) = summary.results[i].joints.transpose();
+  }
+  poses.pose_indices = pose_indices;
+  const std::string text = PosesCsvText(model, poses);
+  // Append the two columns to each line of the poses CSV.
+  std::ostringstream out;
+  out.precision(17);
+  std::istringstream in(text);
+  std::string line;
+  int row = -1;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') {
+      out << line << "\n";
+      continue;
+    }
+    if (row < 0) {
+      out << line << ",status,position_error_m\n";
+    } else {
+      const InverseKinematicsResult& r = summary.results[row];
+      out << line << "," << IkStatusName(r.status) << "," << r.position_error_m
+          << "\n";
+    }
+    ++row;
+  }
+  CHECK_EQ(row, n);
+  return out.str();
+}
+
+}  // namespace activecal
