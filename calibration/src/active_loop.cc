@@ -364,10 +364,12 @@ bool RunActiveLoop(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
     const int want = r == 0 ? options.first_batch : options.batch_size;
     int64_t left = 0;  // poses that may still be designed
     for (int64_t i = 0; i < pool_size; ++i) left += !barred(i);
-    const std::string ran_out = !state.excluded.empty() || options.pool_filter
-                                    ? "every pool pose is measured or excluded"
-                                    : "every pool pose is measured";
-    if (left <= 0) return finish(TerminationType::kNoConvergence, ran_out);
+    auto ran_out = [&]() -> std::string {
+      return !state.excluded.empty() || options.pool_filter
+                 ? "every pool pose is measured or excluded"
+                 : "every pool pose is measured";
+    };
+    if (left <= 0) return finish(TerminationType::kNoConvergence, ran_out());
 
     ActiveRound round;
     std::vector<Measurement> measured_now;  // this round's
@@ -445,7 +447,7 @@ bool RunActiveLoop(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
     for (int64_t i : round.batch) taken[i] = 1;
     if (round.batch.empty()) {
       sync_summary();
-      return finish(TerminationType::kNoConvergence, ran_out);
+      return finish(TerminationType::kNoConvergence, ran_out());
     }
     std::vector<Measurement> measurements = state.measurements;
     measurements.insert(measurements.end(), measured_now.begin(),

@@ -24,6 +24,9 @@ bool ParseObject(const std::string& line, json* out, std::string* error) {
     }
     *error = why + ": '" + Excerpt(line) + "'";
     return false;
+  } catch (const json::out_of_range& e) {
+    *error = "a number beyond the range of a double: '" + Excerpt(line) + "'";
+    return false;
   }
   if (!out->is_object()) {
     *error = "not a JSON object: '" + Excerpt(line) + "'";
