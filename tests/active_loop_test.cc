@@ -374,7 +374,8 @@ TEST(ActiveLoopTest, ResumingAfterAnyRoundGivesTheSameResult) {
 ActiveLoopSummary RunSession(const Puma& p, const std::string& dir, bool resume,
                              int fail_after,
                              std::vector<std::string>* notes = nullptr,
-                             int* asked_again = nullptr) {
+                             int* asked_again = nullptr,
+                             const BatchSelector& select = StridePoses) {
   ActiveLoopOptions options = SmallLoop(p);
   const SessionIdentity identity = {{"seed", "1"}, {"robot", "puma"}};
   std::unique_ptr<ActiveSession> session;
@@ -407,7 +408,7 @@ ActiveLoopSummary RunSession(const Puma& p, const std::string& dir, bool resume,
     return session->SaveState(s, e);
   };
   ActiveLoopSummary summary;
-  RunActiveLoop(p.model, p.joints, p.joints, options, StridePoses, &measurer,
+  RunActiveLoop(p.model, p.joints, p.joints, options, select, &measurer,
                 session->resume_state(), &summary);
   if (asked_again) {
     *asked_again = 0;
@@ -475,6 +476,28 @@ TEST(ActiveSessionTest, ACutLastLineIsDroppedAndMeasuredAgain) {
       << notes[0];
   ExpectSameSummary(reference, done);
   EXPECT_EQ(ReadFile(whole + "/measurements.csv"), ReadFile(path));
+}
+
+// A continued loop that designs differently from the log (another build)
+// is refused, not mixed with it.
+TEST(ActiveSessionTest, ALoopThatLeavesTheLogIsRefused) {
+  const Puma p;
+  const std::string dir = TempDir("other");
+  RunSession(p, dir, false, 44);  // crashed in round 1
+  BatchSelector other = [](const CandidatePool& pool, const Eigen::MatrixXd& W,
+                           const RowMatrixXd& prior, const BatchRequest& r,
+                           std::vector<int64_t>* batch, std::string* error) {
+    BatchRequest shifted = r;
+    shifted.round = r.round + 40;  // other poses
+    return StridePoses(pool, W, prior, shifted, batch, error);
+  };
+  const ActiveLoopSummary s =
+      RunSession(p, dir, true, -1, nullptr, nullptr, other);
+  EXPECT_EQ(s.termination_type, TerminationType::kFailure);
+  EXPECT_NE(s.message.find("which the continued loop completed without "
+                           "asking for it"),
+            std::string::npos)
+      << s.message;
 }
 
 TEST(ActiveSessionTest, ASessionIsContinuedOnlyAsItWasMade) {

@@ -7,6 +7,9 @@
 namespace activecal {
 
 using nlohmann::json;
+// Messages are written with their members in the documented order ("type"
+// first), read in any order.
+using ordered = nlohmann::ordered_json;
 
 namespace {
 
@@ -106,8 +109,8 @@ bool OptionalTriples(const json& j, const std::string& field, int n,
   return true;
 }
 
-json Vector(const Eigen::VectorXd& v) {
-  json a = json::array();
+ordered Vector(const Eigen::VectorXd& v) {
+  ordered a = ordered::array();
   for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
   return a;
 }
@@ -157,20 +160,20 @@ std::string Excerpt(const std::string& line, size_t max_chars) {
 }
 
 std::string HelloMessage(const DriverHello& hello) {
-  json j = {{"type", "hello"},
-            {"protocol", hello.protocol},
-            {"joint_names", hello.joint_names},
-            {"markers", hello.markers},
-            {"robot", hello.robot}};
+  ordered j = {{"type", "hello"},
+               {"protocol", hello.protocol},
+               {"joint_names", hello.joint_names},
+               {"markers", hello.markers},
+               {"robot", hello.robot}};
   return j.dump();
 }
 
 std::string MeasureMessage(int64_t id, const Eigen::VectorXd& joints) {
-  json j = {{"type", "measure"}, {"id", id}, {"joints_rad", Vector(joints)}};
+  ordered j = {{"type", "measure"}, {"id", id}, {"joints_rad", Vector(joints)}};
   return j.dump();
 }
 
-std::string ByeMessage() { return json{{"type", "bye"}}.dump(); }
+std::string ByeMessage() { return ordered{{"type", "bye"}}.dump(); }
 
 bool ParseDriverHello(const std::string& line, std::string* error) {
   json j;
@@ -352,23 +355,32 @@ bool ParseActivecalMessage(const std::string& line, ActivecalMessage* message,
 }
 
 std::string DriverHelloMessage(const std::string& about) {
-  json j = json::object();
-  if (!about.empty()) j = json::parse(about);
-  j["type"] = "hello";
-  j["protocol"] = kDriverProtocolVersion;
+  ordered j = {{"type", "hello"}, {"protocol", kDriverProtocolVersion}};
+  if (!about.empty()) {
+    const ordered extra = ordered::parse(about, nullptr, false);
+    if (extra.is_object()) {
+      for (const auto& item : extra.items()) {
+        if (item.key() != "type" && item.key() != "protocol") {
+          j[item.key()] = item.value();
+        }
+      }
+    } else {
+      j["about"] = about;
+    }
+  }
   return j.dump();
 }
 
 std::string MeasurementReplyMessage(const MeasurementReply& reply) {
-  json j = {{"type", "measurement"},
-            {"id", reply.id},
-            {"status", MeasureStatusToString(reply.status)}};
+  ordered j = {{"type", "measurement"},
+               {"id", reply.id},
+               {"status", MeasureStatusToString(reply.status)}};
   if (!reply.message.empty()) j["message"] = reply.message;
   if (reply.status != MeasureStatus::kOk) return j.dump();
   j["joints_rad"] = Vector(reply.joints);
   auto triples = [](const std::vector<std::optional<Eigen::Vector3d>>& v) {
-    json a = json::array();
-    for (const auto& p : v) a.push_back(p ? Vector(*p) : json());
+    ordered a = ordered::array();
+    for (const auto& p : v) a.push_back(p ? Vector(*p) : ordered());
     return a;
   };
   j["points_m"] = triples(reply.points_m);

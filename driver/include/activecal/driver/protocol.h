@@ -105,7 +105,8 @@ struct ActivecalMessage {
 bool ParseActivecalMessage(const std::string& line, ActivecalMessage* message,
                            std::string* error);
 // The driver's hello; `about` (may be empty) is a JSON object text whose
-// members are added ("driver": "...", what the cell has).
+// members are added ("driver": "...", what the cell has; text that is not
+// an object is added as "about").
 std::string DriverHelloMessage(const std::string& about);
 std::string MeasurementReplyMessage(const MeasurementReply& reply);
 
