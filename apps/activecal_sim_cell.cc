@@ -149,10 +149,10 @@ class Cell {
                   "\"noise_m\":%.17g,\"seed\":%llu}",
                   model_.name.c_str(), FLAGS_noise_m,
                   static_cast<unsigned long long>(FLAGS_seed));
-    return Send(DriverHelloMessage(about), channel, status);
+    return Send(DriverHelloMessage(about), channel);
   }
 
-  bool Send(const std::string& text, LineChannel* channel, int* status) {
+  bool Send(const std::string& text, LineChannel* channel) {
     std::string error;
     if (!channel->WriteLine(text, &error)) {
       std::fprintf(stderr, "activecal_sim_cell: cannot reply: %s\n",
@@ -163,7 +163,6 @@ class Cell {
       std::ofstream log(FLAGS_served_log, std::ios::app);
       log << text << "\n";
     }
-    (void)status;
     return true;
   }
 
@@ -198,7 +197,7 @@ class Cell {
       text = Garbage(g, request, reply);
     }
     ++served_;
-    return Send(text, channel, status);
+    return Send(text, channel);
   }
 
   static std::string Garbage(const std::string& kind,

@@ -323,14 +323,21 @@ RobotModel Iiwa() {
   return robot.model;
 }
 
-TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
-  const RobotModel model = Iiwa();
+// The shipped data/controllers/kuka_iiwa14.yaml.
+ControllerConvention IiwaConvention(const RobotModel& model) {
   ControllerConvention convention;
   std::string error;
-  ASSERT_TRUE(ReadControllerConvention(ACTIVECAL_DATA_DIR
+  EXPECT_TRUE(ReadControllerConvention(ACTIVECAL_DATA_DIR
                                        "/controllers/kuka_iiwa14.yaml",
                                        model, &convention, &error))
       << error;
+  return convention;
+}
+
+TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
+  const RobotModel model = Iiwa();
+  ControllerConvention convention = IiwaConvention(model);
+  std::string error;
   // An offset too, to see the zero applied.
   convention.joints[2].offset = 10 * M_PI / 180;
   PoseList poses;
@@ -415,12 +422,8 @@ TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
 // must be the controller's.
 TEST(ControllerProgramTest, TheIiwaConventionMatchesTheControllersAxes) {
   const RobotModel model = Iiwa();
-  ControllerConvention convention;
+  ControllerConvention convention = IiwaConvention(model);
   std::string error;
-  ASSERT_TRUE(ReadControllerConvention(ACTIVECAL_DATA_DIR
-                                       "/controllers/kuka_iiwa14.yaml",
-                                       model, &convention, &error))
-      << error;
   const Eigen::Vector3d kuka[] = {
       Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(),
       Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitY(),

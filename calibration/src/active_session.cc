@@ -55,47 +55,40 @@ bool SyncDirectory(const std::string& dir, std::string* error) {
   return true;
 }
 
+// Writes `text` to the file `path` opened with `flags` and syncs it to
+// disk; *error names the file.
+bool WriteSynced(const std::string& path, int flags, const std::string& text,
+                 std::string* error) {
+  const int fd =
+      open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | flags, 0644);
+  std::string why;
+  if (fd < 0 || !WriteAll(fd, text, &why) || fsync(fd) != 0) {
+    if (why.empty()) why = Errno();
+    *error = "cannot write '" + path + "': " + why;
+    if (fd >= 0) close(fd);
+    return false;
+  }
+  close(fd);
+  return true;
+}
+
 // Appends `text` to `path` and syncs it to disk (a new file's directory
 // entry too).
 bool AppendSynced(const std::string& path, const std::string& dir,
                   const std::string& text, std::string* error) {
   const bool fresh = !Exists(path);
-  const int fd =
-      open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    *error = "cannot open '" + path + "' to append: " + Errno();
-    return false;
-  }
-  std::string why;
-  if (!WriteAll(fd, text, &why) || fsync(fd) != 0) {
-    if (why.empty()) why = Errno();
-    *error = "cannot append to '" + path + "': " + why;
-    close(fd);
-    return false;
-  }
-  close(fd);
-  return !fresh || SyncDirectory(dir, error);
+  return WriteSynced(path, O_APPEND, text, error) &&
+         (!fresh || SyncDirectory(dir, error));
 }
 
 // Replaces `path` atomically: a synced temporary file renamed over it.
 bool ReplaceSynced(const std::string& path, const std::string& dir,
                    const std::string& text, std::string* error) {
   const std::string tmp = path + ".tmp";
-  const int fd =
-      open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    *error = "cannot write '" + tmp + "': " + Errno();
-    return false;
-  }
-  std::string why;
-  if (!WriteAll(fd, text, &why) || fsync(fd) != 0) {
-    if (why.empty()) why = Errno();
-    *error = "cannot write '" + tmp + "': " + why;
-    close(fd);
+  if (!WriteSynced(tmp, O_TRUNC, text, error)) {
     unlink(tmp.c_str());
     return false;
   }
-  close(fd);
   if (rename(tmp.c_str(), path.c_str()) != 0) {
     *error = "cannot rename '" + tmp + "' to '" + path + "': " + Errno();
     unlink(tmp.c_str());
