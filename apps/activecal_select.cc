@@ -96,6 +96,12 @@ DEFINE_int64(max_double_pool_mib, 2048,
 DEFINE_uint64(seed, 1, "Seed of every random choice.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the selected design here.");
+DEFINE_string(program_out, "",
+              "Also write the design as a controller program (the poses CSV "
+              "unchanged): docs/driver_protocol.md.");
+DEFINE_string(program_language, "urscript", "urscript, krl or rapid.");
+DEFINE_string(controller, "",
+              "The controller's joint convention (YAML, data/controllers/).");
 
 namespace activecal {
 namespace {
@@ -109,6 +115,8 @@ std::string Number(double x, int digits) {
 int Main() {
   const int64_t start = app::NowNs();
   const RobotDescription robot = app::LoadRobotOrDie();
+  const app::ProgramRequest program = app::ProgramRequestOrDie(
+      robot.model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
   RobotModel model = robot.model;
   MeasurementType type;
   if (!ParseMeasurementType(FLAGS_measurement, &type) ||
@@ -387,7 +395,7 @@ int Main() {
     }
     std::printf("\n");
   }
-  if (!FLAGS_poses_csv.empty()) {
+  if (!FLAGS_poses_csv.empty() || !program.path.empty()) {
     PoseList chosen;
     chosen.joints.resize(summary.design.size(), model.num_joints());
     for (size_t k = 0; k < summary.design.size(); ++k) {
@@ -395,7 +403,10 @@ int Main() {
       chosen.joints.row(k) = pool_joints.row(i);
       chosen.pose_indices.push_back(labels.empty() ? i : labels[i]);
     }
-    app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+    if (!FLAGS_poses_csv.empty()) {
+      app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+    }
+    app::WriteProgramOrDie(model, program, chosen, "activecal_select's design");
   }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j = app::SelectionJson(summary, pool_joints, labels);
