@@ -11,10 +11,15 @@
 // The rule: refuse when the RMS residual norm after registration is
 // greater than the reach at the measured poses (the largest distance from
 // the base frame to a measured point, forward kinematics at `parameters`
-// with the base at the identity; both poses of a distance).
+// with the base at the identity; both poses of a distance). Pass the
+// nominal geometry as given, not the registration fit's parameters: fitted
+// to millimetres, the marker points move metres away and the reach with
+// them. A registration fit that stopped at its iteration cap counts too:
+// millimetres read as metres put a far base (the PUMA's, 20 m away) 20 km
+// away, where the fit does not converge.
 //
 //   std::string error;
-//   if (!ResidualWithinReach(model, baseline.parameters, measurements,
+//   if (!ResidualWithinReach(model, model.nominal, measurements,
 //                            baseline.rms_m, &error)) Fail(error);
 
 #ifndef ACTIVECAL_ESTIMATION_RESIDUAL_SCALE_H_
