@@ -21,6 +21,7 @@
 #include "activecal/estimation/parameter_reduction.h"
 #include "activecal/estimation/registration.h"
 #include "activecal/estimation/registration_fit.h"
+#include "activecal/estimation/residual_scale.h"
 #include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/jacobians.h"
 #include "test_util.h"
@@ -366,6 +367,41 @@ TEST(WeightedIdentificationTest, ChiSquareOutsideItsIntervalScalesTheStd) {
   const IdentificationSummary plain = Fit(m, data, {});
   EXPECT_TRUE(plain.chi_square_plausible);
   EXPECT_EQ(plain.scaled_standard_deviations.size(), 0);
+}
+
+// The unit check (residual_scale.h): the reach is the farthest measured
+// point from the base frame with the base at the identity, and the rule
+// refuses an RMS residual just above it, accepts it at the reach.
+TEST(ResidualScaleTest, ReachIsTheFarthestPointAndTheRuleCrossesIt) {
+  const RobotModel m = Puma560PaperModel();
+  const std::vector<Measurement> data = PumaMeasurements(20, 0.001, 6);
+  Eigen::VectorXd at_origin = m.nominal;
+  at_origin.head(m.block_size(0)).setZero();
+  double farthest = 0.0;
+  for (const Measurement& d : data) {
+    farthest =
+        std::max(farthest, PredictMeasurement(m, at_origin, d).position.norm());
+  }
+  const double reach = ReachAtPoses(m, m.nominal, data);
+  EXPECT_NEAR(reach, farthest, 1e-12);
+  EXPECT_GT(reach, 0.5);  // a PUMA arm, not its base 20 m away
+  EXPECT_LT(reach, 1.5);
+  std::string error;
+  EXPECT_TRUE(ResidualWithinReach(m, m.nominal, data, reach, &error));
+  EXPECT_FALSE(
+      ResidualWithinReach(m, m.nominal, data, reach * (1 + 1e-9), &error));
+  EXPECT_NE(error.find("are the measured values in millimetres?"),
+            std::string::npos)
+      << error;
+  // Points in mm read as m: the registration-only residual is far beyond.
+  std::vector<Measurement> mm = data;
+  for (Measurement& d : mm) d.position *= 1000;
+  RegistrationFitSummary fit;
+  FitRegistrationOfFreeSet(m, m.nominal, mm, {}, &fit);
+  EXPECT_FALSE(ResidualWithinReach(m, m.nominal, mm, fit.rms_m, &error));
+  FitRegistrationOfFreeSet(m, m.nominal, data, {}, &fit);
+  ASSERT_EQ(fit.termination_type, TerminationType::kConvergence);
+  EXPECT_TRUE(ResidualWithinReach(m, m.nominal, data, fit.rms_m, &error));
 }
 
 TEST(ModelSelectionTest, RankingPutsRegistrationFirstAndEachPrefixHasFullRank) {
