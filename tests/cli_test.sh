@@ -215,7 +215,7 @@ fi
 # --- No half-written output: a failing write leaves the old file alone. ---
 echo "keep me" >kept.json
 mkdir -p kept.json.tmp  # the temporary name is taken: the write must fail
-expect_fail "unwritable output" "cannot open 'kept.json.tmp' for writing" \
+expect_fail "unwritable output" "--json_out: cannot write 'kept.json'" \
   activecal_identify --json_out=kept.json
 [ "$(cat kept.json)" = "keep me" ] && echo "ok   [old output kept]" ||
   { echo "FAIL [old output kept]"; failures=$((failures + 1)); }
