@@ -2,6 +2,7 @@
 
 #include <fcl/fcl.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
