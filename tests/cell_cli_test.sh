@@ -98,6 +98,20 @@ assert d["feasible_poses"] == 300 == d["drawn_pool_size"], d["feasible_poses"]
 assert d["measurable_pool"]["draws_per_pose"] < 5, d["measurable_pool"]
 EOF
 
+# The task criterion goes through the same (feasible) pool.
+if "$apps/activecal_select" "${ur[@]}" --cell="$cell" --pool=sobol \
+  --pool_size=3000 --num_poses=12 --criterion=task_rms --json_out=t.json \
+  >t.txt 2>t.err; then
+  python3 -c "
+import json
+d = json.load(open('t.json'))
+assert d['criterion'] == 'task_rms'
+assert d['num_task_poses'] == d['feasible_poses'] == d['pool_size'], d['num_task_poses']
+" && ok "the task criterion over the feasible pool" || fail "task criterion pool"
+else
+  fail "select --cell --criterion=task_rms"; cat t.err
+fi
+
 # Bad input: one line each.
 printf 'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 0], acceptance_deg: 30}]\n' >zero.yaml
 expect_fail "zero normal" "--cell: zero.yaml:2:38: targets[0].normal: a zero vector" \
