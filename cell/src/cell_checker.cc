@@ -9,21 +9,17 @@
 #include <set>
 
 #include "activecal/core/kinematics.h"
+#include "cell_internal.h"
 
 namespace activecal {
 namespace {
+
+using internal::Compose;
 
 // Angles within this of a limit count as on it (rad); joint values within
 // this of a margin's end count as on it (rad or m).
 constexpr double kAngleTolerance = 1e-9;
 constexpr double kJointTolerance = 1e-12;
-
-FixedTransform Compose(const FixedTransform& a, const FixedTransform& b) {
-  FixedTransform t;
-  t.rotation = a.rotation * b.rotation;
-  t.translation = a.translation + a.rotation * b.translation;
-  return t;
-}
 
 fcl::Transform3d ToFcl(const FixedTransform& t) {
   fcl::Transform3d f = fcl::Transform3d::Identity();

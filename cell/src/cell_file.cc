@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/io/csv_files.h"
+#include "cell_internal.h"
 #include "number_text.h"
 #include "yaml_reader.h"
 
@@ -21,11 +23,6 @@ using internal::kDegree;
 std::string JoinPath(const std::string& directory, const std::string& path) {
   if (path.empty() || path[0] == '/' || directory.empty()) return path;
   return directory + "/" + path;
-}
-
-std::string DirectoryOf(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? "" : path.substr(0, slash);
 }
 
 class CellParser : public internal::YamlReader {
@@ -669,14 +666,9 @@ bool ParseCellFile(const std::string& text, const std::string& source,
 }
 
 bool LoadCellFile(const std::string& path, Cell* cell, std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (error) *error = path + ": cannot open the file";
-    return false;
-  }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return ParseCellFile(buffer.str(), path, DirectoryOf(path), cell, error);
+  std::string text;
+  if (!ReadTextFile(path, &text, error)) return false;
+  return ParseCellFile(text, path, internal::DirectoryOf(path), cell, error);
 }
 
 }  // namespace activecal

@@ -9,28 +9,15 @@
 #include <map>
 #include <sstream>
 
+#include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
+#include "cell_internal.h"
 #include "yaml_reader.h"
 
 namespace activecal {
 namespace {
 
-bool ReadText(const std::string& path, std::string* text, std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (error) *error = path + ": cannot open the file";
-    return false;
-  }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  *text = buffer.str();
-  return true;
-}
-
-std::string DirectoryOf(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? "" : path.substr(0, slash);
-}
+using internal::Compose;
 
 bool IsFile(const std::string& path) {
   std::ifstream in(path);
@@ -43,13 +30,6 @@ FixedTransform FromPose(const urdf::Pose& pose) {
                              pose.rotation.z);
   t.rotation = q.normalized().toRotationMatrix();
   t.translation << pose.position.x, pose.position.y, pose.position.z;
-  return t;
-}
-
-FixedTransform Compose(const FixedTransform& a, const FixedTransform& b) {
-  FixedTransform t;
-  t.rotation = a.rotation * b.rotation;
-  t.translation = a.translation + a.rotation * b.translation;
   return t;
 }
 
@@ -272,9 +252,9 @@ bool LoadUrdfCollision(const std::string& path, const UrdfChainOptions& chain,
                        const RobotModel& model, RobotCollisionModel* robot,
                        std::string* error) {
   std::string xml;
-  if (!ReadText(path, &xml, error)) return false;
-  return ParseUrdfCollision(xml, path, DirectoryOf(path), chain, model, robot,
-                            error);
+  if (!ReadTextFile(path, &xml, error)) return false;
+  return ParseUrdfCollision(xml, path, internal::DirectoryOf(path), chain,
+                            model, robot, error);
 }
 
 namespace {
@@ -368,7 +348,7 @@ bool LoadRobotCollision(const std::string& path, const UrdfChainOptions& chain,
     return LoadUrdfCollision(path, chain, model, robot, error);
   }
   std::string text;
-  if (!ReadText(path, &text, error)) return false;
+  if (!ReadTextFile(path, &text, error)) return false;
   return ParseRobotFileCollision(text, path, model, robot, error);
 }
 
