@@ -157,6 +157,7 @@ int Main() {
   if (!FLAGS_rejected_csv.empty() && FLAGS_cell.empty()) {
     app::Fail("--rejected_csv needs --cell");
   }
+  app::CheckWritableOrDie(FLAGS_rejected_csv, "rejected_csv");
   UrdfChainOptions chain;
   chain.base_link = FLAGS_base_link;
   chain.tip_link = FLAGS_tip_link;
