@@ -180,7 +180,7 @@ expect_fail "float pool with eae" "--pool_storage=float needs --algorithm=fedoro
   activecal_select --pool_storage=float
 expect_fail "bad pool storage" "--pool_storage must be auto, double or float, got 'half'" \
   activecal_select --pool_storage=half
-expect_fail "unknown pool" "--pool must be lattice, sobol or random, got 'halton'" \
+expect_fail "unknown pool" "--pool must be lattice, sobol, random or measurable, got 'halton'" \
   activecal_select --pool=halton
 expect_fail "empty pool" "--pool=sobol: pool size must be >= 1, got 0" \
   activecal_select --pool=sobol --pool_size=0

@@ -29,7 +29,7 @@ class Parser : public internal::YamlReader {
     if (!LoadMap(text, "of robot fields at the top", &root)) return false;
     if (!CheckKeys(root, "",
                    {"name", "angle_unit", "base", "links", "tip", "tool",
-                    "markers"})) {
+                    "markers", "collision"})) {  // collision: read by cell/
       return false;
     }
     RobotModel& m = robot->model;
