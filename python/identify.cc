@@ -245,6 +245,10 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
     Fail(failure);
   }
   result->model = model;
+  result->measurements = training;
+  result->measurements.insert(result->measurements.end(),
+                              selection_validation.begin(),
+                              selection_validation.end());
   return result;
 }
 

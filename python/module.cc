@@ -7,7 +7,7 @@
 using namespace activecal;
 using namespace activecal::python;
 
-PYBIND11_MODULE(activecal, m) {
+PYBIND11_MODULE(_activecal, m) {
   m.doc() =
       "activecal: robot kinematic calibration (C++ core, pybind11 "
       "bindings). Units are SI (m, rad); errors are ValueError (bad input) "
@@ -701,4 +701,6 @@ PYBIND11_MODULE(activecal, m) {
         py::arg("parameters") = py::none(),
         "The errors of a model (robot's nominal, or `parameters`) on "
         "measurements, no fitting: a dict of statistics (m, rad).");
+
+  BindExport(m);
 }

@@ -187,6 +187,8 @@ bool UrdfChainJoints(const std::string& xml, const std::string& source,
     UrdfChainJoint out;
     out.name = j->name;
     out.moving = Moving(*j);
+    out.parent_link = j->parent_link_name;
+    out.child_link = j->child_link_name;
     const urdf::Pose& o = j->parent_to_joint_origin_transform;
     out.xyz = Vec(o.position);
     o.rotation.getRPY(out.rpy[0], out.rpy[1], out.rpy[2]);

@@ -45,6 +45,7 @@ struct UrdfChainOptions {
 struct UrdfChainJoint {
   std::string name;
   bool moving = false;  // revolute, continuous or prismatic
+  std::string parent_link, child_link;
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
   Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
 };
