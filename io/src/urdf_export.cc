@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
@@ -13,6 +14,10 @@ namespace {
 
 using internal::ShortestText;
 
+// How far (largest matrix entry) a written rotation may read back from the
+// one meant: RotationToRpy's few ulp and urdfdom's quaternion.
+constexpr double kRereadTolerance = 1e-14;
+
 Eigen::Isometry3d Iso(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;
@@ -20,9 +25,10 @@ Eigen::Isometry3d Iso(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   return T;
 }
 
-Eigen::Isometry3d FromRpy(const Eigen::Vector3d& xyz,
-                          const Eigen::Vector3d& rpy) {
-  return Iso(RpyRotation(rpy[0], rpy[1], rpy[2]), xyz);
+// The correction of a URDF block: Trans(x, y, z) Rz(rz) Ry(ry) Rx(rx).
+Eigen::Isometry3d Correction(const double* p) {
+  return Iso(RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]),
+             Eigen::Vector3d(p[kUrdfX], p[kUrdfY], p[kUrdfZ]));
 }
 
 Eigen::Isometry3d LinkAt(const Link& link, const double* p) {
@@ -59,6 +65,13 @@ std::string Escaped(const std::string& text) {
 std::string Triple(const Eigen::Vector3d& v) {
   return ShortestText(v[0]) + " " + ShortestText(v[1]) + " " +
          ShortestText(v[2]);
+}
+
+// The rpy attribute of a rotation: RotationToRpy's angles, which read back
+// to it to rounding also at pitch +-90 deg (where urdfdom's own getRPY
+// snaps); CalibratedUrdfText checks the text it writes.
+std::string RpyText(const Eigen::Matrix3d& R) {
+  return Triple(RotationToRpy(R));
 }
 
 // The gain of a link block (1 for the base).
@@ -185,6 +198,8 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
   if (!UrdfChainJoints(xml, source, chain, &joints, error)) return false;
   std::string text = xml;
   const std::vector<const double*> blocks = BlockPointers(model, values.data());
+  // The origins written, checked against the text read back.
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> written;
   for (int i = 0; i < model.num_joints(); ++i) {
     const Link& link = model.links[i];
     if (link.convention != LinkConvention::kUrdf) {
@@ -218,10 +233,7 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
       motion.translation() = s * link.axis;
     }
     const Eigen::Isometry3d origin =
-        FromRpy(joint->xyz, joint->rpy) *
-        FromRpy(Eigen::Vector3d(p[kUrdfX], p[kUrdfY], p[kUrdfZ]),
-                Eigen::Vector3d(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz])) *
-        motion;
+        Iso(joint->rotation, joint->xyz) * Correction(p) * motion;
     // The joint's start tag: name="..." and a type attribute (joints of
     // transmissions have no type).
     Tag found;
@@ -243,7 +255,8 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
       return fail("joint '" + link.name + "' has no </joint>");
     }
     const std::string xyz = Triple(origin.translation());
-    const std::string rpy = Triple(RotationToRpy(origin.linear()));
+    const std::string rpy = RpyText(origin.linear());
+    written.emplace_back(link.name, origin);
     const std::vector<Tag> origins =
         StartTags(text, "origin", found.end, close);
     if (origins.empty()) {
@@ -253,6 +266,29 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
       Tag tag = origins[0];
       SetAttribute(&text, &tag, "xyz", xyz);
       SetAttribute(&text, &tag, "rpy", rpy);
+    }
+  }
+  // Every origin written reads back (through urdfdom) as the rotation and
+  // translation meant, to the rounding of urdfdom's quaternion.
+  if (!written.empty()) {
+    std::vector<UrdfChainJoint> reread;
+    std::string why;
+    if (!UrdfChainJoints(text, source, chain, &reread, &why)) {
+      return fail("the edited text does not parse: " + why);
+    }
+    for (const auto& [name, origin] : written) {
+      for (const UrdfChainJoint& j : reread) {
+        if (!j.moving || j.name != name) continue;
+        const double rotation =
+            (j.rotation - origin.linear()).cwiseAbs().maxCoeff();
+        const double translation =
+            (j.xyz - origin.translation()).cwiseAbs().maxCoeff();
+        if (!(rotation <= kRereadTolerance && translation == 0.0)) {
+          return fail("joint '" + name + "': the written origin reads back " +
+                      ShortestText(std::max(rotation, translation)) +
+                      " away from the calibrated one");
+        }
+      }
     }
   }
   *out = std::move(text);
@@ -281,7 +317,7 @@ std::string UrdfFromModel(const RobotModel& model,
         << "    <parent link=\"" << parent << "\"/>\n"
         << "    <child link=\"" << child << "\"/>\n"
         << "    <origin xyz=\"" << Triple(origin.translation()) << "\" rpy=\""
-        << Triple(RotationToRpy(origin.linear())) << "\"/>\n";
+        << RpyText(origin.linear()) << "\"/>\n";
     if (link) {
       out << "    <axis xyz=\"" << Triple(axis) << "\"/>\n";
       if (std::isfinite(link->joint_min) && std::isfinite(link->joint_max)) {
@@ -318,10 +354,8 @@ std::string UrdfFromModel(const RobotModel& model,
         } else {
           motion.translation() = p[kUrdfOffset] * l.axis;
         }
-        origin = pending * FromRpy(l.origin_xyz, l.origin_rpy) *
-                 FromRpy(Eigen::Vector3d(p[0], p[1], p[2]),
-                         Eigen::Vector3d(p[3], p[4], p[5])) *
-                 motion;
+        origin = pending * Iso(l.origin_rotation, l.origin_xyz) *
+                 Correction(p) * motion;
         axis = l.axis;
         break;
       }
