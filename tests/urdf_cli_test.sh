@@ -187,11 +187,14 @@ expect_fail "empty pool" "--pool=sobol: pool size must be >= 1, got 0" \
 expect_fail "pool and pool_csv" "--pool=random and --pool_csv: choose one" \
   activecal_select --pool=random --pool_csv=pool.csv
 
-# Issue #26, item 2: --urdf_out on an arm whose joint origins sit at or
-# near pitch 90 deg (rpy="1.5708 -1.5708 -1.5708", a prismatic first joint),
-# as the edited file (URDF in) and as a URDF written from the model (its
-# --model_out YAML in). Each written URDF must pass the reload check to
-# 1e-9 m (it missed it by 0.63 mm before the fix). Measurements: the nominal arm's points (evaluate's
+# Issue #26, items 2, 10, 11, 12: --urdf_out on an arm whose joint origins
+# sit at or near pitch 90 deg (rpy="1.5708 -1.5708 -1.5708", a prismatic
+# first joint), as the edited file (URDF in) and as a URDF written from the
+# model (its --model_out YAML in); then with a joint name holding an XML
+# entity, and a YAML robot with a continuous joint and a link named like the
+# generated fixed joint. Each written URDF must pass the reload check to
+# 1e-9 m (the pitch-90 one missed it by 0.63 mm before the fix; the other
+# three were refused). Measurements: the nominal arm's points (evaluate's
 # errors against zeros) plus 0.3 mm of noise.
 p90="$here/data/pitch90_arm.urdf"
 python3 - <<'PY'
@@ -249,6 +252,28 @@ assert u["num_measurements"] == y["num_measurements"] == 30
 assert abs(u["rmse_m"] - y["rmse_m"]) < 1e-12, (u["rmse_m"], y["rmse_m"])
 assert u["rmse_m"] < 1e-3, u["rmse_m"]
 PY
+sed 's/name="j2"/name="j2 \&amp; b"/' "$p90" >p90_entity.urdf
+"$apps/activecal_identify" --robot=p90_entity.urdf --measurements=p90.csv --parameter_set=offsets \
+  --urdf_out=p90_entity_cal.urdf >p90_entity.out 2>p90.err
+reload_ok "joint name with an XML entity" p90_entity.out
+grep -q 'name="j2 &amp; b"' p90_entity_cal.urdf && ok "entity name kept" || fail "entity name kept"
+python3 - <<'PY'
+import re
+t = open("p90_cal.yaml").read()
+t = t.replace("  - name: j3\n", "  - name: tip_fixed\n")
+t = re.sub(r"(  - name: j4\n(?:    .*\n)*?    limits: )\[[^\]]*\]", r"\1[-.inf, .inf]", t)
+open("p90_names.yaml", "w").write(t)
+PY
+"$apps/activecal_identify" --robot=p90_names.yaml --measurements=p90.csv --parameter_set=offsets \
+  --urdf_out=p90_names.urdf >p90_names.out 2>p90.err
+reload_ok "continuous joint and a link named tip_fixed" p90_names.out
+if grep -q '<joint name="j4" type="continuous">' p90_names.urdf &&
+  grep -q '<joint name="tip_fixed" type="revolute">' p90_names.urdf &&
+  grep -q '<joint name="tip_fixed_2" type="fixed">' p90_names.urdf; then
+  ok "continuous written as such, the generated joint's name unique"
+else
+  fail "continuous / unique names"; grep '<joint' p90_names.urdf
+fi
 
 # --- Bad input: one line, status 1. ---
 printf '<robot name="x"><link name="a"></robot>' >bad.urdf

@@ -596,5 +596,214 @@ TEST(UrdfExportTest, Pitch90ChainsExportExactly) {
   }
 }
 
+// Issue #26, item 10: a joint name holding an XML entity (name="j2 &amp;
+// b", the joint "j2 & b") was compared as raw attribute text: "cannot find
+// the <joint ...> element". Names are compared as the parser reads them
+// (entities and character references replaced, either quote) and written
+// escaped. (Failed before the fix.)
+TEST(UrdfExportTest, JointNamesWithXmlEntities) {
+  std::string xml = Read(TestFile("arm7_rail.urdf"));
+  const std::pair<std::string, std::string> renames[] = {
+      {"name=\"j2\"", "name=\"j2 &amp; b\""},
+      {"name=\"j3\"", "name='a &lt;3&gt;'"},
+      {"name=\"j4\"", "name=\"say &quot;4&quot;\""},
+      {"name=\"j5\"", "name=\"it&apos;s 5\""},
+      {"name=\"j6\"", "name=\"&#106;&#x36;\""}};
+  for (const auto& [from, to] : renames) {
+    ASSERT_NE(xml.find(from), std::string::npos) << from;
+    xml.replace(xml.find(from), from.size(), to);
+  }
+  UrdfChainOptions chain;
+  chain.tip_link = "tcp";
+  RobotDescription robot;
+  std::string error;
+  ASSERT_TRUE(ParseUrdfRobot(xml, "names.urdf", chain, &robot, &error))
+      << error;
+  const RobotModel& m = robot.model;
+  const std::vector<std::string> names = {
+      "rail", "j1", "j2 & b", "a <3>", "say \"4\"", "it's 5", "j6", "j7"};
+  for (int j = 0; j < m.num_joints(); ++j) EXPECT_EQ(m.links[j].name, names[j]);
+  const Eigen::VectorXd values = Perturbed(m, 12);
+  std::string out;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(CalibratedUrdfText(xml, "names.urdf", chain, m, values, &out,
+                                 &warnings, &error))
+      << error;
+  double worst = 1.0;
+  const std::vector<Measurement> measurements = RandomMeasurements(m, 50, 9);
+  ASSERT_TRUE(CheckUrdfAgainstModel(out, "out.urdf", chain, m, values,
+                                    measurements, &worst, &error))
+      << error;
+  EXPECT_LT(worst, 1e-9);
+  const std::vector<std::string> changed = ChangedLines(xml, out);
+  EXPECT_EQ(changed.size(), 8u);
+  for (const std::string& line : changed) {
+    EXPECT_NE(line.find("<origin"), std::string::npos) << line;
+  }
+  // Written from the model: the names escaped, read back as they were.
+  const std::string text = UrdfFromModel(m, values, &warnings);
+  EXPECT_NE(text.find("name=\"j2 &amp; b\""), std::string::npos);
+  EXPECT_NE(text.find("name=\"it&apos;s 5\""), std::string::npos);
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  RobotDescription back;
+  ASSERT_TRUE(ParseUrdfRobot(text, "gen.urdf", generated, &back, &error))
+      << error;
+  for (int j = 0; j < m.num_joints(); ++j) {
+    EXPECT_EQ(back.model.links[j].name, names[j]);
+  }
+  ASSERT_TRUE(CheckUrdfAgainstModel(text, "gen.urdf", generated, m, values,
+                                    measurements, &worst, &error))
+      << error;
+  EXPECT_LT(worst, 1e-9);
+  KDL::Tree tree;
+  EXPECT_TRUE(kdl_parser::treeFromString(text, tree));
+}
+
+// The elements <joint name="..."> of a URDF's text, in order.
+std::vector<std::string> JointElements(const std::string& xml) {
+  std::vector<std::string> out;
+  for (size_t at = xml.find("<joint "); at != std::string::npos;
+       at = xml.find("<joint ", at + 1)) {
+    out.push_back(xml.substr(at, xml.find("</joint>", at) - at));
+  }
+  return out;
+}
+
+// Issue #26, item 11: a model with continuous joints (unbounded ranges)
+// was written as type="revolute" without limits, which urdfdom refuses.
+// Unbounded revolute joints are written continuous, finite ones revolute
+// with their limits; ranges a URDF cannot hold (one end unbounded) are
+// reported. urdfdom and KDL read the file and it reloads to 1e-9 m.
+// (Failed before the fix: "Joint [joint2] is of type REVOLUTE but it does
+// not specify limits".)
+TEST(UrdfExportTest, ContinuousJointsAreWrittenContinuous) {
+  const double inf = std::numeric_limits<double>::infinity();
+  RobotModel urdf_style = testing::UrdfStyleModel();
+  urdf_style.links[0].joint_min = -inf;  // one end: continuous, reported
+  urdf_style.links[1].joint_min = -inf;  // continuous
+  urdf_style.links[1].joint_max = inf;
+  urdf_style.links[2].joint_max = inf;  // prismatic: reported
+  // A DH model from a robot YAML file with a continuous joint.
+  RobotModel mixed = testing::MixedModel();
+  for (int b = 1; b <= mixed.num_joints(); ++b) {
+    mixed.nominal[mixed.block_offset(b) + kGain] = 1.0;
+  }
+  mixed.links[3].joint_min = -inf;
+  mixed.links[3].joint_max = inf;
+  RobotDescription yaml;
+  std::string error;
+  ASSERT_TRUE(ParseRobotDescription(RobotFileText(mixed, mixed.nominal),
+                                    "mixed.yaml", &yaml, &error))
+      << error;
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  for (const RobotModel* m : {&urdf_style, &yaml.model}) {
+    SCOPED_TRACE(m->name);
+    std::vector<std::string> warnings;
+    const std::string xml = UrdfFromModel(*m, m->nominal, &warnings);
+    const std::vector<std::string> joints = JointElements(xml);
+    ASSERT_EQ(static_cast<int>(joints.size()), m->num_joints() + 1);
+    for (int j = 0; j < m->num_joints(); ++j) {
+      const Link& l = m->links[j];
+      const bool revolute = l.joint_type == JointType::kRevolute;
+      const bool bounded =
+          std::isfinite(l.joint_min) && std::isfinite(l.joint_max);
+      const char* type = !revolute ? "type=\"prismatic\""
+                         : bounded ? "type=\"revolute\""
+                                   : "type=\"continuous\"";
+      EXPECT_NE(joints[j].find(type), std::string::npos) << joints[j];
+      EXPECT_EQ(joints[j].find("<limit") == std::string::npos,
+                revolute && !bounded)
+          << joints[j];
+    }
+    RobotDescription back;
+    ASSERT_TRUE(ParseUrdfRobot(xml, "gen.urdf", generated, &back, &error))
+        << error;
+    for (int j = 0; j < m->num_joints(); ++j) {
+      const Link& l = m->links[j];
+      const Link& r = back.model.links[j];
+      if (std::isfinite(l.joint_min) && std::isfinite(l.joint_max)) {
+        EXPECT_EQ(r.joint_min, l.joint_min);
+        EXPECT_EQ(r.joint_max, l.joint_max);
+      } else if (l.joint_type == JointType::kRevolute) {
+        EXPECT_TRUE(std::isinf(r.joint_min) && std::isinf(r.joint_max));
+      }
+    }
+    double worst = 1.0;
+    ASSERT_TRUE(CheckUrdfAgainstModel(xml, "gen.urdf", generated, *m,
+                                      m->nominal, RandomMeasurements(*m, 50, 3),
+                                      &worst, &error))
+        << error;
+    EXPECT_LT(worst, 1e-9);
+    // KDL's chain starts at base_link: a 6-DOF base at the identity.
+    Eigen::VectorXd at_base = m->nominal;
+    if (m->base.convention == LinkConvention::kFrame) at_base.head(6).setZero();
+    double position, rotation;
+    KdlDifference(xml, "base_link", "tip", *m, at_base, &position, &rotation);
+    EXPECT_LT(position, 1e-12);
+    EXPECT_LT(rotation, 1e-12);
+    if (m == &urdf_style) {
+      ASSERT_EQ(warnings.size(), 2u);
+      EXPECT_NE(warnings[0].find("joint 'joint1' has the range [-inf, 2.5] "
+                                 "rad, which a URDF cannot hold"),
+                std::string::npos)
+          << warnings[0];
+      EXPECT_NE(warnings[1].find("joint 'joint3' has the range [-0.1, inf] m"),
+                std::string::npos)
+          << warnings[1];
+    } else {
+      EXPECT_TRUE(warnings.empty());
+    }
+  }
+}
+
+// Issue #26, item 12: a robot with a link named "tip_fixed" was written
+// with two joints of that name ("joint 'tip_fixed' is not unique"). The
+// generated joint takes a name no joint of the model has; the generated
+// links (base_link, link1 .. linkN, tip) live apart from the joints' names.
+// Every generated name as a link name of the model, and several at once.
+// (Failed before the fix for "tip_fixed".)
+TEST(UrdfExportTest, GeneratedNamesNeverCollide) {
+  const std::vector<std::vector<std::string>> cases = {
+      {"tip_fixed"},
+      {"base_link"},
+      {"link1"},
+      {"link2"},
+      {"tip"},
+      {"tip_fixed_2"},
+      {"tip_fixed", "tip_fixed_2", "tip_fixed_3", "tip"}};
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  for (const std::vector<std::string>& names : cases) {
+    SCOPED_TRACE(names[0]);
+    RobotModel m = testing::MixedModel();
+    for (int b = 1; b <= m.num_joints(); ++b) {
+      m.nominal[m.block_offset(b) + kGain] = 1.0;
+    }
+    for (size_t k = 0; k < names.size(); ++k) m.links[k].name = names[k];
+    std::vector<std::string> warnings;
+    const std::string xml = UrdfFromModel(m, m.nominal, &warnings);
+    RobotDescription back;
+    std::string error;
+    ASSERT_TRUE(ParseUrdfRobot(xml, "gen.urdf", generated, &back, &error))
+        << error;
+    for (int j = 0; j < m.num_joints(); ++j) {
+      EXPECT_EQ(back.model.links[j].name, m.links[j].name);
+    }
+    double worst = 1.0;
+    ASSERT_TRUE(CheckUrdfAgainstModel(xml, "gen.urdf", generated, m, m.nominal,
+                                      RandomMeasurements(m, 30, 1), &worst,
+                                      &error))
+        << error;
+    EXPECT_LT(worst, 1e-9);
+    KDL::Tree tree;
+    EXPECT_TRUE(kdl_parser::treeFromString(xml, tree));
+  }
+}
+
 }  // namespace
 }  // namespace activecal
