@@ -5,6 +5,7 @@
 // convention (the shipped iiwa file checked against the URDF's axes).
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -293,6 +294,69 @@ TEST(DriverClientTest, ADriverOverTcp) {
   options.driver = "tcp://nohost";
   EXPECT_FALSE(DriverClient::Start(options, TwoJoints(), &client, &error));
   EXPECT_NE(error.find("is not tcp://HOST:PORT"), std::string::npos) << error;
+}
+
+// Writing to a driver that has gone is an error, never a SIGPIPE, and the
+// process's own disposition of SIGPIPE is left as it was: activecal_active
+// piped into `head` still ends when head does, instead of driving the
+// robot on with nobody reading.
+TEST(DriverConnectionTest, ADriverThatHasGoneIsAnErrorAndSigpipeIsUntouched) {
+  struct sigaction saved {};
+  sigaction(SIGPIPE, nullptr, &saved);
+  signal(SIGPIPE, SIG_DFL);
+  std::unique_ptr<DriverConnection> connection;
+  std::string error, line;
+  ASSERT_TRUE(OpenDriverConnection("true", 5, &connection, &error)) << error;
+  // The child has exited once its stdout is closed.
+  ASSERT_EQ(connection->channel().ReadLine(5, &line, &error),
+            LineChannel::ReadResult::kClosed);
+  EXPECT_FALSE(
+      connection->channel().WriteLine(std::string(1 << 17, 'x'), &error));
+  EXPECT_EQ(error, "Broken pipe");
+  struct sigaction now {};
+  sigaction(SIGPIPE, nullptr, &now);
+  EXPECT_EQ(now.sa_handler, SIG_DFL);
+  sigset_t pending;
+  sigpending(&pending);
+  EXPECT_FALSE(sigismember(&pending, SIGPIPE));
+  EXPECT_EQ(connection->WhyClosed(5), "exited with status 0");
+  sigaction(SIGPIPE, &saved, nullptr);
+}
+
+// A driver that floods its stdout after a failure is not waited for: its
+// pipe is closed, so it ends at once rather than being terminated after
+// the wait.
+TEST(DriverClientTest, AFloodingDriverEndsWhenTheClientCloses) {
+  DriverClientOptions options;
+  options.timeout_s = 5;
+  options.driver =
+      ShDriver(std::string(kHelloReply) + "; read line; exec yes flood");
+  std::unique_ptr<DriverClient> client;
+  std::string error;
+  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
+      << error;
+  MeasurementReply reply;
+  EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+  EXPECT_NE(error.find("not JSON: 'flood'"), std::string::npos) << error;
+  EXPECT_EQ(client->Close(), "");
+}
+
+// Blank lines are not a reply: they do not restart the timeout.
+TEST(DriverClientTest, BlankLinesDoNotExtendTheTimeout) {
+  DriverClientOptions options;
+  options.timeout_s = 0.4;
+  options.driver = ShDriver(
+      std::string(kHelloReply) +
+      "; read line; for i in 1 2 3 4 5 6 7 8 9 10; do echo; sleep 0.1; "
+      R"(done; echo "{\"type\":\"measurement\",\"id\":1,\"status\":)"
+      R"(\"not_visible\"}"; read line)");
+  std::unique_ptr<DriverClient> client;
+  std::string error;
+  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
+      << error;
+  MeasurementReply reply;
+  EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+  EXPECT_NE(error.find("no reply within 0.4 s"), std::string::npos) << error;
 }
 
 // --- Controller programs ---
