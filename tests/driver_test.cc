@@ -520,6 +520,87 @@ TEST(ControllerProgramTest, TheIiwaConventionMatchesTheControllersAxes) {
   }
 }
 
+// A pose at a joint limit is written at the limit or inside it, never a
+// rounding step beyond it (the controller would stop at its software
+// limit): the values read back and converted to activecal's joints are in
+// the robot's range, in every language, with signs and an offset.
+TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
+  const RobotModel model = Iiwa();
+  ControllerConvention convention = IiwaConvention(model);
+  convention.joints[2].offset = 10 * M_PI / 180;
+  PoseList poses;
+  poses.joints.resize(2, 7);
+  for (int j = 0; j < 7; ++j) {
+    poses.joints(0, j) = model.links[j].joint_min;
+    poses.joints(1, j) = model.links[j].joint_max;
+  }
+  const struct {
+    ProgramLanguage language;
+    std::regex move;
+    double unit;  // program unit per rad
+  } languages[] = {
+      {ProgramLanguage::kUrScript, std::regex(R"(movej\(\[([^\]]*)\])"), 1.0},
+      {ProgramLanguage::kKrl, std::regex(R"(PTP \{([^}]*)\})"), 180 / M_PI},
+      {ProgramLanguage::kRapid, std::regex(R"(MoveAbsJ \[\[(.*)\]\],)"),
+       180 / M_PI},
+  };
+  for (const auto& l : languages) {
+    SCOPED_TRACE(ProgramLanguageToString(l.language));
+    ControllerProgramOptions options;
+    options.language = l.language;
+    std::string text, error;
+    ASSERT_TRUE(
+        ControllerProgramText(model, convention, poses, options, &text, &error))
+        << error;
+    std::vector<std::vector<double>> rows = NumbersIn(text, l.move);
+    ASSERT_EQ(rows.size(), 2u) << text;
+    for (int i = 0; i < 2; ++i) {
+      std::vector<double> values;
+      for (size_t k = l.language == ProgramLanguage::kKrl ? 1 : 0;
+           k < rows[i].size();
+           k += l.language == ProgramLanguage::kKrl ? 2 : 1) {
+        values.push_back(rows[i][k]);
+      }
+      ASSERT_GE(values.size(), 7u);
+      for (int j = 0; j < 7; ++j) {
+        const ControllerJoint& c = convention.joints[j];
+        const double q = (values[j] / l.unit - c.offset) / c.sign;
+        // 1e-12 rad: the conversion back; a rounding step is 1e-9 at least.
+        EXPECT_GE(q, model.links[j].joint_min - 1e-12)
+            << "pose " << i << " joint " << j << ": " << values[j];
+        EXPECT_LE(q, model.links[j].joint_max + 1e-12)
+            << "pose " << i << " joint " << j << ": " << values[j];
+        EXPECT_NEAR(q, poses.joints(i, j), 1e-6);
+      }
+    }
+  }
+}
+
+// KRL: the speeds are whole percent (the system variables are INT), for the
+// external axes too, never below 1 %.
+TEST(ControllerProgramTest, KrlSpeedsAreWholePercentForEveryAxis) {
+  const RobotModel model = Iiwa();
+  PoseList poses;
+  poses.joints = Eigen::MatrixXd::Zero(1, 7);
+  ControllerProgramOptions options;
+  options.language = ProgramLanguage::kKrl;
+  std::string text, error;
+  ASSERT_TRUE(ControllerProgramText(model, IiwaConvention(model), poses,
+                                    options, &text, &error))
+      << error;
+  EXPECT_NE(text.find("    $VEL_AXIS[axis] = 10\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("    $ACC_AXIS[axis] = 10\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  $VEL_EXTAX[1] = 10\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  $ACC_EXTAX[1] = 10\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("$VEL_EXTAX[2]"), std::string::npos) << text;
+  options.speed_fraction = 0.004;
+  EXPECT_FALSE(ControllerProgramText(model, IiwaConvention(model), poses,
+                                     options, &text, &error));
+  EXPECT_NE(error.find("the speed fraction must be in [0.01, 1]"),
+            std::string::npos)
+      << error;
+}
+
 TEST(ControllerProgramTest, BadConventionFilesAreNamed) {
   const RobotModel model = Iiwa();
   const std::string seven =
