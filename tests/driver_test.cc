@@ -573,6 +573,12 @@ TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
         EXPECT_NEAR(q, poses.joints(i, j), 1e-6);
       }
     }
+    if (l.language == ProgramLanguage::kKrl) {
+      // A limit the URDF states in rad, a whole degree on the controller,
+      // stays that degree (not a step inside it).
+      EXPECT_NE(text.find("A4 -120.000000"), std::string::npos) << text;
+      EXPECT_NE(text.find("E1 175.000000"), std::string::npos) << text;
+    }
   }
 }
 

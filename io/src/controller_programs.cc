@@ -122,7 +122,8 @@ std::string Fixed(double v, int digits) {
 // Joint j at activecal's q as the program writes it, to `digits` decimals.
 // Rounding to nearest could put a pose at a limit a step beyond it, where
 // the controller stops at its software limit: such a value is rounded
-// toward the range instead.
+// toward the range instead. (Beyond by a millionth of a step is the limit
+// itself: -120.000000 deg for a URDF's -2.0943951023931953 rad.)
 std::string JointText(const RobotModel& model,
                       const ControllerConvention& convention,
                       ProgramLanguage language, int j, double q, int digits) {
@@ -136,9 +137,9 @@ std::string JointText(const RobotModel& model,
       ControllerJointValue(model, convention, language, j, link.joint_max);
   if (lo > hi) std::swap(lo, hi);
   const double written = std::strtod(text.c_str(), nullptr);
-  const double half_step = 0.5 * std::pow(10.0, -digits);
-  if (written > hi) text = Fixed(v - half_step, digits);
-  if (written < lo) text = Fixed(v + half_step, digits);
+  const double step = std::pow(10.0, -digits);
+  if (written > hi + 1e-6 * step) text = Fixed(v - 0.5 * step, digits);
+  if (written < lo - 1e-6 * step) text = Fixed(v + 0.5 * step, digits);
   return text;
 }
 
