@@ -37,7 +37,9 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 // for the write, and one the write raised is taken off the pending set (one
 // pending before is left), so a driver that has gone is an EPIPE while the
 // process's disposition of SIGPIPE stays its own (activecal_active | head
-// still ends activecal when head exits).
+// still ends activecal when head exits). The write may also return a part
+// written and raise SIGPIPE (the reader left during it): what is pending
+// after it is looked at, whatever it returned.
 ssize_t WriteWithoutSigpipe(int fd, const char* data, size_t size) {
   sigset_t sigpipe, old, pending;
   sigemptyset(&sigpipe);
@@ -48,7 +50,9 @@ ssize_t WriteWithoutSigpipe(int fd, const char* data, size_t size) {
   pthread_sigmask(SIG_BLOCK, &sigpipe, &old);
   const ssize_t n = write(fd, data, size);
   const int saved = errno;
-  if (n < 0 && saved == EPIPE && !was_pending) {
+  sigemptyset(&pending);
+  sigpending(&pending);
+  if (!was_pending && sigismember(&pending, SIGPIPE) == 1) {
     const timespec zero{0, 0};
     while (sigtimedwait(&sigpipe, nullptr, &zero) < 0 && errno == EINTR) {
     }
