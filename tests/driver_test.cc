@@ -323,39 +323,42 @@ TEST(DriverConnectionTest, ADriverThatHasGoneIsAnErrorAndSigpipeIsUntouched) {
   sigaction(SIGPIPE, &saved, nullptr);
 }
 
+// Starts the sh driver that answers the hello and then runs `after_hello`,
+// and asks it for one measurement; returns the error of that request
+// ("" if it succeeded). The client is kept for Close().
+std::string FirstMeasureError(const std::string& after_hello, double timeout_s,
+                              std::unique_ptr<DriverClient>* client) {
+  DriverClientOptions options;
+  options.timeout_s = timeout_s;
+  options.driver =
+      ShDriver(std::string(kHelloReply) + "; read line; " + after_hello);
+  std::string error;
+  if (!DriverClient::Start(options, TwoJoints(), client, &error)) {
+    return "start: " + error;
+  }
+  MeasurementReply reply;
+  return (*client)->Measure(Eigen::Vector2d(0, 0), &reply, &error) ? "" : error;
+}
+
 // A driver that floods its stdout after a failure is not waited for: its
 // pipe is closed, so it ends at once rather than being terminated after
 // the wait.
 TEST(DriverClientTest, AFloodingDriverEndsWhenTheClientCloses) {
-  DriverClientOptions options;
-  options.timeout_s = 5;
-  options.driver =
-      ShDriver(std::string(kHelloReply) + "; read line; exec yes flood");
   std::unique_ptr<DriverClient> client;
-  std::string error;
-  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
-      << error;
-  MeasurementReply reply;
-  EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+  const std::string error = FirstMeasureError("exec yes flood", 5, &client);
   EXPECT_NE(error.find("not JSON: 'flood'"), std::string::npos) << error;
+  ASSERT_NE(client, nullptr);
   EXPECT_EQ(client->Close(), "");
 }
 
 // Blank lines are not a reply: they do not restart the timeout.
 TEST(DriverClientTest, BlankLinesDoNotExtendTheTimeout) {
-  DriverClientOptions options;
-  options.timeout_s = 0.4;
-  options.driver = ShDriver(
-      std::string(kHelloReply) +
-      "; read line; for i in 1 2 3 4 5 6 7 8 9 10; do echo; sleep 0.1; "
-      R"(done; echo "{\"type\":\"measurement\",\"id\":1,\"status\":)"
-      R"(\"not_visible\"}"; read line)");
   std::unique_ptr<DriverClient> client;
-  std::string error;
-  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
-      << error;
-  MeasurementReply reply;
-  EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+  const std::string error = FirstMeasureError(
+      "for i in 1 2 3 4 5 6 7 8 9 10; do echo; sleep 0.1; done; "
+      R"(echo "{\"type\":\"measurement\",\"id\":1,\"status\":)"
+      R"(\"not_visible\"}"; read line)",
+      0.4, &client);
   EXPECT_NE(error.find("no reply within 0.4 s"), std::string::npos) << error;
 }
 
@@ -376,6 +379,41 @@ std::vector<std::vector<double>> NumbersIn(const std::string& text,
     rows.push_back(row);
   }
   return rows;
+}
+
+// The joint values of each move of a program, in the program's units:
+// KRL's axis names and RAPID's unused external axes (9E9, checked)
+// dropped, `num_joints` per move.
+std::vector<std::vector<double>> MovesIn(const std::string& text,
+                                         ProgramLanguage language,
+                                         int num_joints) {
+  const std::regex move(
+      language == ProgramLanguage::kUrScript ? R"(movej\(\[([^\]]*)\])"
+      : language == ProgramLanguage::kKrl    ? R"(PTP \{([^}]*)\})"
+                                             : R"(MoveAbsJ \[\[(.*)\]\],)");
+  std::vector<std::vector<double>> rows = NumbersIn(text, move);
+  for (std::vector<double>& row : rows) {
+    if (language == ProgramLanguage::kKrl) {
+      // "A1 v, ..., E1 v": every other number is an axis number.
+      std::vector<double> values;
+      for (size_t k = 1; k < row.size(); k += 2) values.push_back(row[k]);
+      row = values;
+    }
+    if (language == ProgramLanguage::kRapid) {
+      EXPECT_EQ(row.size(), 12u);
+      for (size_t k = num_joints; k < row.size(); ++k) {
+        EXPECT_EQ(row[k], 9e9);
+      }
+      row.resize(std::min<size_t>(row.size(), num_joints));
+    }
+    EXPECT_EQ(row.size(), static_cast<size_t>(num_joints));
+  }
+  return rows;
+}
+
+// Program units per rad (a revolute joint).
+double UnitPerRad(ProgramLanguage language) {
+  return language == ProgramLanguage::kUrScript ? 1.0 : 180 / M_PI;
 }
 
 RobotModel Iiwa() {
@@ -412,54 +450,33 @@ TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
   poses.pose_indices = {17, 3, 250};
   ControllerProgramOptions options;
   options.wait_s = 1.5;
-  const struct {
-    ProgramLanguage language;
-    std::regex move;
-    double unit;  // program unit per rad
-    double digits;
-  } languages[] = {
-      {ProgramLanguage::kUrScript, std::regex(R"(movej\(\[([^\]]*)\])"), 1.0,
-       1e-9},
-      {ProgramLanguage::kKrl, std::regex(R"(PTP \{([^}]*)\})"), 180 / M_PI,
-       1e-6},
-      {ProgramLanguage::kRapid, std::regex(R"(MoveAbsJ \[\[(.*)\]\],)"),
-       180 / M_PI, 1e-6},
-  };
-  for (const auto& l : languages) {
-    SCOPED_TRACE(ProgramLanguageToString(l.language));
-    options.language = l.language;
+  for (ProgramLanguage language :
+       {ProgramLanguage::kUrScript, ProgramLanguage::kKrl,
+        ProgramLanguage::kRapid}) {
+    SCOPED_TRACE(ProgramLanguageToString(language));
+    options.language = language;
+    const double unit = UnitPerRad(language);
+    const double digits = language == ProgramLanguage::kUrScript ? 1e-9 : 1e-6;
     std::string text;
     ASSERT_TRUE(
         ControllerProgramText(model, convention, poses, options, &text, &error))
         << error;
-    std::vector<std::vector<double>> rows = NumbersIn(text, l.move);
+    const std::vector<std::vector<double>> rows = MovesIn(text, language, 7);
     ASSERT_EQ(rows.size(), 3u) << text;
     for (int i = 0; i < 3; ++i) {
-      std::vector<double>& row = rows[i];
-      if (l.language == ProgramLanguage::kKrl) {
-        // "A1 v, ..., E1 v": every other number is an axis number.
-        std::vector<double> values;
-        for (size_t k = 1; k < row.size(); k += 2) values.push_back(row[k]);
-        row = values;
-      }
-      if (l.language == ProgramLanguage::kRapid) {
-        ASSERT_EQ(row.size(), 12u);
-        for (int k = 7; k < 12; ++k) EXPECT_EQ(row[k], 9e9);
-        row.resize(7);
-      }
-      ASSERT_EQ(row.size(), 7u);
+      ASSERT_EQ(rows[i].size(), 7u);
       for (int j = 0; j < 7; ++j) {
         const ControllerJoint& c = convention.joints[j];
-        const double want = (c.sign * poses.joints(i, j) + c.offset) * l.unit;
-        EXPECT_NEAR(row[j], want, 0.51 * l.digits)
+        const double want = (c.sign * poses.joints(i, j) + c.offset) * unit;
+        EXPECT_NEAR(rows[i][j], want, 0.51 * digits)
             << "pose " << i << " joint " << j;
       }
     }
     // The waits, one per pose, and the pose indices in comments.
     const std::regex wait(
-        l.language == ProgramLanguage::kUrScript ? R"(sleep\(1\.500\))"
-        : l.language == ProgramLanguage::kKrl    ? R"(WAIT SEC 1\.500)"
-                                                 : R"(WaitTime 1\.500;)");
+        language == ProgramLanguage::kUrScript ? R"(sleep\(1\.500\))"
+        : language == ProgramLanguage::kKrl    ? R"(WAIT SEC 1\.500)"
+                                               : R"(WaitTime 1\.500;)");
     EXPECT_EQ(
         std::distance(std::sregex_iterator(text.begin(), text.end(), wait),
                       std::sregex_iterator()),
@@ -534,37 +551,24 @@ TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
     poses.joints(0, j) = model.links[j].joint_min;
     poses.joints(1, j) = model.links[j].joint_max;
   }
-  const struct {
-    ProgramLanguage language;
-    std::regex move;
-    double unit;  // program unit per rad
-  } languages[] = {
-      {ProgramLanguage::kUrScript, std::regex(R"(movej\(\[([^\]]*)\])"), 1.0},
-      {ProgramLanguage::kKrl, std::regex(R"(PTP \{([^}]*)\})"), 180 / M_PI},
-      {ProgramLanguage::kRapid, std::regex(R"(MoveAbsJ \[\[(.*)\]\],)"),
-       180 / M_PI},
-  };
-  for (const auto& l : languages) {
-    SCOPED_TRACE(ProgramLanguageToString(l.language));
+  for (ProgramLanguage language :
+       {ProgramLanguage::kUrScript, ProgramLanguage::kKrl,
+        ProgramLanguage::kRapid}) {
+    SCOPED_TRACE(ProgramLanguageToString(language));
     ControllerProgramOptions options;
-    options.language = l.language;
+    options.language = language;
     std::string text, error;
     ASSERT_TRUE(
         ControllerProgramText(model, convention, poses, options, &text, &error))
         << error;
-    std::vector<std::vector<double>> rows = NumbersIn(text, l.move);
+    const std::vector<std::vector<double>> rows = MovesIn(text, language, 7);
     ASSERT_EQ(rows.size(), 2u) << text;
     for (int i = 0; i < 2; ++i) {
-      std::vector<double> values;
-      for (size_t k = l.language == ProgramLanguage::kKrl ? 1 : 0;
-           k < rows[i].size();
-           k += l.language == ProgramLanguage::kKrl ? 2 : 1) {
-        values.push_back(rows[i][k]);
-      }
-      ASSERT_GE(values.size(), 7u);
+      const std::vector<double>& values = rows[i];
+      ASSERT_EQ(values.size(), 7u);
       for (int j = 0; j < 7; ++j) {
         const ControllerJoint& c = convention.joints[j];
-        const double q = (values[j] / l.unit - c.offset) / c.sign;
+        const double q = (values[j] / UnitPerRad(language) - c.offset) / c.sign;
         // 1e-12 rad: the conversion back; a rounding step is 1e-9 at least.
         EXPECT_GE(q, model.links[j].joint_min - 1e-12)
             << "pose " << i << " joint " << j << ": " << values[j];
@@ -573,7 +577,7 @@ TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
         EXPECT_NEAR(q, poses.joints(i, j), 1e-6);
       }
     }
-    if (l.language == ProgramLanguage::kKrl) {
+    if (language == ProgramLanguage::kKrl) {
       // A limit the URDF states in rad, a whole degree on the controller,
       // stays that degree (not a step inside it).
       EXPECT_NE(text.find("A4 -120.000000"), std::string::npos) << text;
