@@ -586,8 +586,8 @@ TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
   }
 }
 
-// KRL: the speeds are whole percent (the system variables are INT), for the
-// external axes too, never below 1 %.
+// KRL: the speeds are whole percent (the system variables are INT), set
+// the controller's way (BAS), for the external axes too, never below 1 %.
 TEST(ControllerProgramTest, KrlSpeedsAreWholePercentForEveryAxis) {
   const RobotModel model = Iiwa();
   PoseList poses;
@@ -598,10 +598,12 @@ TEST(ControllerProgramTest, KrlSpeedsAreWholePercentForEveryAxis) {
   ASSERT_TRUE(ControllerProgramText(model, IiwaConvention(model), poses,
                                     options, &text, &error))
       << error;
-  EXPECT_NE(text.find("    $VEL_AXIS[axis] = 10\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("    $ACC_AXIS[axis] = 10\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  BAS(#VEL_PTP, 10)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  BAS(#ACC_PTP, 10)\n"), std::string::npos) << text;
   EXPECT_NE(text.find("  $VEL_EXTAX[1] = 10\n"), std::string::npos) << text;
   EXPECT_NE(text.find("  $ACC_EXTAX[1] = 10\n"), std::string::npos) << text;
+  // No loop variable (a name like AXIS would be KRL's type).
+  EXPECT_EQ(text.find("DECL"), std::string::npos) << text;
   EXPECT_EQ(text.find("$VEL_EXTAX[2]"), std::string::npos) << text;
   options.speed_fraction = 0.004;
   EXPECT_FALSE(ControllerProgramText(model, IiwaConvention(model), poses,

@@ -314,14 +314,13 @@ bool ControllerProgramText(const RobotModel& model,
   } else if (lang == ProgramLanguage::kKrl) {
     out << "DEF " << options.name << "( )\n";
     header("  ");
-    out << "  DECL INT axis\n";
-    out << "  BAS(#INITMOV, 0)\n";
-    // $VEL_AXIS, $ACC_AXIS, $VEL_EXTAX and $ACC_EXTAX are INT percent.
+    // KUKA's own way to set the PTP speed of A1..A6 (no loop variable: KRL
+    // names are case-insensitive, and AXIS is one of its types); the
+    // external axes' $VEL_EXTAX and $ACC_EXTAX (INT percent) explicitly.
     const std::string percent = std::to_string(std::lround(pct));
-    out << "  FOR axis = 1 TO 6\n";
-    out << "    $VEL_AXIS[axis] = " << percent << "\n";
-    out << "    $ACC_AXIS[axis] = " << percent << "\n";
-    out << "  ENDFOR\n";
+    out << "  BAS(#INITMOV, 0)\n";
+    out << "  BAS(#VEL_PTP, " << percent << ")\n";
+    out << "  BAS(#ACC_PTP, " << percent << ")\n";
     for (int e = 1; e <= nj - 6; ++e) {
       out << "  $VEL_EXTAX[" << e << "] = " << percent << "\n";
       out << "  $ACC_EXTAX[" << e << "] = " << percent << "\n";

@@ -82,9 +82,9 @@ struct ControllerProgramOptions {
   double wait_s = 2.0;
   // Joint speed and acceleration as a fraction, in [0.01, 1]: of movej's
   // defaults for URScript (a = 1.4 rad/s^2, v = 1.05 rad/s, themselves
-  // below a UR's maximum), of every axis's maximum for KRL ($VEL_AXIS,
-  // $ACC_AXIS and, for joints 7 to 12, $VEL_EXTAX, $ACC_EXTAX, in whole
-  // percent), of v1000 for RAPID (VelSet).
+  // below a UR's maximum), of every axis's maximum for KRL (BAS(#VEL_PTP),
+  // BAS(#ACC_PTP) and, for joints 7 to 12, $VEL_EXTAX, $ACC_EXTAX, in
+  // whole percent), of v1000 for RAPID (VelSet).
   double speed_fraction = 0.1;
   std::string comment;  // one line, written as a comment at the top
 
