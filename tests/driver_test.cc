@@ -362,6 +362,24 @@ TEST(DriverClientTest, BlankLinesDoNotExtendTheTimeout) {
   EXPECT_NE(error.find("no reply within 0.4 s"), std::string::npos) << error;
 }
 
+// A driver that stops reading (closes its stdin) and exits is named when
+// the request cannot be sent, with its exit status.
+TEST(DriverClientTest, ADriverThatStopsReadingIsNamed) {
+  DriverClientOptions options;
+  options.timeout_s = 5;
+  options.driver = ShDriver("exec 0<&-; " + std::string(kHelloReply));
+  std::unique_ptr<DriverClient> client;
+  std::string error;
+  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
+      << error;
+  MeasurementReply reply;
+  EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+  EXPECT_NE(error.find("cannot send measure 1: Broken pipe (the driver "
+                       "exited with status 0)"),
+            std::string::npos)
+      << error;
+}
+
 // --- Controller programs ---
 
 std::vector<std::vector<double>> NumbersIn(const std::string& text,
