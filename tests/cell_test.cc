@@ -779,6 +779,15 @@ TEST(CellFileTest, EveryBadInputNamesLineAndField) {
        "file"},
       {"joint_margin_override_deg: {a: 1, a: 2}\n",
        "cell.yaml:1:35: joint_margin_override_deg.a: given twice"},
+      // A key given twice is an error, not one of the two silently lost
+      // (yaml-cpp's map[key] reads the first).
+      {"clearance_m: 0.05\nclearance_m: 0.01\n",
+       "cell.yaml:2:1: clearance_m: given twice"},
+      {"obstacles:\n  - {name: t, type: plane, normal: [0, 0, 1]}\n"
+       "obstacles:\n  - {name: w, type: sphere, radius_m: 1}\n",
+       "cell.yaml:3:1: obstacles: given twice"},
+      {"obstacles:\n  - {name: w, type: sphere, radius_m: 1, radius_m: 2}\n",
+       "cell.yaml:2:42: obstacles[0].radius_m: given twice"},
       {"obstacles: {name: t}\n", "cell.yaml:1:12: obstacles: expected a list"},
       {"[1, 2]\n", "cell.yaml:1:1: expected a mapping of cell fields"},
       {"clearance_m: [0.05\n", "cell.yaml:2:1: not valid YAML"},
