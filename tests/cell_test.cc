@@ -128,10 +128,38 @@ std::string StickCell(const std::string& extra, double normal_angle_deg = 0,
          target;
 }
 
+// `urdf` with one more link, `name`: a 2 x 20 x 20 cm plate (thin along
+// x) at `xyz` in link `parent`, fixed to it.
+std::string WithFixedPlate(std::string urdf, const std::string& name,
+                           const std::string& parent, const std::string& xyz) {
+  urdf.replace(urdf.find("  <link name=\"tip\"/>"), 0,
+               "  <link name=\"" + name + "\"><collision><origin xyz=\"" + xyz +
+                   "\" rpy=\"0 0 0\"/><geometry><box size=\"0.02 0.2 0.2\"/>"
+                   "</geometry></collision></link>\n");
+  urdf.replace(urdf.find("</robot>"), 0,
+               "  <joint name=\"" + name +
+                   "_joint\" type=\"fixed\"><parent "
+                   "link=\"" +
+                   parent + "\"/><child link=\"" + name +
+                   "\"/><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint>\n");
+  return urdf;
+}
+
 PoseVerdict CheckStick(const Fixture& f, double q1, double q2) {
   auto w = f.checker.NewWorkspace();
   const double q[2] = {q1, q2};
   return f.checker.Check(q, w.get());
+}
+
+// What blocks the stick's line of sight at q = (0, 0.1) in StickCell(""):
+// the link or obstacle, else the verdict.
+std::string LineOfSightBlocker(const std::string& urdf) {
+  Fixture f;
+  std::string error;
+  if (!MakeChecker(urdf, StickCell(""), &f, &error)) return error;
+  const PoseVerdict v = CheckStick(f, 0.0, 0.1);
+  return v.reason == RejectionReason::kLineOfSight ? f.checker.Detail(v)
+                                                   : f.checker.Describe(v);
 }
 
 TEST(CellCheckTest, TargetExactlyAtTheAcceptanceAnglePassesJustPastFails) {
@@ -243,20 +271,70 @@ TEST(CellCheckTest, LineOfSightBlockedByAnObstacleAndByALink) {
   {
     // A link of the robot between the device and the target: a second
     // body fixed to the base, at (1.3, 0, 0.5).
-    std::string urdf = kStickUrdf;
-    urdf.replace(urdf.find("  <link name=\"tip\"/>"), 0,
-                 "  <link name=\"screen\"><collision><origin xyz=\"1.3 0 0.5\" "
-                 "rpy=\"0 0 0\"/><geometry><box size=\"0.02 0.2 0.2\"/>"
-                 "</geometry></collision></link>\n");
-    urdf.replace(urdf.find("</robot>"), 0,
-                 "  <joint name=\"screen_joint\" type=\"fixed\"><parent "
-                 "link=\"base_link\"/><child link=\"screen\"/><origin "
-                 "xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint>\n");
+    EXPECT_EQ(LineOfSightBlocker(WithFixedPlate(kStickUrdf, "screen",
+                                                "base_link", "1.3 0 0.5")),
+              "screen");
+  }
+}
+
+TEST(CellCheckTest, LineOfSightIgnoresTheTargetsOwnMount) {
+  // The target at the slider's origin inside a ball of the slider (its
+  // mount, 4 cm in radius: more than the 2 cm line_of_sight_margin_m), the
+  // device along +x. The beam leaves the convex ball once and never comes
+  // back: that ball is not an occlusion.
+  std::string urdf = kStickUrdf;
+  urdf.replace(urdf.find("<origin xyz=\"-0.05 0 0\" rpy=\"0 0 0\"/>\n"
+                         "      <geometry><sphere radius=\"0.02\"/>"),
+               75,
+               "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n"
+               "      <geometry><sphere radius=\"0.04\"/>");
+  ASSERT_NE(urdf.find("<sphere radius=\"0.04\"/>"), std::string::npos);
+  std::string error;
+  {
     Fixture f;
     ASSERT_TRUE(MakeChecker(urdf, StickCell(""), &f, &error)) << error;
     const PoseVerdict v = CheckStick(f, 0.0, 0.1);
-    EXPECT_EQ(v.reason, RejectionReason::kLineOfSight);
-    EXPECT_EQ(f.checker.Detail(v), "screen");
+    EXPECT_TRUE(v.feasible()) << f.checker.Describe(v);
+    EXPECT_EQ(v.targets_seen, 1u);
+  }
+  {
+    // A second shape of the same link that does not hold the target, 0.3 m
+    // along the beam: it still blocks.
+    EXPECT_EQ(
+        LineOfSightBlocker(WithFixedPlate(urdf, "visor", "slider", "0.3 0 0")),
+        "visor");
+  }
+  {
+    // The PUMA 560's capsules: its measured point (L6's origin) lies in
+    // L6's tool capsule (3 cm in radius). Lines of sight are blocked by
+    // other links at some poses, never by the tool the target is on.
+    RobotDescription robot;
+    ASSERT_TRUE(LoadRobotFile(kData + "/puma560.yaml", &robot, &error))
+        << error;
+    RobotCollisionModel collision;
+    ASSERT_TRUE(LoadRobotCollision(kData + "/puma560.yaml", {}, robot.model,
+                                   &collision, &error))
+        << error;
+    const Cell cell = ParseCellOrDie(
+        "self_clearance_m: 0.005\n"
+        "device: {type: laser_tracker, xyz_m: [2.0, 0.0, 1.0]}\n"
+        "targets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: "
+        "45}]\n");
+    CellChecker checker;
+    ASSERT_TRUE(checker.Init(robot.model, collision, cell, &error)) << error;
+    Eigen::MatrixXd joints;
+    ASSERT_TRUE(SampleJointValues(robot.model, JointSampling::kRandom, 3000, 11,
+                                  &joints, &error))
+        << error;
+    PoolFilterSummary s;
+    ASSERT_TRUE(FilterPool(checker, joints, {}, &s));
+    int64_t by_l6 = 0;
+    for (const PoseVerdict& v : s.verdicts) {
+      by_l6 += v.reason == RejectionReason::kLineOfSight &&
+               checker.Detail(v) == "L6";
+    }
+    EXPECT_EQ(by_l6, 0);
+    EXPECT_GT(s.num_feasible(), 50);
   }
 }
 
