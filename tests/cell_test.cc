@@ -1330,6 +1330,54 @@ TEST(CellSetupTest, TargetsBecomeTheMarkers) {
   EXPECT_DOUBLE_EQ(m.nominal[m.block_offset(m.marker_block(1))], 0.05);
 }
 
+TEST(CellSetupTest, LinkPairsNeverAsFarApartAsTheClearanceAreNoted) {
+  // The cell sets only clearance_m: 0.05, which self_clearance_m
+  // then takes. The UR10e's forearm and wrist 2 are 2.1-2.2 cm apart at
+  // every pose (wrist 1 turns the wrist about the forearm housing's axis),
+  // so every pose would be a self-collision: a note says so.
+  Ur10e u;
+  std::string error;
+  const std::string path = TempPath("ur_clearance.yaml");
+  WriteText(path, "clearance_m: 0.05\n");
+  ASSERT_TRUE(LoadUr10e(path, &u, &error)) << error;
+  const std::vector<PairDistance> close =
+      SelfPairsAlwaysTooClose(*u.setup.checker);
+  std::set<std::string> names;
+  for (const PairDistance& d : close) {
+    names.insert(d.first + "|" + d.second);
+    EXPECT_LT(d.distance_m, 0.05);
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"base_link_inertia|upper_arm_link",
+                                          "forearm_link|wrist_2_link",
+                                          "wrist_1_link|wrist_3_link"}));
+  std::string notes;
+  for (const std::string& n : u.setup.notes) notes += n + "\n";
+  EXPECT_NE(notes.find("self_clearance_m 0.05: links base_link_inertia and "
+                       "upper_arm_link are never that far apart (at most "
+                       "0.021"),
+            std::string::npos)
+      << notes;
+  EXPECT_NE(notes.find(", forearm_link and wrist_2_link (0.02"),
+            std::string::npos)
+      << notes;
+  EXPECT_NE(notes.find("lower self_clearance_m or add the pairs to skip_pairs"),
+            std::string::npos)
+      << notes;
+  // Every pose that reaches the collision checks is rejected indeed.
+  PoolFilterSummary s;
+  ASSERT_TRUE(
+      FilterPool(*u.setup.checker, UrSobol(u.robot.model, 500), {}, &s));
+  EXPECT_EQ(s.num_feasible(), 0);
+  // The example cell (self_clearance_m: 0.01) has no such pair.
+  Ur10e example;
+  ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &example, &error))
+      << error;
+  EXPECT_TRUE(SelfPairsAlwaysTooClose(*example.setup.checker).empty());
+  for (const std::string& n : example.setup.notes) {
+    EXPECT_EQ(n.find("never that far apart"), std::string::npos) << n;
+  }
+}
+
 TEST(CellSetupTest, TheTargetsSeenAreRecorded) {
   // Two targets on the stick, the device far along +x: A faces it at q1 =
   // 0, B is 40 deg round from A.
