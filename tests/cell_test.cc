@@ -231,7 +231,16 @@ TEST(CellCheckTest, JointMarginOverrideByName) {
   EXPECT_FALSE(MakeChecker(kStickUrdf,
                            StickCell("joint_margin_override_m: {j2: 0.11}\n"),
                            &g, &error));
-  EXPECT_NE(error.find("joint 'j2' has a range narrower than twice its margin"),
+  EXPECT_NE(error.find("cell.yaml:3:27: joint_margin_override_m.j2: joint "
+                       "'j2' has a range of 0.2 m, narrower than twice its "
+                       "margin (0.11 m)"),
+            std::string::npos)
+      << error;
+  // The margin of every joint, where it was given, in its unit.
+  EXPECT_FALSE(MakeChecker(kStickUrdf, "joint_margin_deg: 60\n", &g, &error));
+  EXPECT_NE(error.find("cell.yaml:1:19: joint_margin_deg: joint 'j1' has a "
+                       "range of 114.6 deg, narrower than twice its margin "
+                       "(60 deg)"),
             std::string::npos)
       << error;
 }

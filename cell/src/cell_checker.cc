@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -264,8 +265,21 @@ bool CellChecker::Init(const RobotModel& model,
     const Link& l = model.links[j];
     if (std::isfinite(l.joint_min) && std::isfinite(l.joint_max) &&
         l.joint_max - l.joint_min < 2 * margins_[j]) {
-      return fail(where + ": joint margin: joint '" + l.name +
-                  "' has a range narrower than twice its margin");
+      // Where the margin was given, in its unit.
+      const bool prismatic = l.joint_type == JointType::kPrismatic;
+      const auto o = cell.joint_margin_override_where.find(l.name);
+      std::string at =
+          prismatic ? cell.joint_margin_m_where : cell.joint_margin_deg_where;
+      if (o != cell.joint_margin_override_where.end()) at = o->second;
+      if (at.empty()) at = where + ": joint margin";
+      const double unit = prismatic ? 1.0 : M_PI / 180.0;
+      char numbers[96];
+      std::snprintf(numbers, sizeof(numbers),
+                    "has a range of %.4g %s, narrower than twice its margin "
+                    "(%.4g %s)",
+                    (l.joint_max - l.joint_min) / unit, prismatic ? "m" : "deg",
+                    margins_[j] / unit, prismatic ? "m" : "deg");
+      return fail(at + ": joint '" + l.name + "' " + numbers);
     }
   }
   // Collision shapes.

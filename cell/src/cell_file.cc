@@ -45,6 +45,11 @@ class CellParser : public internal::YamlReader {
     double deg = 0.0;
     if (!OptionalNonNegative(root, "joint_margin_deg", &deg)) return false;
     cell->joint_margin_rad = deg * kDegree;
+    for (const auto& [key, where] :
+         {std::make_pair("joint_margin_deg", &cell->joint_margin_deg_where),
+          std::make_pair("joint_margin_m", &cell->joint_margin_m_where)}) {
+      if (const YAML::Node node = root[key]) *where = Where(node.Mark(), key);
+    }
     if (!OptionalNonNegative(root, "joint_margin_m", &cell->joint_margin_m) ||
         !Overrides(root, "joint_margin_override_deg", kDegree, cell) ||
         !Overrides(root, "joint_margin_override_m", 1.0, cell) ||

@@ -106,6 +106,8 @@ struct Cell {
   // Where each override and each skip pair was given ("<file>:<line>:<col>:
   // <field>"), for messages about names the robot does not have.
   std::map<std::string, std::string> joint_margin_override_where;
+  // Where joint_margin_deg and joint_margin_m were given (empty: not).
+  std::string joint_margin_deg_where, joint_margin_m_where;
   // The least distance between the robot and an obstacle, and between two
   // links that are not adjacent (self_clearance_m: that of clearance_m
   // unless set).
