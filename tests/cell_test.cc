@@ -1026,6 +1026,14 @@ TEST(CellFileTest, UrdfCollisionOfTheShippedRobots) {
         << error;
     EXPECT_EQ(c.num_shapes(), shapes) << file;
     for (double v : c.velocity_limits) EXPECT_GT(v, 0) << file;
+    if (file != "kuka_iiwa14.urdf") {
+      // ur_description's config/<robot>/joint_limits.yaml: 120 deg/s at the
+      // shoulder, 180 deg/s at the elbow and the wrists (the tour's times).
+      EXPECT_EQ(c.velocity_limits,
+                (std::vector<double>{2.0943951023931953, 2.0943951023931953,
+                                     M_PI, M_PI, M_PI, M_PI}))
+          << file;
+    }
     // The straight arm is free of itself.
     Cell cell;
     cell.self_clearance_m = 0.01;
