@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -1150,6 +1152,97 @@ TEST(CellPoolTest, FilterIsThreadCountIndependentAndItsCsvReadsBack) {
     ++k;
   }
   EXPECT_EQ(k, read.joints.rows());
+}
+
+TEST(CellPoolTest, EachReasonIsTheFirstCheckThatFails) {
+  // Every check recomputed on its own, without the checker's shortcuts
+  // (bounding balls, early exits): the margins from the limits, range and
+  // facing from the tip frame, the collisions from the exact distances of
+  // every pair. A pose's reason is the first check in the documented order
+  // (margin, range, facing, self-collision, obstacles in the file's order,
+  // line of sight) that fails, and a feasible pose fails none.
+  Ur10e u;
+  std::string error;
+  ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &u, &error))
+      << error;
+  const CellChecker& c = *u.setup.checker;
+  const Cell& cell = u.setup.cell;
+  const RobotModel& m = u.robot.model;
+  const Eigen::MatrixXd joints = UrSobol(m, 3000);
+  PoolFilterSummary s;
+  ASSERT_TRUE(FilterPool(c, joints, {}, &s));
+  auto w = c.NewWorkspace();
+  std::array<int, kNumRejectionReasons> seen{};
+  for (int64_t i = 0; i < joints.rows(); ++i) {
+    const Eigen::VectorXd q = joints.row(i).transpose();
+    std::vector<RejectionReason> fails;
+    int first_joint = -1;
+    for (int j = m.num_joints() - 1; j >= 0; --j) {
+      if (q[j] < m.links[j].joint_min + c.joint_margin(j) - 1e-12 ||
+          q[j] > m.links[j].joint_max - c.joint_margin(j) + 1e-12) {
+        first_joint = j;
+      }
+    }
+    if (first_joint >= 0) fails.push_back(RejectionReason::kJointMargin);
+    const FixedTransform tip = c.TipFrame(q.data());
+    const Eigen::Vector3d p =
+        tip.rotation * cell.targets[0].xyz_m + tip.translation;
+    const Eigen::Vector3d to_device = cell.device.position - p;
+    if (to_device.norm() < cell.device.min_range_m ||
+        to_device.norm() > cell.device.max_range_m) {
+      fails.push_back(RejectionReason::kOutOfRange);
+    }
+    const double angle = std::acos(std::clamp(
+        (tip.rotation * cell.targets[0].normal).dot(to_device.normalized()),
+        -1.0, 1.0));
+    if (angle > cell.targets[0].acceptance_rad + 1e-9) {
+      fails.push_back(RejectionReason::kFacingAway);
+    }
+    double self = 1e9;
+    std::vector<double> to_obstacle(cell.obstacles.size(), 1e9);
+    for (const PairDistance& d : c.Distances(q.data(), w.get())) {
+      if (!d.obstacle) {
+        self = std::min(self, d.distance_m);
+        continue;
+      }
+      for (size_t o = 0; o < cell.obstacles.size(); ++o) {
+        if (cell.obstacles[o].name == d.second) {
+          to_obstacle[o] = std::min(to_obstacle[o], d.distance_m);
+        }
+      }
+    }
+    if (self < cell.self_clearance_m) {
+      fails.push_back(RejectionReason::kSelfCollision);
+    }
+    int first_obstacle = -1;
+    for (int o = static_cast<int>(cell.obstacles.size()) - 1; o >= 0; --o) {
+      if (to_obstacle[o] < cell.clearance_m) first_obstacle = o;
+    }
+    if (first_obstacle >= 0) fails.push_back(RejectionReason::kObstacle);
+    const PoseVerdict& v = s.verdicts[i];
+    ++seen[static_cast<int>(v.reason)];
+    if (fails.empty()) {
+      // Feasible, or only the line of sight (not recomputed here) failed.
+      EXPECT_TRUE(v.feasible() || v.reason == RejectionReason::kLineOfSight)
+          << i << ": " << c.Describe(v);
+      continue;
+    }
+    ASSERT_EQ(v.reason, fails[0]) << "pose " << i << ": " << c.Describe(v);
+    if (v.reason == RejectionReason::kJointMargin) {
+      EXPECT_EQ(v.a, first_joint) << i;
+    }
+    if (v.reason == RejectionReason::kObstacle) {
+      EXPECT_EQ(v.a, first_obstacle) << i;
+    }
+  }
+  // The pool exercises every reason but the camera's.
+  for (RejectionReason r :
+       {RejectionReason::kNone, RejectionReason::kJointMargin,
+        RejectionReason::kOutOfRange, RejectionReason::kFacingAway,
+        RejectionReason::kSelfCollision, RejectionReason::kObstacle,
+        RejectionReason::kLineOfSight}) {
+    EXPECT_GT(seen[static_cast<int>(r)], 0) << RejectionReasonLabel(r);
+  }
 }
 
 TEST(CellPoolTest, MeasurablePoolIsFeasibleDeterministicAndCheaper) {
