@@ -888,6 +888,26 @@ TEST(CellFileTest, EveryBadInputNamesLineAndField) {
         << c.text << "got:  " << error << "\nwant: " << c.want;
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
+  // A mocap system of 64 cameras is read; 65 are refused (the checks keep
+  // a bit per camera in 64).
+  for (int n : {64, 65}) {
+    std::string text = "device:\n  type: mocap\n  cameras:\n";
+    for (int k = 0; k < n; ++k) {
+      text += "    - {xyz_m: [2, " + std::to_string(0.01 * k) +
+              ", 1], look_at_m: [0, 0, 0], fov_deg: 60}\n";
+    }
+    text +=
+        "targets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], "
+        "acceptance_deg: 30}]\n";
+    Cell cell;
+    std::string error;
+    EXPECT_EQ(ParseCellFile(text, "cell.yaml", "", &cell, &error), n == 64)
+        << n;
+    if (n == 65) {
+      EXPECT_EQ(error,
+                "cell.yaml:4:5: device.cameras: at most 64 cameras, got 65");
+    }
+  }
 }
 
 TEST(CellFileTest, MeshesFromStlObjAndDae) {

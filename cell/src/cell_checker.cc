@@ -235,6 +235,12 @@ bool CellChecker::Init(const RobotModel& model,
     return fail(where + ": targets: at most 32, got " +
                 std::to_string(cell.targets.size()));
   }
+  if (cell.has_device &&
+      cell.device.cameras.size() > static_cast<size_t>(kMaxCellCameras)) {
+    return fail(where + ": device.cameras: at most " +
+                std::to_string(kMaxCellCameras) + " cameras, got " +
+                std::to_string(cell.device.cameras.size()));
+  }
   // Joint margins.
   std::map<std::string, int> joint_index;
   for (int j = 0; j < model.num_joints(); ++j) {

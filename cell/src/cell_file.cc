@@ -472,6 +472,11 @@ class CellParser : public internal::YamlReader {
         return Fail(cameras ? cameras.Mark() : node.Mark(), "device.cameras",
                     "expected a non-empty list of cameras");
       }
+      if (cameras.size() > static_cast<size_t>(kMaxCellCameras)) {
+        return Fail(cameras.Mark(), "device.cameras",
+                    "at most " + std::to_string(kMaxCellCameras) +
+                        " cameras, got " + std::to_string(cameras.size()));
+      }
       for (size_t i = 0; i < cameras.size(); ++i) {
         const std::string f = "device.cameras[" + std::to_string(i) + "]";
         if (!cameras[i].IsMap()) {

@@ -131,7 +131,7 @@ class CellChecker {
   // Builds the checker. False with a message for names the robot does not
   // have (skip pairs, joint margin overrides: "<file>:<line>:<col>:
   // <field>: ..."), a joint range narrower than twice its margin, more
-  // than 32 targets.
+  // than 32 targets or kMaxCellCameras cameras.
   bool Init(const RobotModel& model, const RobotCollisionModel& robot,
             const Cell& cell, std::string* error);
   // The full parameter vector the link frames are computed at (default:

@@ -70,14 +70,18 @@ struct CellCamera {
   double max_range_m = std::numeric_limits<double>::infinity();
 };
 
+// The most cameras a mocap device may have (the checks keep a bit per
+// camera).
+inline constexpr int kMaxCellCameras = 64;
+
 struct CellDevice {
   DeviceType type = DeviceType::kLaserTracker;
   // laser_tracker: the tracker head (m) and its range.
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double min_range_m = 0.0;
   double max_range_m = std::numeric_limits<double>::infinity();
-  // mocap: the cameras, of which at least min_cameras must see a target;
-  // camera: one.
+  // mocap: the cameras (at most kMaxCellCameras), of which at least
+  // min_cameras must see a target; camera: one.
   std::vector<CellCamera> cameras;
   int min_cameras = 1;
   // camera: the largest angle between a target's normal and the direction
