@@ -168,6 +168,7 @@ int Main() {
     j["num_limit"] = summary.num_limit;
     j["num_unreachable"] = summary.num_unreachable;
     j["num_invalid"] = summary.num_invalid;
+    j["num_iteration_cap"] = summary.num_iteration_cap;
     j["max_position_error_m"] = summary.max_position_error_m;
     j["max_rotation_error_rad"] = summary.max_rotation_error_rad;
     j["max_joint_change"] = summary.max_joint_change;

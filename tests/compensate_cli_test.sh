@@ -218,7 +218,7 @@ for x in t["targets"]:
     assert max(abs(a - b) for a, b in zip(x["joints"], y["joints"])) < 1e-7, x["pose_index"]
 p = json.load(open("pcomp.json"))
 assert [x["pose_index"] for x in p["targets"]] == list(range(40))
-assert p["num_converged"] + p["num_limit"] + p["num_unreachable"] + p["num_singular"] == 40
+assert p["num_converged"] + p["num_limit"] + p["num_unreachable"] + p["num_singular"] + p["num_iteration_cap"] == 40
 assert p["num_converged"] >= 30, p["num_converged"]
 for x in p["targets"]:
     assert "start_joints" not in x

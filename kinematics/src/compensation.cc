@@ -7,9 +7,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
+#include "activecal/io/csv_files.h"
 
 namespace activecal {
 namespace {
@@ -23,6 +23,7 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
   summary->num_converged = summary->num_singular = summary->num_limit = 0;
   summary->num_unreachable = summary->num_invalid = 0;
+  summary->num_iteration_cap = 0;
   double sum_change2 = 0.0;
   int first_failure = -1;
   const int n = static_cast<int>(summary->results.size());
@@ -43,6 +44,9 @@ void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
         break;
       case IkStatus::kInvalid:
         ++summary->num_invalid;
+        break;
+      case IkStatus::kIterationCap:
+        ++summary->num_iteration_cap;
         break;
     }
     if (r.status != IkStatus::kConverged && first_failure < 0)
@@ -142,6 +146,7 @@ std::string CompensationSummary::BriefReport() const {
   if (num_limit) out << ", " << num_limit << " limit";
   if (num_unreachable) out << ", " << num_unreachable << " unreachable";
   if (num_invalid) out << ", " << num_invalid << " invalid";
+  if (num_iteration_cap) out << ", " << num_iteration_cap << " iteration_cap";
   out << "\n  largest error left " << max_position_error_m << " m";
   if (max_rotation_error_rad > 0)
     out << ", " << max_rotation_error_rad << " rad";

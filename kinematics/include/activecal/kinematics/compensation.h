@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "activecal/core/robot_model.h"
-#include "activecal/io/targets_csv.h"
 #include "activecal/core/types.h"
+#include "activecal/io/targets_csv.h"
 #include "activecal/kinematics/inverse_kinematics.h"
 
 namespace activecal {
@@ -77,6 +77,7 @@ struct CompensationSummary {
   int num_limit = 0;
   int num_unreachable = 0;
   int num_invalid = 0;
+  int num_iteration_cap = 0;
   // Over the targets: largest position error (m) and rotation error (rad)
   // left, largest change of any joint (rad or m), RMS of the per-target
   // Euclidean joint change.
