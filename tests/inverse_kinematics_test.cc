@@ -992,6 +992,46 @@ TEST(CompensationTest, FailedTargetsAreCountedAndReported) {
   EXPECT_FALSE(summary.AllConverged());
 }
 
+// Issue 26, item 5: a NaN rotation vector was read as the identity ("angle
+// > 0" is false for NaN) and the target reported converged; an infinite one
+// was refused. Both are invalid now, for either match.
+TEST(CompensationTest, NonFiniteRotationVectorsAreInvalidTargets) {
+  const RobotModel puma = Puma560PaperModel();
+  const Eigen::VectorXd truth = Puma560TrueParameters();
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(6, 0.3);
+  const IkTarget at = TargetAt(puma, truth, q);
+  const Eigen::AngleAxisd aa(at.rotation);
+  TargetList list;
+  list.points.resize(3, 3);
+  list.rotation_vectors.resize(3, 3);
+  for (int i = 0; i < 3; ++i) {
+    list.points.row(i) = at.point.transpose();
+    list.rotation_vectors.row(i) = (aa.angle() * aa.axis()).transpose();
+  }
+  list.rotation_vectors(0, 1) = NAN;
+  list.rotation_vectors(1, 2) = HUGE_VAL;
+  const std::vector<IkTarget> targets = IkTargetsFromList(list);
+  EXPECT_FALSE(targets[0].rotation.allFinite());
+  EXPECT_FALSE(targets[1].rotation.allFinite());
+  for (IkMatch match : {IkMatch::kPosition, IkMatch::kPose}) {
+    CompensationOptions options;
+    options.ik.match = match;
+    CompensationSummary summary;
+    const Eigen::MatrixXd starts = q.transpose().replicate(3, 1);
+    CompensateTargets(puma, truth, targets, starts, Eigen::VectorXd(), options,
+                      &summary);
+    ASSERT_EQ(summary.results.size(), 3u) << summary.message;
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_EQ(summary.results[i].status, IkStatus::kInvalid)
+          << IkMatchName(match) << " " << i;
+      EXPECT_EQ(summary.results[i].message, "the target is not finite");
+    }
+    EXPECT_EQ(summary.results[2].status, IkStatus::kConverged)
+        << summary.results[2].message;
+    EXPECT_EQ(summary.num_invalid, 2);
+  }
+}
+
 TEST(CompensationTest, CompensatedCsvReadsBackWithStatusAndLabels) {
   const RobotModel puma = Puma560PaperModel();
   const Eigen::VectorXd truth = Puma560TrueParameters();

@@ -284,7 +284,11 @@ std::vector<IkTarget> IkTargetsFromList(const TargetList& list) {
     if (list.rotation_vectors.rows() == n) {
       const Eigen::Vector3d v = list.rotation_vectors.row(i).transpose();
       const double angle = v.norm();
-      if (angle > 0.0) {
+      if (!v.allFinite()) {
+        // Not the identity (a NaN angle fails "angle > 0"): a target the
+        // solver refuses as not finite.
+        targets[i].rotation.setConstant(NAN);
+      } else if (angle > 0.0) {
         targets[i].rotation =
             Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
       }

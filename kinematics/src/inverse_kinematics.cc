@@ -284,7 +284,9 @@ class IkSolver {
       result->message = "start configuration: " + why;
       return;
     }
-    if (!target.point.allFinite() || (pose() && !target.rotation.allFinite())) {
+    // The rotation too when only the point is matched: a non-finite one is
+    // bad input, not something to ignore.
+    if (!target.point.allFinite() || !target.rotation.allFinite()) {
       result->message = "the target is not finite";
       return;
     }
@@ -745,8 +747,8 @@ class IkSolver {
                                 iterations < max_iterations;
                ++correct) {
             bool ignored = false;
-            const Joints dc =
-                Step(candidate, 1e-12, /*pull=*/false, limits, &ignored);
+            const Joints dc = Step(candidate, 1e-12, /*pull=*/false, limits,
+                                   &ignored);
             Evaluate(Clamp(candidate.q + dc, limits), &corrected);
             ++iterations;
             if (!(corrected.cost < candidate.cost)) break;

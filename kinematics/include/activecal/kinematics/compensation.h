@@ -117,7 +117,9 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
                        CompensationSummary* summary);
 
 // The targets of a targets CSV: points, and rotations from the rotation
-// vectors (identity when the file has none).
+// vectors (identity when the file has none). A non-finite rotation vector
+// gives a non-finite rotation, which the solver reports invalid ("the
+// target is not finite").
 std::vector<IkTarget> IkTargetsFromList(const TargetList& list);
 
 // The poses CSV (csv_files.h: pose_index, q<j>_rad or _m, q<j>_deg or _mm)
