@@ -187,6 +187,22 @@ assert j['max_joint_change'] <= 1e-12, j['max_joint_change']
   fi
 done
 
+# Issue 26: forgetting --frames with a URDF robot moved joints by up to
+# 3 deg without a word. Now the first line on stderr says what is assumed
+# (and with --frames nothing is said).
+"$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --nominal="$ur" \
+  --poses_csv=ur_prog.csv --out=ur_noframes.csv >ur_noframes.txt 2>ur_noframes.err
+nstatus=$?
+if [ "$nstatus" -eq 0 ] && [ "$(wc -l <ur_noframes.err)" -eq 1 ] &&
+  grep -qF "activecal_compensate: note: --robot=$ur has no --frames: the device frame is taken as the chain's base link and the marker as the origin of the tip link 'tool0', with no offset" ur_noframes.err; then
+  ok "URDF without --frames: one note first on stderr: $(cut -c1-100 ur_noframes.err)"
+else
+  fail "URDF without --frames (status $nstatus)"; cat ur_noframes.err
+fi
+"$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --nominal="$ur" --poses_csv=ur_prog.csv --out=ur_frames.csv >/dev/null 2>ur_frames.err
+[ ! -s ur_frames.err ] && ok "URDF with --frames: no note" ||
+  { fail "URDF with --frames: stderr not empty"; cat ur_frames.err; }
 # Cartesian targets: the meant points of the first 40 converged targets,
 # with the program's joints as starts, give the same joints as the program
 # path; without starts, each starts from the previous result.
@@ -291,6 +307,13 @@ expect_fail "no output" "--out is required" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv
 expect_fail "iteration cap 0" "max_iterations must be >= 1, got 0" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --max_iterations=0
+expect_fail "joint weights of another robot" \
+  "joint_weights: expected 6 weights (one per joint of 'puma560_sun_hollerbach'), got 2" \
+  activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --joint_weights=1,2
+expect_fail "a joint weight of 0" "joint_weights[2] must be finite and > 0, got 0" \
+  activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --joint_weights=1,1,0,1,1,1
+expect_fail "a joint weight not a number" "--joint_weights: 'x' is not a number" \
+  activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --joint_weights=1,x,1,1,1,1
 expect_fail "unknown marker" "--marker: 'smr9' is not a marker of robot" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --marker=smr9
 [ ! -e x.csv ] && ok "no output written on bad input" || fail "output written on bad input"

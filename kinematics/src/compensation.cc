@@ -83,6 +83,20 @@ void UserFailure(const std::string& message, CompensationSummary* summary) {
   summary->message = message;
 }
 
+// The options against the model: valid, and one joint weight per joint.
+bool CheckOptions(const RobotModel& model, const CompensationOptions& options,
+                  std::string* error) {
+  if (!options.ik.IsValid(error)) return false;
+  const size_t n = options.ik.joint_weights.size();
+  if (n != 0 && n != static_cast<size_t>(model.num_joints())) {
+    *error = "joint_weights: expected " + std::to_string(model.num_joints()) +
+             " weights (one per joint of '" + model.name + "'), got " +
+             std::to_string(n);
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool CheckSameChain(const RobotModel& calibrated, const RobotModel& nominal,
@@ -171,7 +185,7 @@ void CompensateProgram(const RobotModel& calibrated,
   if (!CheckSameChain(calibrated, nominal, &error) ||
       !calibrated.CheckParameters(calibrated_values, &error) ||
       !nominal.CheckParameters(nominal_values, &error) ||
-      !options.ik.IsValid(&error)) {
+      !CheckOptions(calibrated, options, &error)) {
     UserFailure(error, summary);
     return;
   }
@@ -225,7 +239,8 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
   CHECK(summary != nullptr);
   const auto start = std::chrono::steady_clock::now();
   std::string error;
-  if (!model.CheckParameters(values, &error) || !options.ik.IsValid(&error)) {
+  if (!model.CheckParameters(values, &error) ||
+      !CheckOptions(model, options, &error)) {
     UserFailure(error, summary);
     return;
   }
