@@ -9,10 +9,10 @@
 #include <fstream>
 #include <iostream>
 
-#include "activecal/io/frames_file.h"
 #include "activecal/core/puma560.h"
-#include "activecal/io/robot_loader.h"
 #include "activecal/estimation/identification.h"
+#include "activecal/io/frames_file.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/selection/criteria.h"
 
 DEFINE_string(robot, "",
@@ -25,27 +25,10 @@ DEFINE_string(base_link, "",
 DEFINE_string(tip_link, "",
               "URDF robots: the link the calibrated chain ends at (default: "
               "the only leaf; several leaves are listed in the error).");
-DEFINE_string(parameter_set, "",
-              "Which parameters to identify: registration (base frame and "
-              "marker points), offsets (+ joint offsets), full (+ every "
-              "geometric correction of every link), file (the robot file's "
-              "'free' lists). Empty: full for a URDF robot, file otherwise. "
-              "Sets other than file are reduced to what the measurements "
-              "(or the pool) can separate; the parameters held are named.");
 DEFINE_string(frames, "",
               "Metrology frames (YAML, docs/formats.md): the robot base in "
               "the device's frame and the markers, e.g. from "
               "activecal_identify --frames_out.");
-
-DEFINE_bool(strict_limits, false,
-            "Refuse a measurements file whose joint readings lie beyond the "
-            "robot's joint limits. Default: readings within 5 deg (revolute) "
-            "or 10 mm (prismatic) of a limit are accepted with one warning "
-            "per file; farther out they are always an error.");
-DEFINE_bool(columns_strict, false,
-            "Refuse a measurements file with columns activecal does not read "
-            "(a device's temperature, timestamps, ...). Default: they are "
-            "ignored and listed in a note.");
 
 namespace activecal {
 namespace app {
@@ -53,32 +36,11 @@ namespace {
 std::string g_program = "activecal";
 }
 
+const std::string& ProgramName() { return g_program; }
+
 void Fail(const std::string& message) {
   std::cerr << g_program << ": error: " << message << std::endl;
   std::exit(1);
-}
-
-std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
-                                               const RobotModel& model,
-                                               const std::string& flag) {
-  MeasurementsCsvOptions options;
-  options.strict_limits = FLAGS_strict_limits;
-  options.columns_strict = FLAGS_columns_strict;
-  std::vector<Measurement> measurements;
-  MeasurementsCsvReport report;
-  std::string error;
-  if (!ReadMeasurementsCsv(path, model, options, &measurements, &report,
-                           &error)) {
-    Fail("--" + flag + ": " + error);
-  }
-  // On stdout: stderr keeps one line for an error.
-  for (const std::string& w : report.warnings) {
-    std::cout << g_program << ": warning: " << w << std::endl;
-  }
-  for (const std::string& n : report.notes) {
-    std::cout << g_program << ": note: " << n << std::endl;
-  }
-  return measurements;
 }
 
 void Init(int* argc, char*** argv, const char* usage) {
@@ -167,16 +129,6 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
     }
   }
   return lattice;
-}
-
-ParameterSet ParameterSetOrDie(bool urdf_robot) {
-  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
-  if (!FLAGS_parameter_set.empty() &&
-      !ParseParameterSet(FLAGS_parameter_set, &set)) {
-    Fail("--parameter_set must be registration, offsets, full or file, got '" +
-         FLAGS_parameter_set + "'");
-  }
-  return set;
 }
 
 RobotDescription LoadRobotOrDie() {

@@ -1,0 +1,31 @@
+// --parameter_set and the function that reads it. A file of its own: the
+// programs link activecal_app_common as a static library, so only those
+// that call ParameterSetOrDie have (and list in --help) the flag.
+
+#include <gflags/gflags.h>
+
+#include "app_common.h"
+
+DEFINE_string(parameter_set, "",
+              "Which parameters to identify: registration (base frame and "
+              "marker points), offsets (+ joint offsets), full (+ every "
+              "geometric correction of every link), file (the robot file's "
+              "'free' lists). Empty: full for a URDF robot, file otherwise. "
+              "Sets other than file are reduced to what the measurements "
+              "(or the pool) can separate; the parameters held are named.");
+
+namespace activecal {
+namespace app {
+
+ParameterSet ParameterSetOrDie(bool urdf_robot) {
+  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
+  if (!FLAGS_parameter_set.empty() &&
+      !ParseParameterSet(FLAGS_parameter_set, &set)) {
+    Fail("--parameter_set must be registration, offsets, full or file, got '" +
+         FLAGS_parameter_set + "'");
+  }
+  return set;
+}
+
+}  // namespace app
+}  // namespace activecal
