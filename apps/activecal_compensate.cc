@@ -170,8 +170,15 @@ int Main() {
                       nominal.model.nominal, program.joints, options, &summary);
   } else {
     TargetList list;
-    if (!ReadTargetsCsv(FLAGS_targets_csv, model, &list, &error)) {
+    TargetsCsvOptions csv;
+    csv.columns_strict = app::ColumnsStrict();
+    std::vector<std::string> notes;
+    if (!ReadTargetsCsv(FLAGS_targets_csv, model, csv, &list, &notes, &error)) {
       app::Fail("--targets_csv: " + error);
+    }
+    // On stdout: stderr keeps one line for an error.
+    for (const std::string& n : notes) {
+      std::printf("%s: note: %s\n", app::ProgramName().c_str(), n.c_str());
     }
     if (options.ik.match == IkMatch::kPose &&
         list.rotation_vectors.rows() == 0) {

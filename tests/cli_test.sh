@@ -139,7 +139,8 @@ for prog in $all_programs; do
     case "$flag:$prog" in
       parameter_set:activecal_select | parameter_set:activecal_identify) want=yes ;;
       strict_limits:activecal_identify | strict_limits:activecal_evaluate) want=yes ;;
-      columns_strict:activecal_identify | columns_strict:activecal_evaluate) want=yes ;;
+      columns_strict:activecal_identify | columns_strict:activecal_evaluate |\
+        columns_strict:activecal_compensate) want=yes ;;
       *) want=no ;;
     esac
     if has_flag "$prog" "$flag"; then got=yes; else got=no; fi

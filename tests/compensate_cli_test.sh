@@ -242,6 +242,46 @@ for x in p["targets"]:
         assert x["position_error_m"] <= 1e-9
 EOF
 
+# Issue 26: the targets CSV dropped columns it did not know, start joints
+# by joint name among them. It reads the measurements CSV's columns (here
+# the UR10e's joints by name, mm), names the rest in a note, and refuses
+# them with --columns_strict.
+python3 - <<'EOF'
+import json
+rep = json.load(open("ur_same.json"))
+names = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+         "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
+with open("ur_targets.csv", "w") as f:
+    f.write("pose_index,x_mm,y_mm,z_mm,temperature_c," +
+            ",".join(n + "_rad" for n in names) + "\n")
+    for t in rep["targets"][:5]:
+        f.write(",".join(repr(v) for v in [t["pose_index"]] +
+                         [1000 * x for x in t["target_m"]] + [21.5] +
+                         t["start_joints"]) + "\n")
+EOF
+"$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --marker=smr2 --targets_csv=ur_targets.csv --out=ur_t.csv --json_out=ur_t.json \
+  >ur_t.txt 2>ur_t.err
+tstatus=$?
+if [ "$tstatus" -eq 0 ] && [ ! -s ur_t.err ] &&
+  grep -q "activecal_compensate: note: ur_targets.csv: ignored 1 column activecal does not read: temperature_c" ur_t.txt &&
+  python3 -c "
+import json
+j = json.load(open('ur_t.json'))
+assert j['all_converged'] and j['num_targets'] == 5, j['message']
+# The start joints were read (by name): the program's own joints reach
+# the targets, so they are kept (to the mm rounding of the points).
+assert j['max_joint_change'] <= 1e-6, j['max_joint_change']
+"; then
+  ok "targets CSV: joints by name and mm read, temperature_c named in a note"
+else
+  fail "targets CSV with joint names (status $tstatus)"; cat ur_t.txt ur_t.err
+fi
+expect_fail "targets CSV column not read, --columns_strict" \
+  "--targets_csv: ur_targets.csv:1: column 'temperature_c' activecal does not read (strict columns" \
+  activecal_compensate --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --marker=smr2 --targets_csv=ur_targets.csv --out=x.csv --columns_strict
+
 # A target outside the workspace: reported per target, exit 2, one line.
 printf 'pose_index,x_m,y_m,z_m\n7,0.3,19.9,0.2\n8,5,30,2\n' >far.csv
 "$apps/activecal_compensate" --robot=calibrated.yaml --targets_csv=far.csv \

@@ -11,8 +11,8 @@
 #include <mutex>
 #include <sstream>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
+#include "activecal/io/csv_files.h"
 
 namespace activecal {
 namespace {
