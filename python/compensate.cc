@@ -129,6 +129,10 @@ std::shared_ptr<CompensationResult> CompensatePy(
       Fail("pose_indices: expected " + std::to_string(n) + " values, got " +
            std::to_string(result->pose_indices.size()));
     }
+    std::string error;
+    if (!CheckPoseIndices(result->pose_indices, /*unique=*/false, &error)) {
+      Fail(error);
+    }
   }
   return result;
 }

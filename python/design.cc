@@ -62,6 +62,10 @@ std::shared_ptr<DesignResult> SelectPy(
              " values (one per pool pose), got " +
              std::to_string(labels.size()));
       }
+      std::string error;
+      if (!CheckPoseIndices(labels, /*unique=*/true, &error)) {
+        Fail("pool_indices: " + error);
+      }
     }
   } else {
     JointSampling sampling;

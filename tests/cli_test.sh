@@ -214,6 +214,10 @@ expect_fail "zero degrees of freedom" "27 measurement rows for 27 free parameter
 printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n' >dup.csv
 expect_fail "duplicate pool poses" "dup.csv:3: duplicate pose: the same joint values as line 2" \
   activecal_select --pool_csv=dup.csv --num_poses=1
+# Issue 26: two pool rows of the same label were accepted silently.
+printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n4,0,0,0,0,0,0\n5,10,0,0,0,0,0\n4,20,0,0,0,0,0\n' >duplabel.csv
+expect_fail "duplicate pool labels" "--pool_csv: duplabel.csv:4: pose_index: 4 is also the label of line 2 (the labels of a pool name its poses, each once)" \
+  activecal_select --pool_csv=duplabel.csv --num_poses=1
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,400\n' >range.csv
 expect_fail "joint out of range" "range.csv:2: joint 6 (L6) value 6.98132 rad (400 deg) is outside its range [-176, 356] deg" \
   activecal_simulate --poses_csv=range.csv --out=x.csv

@@ -263,6 +263,11 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
        "'q1_rad' twice"},
       {"bad pose_index", "pose_index," + h + "1.5,0,0,0.1,0\n",
        "p.csv:2: pose_index: expected an integer >= 0"},
+      // Issue 26: a pool's labels were taken twice silently.
+      {"duplicate pose_index",
+       "pose_index," + h + "7,0,0,0.1,0\n8,0.1,0,0.1,0\n7,0.2,0,0.1,0\n",
+       "p.csv:4: pose_index: 7 is also the label of line 2 (the labels of a "
+       "pool name its poses, each once)"},
   };
   for (const BadCsv& c : cases) {
     PoseList poses;
@@ -276,6 +281,45 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
   std::string error;
   EXPECT_FALSE(ReadPosesCsv("/nonexistent.csv", m, true, &poses, &error));
   EXPECT_EQ(error, "/nonexistent.csv: cannot open the file");
+  // A program (not a pool) may repeat a label.
+  EXPECT_TRUE(ParsePosesCsv("pose_index," + h + "7,0,0,0.1,0\n7,0.1,0,0.1,0\n",
+                            "p.csv", m, false, &poses, &error))
+      << error;
+}
+
+// Issue 26, item 18: the Python module wrote labels every reader refuses
+// (write_poses(pose_indices=[-1, ...])) and took a pool's labels twice.
+// One library check, at both edges of the range and for repeats.
+TEST(PosesCsvTest, PoseLabelsAreCheckedBeforeTheyAreWritten) {
+  std::string error;
+  EXPECT_TRUE(CheckPoseIndices({}, true, &error));
+  EXPECT_TRUE(CheckPoseIndices({0, kMaxPoseIndex, 3}, true, &error)) << error;
+  EXPECT_FALSE(CheckPoseIndices({0, -1}, false, &error));
+  EXPECT_EQ(error,
+            "pose_indices[1] = -1: a pose label must be an integer in [0, "
+            "9e15] (the files' pose_index; every reader refuses others)");
+  EXPECT_FALSE(CheckPoseIndices({kMaxPoseIndex + 1}, false, &error));
+  EXPECT_NE(error.find("pose_indices[0] = 9000000000000001: a pose label"),
+            std::string::npos)
+      << error;
+  EXPECT_TRUE(CheckPoseIndices({4, 5, 4}, false, &error));
+  EXPECT_FALSE(CheckPoseIndices({4, 5, 4}, true, &error));
+  EXPECT_EQ(error,
+            "pose_indices[2] = 4, the same label as pose_indices[0]: the "
+            "labels of a pool name its poses, each once");
+  // What passes the check reads back; the largest label too.
+  const RobotModel m = testing::MixedModel();
+  PoseList poses;
+  poses.joints = Eigen::MatrixXd::Zero(2, 4);
+  poses.joints(0, 2) = poses.joints(1, 2) = 0.1;
+  poses.joints(1, 0) = 0.2;
+  poses.pose_indices = {kMaxPoseIndex, 0};
+  ASSERT_TRUE(CheckPoseIndices(poses.pose_indices, true, &error));
+  PoseList back;
+  ASSERT_TRUE(
+      ParsePosesCsv(PosesCsvText(m, poses), "p.csv", m, true, &back, &error))
+      << error;
+  EXPECT_EQ(back.pose_indices, poses.pose_indices);
 }
 
 TEST(MeasurementsCsvTest, MixedRoundTripIsExact) {

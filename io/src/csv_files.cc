@@ -434,7 +434,8 @@ bool ReadPoseIndex(const Table& table, const Row& row, int64_t* label,
                    std::string* error) {
   double index;
   if (!table.Number(row, "pose_index", &index, error)) return false;
-  if (index < 0 || index != std::floor(index) || index > 9e15) {
+  if (index < 0 || index != std::floor(index) ||
+      index > static_cast<double>(kMaxPoseIndex)) {
     return table.Fail(
         row.line,
         "pose_index: expected an integer >= 0, got " + ShortestText(index),
@@ -460,6 +461,34 @@ bool ReadTextFile(const std::string& path, std::string* text,
   std::ostringstream out;
   out << in.rdbuf();
   *text = out.str();
+  return true;
+}
+
+bool CheckPoseIndices(const std::vector<int64_t>& labels, bool unique,
+                      std::string* error) {
+  std::map<int64_t, size_t> seen;
+  for (size_t i = 0; i < labels.size(); ++i) {
+    const std::string entry = "pose_indices[" + std::to_string(i) +
+                              "] = " + std::to_string(labels[i]);
+    if (labels[i] < 0 || labels[i] > kMaxPoseIndex) {
+      if (error) {
+        *error = entry +
+                 ": a pose label must be an integer in [0, 9e15] (the files' "
+                 "pose_index; every reader refuses others)";
+      }
+      return false;
+    }
+    if (!unique) continue;
+    const auto [it, inserted] = seen.emplace(labels[i], i);
+    if (!inserted) {
+      if (error) {
+        *error = entry + ", the same label as pose_indices[" +
+                 std::to_string(it->second) +
+                 "]: the labels of a pool name its poses, each once";
+      }
+      return false;
+    }
+  }
   return true;
 }
 
@@ -508,6 +537,7 @@ bool ParsePosesCsv(const std::string& text, const std::string& source,
   out.joints.resize(n, model.num_joints());
   out.pose_indices.resize(n);
   std::map<std::vector<double>, int> seen;
+  std::map<int64_t, int> seen_labels;
   for (int i = 0; i < n; ++i) {
     const Row& row = table.rows()[i];
     Eigen::VectorXd q;
@@ -517,6 +547,19 @@ bool ParsePosesCsv(const std::string& text, const std::string& source,
     if (table.Has("pose_index") &&
         !ReadPoseIndex(table, row, &out.pose_indices[i], error)) {
       return false;
+    }
+    if (reject_duplicates && table.Has("pose_index")) {
+      const auto [it, inserted] =
+          seen_labels.emplace(out.pose_indices[i], row.line);
+      if (!inserted) {
+        return table.Fail(row.line,
+                          "pose_index: " + std::to_string(out.pose_indices[i]) +
+                              " is also the label of line " +
+                              std::to_string(it->second) +
+                              " (the labels of a pool name its poses, each "
+                              "once)",
+                          error);
+      }
     }
     if (reject_duplicates) {
       const std::vector<double> key(q.data(), q.data() + q.size());

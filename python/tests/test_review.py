@@ -105,6 +105,19 @@ def test_integer_arguments_given_non_integers_raise_value_error(puma,
                        "float64"):
         activecal.select(puma, pool=pool, pool_indices=np.arange(25.),
                          num_poses=20)
+    # Issue 26: a pool's labels are integers >= 0, each once.
+    with pytest.raises(ValueError, match=r"pool_indices: pose_indices\[3\] "
+                       r"= -1: a pose label must be an integer"):
+        activecal.select(puma, pool=pool, num_poses=20,
+                         pool_indices=[0, 1, 2, -1] + list(range(4, 25)))
+    with pytest.raises(ValueError, match=r"pool_indices: pose_indices\[24\] "
+                       r"= 0, the same label as pose_indices\[0\]"):
+        activecal.select(puma, pool=pool, num_poses=20,
+                         pool_indices=list(range(24)) + [0])
+    with pytest.raises(ValueError, match=r"pose_indices\[0\] = -5: a pose "
+                       "label"):
+        activecal.compensate(puma, targets=np.array([[0.5, 0.2, 0.3]]),
+                             pose_indices=[-5])
     with pytest.raises(ValueError, match="target_rms_m: expected a number "
                        r"\(m\), got '1e-4'"):
         activecal.select(puma, pool=pool, criterion="task_rms",
