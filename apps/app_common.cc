@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -121,11 +122,16 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
   }
   for (int j = 0; j < model.num_joints(); ++j) {
     if (lattice.one_turn(j)) {
+      const Link& l = model.links[j];
+      const bool continuous =
+          !std::isfinite(l.joint_min) || !std::isfinite(l.joint_max);
       std::printf(
-          "note: joint %d (%s) spans a full turn: its %d levels cover one "
-          "turn from %.6g deg (both ends would repeat a pose)\n",
-          j + 1, model.block_name(j + 1).c_str(), levels,
-          model.links[j].joint_min * 180 / M_PI);
+          "note: joint %d (%s) %s: its %d levels cover one turn from %.6g "
+          "deg (%s)\n",
+          j + 1, model.block_name(j + 1).c_str(),
+          continuous ? "has no limits" : "spans a full turn", levels,
+          lattice.Angle(j, 0) * 180 / M_PI,
+          continuous ? "a continuous joint" : "both ends would repeat a pose");
     }
   }
   return lattice;

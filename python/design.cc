@@ -46,10 +46,20 @@ std::shared_ptr<DesignResult> SelectPy(
     }
     for (int j = 0; j < model.num_joints(); ++j) {
       if (lattice.one_turn(j)) {
+        const Link& l = model.links[j];
+        const bool continuous =
+            !std::isfinite(l.joint_min) || !std::isfinite(l.joint_max);
+        char from[32];
+        std::snprintf(from, sizeof(from), "%.6g",
+                      lattice.Angle(j, 0) * 180 / M_PI);
         result->notes.push_back(
             "joint " + std::to_string(j + 1) + " (" + model.block_name(j + 1) +
-            ") spans a full turn: its " + std::to_string(levels) +
-            " levels cover one turn (both ends would repeat a pose)");
+            (continuous ? ") has no limits" : ") spans a full turn") +
+            ": its " + std::to_string(levels) + " levels cover one turn from " +
+            from + " deg (" +
+            (continuous ? "a continuous joint"
+                        : "both ends would repeat a pose") +
+            ")");
       }
     }
     pool_joints = lattice.AllJointValues();

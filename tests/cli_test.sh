@@ -171,6 +171,21 @@ if "$apps/activecal_select" --robot=turn.yaml --levels=3 --num_poses=30 >turn.tx
 else
   echo "FAIL [full-turn lattice]"; cat turn.txt; failures=$((failures + 1))
 fi
+# Issue 26: a robot with a continuous joint (the rail arm's j3) got no
+# pool of any kind ("no finite range"); it is sampled over one turn.
+for pool in lattice sobol random; do
+  if "$apps/activecal_select" --robot="$here/data/arm7_rail.urdf" --tip_link=tcp \
+    --pool=$pool --levels=2 --pool_size=500 --parameter_set=offsets \
+    --num_poses=20 --poses_csv=rail_$pool.csv >rail.txt 2>rail.err &&
+    [ "$(($(wc -l <rail_$pool.csv) - 1))" -eq 20 ] &&
+    { [ $pool != lattice ] ||
+      grep -q "note: joint 4 (j3) has no limits: its 2 levels cover one turn from -180 deg (a continuous joint)" rail.txt; }; then
+    echo "ok   [a continuous joint: --pool=$pool designs]"
+  else
+    echo "FAIL [a continuous joint, --pool=$pool]"; cat rail.txt rail.err
+    failures=$((failures + 1))
+  fi
+done
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
 expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
   activecal_select --num_poses=20000
