@@ -12,13 +12,13 @@
 #include <iostream>
 #include <string>
 
-#include "activecal/io/csv_files.h"
+#include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/select_design.h"
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
-#include "activecal/calibration/pool_builder.h"
-#include "activecal/calibration/selection_pool.h"
-#include "activecal/calibration/select_design.h"
 #include "activecal/selection/task_criterion.h"
 #include "app_common.h"
 
@@ -129,11 +129,17 @@ int Main() {
     app::Fail("--pool=" + FLAGS_pool + " and --pool_csv: choose one");
   }
   const bool from_lattice = FLAGS_pool_csv.empty() && !sampled;
+  // A pool too large for memory is refused before it is listed (it was a
+  // std::bad_alloc), by the check the Python module uses (for a lattice in
+  // MakeLatticeOrDie).
   if (from_lattice) {
-    lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
+    lattice = app::MakeLatticeOrDie(model, FLAGS_levels, type);
     pool_joints = lattice.AllJointValues();
   } else if (sampled) {
     std::string error;
+    if (!CheckSelectionPoolSize(FLAGS_pool_size, model, type, &error)) {
+      app::Fail("--pool_size: " + error);
+    }
     if (!SampleJointValues(model, sampling, FLAGS_pool_size, FLAGS_seed,
                            &pool_joints, &error)) {
       app::Fail("--pool=" + FLAGS_pool + ": " + error);

@@ -5,11 +5,11 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/core/puma560.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/io/frames_file.h"
@@ -114,25 +114,18 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json) {
   WriteTextOrDie(path, json.dump(2) + "\n");
 }
 
-JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
+JointLattice MakeLatticeOrDie(const RobotModel& model, int levels,
+                              MeasurementType type) {
   JointLattice lattice;
   std::string error;
   if (!JointLattice::Create(model, levels, &lattice, &error)) {
     Fail("--levels=" + std::to_string(levels) + ": " + error);
   }
-  for (int j = 0; j < model.num_joints(); ++j) {
-    if (lattice.one_turn(j)) {
-      const Link& l = model.links[j];
-      const bool continuous =
-          !std::isfinite(l.joint_min) || !std::isfinite(l.joint_max);
-      std::printf(
-          "note: joint %d (%s) %s: its %d levels cover one turn from %.6g "
-          "deg (%s)\n",
-          j + 1, model.block_name(j + 1).c_str(),
-          continuous ? "has no limits" : "spans a full turn", levels,
-          lattice.Angle(j, 0) * 180 / M_PI,
-          continuous ? "a continuous joint" : "both ends would repeat a pose");
-    }
+  if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
+    Fail("--levels=" + std::to_string(levels) + ": " + error);
+  }
+  for (const std::string& note : lattice.OneTurnNotes(model)) {
+    std::printf("note: %s\n", note.c_str());
   }
   return lattice;
 }

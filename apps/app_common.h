@@ -84,9 +84,13 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 void CheckWritableOrDie(const std::string& path, const std::string& flag);
 void WriteTextOrDie(const std::string& path, const std::string& text);
 
-// The lattice over the model with `levels` values per joint. Dies with a
-// message on bad input.
-JointLattice MakeLatticeOrDie(const RobotModel& model, int levels);
+// The lattice over the model with `levels` values per joint, its one-turn
+// joints noted on stdout. Dies with a message on bad input or when a pool
+// of `type` measurements over it cannot fit in memory
+// (CheckSelectionPoolSize).
+JointLattice MakeLatticeOrDie(
+    const RobotModel& model, int levels,
+    MeasurementType type = MeasurementType::kPosition);
 
 // BuildCandidatePool with a progress line, the identifiability check on
 // (options->check_identifiability) and auto_fix as given; fails naming the

@@ -186,6 +186,16 @@ for pool in lattice sobol random; do
     failures=$((failures + 1))
   fi
 done
+# Issue 26: a pool too large for memory was a std::bad_alloc (exit 134).
+expect_fail "a sobol pool too large for memory" \
+  "--pool_size: a pool of 100000000000 poses needs at least" \
+  activecal_select --pool=sobol --pool_size=100000000000
+expect_fail "a random pool too large for memory" \
+  "--pool_size: a pool of 2000000000 poses needs at least" \
+  activecal_select --pool=random --pool_size=2000000000
+expect_fail "a lattice too large for memory" \
+  "--levels=31: a pool of 887503681 poses needs at least" \
+  activecal_select --levels=31
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
 expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
   activecal_select --num_poses=20000

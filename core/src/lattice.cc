@@ -131,4 +131,25 @@ Eigen::MatrixXd JointLattice::AllJointValues() const {
   return all;
 }
 
+std::vector<std::string> JointLattice::OneTurnNotes(
+    const RobotModel& model) const {
+  std::vector<std::string> notes;
+  for (int j = 0; j < num_joints(); ++j) {
+    if (!one_turn(j)) continue;
+    const Link& l = model.links[j];
+    const bool continuous =
+        !std::isfinite(l.joint_min) || !std::isfinite(l.joint_max);
+    std::ostringstream s;
+    s.precision(6);
+    s << "joint " << j + 1 << " (" << model.block_name(j + 1) << ") "
+      << (continuous ? "has no limits" : "spans a full turn") << ": its "
+      << levels_[j] << " levels cover one turn from "
+      << Angle(j, 0) * 180 / M_PI << " deg ("
+      << (continuous ? "a continuous joint" : "both ends would repeat a pose")
+      << ")";
+    notes.push_back(s.str());
+  }
+  return notes;
+}
+
 }  // namespace activecal

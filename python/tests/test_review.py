@@ -188,9 +188,12 @@ def test_complex_and_out_of_range_inputs_are_value_errors(puma, measured):
     with pytest.raises(ValueError,
                        match="q: expected real numbers, got dtype complex128"):
         puma.forward(q)
-    with pytest.raises(ValueError, match=r"pool_size=1000000000000: the pool "
-                       r"needs at least .* GiB"):
+    with pytest.raises(ValueError, match=r"pool_size: a pool of 1000000000000 "
+                       r"poses needs at least .* GiB"):
         activecal.select(puma, pool="sobol", pool_size=10**12)
+    with pytest.raises(ValueError, match=r"levels=31: a pool of 887503681 "
+                       r"poses needs at least .* GiB"):
+        activecal.select(puma, levels=31)
     # polish_pool_size <= 0 means every pose, as the program's flag.
     a = activecal.select(puma, pool="sobol", pool_size=300, num_poses=20,
                          polish_pool_size=-1, certificate=False)

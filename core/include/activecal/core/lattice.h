@@ -50,6 +50,10 @@ class JointLattice {
   // (min + 2 pi k / levels), every one a different pose. Also true for a
   // continuous joint (from -pi).
   bool one_turn(int joint) const { return one_turn_[joint] != 0; }
+  // What a user is told about each one-turn joint of a lattice over `model`,
+  // one line each (no prefix), e.g. "joint 4 (j3) has no limits: its 2
+  // levels cover one turn from -180 deg (a continuous joint)".
+  std::vector<std::string> OneTurnNotes(const RobotModel& model) const;
 
  private:
   std::vector<int> levels_;
