@@ -27,7 +27,9 @@ packages=(build-essential cmake libceres-dev libeigen3-dev libgoogle-glog-dev
           libgflags-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
           libyaml-cpp-dev liburdfdom-dev liborocos-kdl-dev libkdl-parser-dev
           libboost-dev gnuplot-nox clang libclang-rt-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest)
+          pybind11-dev python3-dev python3-numpy python3-pytest
+          libfcl-dev libassimp-dev libtinyxml2-dev
+          python3-venv python3-build python3-pandas python3-yaml)
 
 install_missing() {
   local missing=()

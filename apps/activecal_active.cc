@@ -1,18 +1,27 @@
-// activecal_active: the active calibration loop on a simulated robot. A
-// D-optimal first batch at the nominal values, then, round by round,
-// simulate, identify, and select the next task-optimal batch at the new
-// estimate, until the predicted task RMS meets --target_rms_m. With
-// --compare, one-shot designs of the same total size (D-optimal and
-// task-optimal at nominal, random) are measured and identified too.
+// activecal_active: the active calibration loop. A D-optimal first batch
+// at the nominal values, then, round by round, measure, identify, and
+// select the next task-optimal batch at the new estimate, until the
+// predicted task RMS meets --target_rms_m. The measurements come from a
+// robot cell behind the driver protocol (--driver, docs/driver_protocol.md)
+// or from a robot simulated here (the robot file's true values). With
+// --session every answer and the loop's state are kept on disk as they
+// come, and --resume continues after a crash. With --compare (simulation),
+// one-shot designs of the same total size (D-optimal and task-optimal at
+// nominal, random) are measured and identified too.
 
 #include <gflags/gflags.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 
-#include "activecal/core/random.h"
 #include "activecal/calibration/active_loop.h"
+#include "activecal/calibration/active_session.h"
+#include "activecal/core/random.h"
+#include "activecal/driver/driver_client.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"
@@ -21,7 +30,9 @@
 DEFINE_int32(levels, 4,
              "Lattice values per joint of the pool (and of the task: the "
              "robot works over the whole lattice).");
-DEFINE_double(noise_m, 1e-4, "Simulated tracker noise per axis (m).");
+DEFINE_double(noise_m, 1e-4,
+              "The tracker's noise per axis (m): simulated without --driver; "
+              "with one, what the prediction and the residual check assume.");
 DEFINE_double(target_rms_m, 5e-5,
               "Stop when the predicted task RMS position error is at most "
               "this (m).");
@@ -33,44 +44,201 @@ DEFINE_double(nominal_error_scale, 1.0,
               "nominal, 0.1 one ten times closer to the truth, 2 farther.");
 DEFINE_bool(compare, false,
             "Also measure one-shot designs of the loop's total size at the "
-            "nominal values: D-optimal, task-optimal, random.");
+            "nominal values: D-optimal, task-optimal, random (simulation "
+            "only).");
 DEFINE_int32(restarts, 4, "Restarts of each design.");
 DEFINE_uint64(seed, 1, "Seed of the noise and the random choices.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the per-round report here.");
+DEFINE_string(driver, "",
+              "Measure on a robot cell: the driver's command (run without a "
+              "shell, e.g. \"python3 examples/driver_example.py\") or "
+              "tcp://HOST:PORT of a running one (docs/driver_protocol.md). "
+              "Empty: simulate the robot file's true values.");
+DEFINE_double(driver_timeout_s, 120.0,
+              "The longest wait for any answer of the driver (s).");
+DEFINE_string(session, "",
+              "Keep the session in this directory: every measurement "
+              "appended to DIR/measurements.csv and synced as it comes, the "
+              "loop's state after every round (docs/driver_protocol.md).");
+DEFINE_bool(resume, false,
+            "Continue the session in --session after a crash (of activecal "
+            "or of the driver), without measuring again what it holds.");
+DEFINE_bool(verbose, false, "One line per measurement.");
+DEFINE_string(program_out, "",
+              "Also write the measured poses, in measuring order, as a "
+              "program for the controller (docs/driver_protocol.md).");
+DEFINE_string(program_language, "urscript",
+              "--program_out's language: urscript, krl or rapid.");
+DEFINE_string(controller, "",
+              "The controller's joint convention (YAML: sign and zero of "
+              "each joint, data/controllers/); empty: activecal's.");
 
 namespace activecal {
 namespace {
 
+nlohmann::json Finite(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
+
 nlohmann::json RoundJson(const ActiveRound& r) {
   return {{"num_poses", r.num_poses},
           {"batch", r.batch},
-          {"predicted_task_rms_m", r.predicted_task_rms_m},
-          {"true_task_rms_m", r.true_task_rms_m},
+          {"excluded", r.excluded},
+          {"predicted_task_rms_m", Finite(r.predicted_task_rms_m)},
+          {"true_task_rms_m", Finite(r.true_task_rms_m)},
           {"parameter_change_task_rms_m", r.parameter_change_task_rms_m},
           {"parameter_change_max_abs", r.parameter_change_max_abs},
-          {"residual_sigma_m", std::isfinite(r.residual_sigma_m)
-                                   ? nlohmann::json(r.residual_sigma_m)
-                                   : nlohmann::json()},
+          {"residual_sigma_m", Finite(r.residual_sigma_m)},
           {"residuals_exceed_noise", r.residuals_exceed_noise}};
 }
 
+std::string Number(double v) {
+  if (std::isnan(v)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", v);
+  return text;
+}
+
+// The measurer of a robot cell behind the driver protocol. Answers whose
+// joint readings the model refuses are a failure (not recorded).
+class DriverMeasurer : public Measurer {
+ public:
+  DriverMeasurer(const RobotModel& model, DriverClient* client)
+      : model_(model), client_(client) {}
+  bool Measure(const MeasureBatch& batch, int k, PoseAnswer* answer,
+               std::string* error) override {
+    MeasurementReply reply;
+    if (!client_->Measure(batch.joints.row(k).transpose(), &reply, error)) {
+      return false;
+    }
+    *answer = PoseAnswer();
+    if (reply.status != MeasureStatus::kOk) {
+      answer->status = MeasureStatusToString(reply.status);
+      answer->message = reply.message;
+      return true;
+    }
+    answer->measurements = ReplyMeasurements(reply);
+    for (const Measurement& m : answer->measurements) {
+      std::string why;
+      if (!CheckMeasurement(model_, m, &why)) {
+        *error = client_->name() + ": the reply to measure " +
+                 std::to_string(client_->last_id()) + ": " + why;
+        return false;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const RobotModel& model_;
+  DriverClient* client_;
+};
+
+// Prints a line per answer (--verbose).
+class VerboseMeasurer : public Measurer {
+ public:
+  VerboseMeasurer(Measurer* inner, const SessionMeasurer* session)
+      : inner_(inner), session_(session) {}
+  bool Measure(const MeasureBatch& batch, int k, PoseAnswer* answer,
+               std::string* error) override {
+    if (!inner_->Measure(batch, k, answer, error)) return false;
+    std::printf("    round %d pose %lld (%d/%zu%s): ", batch.round,
+                static_cast<long long>(batch.poses[k]), k + 1,
+                batch.poses.size(), batch.attempt > 0 ? ", repair" : "");
+    if (answer->measured()) {
+      std::printf("ok, %zu marker%s seen", answer->measurements.size(),
+                  answer->measurements.size() == 1 ? "" : "s");
+    } else {
+      std::printf("%s%s%s", answer->status.c_str(),
+                  answer->message.empty() ? "" : ": ", answer->message.c_str());
+    }
+    std::printf("%s\n", session_ && session_->last_from_log()
+                            ? " (from the session log)"
+                            : "");
+    std::fflush(stdout);
+    return true;
+  }
+
+ private:
+  Measurer* inner_;
+  const SessionMeasurer* session_;
+};
+
+uint64_t Fnv1a(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string Text(double v) {
+  char text[40];
+  std::snprintf(text, sizeof(text), "%.17g", v);
+  return text;
+}
+
+void PrintRound(int r, const ActiveRound& a, double seconds) {
+  std::printf("  %-6d %-6d %-14.6g %-14s %-14.6g %-14.6g %-14s %-9zu %.1f%s\n",
+              r, a.num_poses, a.predicted_task_rms_m,
+              Number(a.true_task_rms_m).c_str(), a.parameter_change_task_rms_m,
+              a.parameter_change_max_abs, Number(a.residual_sigma_m).c_str(),
+              a.excluded.size(), seconds,
+              a.residuals_exceed_noise ? "  (above the noise)" : "");
+  std::fflush(stdout);
+  if (a.residuals_exceed_noise) {
+    std::fprintf(stderr,
+                 "warning: round %d: the residual sigma %.3g m is %.1f "
+                 "times --noise_m: the identified model does not fit the "
+                 "measurements (a wrong local minimum?); its predicted task "
+                 "RMS does not hold\n",
+                 r, a.residual_sigma_m, a.residual_sigma_m / FLAGS_noise_m);
+  }
+}
+
 int Main() {
+  const int64_t start_ns = app::NowNs();
   const RobotDescription robot = app::LoadRobotOrDie();
-  if (robot.true_parameters.size() != robot.model.num_parameters()) {
+  const bool simulate = FLAGS_driver.empty();
+  const bool truth_known =
+      robot.true_parameters.size() == robot.model.num_parameters();
+  if (simulate && !truth_known) {
     app::Fail(
         "--robot has no true values to simulate from (add 'true:' "
-        "entries, docs/formats.md)");
+        "entries, docs/formats.md, or measure with --driver)");
   }
   if (!(FLAGS_nominal_error_scale >= 0) ||
       !std::isfinite(FLAGS_nominal_error_scale)) {
     app::Fail("--nominal_error_scale must be >= 0");
   }
+  if (!truth_known && FLAGS_nominal_error_scale != 1) {
+    app::Fail("--nominal_error_scale needs the robot's true values");
+  }
+  if (!simulate && FLAGS_compare) {
+    app::Fail(
+        "--compare simulates one-shot designs from the true values: not "
+        "with --driver");
+  }
+  if (FLAGS_resume && FLAGS_session.empty()) {
+    app::Fail("--resume continues a --session: name its directory");
+  }
   RobotModel model = robot.model;
-  const Eigen::VectorXd truth = robot.true_parameters;
-  model.nominal = truth + FLAGS_nominal_error_scale * (model.nominal - truth);
+  const Eigen::VectorXd truth =
+      truth_known ? robot.true_parameters : Eigen::VectorXd();
+  if (truth_known) {
+    model.nominal = truth + FLAGS_nominal_error_scale * (model.nominal - truth);
+  }
   const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
   const Eigen::MatrixXd joints = lattice.AllJointValues();
+  const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
+  if (urdf || !FLAGS_parameter_set.empty()) {
+    app::ApplyParameterSetOrDie(&model, urdf, joints);
+  }
+  const app::ProgramRequest program = app::ProgramRequestOrDie(
+      model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
+  app::CheckWritableOrDie(FLAGS_json_out, "json_out");
   ActiveLoopOptions options;
   options.sigma_m = FLAGS_noise_m;
   options.target_rms_m = FLAGS_target_rms_m;
@@ -79,6 +247,7 @@ int Main() {
   options.max_rounds = FLAGS_max_rounds;
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
+  options.true_parameters = truth;
   std::string error;
   if (!options.IsValid(&error)) {
     // The options' names are the flags' but for sigma_m (--noise_m).
@@ -86,16 +255,45 @@ int Main() {
     app::Fail("--" + error);
   }
 
+  // The session: what its results depend on must not change between runs.
+  std::unique_ptr<ActiveSession> session;
+  if (!FLAGS_session.empty()) {
+    RobotFileOptions robot_text;
+    robot_text.true_parameters = truth;
+    const SessionIdentity identity = {
+        {"robot", model.name},
+        {"robot_hash", std::to_string(Fnv1a(
+                           RobotFileText(model, model.nominal, robot_text)))},
+        {"measured_by", simulate ? "simulation" : "driver"},
+        {"levels", std::to_string(FLAGS_levels)},
+        {"pool_poses", std::to_string(joints.rows())},
+        {"first_batch", std::to_string(FLAGS_first_batch)},
+        {"batch_size", std::to_string(FLAGS_batch_size)},
+        {"noise_m", Text(FLAGS_noise_m)},
+        {"restarts", std::to_string(FLAGS_restarts)},
+        {"seed", std::to_string(FLAGS_seed)},
+        {"nominal_error_scale", Text(FLAGS_nominal_error_scale)},
+    };
+    if (!ActiveSession::Open(FLAGS_session, FLAGS_resume, model, identity,
+                             &session, &error)) {
+      app::Fail(error);
+    }
+    for (const std::string& n : session->notes()) {
+      std::printf("note: %s\n", n.c_str());
+    }
+  }
+
   // Round 0: D-optimal; later rounds: task-optimal counting what is measured.
   auto d_optimal = [&](const CandidatePool& pool, int n,
-                       std::vector<int64_t>* out, std::string* why) {
+                       const DesignConstraints& c, std::vector<int64_t>* out,
+                       std::string* why) {
     FedorovOptions f;
     f.num_poses = n;
     f.restarts = FLAGS_restarts;
     f.seed = FLAGS_seed;
     f.num_threads = FLAGS_threads;
     SelectionSummary s;
-    if (!FedorovExchange(pool, {}, f, nullptr, &s)) {
+    if (!FedorovExchange(pool, c, f, nullptr, &s)) {
       *why = s.message;
       return false;
     }
@@ -103,13 +301,8 @@ int Main() {
     return true;
   };
   auto task_optimal = [&](const CandidatePool& pool, const Eigen::MatrixXd& W,
-                          const RowMatrixXd& prior,
-                          const std::vector<int64_t>& measured, int n,
-                          std::vector<int64_t>* out, std::string* why) {
-    std::vector<char> taken(pool.size(), 0);
-    for (int64_t i : measured) taken[i] = 1;
-    DesignConstraints c;
-    c.excluded = [&taken](int64_t i) { return taken[i] != 0; };
+                          const RowMatrixXd& prior, const DesignConstraints& c,
+                          int n, std::vector<int64_t>* out, std::string* why) {
     TaskExchangeOptions t;
     t.num_poses = n;
     t.restarts = FLAGS_restarts;
@@ -123,45 +316,100 @@ int Main() {
     *out = s.design;
     return true;
   };
-  BatchSelector select = [&](int round, const CandidatePool& pool,
+  BatchSelector select = [&](const CandidatePool& pool,
                              const Eigen::MatrixXd& W, const RowMatrixXd& prior,
-                             const std::vector<int64_t>& measured, int n,
+                             const BatchRequest& request,
                              std::vector<int64_t>* batch, std::string* why) {
-    if (round == 0) return d_optimal(pool, n, batch, why);
-    return task_optimal(pool, W, prior, measured, n, batch, why);
+    DesignConstraints c;
+    c.fixed = request.fixed;
+    c.excluded = request.excluded;
+    if (request.round == 0) {
+      return d_optimal(pool, request.num_poses, c, batch, why);
+    }
+    return task_optimal(pool, W, prior, c, request.num_poses, batch, why);
+  };
+
+  // The measurers: the cell (or the simulation), the session's log around
+  // it, the per-measurement lines around that.
+  std::unique_ptr<DriverClient> client;
+  std::unique_ptr<Measurer> source;
+  if (simulate) {
+    source.reset(
+        new SimulatedMeasurer(model, truth, FLAGS_noise_m, FLAGS_seed));
+  } else {
+    DriverClientOptions driver_options;
+    driver_options.driver = FLAGS_driver;
+    driver_options.timeout_s = FLAGS_driver_timeout_s;
+    DriverHello hello;
+    for (const Link& link : model.links) hello.joint_names.push_back(link.name);
+    hello.markers = model.num_markers();
+    hello.robot = model.name;
+    if (!driver_options.IsValid(&error)) app::Fail("--" + error);
+    if (!DriverClient::Start(driver_options, hello, &client, &error)) {
+      app::Fail(error + (session ? " (the session in " + FLAGS_session +
+                                       " is kept: continue it with --resume)"
+                                 : ""));
+    }
+    if (FLAGS_verbose) {
+      std::printf("%s: %s\n", client->name().c_str(),
+                  client->driver_hello().c_str());
+    }
+    source.reset(new DriverMeasurer(model, client.get()));
+  }
+  Measurer* measurer = source.get();
+  std::unique_ptr<SessionMeasurer> logged;
+  if (session) {
+    logged.reset(new SessionMeasurer(session.get(), measurer));
+    measurer = logged.get();
+  }
+  std::unique_ptr<VerboseMeasurer> verbose;
+  if (FLAGS_verbose) {
+    verbose.reset(new VerboseMeasurer(measurer, logged.get()));
+    measurer = verbose.get();
+  }
+
+  std::printf("activecal active loop: robot '%s', %lld pool poses, %s\n",
+              model.name.c_str(), static_cast<long long>(joints.rows()),
+              simulate
+                  ? "simulated from the robot file's true values"
+                  : ("measured by " + client->name() +
+                     (truth_known ? " (true error from the robot file's true "
+                                    "values)"
+                                  : ""))
+                        .c_str());
+  if (truth_known) {
+    std::printf(
+        "  nominal model: true task RMS %.6g m (--nominal_error_scale %g)\n",
+        TaskRmsDistance(model, model.nominal, truth, joints),
+        FLAGS_nominal_error_scale);
+  }
+  std::printf("  %-6s %-6s %-14s %-14s %-14s %-14s %-14s %-9s %s\n", "round",
+              "poses", "predicted_m", "true_m", "change_m", "change_max",
+              "resid_sigma_m", "excluded", "seconds");
+  const ActiveLoopState* resume = session ? session->resume_state() : nullptr;
+  if (resume != nullptr) {
+    for (size_t r = 0; r < resume->rounds.size(); ++r) {
+      PrintRound(static_cast<int>(r), resume->rounds[r], 0.0);
+    }
+  }
+  options.round_callback = [&](const ActiveLoopState& state, std::string* why) {
+    PrintRound(state.round - 1, state.rounds.back(), app::Seconds(start_ns));
+    return !session || session->SaveState(state, why);
   };
   ActiveLoopSummary summary;
-  const bool ok =
-      RunActiveLoop(model, truth, joints, joints, options, select, &summary);
-  if (!ok && summary.rounds.empty()) app::Fail(summary.message);
+  const bool ok = RunActiveLoop(model, joints, joints, options, select,
+                                measurer, resume, &summary);
+  const std::string closing = client ? client->Close() : "";
+  if (!closing.empty()) std::printf("note: %s\n", closing.c_str());
+  const std::string kept =
+      session ? " (the session in " + FLAGS_session +
+                    " keeps every answer: continue it with --resume)"
+              : "";
+  if (!ok && summary.rounds.empty()) app::Fail(summary.message + kept);
   std::printf("activecal active loop: %s\n  %s\n",
               TerminationTypeToString(summary.termination_type),
               summary.message.c_str());
-  std::printf(
-      "  nominal model: true task RMS %.6g m (--nominal_error_scale "
-      "%g)\n",
-      summary.nominal_true_task_rms_m, FLAGS_nominal_error_scale);
-  std::printf("  %-6s %-6s %-14s %-14s %-14s %-14s %s\n", "round", "poses",
-              "predicted_m", "true_m", "change_m", "change_max",
-              "resid_sigma_m");
-  for (size_t r = 0; r < summary.rounds.size(); ++r) {
-    const ActiveRound& a = summary.rounds[r];
-    std::printf("  %-6zu %-6d %-14.6g %-14.6g %-14.6g %-14.6g %.6g%s\n", r,
-                a.num_poses, a.predicted_task_rms_m, a.true_task_rms_m,
-                a.parameter_change_task_rms_m, a.parameter_change_max_abs,
-                a.residual_sigma_m,
-                a.residuals_exceed_noise ? "  (above the noise)" : "");
-  }
-  for (size_t r = 0; r < summary.rounds.size(); ++r) {
-    if (!summary.rounds[r].residuals_exceed_noise) continue;
-    std::fprintf(stderr,
-                 "warning: round %zu: the residual sigma %.3g m is %.1f "
-                 "times --noise_m: the identified model does not fit the "
-                 "measurements (a wrong local minimum?); its predicted task "
-                 "RMS does not hold\n",
-                 r, summary.rounds[r].residual_sigma_m,
-                 summary.rounds[r].residual_sigma_m / FLAGS_noise_m);
-  }
+  std::fflush(stdout);
   nlohmann::json j;
   j["termination_type"] = TerminationTypeToString(summary.termination_type);
   j["message"] = summary.message;
@@ -171,11 +419,19 @@ int Main() {
   j["target_rms_m"] = FLAGS_target_rms_m;
   j["seed"] = FLAGS_seed;
   j["nominal_error_scale"] = FLAGS_nominal_error_scale;
-  j["nominal_true_task_rms_m"] = summary.nominal_true_task_rms_m;
+  j["nominal_true_task_rms_m"] = Finite(summary.nominal_true_task_rms_m);
+  j["measured_by"] = simulate ? "simulation" : "driver";
   j["rounds"] = nlohmann::json::array();
   for (const ActiveRound& a : summary.rounds)
     j["rounds"].push_back(RoundJson(a));
   j["measured_pose_indices"] = summary.measured;
+  j["excluded_poses"] = nlohmann::json::array();
+  for (const ExcludedPose& e : summary.excluded) {
+    j["excluded_poses"].push_back({{"pose_index", e.pose},
+                                   {"round", e.round},
+                                   {"status", e.status},
+                                   {"message", e.message}});
+  }
 
   if (FLAGS_compare && !summary.measured.empty()) {
     const int n = static_cast<int>(summary.measured.size());
@@ -193,7 +449,7 @@ int Main() {
     designs[0].first = "d_optimal_at_nominal";
     designs[1].first = "task_optimal_at_nominal";
     designs[2].first = "random";
-    if (!d_optimal(pool, n, &designs[0].second, &error) ||
+    if (!d_optimal(pool, n, {}, &designs[0].second, &error) ||
         !task_optimal(pool, W, RowMatrixXd(0, pool.num_parameters()), {}, n,
                       &designs[1].second, &error)) {
       app::Fail("one-shot design: " + error);
@@ -217,7 +473,17 @@ int Main() {
     }
   }
   if (!FLAGS_json_out.empty()) app::WriteJsonOrDie(FLAGS_json_out, j);
-  if (!ok) app::Fail(summary.message);
+  if (!program.path.empty()) {
+    PoseList poses;
+    poses.joints.resize(summary.measured.size(), joints.cols());
+    for (size_t k = 0; k < summary.measured.size(); ++k) {
+      poses.joints.row(k) = joints.row(summary.measured[k]);
+    }
+    poses.pose_indices = summary.measured;
+    app::WriteProgramOrDie(model, program, poses,
+                           "the poses activecal_active measured, in order");
+  }
+  if (!ok) app::Fail(summary.message + kept);
   return 0;
 }
 
@@ -227,10 +493,13 @@ int Main() {
 int main(int argc, char** argv) {
   activecal::app::Init(
       &argc, &argv,
-      "The active calibration loop on a simulated robot (--robot with "
-      "'true:' values; default the Sun & Hollerbach PUMA 560): a D-optimal "
-      "first batch, then task-optimal batches designed at each new "
-      "estimate, until the predicted task RMS meets --target_rms_m.\n"
-      "  activecal_active --target_rms_m=5e-5 --compare --json_out=loop.json");
+      "The active calibration loop: a D-optimal first batch, then "
+      "task-optimal batches designed at each new estimate, until the "
+      "predicted task RMS meets --target_rms_m. Measured by a robot cell "
+      "(--driver, docs/driver_protocol.md) or simulated (--robot with "
+      "'true:' values; default the Sun & Hollerbach PUMA 560).\n"
+      "  activecal_active --target_rms_m=5e-5 --compare --json_out=loop.json\n"
+      "  activecal_active --driver=\"activecal_sim_cell --seed=7\" "
+      "--session=run1   (then --resume after a crash)");
   return activecal::Main();
 }

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/estimation/evaluation.h"
-#include "activecal/io/robot_loader.h"
 #include "activecal/estimation/registration_fit.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_loader.h"
 #include "app_common.h"
 #include "gnuplot.h"
 
@@ -23,14 +23,25 @@ DEFINE_string(json_out, "",
               "same for the registration-only baseline; 'groups' per "
               "posture group with --training.");
 DEFINE_string(nominal_robot, "",
-              "The uncalibrated robot (same chain flags) for the 'before' "
-              "report: its nominal geometry with only the base frame and "
-              "markers fitted to these measurements. Empty: --robot's own "
-              "geometry, base and markers refitted.");
+              "The uncalibrated robot (same chain flags): the geometry of "
+              "the registration-only 'before' report. Empty: --robot's own "
+              "geometry (then 'before' is a refit of --robot, not a "
+              "registration-only baseline).");
 DEFINE_string(training, "",
               "Measurements CSV the model was calibrated on: the report then "
               "gives each posture group (repeated, new, out of range) its "
-              "own errors.");
+              "own errors, and with --nominal_robot 'before' is by default "
+              "the registration fitted on it (--before).");
+DEFINE_string(before, "auto",
+              "What 'before' is. training: --nominal_robot's geometry with "
+              "the base frame and markers fitted to --training, predicting "
+              "--measurements as they are (the registration-only baseline "
+              "of a calibration on --training: the fair comparison on new "
+              "poses). refit: the geometry of --nominal_robot (default "
+              "--robot) with the base frame and markers refitted to "
+              "--measurements themselves (what that geometry allows at "
+              "best). none: no 'before'. auto (default): training when "
+              "--training and --nominal_robot are given, refit otherwise.");
 DEFINE_string(plot, "",
               "If set, draw histograms of the position errors before "
               "(registration only) and after here (PNG, gnuplot; skipped "
@@ -145,6 +156,16 @@ int Main() {
   if (FLAGS_measurements.empty()) app::Fail("--measurements is required");
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
+  // Said first, before any number: without --frames a URDF robot's base
+  // is the identity, and every error below includes where the device
+  // stands (hundreds of mm).
+  if (model.base.convention == LinkConvention::kFrame &&
+      model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {
+    std::printf(
+        "note: no --frames: the robot's base frame is the identity, so the "
+        "errors below include where the device stands relative to the "
+        "robot (give the frames identify wrote with --frames_out)\n");
+  }
   const std::vector<Measurement> measurements =
       app::ReadMeasurementsOrDie(FLAGS_measurements, model);
   EvaluationSummary summary;
@@ -186,36 +207,81 @@ int Main() {
     std::string why;
     if (!fit_options.IsValid(&why)) app::Fail("--rotation_weight: " + why);
   }
-  RegistrationFitSummary baseline;
-  FitRegistration(nominal.model, nominal.model.nominal, measurements,
-                  fit_options, &baseline);
-  // Too few measurements for the fit (fewer rows than base and marker
-  // parameters): the report goes on without the baseline, saying why.
-  const bool have_before =
-      baseline.termination_type == TerminationType::kConvergence;
-  EvaluationSummary before;
-  if (have_before && !EvaluateModel(nominal.model, baseline.parameters,
-                                    measurements, &before)) {
-    app::Fail("--measurements: " + before.message);
-  }
-  std::printf("%s", summary.BriefReport().c_str());
-  if (have_before) {
-    std::printf("  before and after (%s):\n",
-                FLAGS_nominal_robot.empty()
-                    ? "before: --robot's geometry, base and markers refitted"
-                    : "before: --nominal_robot, base and markers fitted");
-    PrintLine("before (registration only)", before);
-    PrintLine("after", summary);
-  } else {
-    std::printf("  note: no registration-only baseline: %s\n",
-                baseline.message.c_str());
-  }
-  // Posture groups relative to the training poses.
   std::vector<Measurement> training;
-  std::vector<PostureGroup> groups;
-  nlohmann::json groups_json = nlohmann::json::object();
   if (!FLAGS_training.empty()) {
     training = app::ReadMeasurementsOrDie(FLAGS_training, model, "training");
+  }
+  // What 'before' is (--before).
+  const bool have_nominal = !FLAGS_nominal_robot.empty();
+  std::string before_kind = FLAGS_before;
+  if (before_kind == "auto") {
+    before_kind = !training.empty() && have_nominal ? "training" : "refit";
+  }
+  if (before_kind != "training" && before_kind != "refit" &&
+      before_kind != "none") {
+    app::Fail("--before must be auto, training, refit or none, got '" +
+              FLAGS_before + "'");
+  }
+  if (before_kind == "training" && (training.empty() || !have_nominal)) {
+    app::Fail(
+        "--before=training needs --training (the measurements the model was "
+        "calibrated on) and --nominal_robot (the uncalibrated robot)");
+  }
+  std::string before_text;
+  if (before_kind == "training") {
+    before_text =
+        "registration only: --nominal_robot's geometry, base and markers "
+        "fitted to --training (" +
+        std::to_string(training.size()) +
+        " measurements), predicting these measurements without refitting";
+  } else if (have_nominal) {
+    before_text =
+        "registration only, refitted: --nominal_robot's geometry, base and "
+        "markers fitted to these measurements themselves";
+  } else {
+    before_text =
+        "--robot's own geometry, base and markers refitted to these "
+        "measurements (no --nominal_robot: not a registration-only "
+        "baseline)";
+  }
+  RegistrationFitSummary baseline;
+  bool have_before = false;
+  EvaluationSummary before;
+  if (before_kind != "none") {
+    FitRegistration(nominal.model, nominal.model.nominal,
+                    before_kind == "training" ? training : measurements,
+                    fit_options, &baseline);
+    // Too few measurements for the fit (fewer rows than base and marker
+    // parameters): the report goes on without the baseline, saying why.
+    have_before = baseline.termination_type == TerminationType::kConvergence;
+    if (have_before && !EvaluateModel(nominal.model, baseline.parameters,
+                                      measurements, &before)) {
+      app::Fail("--measurements: " + before.message);
+    }
+  }
+  std::printf("%s", summary.BriefReport().c_str());
+  std::printf("  after: --robot as given (no fitting)\n");
+  if (have_before) {
+    std::printf("  before: %s\n", before_text.c_str());
+    PrintLine(before_kind == "training" ? "before (fitted on --training)"
+              : have_nominal            ? "before (refitted to this file)"
+                                        : "before (--robot refitted)",
+              before);
+    PrintLine("after (--robot as given)", summary);
+  } else if (before_kind != "none") {
+    std::printf("  note: no 'before' (%s): %s\n", before_text.c_str(),
+                baseline.message.c_str());
+  }
+  if (!training.empty() && !have_nominal && FLAGS_before == "auto") {
+    std::printf(
+        "  note: --training without --nominal_robot: 'before' is a refit of "
+        "--robot; give --nominal_robot for the registration-only baseline "
+        "fitted on --training\n");
+  }
+  // Posture groups relative to the training poses.
+  std::vector<PostureGroup> groups;
+  nlohmann::json groups_json = nlohmann::json::object();
+  if (!training.empty()) {
     groups = ClassifyPostures(model, training, measurements);
     for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
                            PostureGroup::kOutOfRange}) {
@@ -233,16 +299,11 @@ int Main() {
   }
   if (!FLAGS_plot.empty()) {
     if (!have_before) {
-      app::Fail("--plot: no registration-only baseline to compare with: " +
-                baseline.message);
+      app::Fail("--plot: no 'before' to compare with" +
+                (before_kind == "none" ? std::string(" (--before=none)")
+                                       : ": " + baseline.message));
     }
     PlotHistograms(measurements, before, summary);
-  }
-  if (model.base.convention == LinkConvention::kFrame &&
-      model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {
-    std::printf(
-        "  note: the robot's base frame is the identity (no --frames): the "
-        "errors include where the device stands relative to the robot\n");
   }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j;
@@ -281,6 +342,11 @@ int Main() {
     j["errors"] = rows;
     if (have_before) {
       j["before"] = ReportJson(before);
+      j["before"]["kind"] = before_kind;
+      j["before"]["description"] = before_text;
+      j["before"]["registration_only"] = have_nominal;
+      j["before"]["fitted_on"] =
+          before_kind == "training" ? FLAGS_training : FLAGS_measurements;
       j["before"]["registration_rms_residual_m"] = baseline.rms_m;
       j["before"]["robot"] =
           FLAGS_nominal_robot.empty() ? FLAGS_robot : FLAGS_nominal_robot;
@@ -288,7 +354,8 @@ int Main() {
       j["before"] = nullptr;
     }
     j["after"] = ReportJson(summary);
-    if (!FLAGS_training.empty()) {
+    j["after"]["description"] = "--robot as given (no fitting)";
+    if (!training.empty()) {
       j["training"] = FLAGS_training;
       j["groups"] = groups_json;
       for (size_t i = 0; i < groups.size(); ++i) {

@@ -3,28 +3,31 @@
 // held-out measurements, and write the calibrated model and a report.
 
 #include <gflags/gflags.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 
-#include "activecal/io/csv_files.h"
-#include "activecal/io/frames_file.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/random.h"
-#include "activecal/estimation/registration.h"
-#include "activecal/io/robot_file.h"
-#include "activecal/io/robot_loader.h"
 #include "activecal/core/simulation.h"
-#include "activecal/io/urdf_export.h"
 #include "activecal/estimation/estimate_warnings.h"
 #include "activecal/estimation/identification.h"
-#include "activecal/residuals/jacobians.h"
 #include "activecal/estimation/model_selection.h"
 #include "activecal/estimation/parameter_reduction.h"
+#include "activecal/estimation/registration.h"
 #include "activecal/estimation/registration_fit.h"
+#include "activecal/estimation/residual_scale.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/frames_file.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/io/urdf_export.h"
+#include "activecal/residuals/jacobians.h"
 #include "app_common.h"
 #include "gnuplot.h"
 
@@ -83,14 +86,24 @@ DEFINE_double(noise_m, 0.01,
 DEFINE_uint64(seed, 1,
               "Seed of the validation split, of the cross-validation folds "
               "and of the simulation (pose draw and noise).");
-DEFINE_string(model_selection, "cv",
-              "cv (default), validation or none: rank the identifiable "
-              "parameters and keep the number that minimises the "
-              "RMS error on held-out measurements: --folds-fold "
+DEFINE_string(model_selection, "auto",
+              "auto (default), cv, validation or none. none identifies "
+              "every identifiable parameter of the set; cv and validation "
+              "rank them and keep the number --selection_rule chooses from "
+              "the RMS error on held-out measurements: --folds-fold "
               "cross-validation over the poses, or --validation (a separate "
               "file, e.g. another session; base frame and markers refitted "
-              "to it); none keeps every identifiable parameter "
-              "(docs/accuracy.md).");
+              "to it). auto: none when the robot file names the free set "
+              "(--parameter_set=file, the default for YAML robots) or with "
+              "a prior, cv for a named set (docs/accuracy.md).");
+DEFINE_string(selection_rule, "1se_most",
+              "How --model_selection chooses the count from its curve: "
+              "1se_most (default: the most parameters whose held-out error "
+              "is within one standard error of the minimum, so a parameter "
+              "is dropped only when the held-out poses show it predicts "
+              "worse), min (the minimum), 1se (the fewest within one "
+              "standard error) or ftest (the fewest whose training fit an "
+              "F test at 1 % does not reject against the fit of all).");
 DEFINE_string(validation, "",
               "Measurements CSV of held-out poses for "
               "--model_selection=validation (same robot, same markers).");
@@ -196,6 +209,43 @@ ValidationErrors Validate(const RobotModel& model,
   return v;
 }
 
+// Writes every (path, text): all to temporary files beside their paths
+// first, then each renamed over its path, so that a failure to write one
+// leaves none of them (and no temporary file) behind.
+void WriteAllOrDie(
+    const std::vector<std::pair<std::string, std::string>>& outputs) {
+  for (const auto& [path, text] : outputs) {
+    struct stat info;
+    if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+      app::Fail("cannot write '" + path + "': it is a directory");
+    }
+  }
+  std::vector<std::string> written;
+  auto remove_written = [&] {
+    for (const std::string& tmp : written) std::remove(tmp.c_str());
+  };
+  for (const auto& [path, text] : outputs) {
+    const std::string tmp = path + ".tmp";
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (out) {
+      written.push_back(tmp);
+      out << text;
+      out.flush();
+    }
+    if (!out) {
+      remove_written();
+      app::Fail("cannot write '" + path + "'");
+    }
+  }
+  for (size_t k = 0; k < outputs.size(); ++k) {
+    if (std::rename(written[k].c_str(), outputs[k].first.c_str()) != 0) {
+      remove_written();
+      app::Fail("cannot rename '" + written[k] + "' to '" + outputs[k].first +
+                "'");
+    }
+  }
+}
+
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   RobotModel model = robot.model;
@@ -221,11 +271,27 @@ int Main() {
   options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   options.default_sigma_m = FLAGS_default_sigma_m;
   options.default_sigma_rad = FLAGS_default_sigma_rad;
+  if (!(FLAGS_prior_std_m >= 0 && std::isfinite(FLAGS_prior_std_m) &&
+        FLAGS_prior_std_rad >= 0 && std::isfinite(FLAGS_prior_std_rad))) {
+    app::Fail("--prior_std_m and --prior_std_rad must be finite and >= 0");
+  }
+  const bool map_fit = FLAGS_prior_std_m > 0 || FLAGS_prior_std_rad > 0;
+  // The parameters to identify.
+  const bool urdf_robot = IsUrdfPath(FLAGS_robot);
+  const ParameterSet set = app::ParameterSetOrDie(urdf_robot);
+  // auto: the free set the robot file names is identified as listed.
+  const std::string selection_name =
+      FLAGS_model_selection != "auto"         ? FLAGS_model_selection
+      : set == ParameterSet::kFile || map_fit ? "none"
+                                              : "cv";
   ModelSelectionOptions selection_options;
-  if (!ParseModelSelectionMethod(FLAGS_model_selection,
-                                 &selection_options.method)) {
-    app::Fail("--model_selection must be none, validation or cv, got '" +
+  if (!ParseModelSelectionMethod(selection_name, &selection_options.method)) {
+    app::Fail("--model_selection must be auto, none, validation or cv, got '" +
               FLAGS_model_selection + "'");
+  }
+  if (!ParseSelectionRule(FLAGS_selection_rule, &selection_options.rule)) {
+    app::Fail("--selection_rule must be 1se_most, min, 1se or ftest, got '" +
+              FLAGS_selection_rule + "'");
   }
   if (selection_options.method == ModelSelectionMethod::kValidation &&
       FLAGS_validation.empty()) {
@@ -238,15 +304,17 @@ int Main() {
   if (FLAGS_folds < 2) {
     app::Fail("--folds must be >= 2, got " + std::to_string(FLAGS_folds));
   }
-  if (!(FLAGS_prior_std_m >= 0 && std::isfinite(FLAGS_prior_std_m) &&
-        FLAGS_prior_std_rad >= 0 && std::isfinite(FLAGS_prior_std_rad))) {
-    app::Fail("--prior_std_m and --prior_std_rad must be finite and >= 0");
-  }
-  const bool map_fit = FLAGS_prior_std_m > 0 || FLAGS_prior_std_rad > 0;
   if (map_fit && selection_options.method != ModelSelectionMethod::kNone) {
     app::Fail(
         "--prior_std_m/--prior_std_rad (a MAP fit) and --model_selection are "
         "two answers to the same question: choose one");
+  }
+  for (const auto& [path, flag] :
+       {std::pair<std::string, std::string>{FLAGS_model_out, "model_out"},
+        {FLAGS_urdf_out, "urdf_out"},
+        {FLAGS_frames_out, "frames_out"},
+        {FLAGS_json_out, "json_out"}}) {
+    app::CheckWritableOrDie(path, flag);
   }
   {
     std::string error;
@@ -275,9 +343,6 @@ int Main() {
     }
   }
 
-  // The parameters to identify.
-  const bool urdf_robot = IsUrdfPath(FLAGS_robot);
-  const ParameterSet set = app::ParameterSetOrDie(urdf_robot);
   // Where the device sees the robot: closed-form registration of a 6-DOF
   // base, so that no initial guess of the device's frame is needed.
   Eigen::VectorXd initial = model.nominal;
@@ -341,6 +406,33 @@ int Main() {
     }
   }
 
+  // The honest baseline: the nominal geometry with only the base frame and
+  // the markers fitted (registration_fit.h), those of them free in the
+  // model to calibrate (model selection keeps every one of them): it never
+  // has a parameter the calibration holds fixed.
+  RegistrationFitSummary baseline;
+  {
+    IdentificationOptions baseline_options = options;
+    baseline_options.prior_std_m = baseline_options.prior_std_rad = 0.0;
+    FitRegistrationOfFreeSet(model, robot.model.nominal, training,
+                             baseline_options, &baseline);
+  }
+  // Data that cannot fit the registration alone (e.g. too few rows for
+  // the base and markers) get the calibration without a baseline, said.
+  const bool have_baseline =
+      baseline.termination_type == TerminationType::kConvergence;
+  // Values in the wrong unit (millimetres in metre columns) leave
+  // residuals beyond the robot's size (residual_scale.h). Also when the
+  // fit stopped at its iteration cap: so far from the data, it does.
+  if (have_baseline ||
+      baseline.termination_type == TerminationType::kNoConvergence) {
+    std::string error;
+    if (!ResidualWithinReach(model, robot.model.nominal, training,
+                             baseline.rms_m, &error)) {
+      app::Fail("--measurements: " + error);
+    }
+  }
+
   // The number of parameters the data support (model_selection.h).
   std::vector<Measurement> selection_validation;
   if (!FLAGS_validation.empty()) {
@@ -378,7 +470,7 @@ int Main() {
         }
         const std::string script =
             app::GnuplotData("curve", rows) + "set title 'Model selection (" +
-            FLAGS_model_selection +
+            selection_name +
             "): RMS against parameters kept'\n"
             "set xlabel 'free parameters kept'\nset ylabel 'RMS error (mm)'\n"
             "set logscale y\nset grid\nset key top right\n"
@@ -400,10 +492,10 @@ int Main() {
       auto_fixed.push_back(name);
     }
     if (!selection.dropped.empty()) {
-      fix_label += (auto_fixed.size() > selection.dropped.size()
-                        ? " and --model_selection="
-                        : "--model_selection=") +
-                   FLAGS_model_selection;
+      const std::string label = "--model_selection=" + selection_name;
+      fix_label = auto_fixed.size() > selection.dropped.size()
+                      ? fix_label + " and " + label
+                      : label;
     }
   }
 
@@ -424,19 +516,6 @@ int Main() {
   if (summary.termination_type != TerminationType::kConvergence) {
     app::Fail("identification failed: " + summary.message);
   }
-  // The honest baseline: the nominal geometry with only the base frame and
-  // the markers fitted (registration_fit.h).
-  RegistrationFitSummary baseline;
-  {
-    IdentificationOptions baseline_options = options;
-    baseline_options.prior_std_m = baseline_options.prior_std_rad = 0.0;
-    FitRegistration(robot.model, robot.model.nominal, training,
-                    baseline_options, &baseline);
-  }
-  // Data that cannot fit the registration alone (e.g. too few rows for
-  // the base and markers) get the calibration without a baseline, said.
-  const bool have_baseline =
-      baseline.termination_type == TerminationType::kConvergence;
   // "Nominal" errors are those of the nominal geometry, registered to the
   // device when the base was registered.
   const ValidationErrors validation_errors =
@@ -452,8 +531,12 @@ int Main() {
   const std::vector<int> free = model.FreeParameterIndices();
   // The table is in the robot file's units (angles in deg when its
   // angle_unit is deg), as --model_out writes them; the JSON stays SI.
+  // Stated sigmas the residuals contradict: the std the implied noise
+  // gives, beside the stated ones (identification.h).
+  const bool scaled = !summary.chi_square_plausible;
   std::printf("%-10s %-4s %12s %12s %12s", "parameter", "unit", "nominal",
               "estimate", "std");
+  if (scaled) std::printf(" %12s", "std_scaled");
   if (has_truth) std::printf(" %12s %12s %8s", "true", "error", "err/std");
   std::printf("\n");
   int outside = 0;
@@ -471,6 +554,11 @@ int Main() {
                             {"nominal", model.nominal[i]},
                             {"estimate", summary.estimates[k]},
                             {"std", sd}};
+    if (scaled) {
+      const double sds = summary.scaled_standard_deviations[k];
+      std::printf(" %12.6f", u * sds);
+      entry["std_scaled"] = sds;
+    }
     if (has_truth) {
       const double truth = robot.true_parameters[i];
       const double err = summary.estimates[k] - truth;
@@ -494,9 +582,10 @@ int Main() {
   }
   if (have_baseline) {
     std::printf(
-        "  registration only (nominal geometry, base and markers fitted): "
-        "RMS residual %.6f m -> %.6f m calibrated (%.1f%% lower)\n",
-        baseline.rms_m, summary.rms_m,
+        "  registration only (nominal geometry, the %zu base and marker "
+        "parameters of the calibrated set fitted): RMS residual %.6f m -> "
+        "%.6f m calibrated (%.1f%% lower)\n",
+        baseline.names.size(), baseline.rms_m, summary.rms_m,
         baseline.rms_m > 0 ? 100.0 * (1.0 - summary.rms_m / baseline.rms_m)
                            : 0.0);
   } else {
@@ -535,6 +624,10 @@ int Main() {
     std::printf("\n");
   }
 
+  // Every output is made and checked before any is written: a run that
+  // fails writes nothing (each file then atomically).
+  std::vector<std::pair<std::string, std::string>> outputs;
+  std::string urdf_note;
   if (!FLAGS_model_out.empty()) {
     RobotFileOptions file_options;
     file_options.angle_unit = robot.angle_unit;
@@ -545,8 +638,8 @@ int Main() {
                            " measurements, RMS residual " +
                            std::to_string(summary.rms_m) + " m" +
                            (fixed_note.empty() ? "" : "\n" + fixed_note);
-    app::WriteTextOrDie(FLAGS_model_out,
-                        RobotFileText(model, summary.parameters, file_options));
+    outputs.push_back({FLAGS_model_out,
+                       RobotFileText(model, summary.parameters, file_options)});
   }
   if (!FLAGS_urdf_out.empty()) {
     std::vector<std::string> warnings;
@@ -582,20 +675,22 @@ int Main() {
           " m away from the calibrated model (more than 1e-9 m)" +
           (warnings.empty() ? "" : ": " + warnings[0]));
     }
-    app::WriteTextOrDie(FLAGS_urdf_out, text);
-    std::printf(
-        "  --urdf_out: wrote %s; reloaded, it predicts every "
-        "measured point within %.1e m of the calibrated model\n",
-        FLAGS_urdf_out.c_str(), worst);
+    outputs.push_back({FLAGS_urdf_out, text});
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "  --urdf_out: wrote %s; reloaded, it predicts every "
+                  "measured point within %.1e m of the calibrated model\n",
+                  FLAGS_urdf_out.c_str(), worst);
+    urdf_note = line;
   }
   if (!FLAGS_frames_out.empty()) {
-    app::WriteTextOrDie(
-        FLAGS_frames_out,
-        FramesFileText(model, summary.parameters,
-                       "Metrology frames identified by activecal_identify "
-                       "from " +
-                           (simulated ? std::string("simulated measurements")
-                                      : FLAGS_measurements)));
+    outputs.push_back(
+        {FLAGS_frames_out,
+         FramesFileText(model, summary.parameters,
+                        "Metrology frames identified by activecal_identify "
+                        "from " +
+                            (simulated ? std::string("simulated measurements")
+                                       : FLAGS_measurements))});
   }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j;
@@ -661,13 +756,21 @@ int Main() {
     j["chi_square"] = summary.chi_square;
     j["chi_square_per_dof"] = summary.chi_square_per_dof;
     j["implied_sigma_m"] = summary.implied_sigma_m;
+    if (summary.weighted) {
+      j["chi_square_per_dof_interval"] = {summary.chi_square_per_dof_low,
+                                          summary.chi_square_per_dof_high};
+    }
+    j["chi_square_plausible"] = summary.chi_square_plausible;
     j["prior"] = {{"std_m", FLAGS_prior_std_m},
                   {"std_rad", FLAGS_prior_std_rad},
                   {"reference_sigma_m", options.prior_reference_sigma_m}};
     j["warnings"] = warnings;
     {
       nlohmann::json ms;
-      ms["method"] = FLAGS_model_selection;
+      ms["method"] = selection_name;
+      ms["requested"] = FLAGS_model_selection;
+      ms["rule"] = FLAGS_selection_rule;
+      ms["minimum_kept"] = selection.minimum_num_kept;
       ms["ranking"] = selection.ranking;
       ms["ranked_by"] = FLAGS_selection_ranking;
       ms["num_registration"] = selection.num_registration;
@@ -683,10 +786,13 @@ int Main() {
         nlohmann::json c = {{"num_kept", pt.num_kept},
                             {"added", pt.added},
                             {"ok", pt.ok},
-                            {"training_rms_m", pt.training_rms_m}};
+                            {"training_rms_m", pt.training_rms_m},
+                            {"f_test_p_value", pt.f_test_p_value}};
         // NaN is not JSON: a failed point has null.
         if (pt.ok) {
           c["held_out_rms_m"] = pt.held_out_rms_m;
+          c["held_out_se_m"] = pt.held_out_se_m;
+          c["within_one_se"] = pt.within_one_se;
         } else {
           c["held_out_rms_m"] = nullptr;
         }
@@ -700,8 +806,10 @@ int Main() {
       j["pose_indices"] = simulated_poses;
       j["noise_m"] = FLAGS_noise_m;
     }
-    app::WriteJsonOrDie(FLAGS_json_out, j);
+    outputs.push_back({FLAGS_json_out, j.dump(2) + "\n"});
   }
+  WriteAllOrDie(outputs);
+  std::printf("%s", urdf_note.c_str());
   return 0;
 }
 

@@ -2,7 +2,10 @@
 // 560 by default) from a joint lattice or a pool read from CSV, by a
 // D-optimal design algorithm or for the task accuracy (--criterion=task_rms),
 // of a given size or of the fewest poses meeting a target (--target_rms_m),
-// counting the poses already measured (--measured_csv).
+// counting the poses already measured (--measured_csv). With --cell, only
+// the poses a real cell can run (joint margins, collisions, the device's
+// range and view of the targets) are candidates, and --order=shortest
+// sorts the design into a short tour whose moves are checked.
 
 #include <gflags/gflags.h>
 
@@ -15,6 +18,10 @@
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
+#include "activecal/cell/cell_setup.h"
+#include "activecal/cell/measurable_pool.h"
+#include "activecal/cell/pool_filter.h"
+#include "activecal/cell/tour.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
 #include "activecal/io/csv_files.h"
@@ -28,8 +35,12 @@ DEFINE_int32(levels, 5,
 DEFINE_string(pool, "lattice",
               "Candidate poses: lattice (--levels values per joint), sobol "
               "(quasi-random) or random (--pool_size poses inside the joint "
-              "ranges, seeded by --seed; for 7 or more joints).");
-DEFINE_int64(pool_size, 100000, "sobol, random: number of candidate poses.");
+              "ranges, seeded by --seed; for 7 or more joints), or "
+              "measurable (with --cell: --pool_size poses solved by inverse "
+              "kinematics for target poses the device can measure, each "
+              "checked).");
+DEFINE_int64(pool_size, 100000,
+             "sobol, random, measurable: number of candidate poses.");
 DEFINE_string(pool_csv, "",
               "Read the candidate poses from this poses CSV "
               "(docs/formats.md) instead of the lattice; duplicates are an "
@@ -96,6 +107,31 @@ DEFINE_int64(max_double_pool_mib, 2048,
 DEFINE_uint64(seed, 1, "Seed of every random choice.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the selected design here.");
+DEFINE_string(program_out, "",
+              "Also write the design as a controller program (the poses CSV "
+              "unchanged): docs/driver_protocol.md.");
+DEFINE_string(program_language, "urscript", "urscript, krl or rapid.");
+DEFINE_string(controller, "",
+              "The controller's joint convention (YAML, data/controllers/).");
+DEFINE_string(cell, "",
+              "Cell file (YAML, docs/formats.md): joint margins, clearance, "
+              "obstacles, the measuring device and the targets on the "
+              "robot. The pool keeps only the poses the cell can run (the "
+              "counts per reason are printed) before the identifiability "
+              "check and the design. Without --frames the cell's targets are "
+              "the markers.");
+DEFINE_string(rejected_csv, "",
+              "With --cell: write each rejected pose here (poses CSV with "
+              "reason, obstacle and detail columns).");
+DEFINE_string(order, "none",
+              "none: the poses in the design's order; shortest: a short "
+              "tour in joint space (time at the URDF's velocity limits, "
+              "nearest neighbour + 2-opt), with --cell every move checked "
+              "for collisions. The poses CSV and the JSON keep the order.");
+DEFINE_double(order_resolution_deg, 1.0,
+              "--order=shortest with --cell: a move is checked at joint "
+              "steps of at most this many degrees (mm for prismatic "
+              "joints).");
 
 namespace activecal {
 namespace {
@@ -106,9 +142,51 @@ std::string Number(double x, int digits) {
   return buffer;
 }
 
+// The targets seen per pose as names.
+nlohmann::json TargetsSeen(const Cell& cell, uint32_t seen) {
+  nlohmann::json names = nlohmann::json::array();
+  for (size_t t = 0; t < cell.targets.size(); ++t) {
+    if (seen & (1u << t)) names.push_back(cell.targets[t].name);
+  }
+  return names;
+}
+
 int Main() {
   const int64_t start = app::NowNs();
-  const RobotDescription robot = app::LoadRobotOrDie();
+  RobotDescription robot = app::LoadRobotOrDie();
+  const app::ProgramRequest program = app::ProgramRequestOrDie(
+      robot.model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
+  if (FLAGS_order != "none" && FLAGS_order != "shortest") {
+    app::Fail("--order must be none or shortest, got '" + FLAGS_order + "'");
+  }
+  if (!(FLAGS_order_resolution_deg > 0)) {
+    app::Fail("--order_resolution_deg must be > 0");
+  }
+  if (!FLAGS_rejected_csv.empty() && FLAGS_cell.empty()) {
+    app::Fail("--rejected_csv needs --cell");
+  }
+  app::CheckWritableOrDie(FLAGS_rejected_csv, "rejected_csv");
+  UrdfChainOptions chain;
+  chain.base_link = FLAGS_base_link;
+  chain.tip_link = FLAGS_tip_link;
+  // The cell: its checks, and its targets as the markers unless --frames
+  // gives them.
+  CellSetup cell;
+  const bool with_cell = !FLAGS_cell.empty();
+  if (with_cell) {
+    CellSetupOptions cell_options;
+    cell_options.cell_path = FLAGS_cell;
+    cell_options.robot_path = FLAGS_robot;
+    cell_options.chain = chain;
+    cell_options.targets_as_markers = FLAGS_frames.empty();
+    std::string error;
+    if (!SetUpCell(cell_options, &robot, &cell, &error)) {
+      app::Fail("--cell: " + error);
+    }
+    for (const std::string& note : cell.notes) {
+      std::printf("  --cell: note: %s\n", note.c_str());
+    }
+  }
   RobotModel model = robot.model;
   MeasurementType type;
   if (!ParseMeasurementType(FLAGS_measurement, &type) ||
@@ -120,26 +198,53 @@ int Main() {
   std::vector<int64_t> labels;
   JointLattice lattice;
   JointSampling sampling = JointSampling::kSobol;
-  const bool sampled = FLAGS_pool != "lattice";
+  const bool measurable = FLAGS_pool == "measurable";
+  const bool sampled = FLAGS_pool != "lattice" && !measurable;
   if (sampled && !JointSamplingFromString(FLAGS_pool, &sampling)) {
-    app::Fail("--pool must be lattice, sobol or random, got '" + FLAGS_pool +
-              "'");
+    app::Fail("--pool must be lattice, sobol, random or measurable, got '" +
+              FLAGS_pool + "'");
   }
-  if (sampled && !FLAGS_pool_csv.empty()) {
+  if ((sampled || measurable) && !FLAGS_pool_csv.empty()) {
     app::Fail("--pool=" + FLAGS_pool + " and --pool_csv: choose one");
   }
-  const bool from_lattice = FLAGS_pool_csv.empty() && !sampled;
+  if (measurable && !with_cell) {
+    app::Fail(
+        "--pool=measurable needs --cell (the device and the targets "
+        "to sample for)");
+  }
+  MeasurablePoolSummary measurable_summary;
+  const bool from_lattice = FLAGS_pool_csv.empty() && !sampled && !measurable;
   // A pool too large for memory is refused before it is listed (it was a
   // std::bad_alloc), by the check the Python module uses (for a lattice in
   // MakeLatticeOrDie).
-  if (from_lattice) {
+  std::string size_error;
+  if ((sampled || measurable) &&
+      !CheckSelectionPoolSize(FLAGS_pool_size, model, type, &size_error)) {
+    app::Fail("--pool_size: " + size_error);
+  }
+  if (measurable) {
+    MeasurablePoolOptions o;
+    o.num_poses = FLAGS_pool_size;
+    o.seed = FLAGS_seed;
+    o.num_threads = FLAGS_threads;
+    {
+      app::ProgressLine line("measurable poses");
+      o.progress = line.callback();
+      if (!SampleMeasurablePool(*cell.checker, o, &measurable_summary)) {
+        app::Fail("--pool=measurable: " + measurable_summary.message);
+      }
+    }
+    std::printf("  %s", measurable_summary.BriefReport().c_str());
+    if (!measurable_summary.message.empty()) {
+      std::printf("  --pool=measurable: note: %s\n",
+                  measurable_summary.message.c_str());
+    }
+    pool_joints = measurable_summary.joints;
+  } else if (from_lattice) {
     lattice = app::MakeLatticeOrDie(model, FLAGS_levels, type);
     pool_joints = lattice.AllJointValues();
   } else if (sampled) {
     std::string error;
-    if (!CheckSelectionPoolSize(FLAGS_pool_size, model, type, &error)) {
-      app::Fail("--pool_size: " + error);
-    }
     if (!SampleJointValues(model, sampling, FLAGS_pool_size, FLAGS_seed,
                            &pool_joints, &error)) {
       app::Fail("--pool=" + FLAGS_pool + ": " + error);
@@ -191,6 +296,27 @@ int Main() {
   pool_options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   pool_options.auto_fix = FLAGS_auto_fix;
   pool_options.num_threads = FLAGS_threads;
+  // The preprocess: the cell's checks of every pose.
+  PoolFilterSummary feasibility;
+  if (with_cell) {
+    pool_options.filter = [&](const Eigen::MatrixXd& joints,
+                              std::vector<int64_t>* kept, std::string* note) {
+      PoolFilterOptions o;
+      o.num_threads = FLAGS_threads;
+      app::ProgressLine line("cell checks");
+      o.progress = line.callback();
+      if (!FilterPool(*cell.checker, joints, o, &feasibility)) {
+        *note = feasibility.message;
+        return false;
+      }
+      *kept = feasibility.feasible;
+      *note =
+          std::to_string(feasibility.num_feasible()) + " of " +
+          std::to_string(feasibility.num_poses) +
+          " poses feasible; rejected: " + feasibility.CountsText(*cell.checker);
+      return true;
+    };
+  }
   CandidatePool pool;
   SelectionPoolSummary pool_summary;
   bool pool_built;
@@ -200,6 +326,12 @@ int Main() {
     pool_built = BuildSelectionPool(&model, pool_joints, pool_options, &pool,
                                     &pool_summary);
     pool_options.progress = nullptr;  // the line ends here
+  }
+  if (pool_summary.filtered && !pool_summary.kept.empty()) {
+    std::printf("  %s", feasibility.BriefReport(*cell.checker).c_str());
+  }
+  if (pool_summary.filtered && pool_summary.kept.empty()) {
+    app::Fail("--cell: " + pool_summary.message);
   }
   if (pool_summary.reduction_failed) app::Fail("--" + pool_summary.message);
   if (pool_summary.termination_type == TerminationType::kUserFailure) {
@@ -219,7 +351,12 @@ int Main() {
   if (!pool_built) {
     const IdentifiabilityReport& report = pool_summary.pool.identifiability;
     if (!report.identifiable() && report.num_free > 0) {
-      app::FailUnidentifiable(report, "the pool", FLAGS_auto_fix);
+      app::FailUnidentifiable(
+          report,
+          pool_summary.filtered
+              ? "the feasible pool (" + pool_summary.filter_note + ")"
+              : "the pool",
+          FLAGS_auto_fix);
     }
     app::Fail(pool_summary.message);
   }
@@ -227,6 +364,27 @@ int Main() {
                      pool_summary.pool.num_free_before, "the pool",
                      "--auto_fix");
   const double jacobian_seconds = pool_summary.pool.jacobian_seconds;
+  // From here on the pool is the feasible one: its rows, labelled by their
+  // place in the pool drawn (or their pose_index).
+  const int64_t drawn_pool_size = pool_joints.rows();
+  std::string rejected_csv_text;
+  if (pool_summary.filtered && !FLAGS_rejected_csv.empty()) {
+    rejected_csv_text =
+        RejectedCsvText(*cell.checker, pool_joints, labels, feasibility);
+  }
+  if (pool_summary.filtered) {
+    std::vector<int64_t> kept_labels;
+    for (int64_t row : pool_summary.kept) {
+      kept_labels.push_back(labels.empty() ? row : labels[row]);
+    }
+    pool_joints = feasibility.FeasibleJoints(pool_joints);
+    labels = std::move(kept_labels);
+    if (gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default &&
+        FLAGS_num_poses > pool_joints.rows()) {
+      app::Fail("--num_poses=" + std::to_string(FLAGS_num_poses) +
+                ": the feasible pool has only " + pool_summary.filter_note);
+    }
+  }
   const std::vector<std::string> auto_fixed = pool_summary.HeldFixed();
 
   // The design's options; the task criterion's algorithm is the best the
@@ -327,6 +485,31 @@ int Main() {
                     : select.message);
     }
   }
+  // The order to run the design in.
+  TourSummary tour;
+  const bool ordered = FLAGS_order == "shortest";
+  const std::vector<double> velocity_limits =
+      ordered ? RobotVelocityLimits(FLAGS_robot, chain, model)
+              : std::vector<double>();
+  if (ordered) {
+    const std::vector<int64_t> design = select.selection.design;
+    Eigen::MatrixXd design_joints(design.size(), pool_joints.cols());
+    for (size_t k = 0; k < design.size(); ++k) {
+      design_joints.row(k) = pool_joints.row(design[k]);
+    }
+    TourOptions o;
+    o.velocity_limits = velocity_limits;
+    o.resolution_rad = FLAGS_order_resolution_deg * M_PI / 180.0;
+    o.resolution_m = FLAGS_order_resolution_deg * 1e-3;
+    o.check_moves = with_cell;
+    if (!OrderTour(with_cell ? cell.checker.get() : nullptr, design_joints, o,
+                   &tour)) {
+      app::Fail("--order=shortest: " + tour.message);
+    }
+    for (size_t k = 0; k < design.size(); ++k) {
+      select.selection.design[k] = design[tour.order[k]];
+    }
+  }
   const SelectionSummary& summary = select.selection;
   const TargetSizeSummary& target = select.target;
   const ApproximateDesignSummary& approx = select.approx;
@@ -368,6 +551,25 @@ int Main() {
   }
   std::printf("  Jacobians of %lld poses: %.3f s\n",
               static_cast<long long>(pool.size()), jacobian_seconds);
+  if (ordered) {
+    std::printf("  %s", tour.BriefReport().c_str());
+    bool assumed = false;
+    for (double v : velocity_limits) assumed = assumed || !(v > 0);
+    if (assumed) {
+      std::printf(
+          "  (joints without a velocity limit in the robot's file are "
+          "taken at 1 rad/s or 1 m/s)\n");
+    }
+    if (!with_cell) {
+      std::printf("  (moves not checked for collisions: no --cell)\n");
+    }
+    for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
+      std::printf(
+          "  warning: the move from pose %d to pose %d is blocked: %s\n",
+          tour.blocked_moves[b], tour.blocked_moves[b] + 1,
+          tour.blocked_reasons[b].c_str());
+    }
+  }
   bool any_prismatic = false;
   for (int c = 0; c < model.num_joints(); ++c) {
     any_prismatic =
@@ -382,7 +584,9 @@ int Main() {
     std::printf("  %-6zu %-8lld", k,
                 static_cast<long long>(labels.empty() ? i : labels[i]));
     if (from_lattice) {
-      for (int l : lattice.Levels(i)) std::printf(" %d", l);
+      for (int l : lattice.Levels(labels.empty() ? i : labels[i])) {
+        std::printf(" %d", l);
+      }
     } else {
       for (int c = 0; c < pool_joints.cols(); ++c) {
         const bool prismatic =
@@ -393,7 +597,7 @@ int Main() {
     }
     std::printf("\n");
   }
-  if (!FLAGS_poses_csv.empty()) {
+  if (!FLAGS_poses_csv.empty() || !program.path.empty()) {
     PoseList chosen;
     chosen.joints.resize(summary.design.size(), model.num_joints());
     for (size_t k = 0; k < summary.design.size(); ++k) {
@@ -401,10 +605,69 @@ int Main() {
       chosen.joints.row(k) = pool_joints.row(i);
       chosen.pose_indices.push_back(labels.empty() ? i : labels[i]);
     }
-    app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+    if (!FLAGS_poses_csv.empty()) {
+      app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+    }
+    app::WriteProgramOrDie(model, program, chosen, "activecal_select's design");
+  }
+  if (!FLAGS_rejected_csv.empty()) {
+    app::WriteTextOrDie(FLAGS_rejected_csv, rejected_csv_text);
   }
   if (!FLAGS_json_out.empty()) {
     nlohmann::json j = app::SelectionJson(summary, pool_joints, labels);
+    if (with_cell) {
+      // The preprocess: what the cell kept and why the rest went.
+      j["cell"] = FLAGS_cell;
+      j["drawn_pool_size"] = drawn_pool_size;
+      j["feasible_poses"] = feasibility.num_feasible();
+      nlohmann::json rejected;
+      for (int r = 1; r < kNumRejectionReasons; ++r) {
+        const RejectionReason reason = static_cast<RejectionReason>(r);
+        if (reason == RejectionReason::kObstacle) {
+          nlohmann::json by_obstacle = nlohmann::json::object();
+          for (size_t o = 0; o < cell.cell.obstacles.size(); ++o) {
+            by_obstacle[cell.cell.obstacles[o].name] =
+                feasibility.rejected_by_obstacle[o];
+          }
+          rejected["obstacle"] = by_obstacle;
+        } else {
+          rejected[RejectionReasonToString(reason)] = feasibility.rejected[r];
+        }
+      }
+      j["rejected"] = rejected;
+      if (!cell.cell.targets.empty()) {
+        nlohmann::json seen = nlohmann::json::array();
+        for (int64_t i : summary.design) {
+          seen.push_back(TargetsSeen(cell.cell, feasibility.targets_seen[i]));
+        }
+        j["targets_seen"] = seen;
+      }
+    }
+    if (measurable) {
+      j["measurable_pool"] = {
+          {"poses", measurable_summary.joints.rows()},
+          {"draws", measurable_summary.draws},
+          {"ik_solves", measurable_summary.ik_solves},
+          {"draws_per_pose", measurable_summary.DrawsPerPose()},
+          {"ik_solves_per_pose", measurable_summary.SolvesPerPose()},
+          {"seconds", measurable_summary.seconds}};
+    }
+    if (ordered) {
+      nlohmann::json blocked = nlohmann::json::array();
+      for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
+        blocked.push_back({{"from", tour.blocked_moves[b]},
+                           {"to", tour.blocked_moves[b] + 1},
+                           {"reason", tour.blocked_reasons[b]}});
+      }
+      j["order"] = "shortest";
+      j["tour"] = {{"motion_time_before_s", tour.time_before_s},
+                   {"motion_time_after_s", tour.time_after_s},
+                   {"velocities", tour.velocities},
+                   {"moves_checked", with_cell},
+                   {"resolution_deg", FLAGS_order_resolution_deg},
+                   {"blocked_moves", blocked},
+                   {"blocked_moves_before", tour.blocked_before}};
+    }
     j["criterion"] = task ? "task_rms" : "d";
     j["num_poses"] = summary.design.size();
     j["noise_m"] = FLAGS_noise_m;

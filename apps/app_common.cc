@@ -4,6 +4,7 @@
 #include <glog/logging.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -280,6 +281,59 @@ int64_t NowNs() {
 }
 
 double Seconds(int64_t start_ns) { return (NowNs() - start_ns) * 1e-9; }
+
+ProgramRequest ProgramRequestOrDie(const RobotModel& model,
+                                   const std::string& path,
+                                   const std::string& language,
+                                   const std::string& controller) {
+  ProgramRequest request;
+  request.path = path;
+  if (path.empty()) {
+    if (!controller.empty()) Fail("--controller needs --program_out");
+    return request;
+  }
+  if (!StringToProgramLanguage(language, &request.language)) {
+    Fail("--program_language must be urscript, krl or rapid, got '" + language +
+         "'");
+  }
+  std::string error;
+  if (controller.empty()) {
+    request.convention = IdentityConvention(model);
+  } else if (!ReadControllerConvention(controller, model, &request.convention,
+                                       &error)) {
+    Fail("--controller: " + error);
+  }
+  CheckWritableOrDie(path, "program_out");
+  return request;
+}
+
+void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
+                       const PoseList& poses, const std::string& comment) {
+  if (request.path.empty()) return;
+  ControllerProgramOptions options;
+  options.language = request.language;
+  options.comment = comment;
+  // The program's name: the file's, made an identifier.
+  std::string stem = request.path.substr(request.path.rfind('/') + 1);
+  stem = stem.substr(0, stem.find('.'));
+  std::string name;
+  for (char c : stem) {
+    name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  }
+  if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) {
+    name = "p" + name;
+  }
+  options.name = name.substr(0, 24);
+  std::string text, error;
+  if (!ControllerProgramText(model, request.convention, poses, options, &text,
+                             &error)) {
+    Fail("--program_out: " + error);
+  }
+  WriteTextOrDie(request.path, text);
+  std::printf("wrote %s: a %s program through %lld poses\n",
+              request.path.c_str(), ProgramLanguageToString(request.language),
+              static_cast<long long>(poses.joints.rows()));
+}
 
 }  // namespace app
 }  // namespace activecal

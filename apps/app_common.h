@@ -28,6 +28,7 @@
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/estimation/identification.h"
+#include "activecal/io/controller_programs.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_file.h"
 #include "activecal/selection/design.h"
@@ -37,6 +38,8 @@ DECLARE_string(robot);
 DECLARE_string(frames);
 DECLARE_string(base_link);
 DECLARE_string(tip_link);
+// A program that reads it links app_parameter_set.cc, so has the flag.
+DECLARE_string(parameter_set);
 
 namespace activecal {
 namespace app {
@@ -141,6 +144,33 @@ class ProgressLine {
 
 double Seconds(int64_t start_ns);
 int64_t NowNs();
+
+// A controller program to write (--program_out, --program_language,
+// --controller of activecal_select and activecal_active): checked before the
+// work, written after it.
+struct ProgramRequest {
+  std::string path;  // empty: none
+  ProgramLanguage language = ProgramLanguage::kUrScript;
+  ControllerConvention convention;
+};
+// Dies with "--program_language: ..." or "--controller: file:line: ..." on
+// bad values, or when `path` cannot be written.
+ProgramRequest ProgramRequestOrDie(const RobotModel& model,
+                                   const std::string& path,
+                                   const std::string& language,
+                                   const std::string& controller);
+// Writes `poses` as the program (its name from the file's name); prints
+// one line saying so.
+void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
+                       const PoseList& poses, const std::string& comment);
+
+// Applies --parameter_set (ParameterSetOrDie) to the free flags of *model,
+// reduced to what position measurements at the rows of `joints` separate
+// (at most 2,000 of them, evenly spaced); the nominal values stay. Prints
+// the parameters held fixed; dies when nothing is left to identify.
+// (app_parameter_set.cc)
+void ApplyParameterSetOrDie(RobotModel* model, bool urdf_robot,
+                            const Eigen::MatrixXd& joints);
 
 }  // namespace app
 }  // namespace activecal

@@ -15,17 +15,17 @@
 #include <string>
 #include <vector>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/estimation/registration.h"
 #include "activecal/core/simulation.h"
-#include "activecal/io/urdf_robot.h"
 #include "activecal/estimation/identification.h"
-#include "activecal/residuals/jacobians.h"
 #include "activecal/estimation/model_selection.h"
 #include "activecal/estimation/parameter_reduction.h"
+#include "activecal/estimation/registration.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/urdf_robot.h"
+#include "activecal/residuals/jacobians.h"
 
 namespace activecal {
 namespace {
@@ -39,16 +39,21 @@ struct Method {
   ModelSelectionMethod selection = ModelSelectionMethod::kNone;
   double prior_m = 0, prior_rad = 0;
   ParameterRanking ranking = ParameterRanking::kSignificance;
+  SelectionRule rule = SelectionRule::kMinimum;
 };
 
+constexpr auto kCv = ModelSelectionMethod::kCrossValidation;
+constexpr auto kVal = ModelSelectionMethod::kValidation;
+constexpr auto kSig = ParameterRanking::kSignificance;
 const std::vector<Method> kMethods = {
     {"all identifiable", ModelSelectionMethod::kNone, 0, 0},
-    {"cv (5 folds)", ModelSelectionMethod::kCrossValidation, 0, 0},
-    {"validation session", ModelSelectionMethod::kValidation, 0, 0},
-    {"cv, Jacobian ranking", ModelSelectionMethod::kCrossValidation, 0, 0,
-     ParameterRanking::kJacobian},
-    {"validation, Jacobian", ModelSelectionMethod::kValidation, 0, 0,
-     ParameterRanking::kJacobian},
+    {"cv, min", kCv, 0, 0},
+    {"cv, 1se", kCv, 0, 0, kSig, SelectionRule::kFewestWithinOneSe},
+    {"cv, 1se_most", kCv, 0, 0, kSig, SelectionRule::kMostWithinOneSe},
+    {"F test 1 %", kCv, 0, 0, kSig, SelectionRule::kFTest},
+    {"validation, min", kVal, 0, 0},
+    {"validation, 1se_most", kVal, 0, 0, kSig, SelectionRule::kMostWithinOneSe},
+    {"cv, Jacobian, min", kCv, 0, 0, ParameterRanking::kJacobian},
     {"MAP 0.5 mm/0.5 mrad", ModelSelectionMethod::kNone, 5e-4, 5e-4},
     {"MAP 2 mm/2 mrad", ModelSelectionMethod::kNone, 2e-3, 2e-3},
     {"MAP 10 mm/10 mrad", ModelSelectionMethod::kNone, 1e-2, 1e-2},
@@ -75,6 +80,7 @@ double Run(const RobotModel& robot, const Data& data, const Method& method,
   ModelSelectionOptions selection;
   selection.method = method.selection;
   selection.ranking = method.ranking;
+  selection.rule = method.rule;
   selection.identification = options;
   selection.num_threads = 2;
   ModelSelectionSummary summary;
@@ -185,31 +191,39 @@ int main(int argc, char** argv) {
   using namespace activecal;
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 5;
   const std::string data_dir = ACTIVECAL_DATA_DIR;
-  RobotDescription ur;
+  RobotDescription ur, iiwa;
   std::string error;
   UrdfChainOptions chain;
   chain.tip_link = "tool0";
-  if (!LoadUrdfRobot(data_dir + "/ur10e.urdf", chain, &ur, &error)) {
+  UrdfChainOptions iiwa_chain;
+  iiwa_chain.tip_link = "flange";
+  if (!LoadUrdfRobot(data_dir + "/ur10e.urdf", chain, &ur, &error) ||
+      !LoadUrdfRobot(data_dir + "/kuka_iiwa14.urdf", iiwa_chain, &iiwa,
+                     &error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
+  // A tracker reflector 0.1 m off the flange.
+  iiwa.model.nominal[iiwa.model.ParameterIndex("tool.x")] = 0.03;
+  iiwa.model.nominal[iiwa.model.ParameterIndex("tool.y")] = -0.02;
+  iiwa.model.nominal[iiwa.model.ParameterIndex("tool.z")] = 0.1;
   const RobotModel puma = Puma560PaperModel();
   for (int n : {20, 40}) {
-    std::vector<Data> puma_sets, ur_sets;
+    std::vector<Data> puma_sets, ur_sets, iiwa_sets;
     for (int s = 0; s < seeds; ++s) {
       puma_sets.push_back(
           Simulate(puma, 1000 + s, MeasurementType::kPosition, n));
       ur_sets.push_back(
           Simulate(ur.model, 2000 + s, MeasurementType::kPose, n));
+      iiwa_sets.push_back(
+          Simulate(iiwa.model, 4000 + s, MeasurementType::kPosition, n));
     }
-    const std::string a = "PUMA 560, position, " + std::to_string(n) +
-                          " training + " + std::to_string(n) +
-                          " validation poses";
-    const std::string b = "UR10e, 6D pose (w = 0.5 m/rad), " +
-                          std::to_string(n) + " training + " +
-                          std::to_string(n) + " validation poses";
-    Table(a.c_str(), puma, puma_sets, 1.0);
-    Table(b.c_str(), ur.model, ur_sets, 0.5);
+    const std::string tail = ", " + std::to_string(n) + " training + " +
+                             std::to_string(n) + " validation poses";
+    Table(("PUMA 560, position" + tail).c_str(), puma, puma_sets, 1.0);
+    Table(("UR10e, 6D pose (w = 0.5 m/rad)" + tail).c_str(), ur.model, ur_sets,
+          0.5);
+    Table(("iiwa 14, position" + tail).c_str(), iiwa.model, iiwa_sets, 1.0);
   }
   // FIGAROH's UR10e: 23 poses; train on 15, validate on 4, test on 4,
   // over several seeded splits.

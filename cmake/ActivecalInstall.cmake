@@ -4,21 +4,22 @@
 include(CMakePackageConfigHelpers)
 
 install(TARGETS activecal_core activecal_io activecal_residuals
-  activecal_selection activecal_kinematics activecal_estimation
-  activecal_calibration activecal
+  activecal_selection activecal_kinematics activecal_cell activecal_estimation
+  activecal_calibration activecal_driver activecal
   EXPORT activecalTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-foreach(layer core io residuals selection kinematics estimation calibration)
+foreach(layer core io residuals selection kinematics cell estimation calibration
+    driver)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${layer}/include/activecal
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
     FILES_MATCHING PATTERN "*.h")
 endforeach()
 if(ACTIVECAL_BUILD_APPS)
   install(TARGETS activecal_evaluate activecal_identify activecal_select activecal_simulate
-    activecal_puma_paper activecal_monte_carlo
+    activecal_puma_paper activecal_monte_carlo activecal_active activecal_sim_cell
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
 

@@ -46,6 +46,7 @@
 #include "activecal/io/robot_loader.h"
 #include "activecal/core/simulation.h"
 #include "activecal/io/targets_csv.h"
+#include "activecal/io/urdf_robot.h"
 #include "activecal/kinematics/compensation.h"
 #include "activecal/estimation/estimate_warnings.h"
 #include "activecal/estimation/identification.h"
@@ -238,6 +239,7 @@ struct Robot {
   RobotDescription description;
   std::string path;  // "" for the built-in PUMA 560
   bool urdf = false;
+  UrdfChainOptions chain;  // URDF: the chain's ends given to load_robot
   const RobotModel& model() const { return description.model; }
 };
 using RobotPtr = std::shared_ptr<Robot>;
@@ -345,6 +347,9 @@ struct EstimateResult {
   std::string parameter_set;
   ModelSelectionSummary selection;
   std::string model_selection;
+  // The rows identified from, then the validation rows (as the program's
+  // input): write_urdf checks the written URDF against them.
+  std::vector<Measurement> measurements;
 };
 
 // A column of the measurements as an array; rows without it are NaN.
@@ -508,6 +513,10 @@ std::shared_ptr<CompensationResult> CompensatePy(
     const std::string& match, int marker, double position_tolerance_m,
     double rotation_tolerance_rad, double rotation_weight_m, int max_iterations,
     double singular_threshold, int num_threads, const py::kwargs& kwargs);
+
+// export.cc: Estimate.write_urdf, write_frames, write_ros_frames and
+// read_ros_frames, added to the module's classes.
+void BindExport(py::module_& m);
 
 }  // namespace python
 }  // namespace activecal

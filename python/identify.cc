@@ -1,5 +1,6 @@
 // The Python module `activecal`: identify and evaluate.
 
+#include "activecal/estimation/residual_scale.h"
 #include "common.h"
 
 namespace activecal {
@@ -15,8 +16,10 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
       Option<std::string>(kwargs, "parameter_set", "");
   const bool register_base = Option(kwargs, "register_base", true);
   const bool auto_fix = Option(kwargs, "auto_fix", false);
-  const std::string model_selection =
-      Option<std::string>(kwargs, "model_selection", "cv");
+  const std::string model_selection_arg =
+      Option<std::string>(kwargs, "model_selection", "auto");
+  const std::string rule =
+      Option<std::string>(kwargs, "selection_rule", "1se_most");
   const int folds = Option(kwargs, "folds", 5);
   const std::string ranking =
       Option<std::string>(kwargs, "selection_ranking", "significance");
@@ -39,10 +42,10 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   NoUnknownOptions(
       "identify", kwargs,
       {"parameter_set", "register_base", "auto_fix", "model_selection", "folds",
-       "selection_ranking", "validation", "robust_loss", "robust_scale_m",
-       "outlier_threshold", "rotation_weight", "default_sigma_m",
-       "default_sigma_rad", "prior_std_m", "prior_std_rad", "seed",
-       "num_threads"});
+       "selection_ranking", "selection_rule", "validation", "robust_loss",
+       "robust_scale_m", "outlier_threshold", "rotation_weight",
+       "default_sigma_m", "default_sigma_rad", "prior_std_m", "prior_std_rad",
+       "seed", "num_threads"});
   std::vector<Measurement> selection_validation;
   if (!validation_obj.is_none()) {
     selection_validation = MeasurementsArg(validation_obj, "validation").items;
@@ -66,20 +69,34 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   options.rotation_weight_m_per_rad = rotation_weight;
   options.default_sigma_m = default_sigma_m;
   options.default_sigma_rad = default_sigma_rad;
-  ModelSelectionOptions selection_options;
-  if (!ParseModelSelectionMethod(model_selection, &selection_options.method)) {
-    Fail("model_selection must be none, validation or cv, got '" +
-         model_selection + "'");
-  }
-  if (selection_options.method == ModelSelectionMethod::kValidation &&
-      selection_validation.empty()) {
-    Fail("model_selection='validation' needs validation=<Measurements>");
-  }
   if (!(prior_std_m >= 0 && std::isfinite(prior_std_m) && prior_std_rad >= 0 &&
         std::isfinite(prior_std_rad))) {
     Fail("prior_std_m and prior_std_rad must be finite and >= 0");
   }
   const bool map_fit = prior_std_m > 0 || prior_std_rad > 0;
+  const ParameterSet set =
+      ParameterSetArg(robot, parameter_set_name.empty()
+                                 ? py::object(py::none())
+                                 : py::object(py::str(parameter_set_name)));
+  // auto: the free set the robot file names is identified as listed (as
+  // activecal_identify does).
+  const std::string model_selection =
+      model_selection_arg != "auto"           ? model_selection_arg
+      : set == ParameterSet::kFile || map_fit ? "none"
+                                              : "cv";
+  ModelSelectionOptions selection_options;
+  if (!ParseModelSelectionMethod(model_selection, &selection_options.method)) {
+    Fail("model_selection must be auto, none, validation or cv, got '" +
+         model_selection_arg + "'");
+  }
+  if (!ParseSelectionRule(rule, &selection_options.rule)) {
+    Fail("selection_rule must be 1se_most, min, 1se or ftest, got '" + rule +
+         "'");
+  }
+  if (selection_options.method == ModelSelectionMethod::kValidation &&
+      selection_validation.empty()) {
+    Fail("model_selection='validation' needs validation=<Measurements>");
+  }
   if (map_fit && selection_options.method != ModelSelectionMethod::kNone) {
     Fail(
         "prior_std_m/prior_std_rad (a MAP fit) and model_selection are two "
@@ -93,10 +110,6 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
     Fail("selection_ranking must be significance or jacobian, got '" + ranking +
          "'");
   }
-  const ParameterSet set =
-      ParameterSetArg(robot, parameter_set_name.empty()
-                                 ? py::object(py::none())
-                                 : py::object(py::str(parameter_set_name)));
   result->parameter_set = ParameterSetName(set);
   result->model_selection = model_selection;
 
@@ -164,6 +177,26 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
           return;
         }
       }
+      // The baseline (registration_fit.h): the base and marker parameters
+      // free in the model to calibrate; and the unit check of its residual
+      // (residual_scale.h).
+      RegistrationFitSummary baseline;
+      {
+        IdentificationOptions baseline_options = options;
+        baseline_options.prior_std_m = baseline_options.prior_std_rad = 0.0;
+        FitRegistrationOfFreeSet(model, robot.model().nominal, training,
+                                 baseline_options, &baseline);
+      }
+      result->have_baseline =
+          baseline.termination_type == TerminationType::kConvergence;
+      result->registration_only_rms_m = baseline.rms_m;
+      if ((result->have_baseline ||
+           baseline.termination_type == TerminationType::kNoConvergence) &&
+          !ResidualWithinReach(model, robot.model().nominal, training,
+                               baseline.rms_m, &error)) {
+        failure = "measurements: " + error;
+        return;
+      }
       selection_options.num_folds = folds;
       selection_options.num_threads = num_threads;
       selection_options.seed = Random::StreamSeed(seed, 3);
@@ -203,14 +236,6 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
             summary.termination_type != TerminationType::kUserFailure;
         return;
       }
-      RegistrationFitSummary baseline;
-      IdentificationOptions baseline_options = options;
-      baseline_options.prior_std_m = baseline_options.prior_std_rad = 0.0;
-      FitRegistration(robot.model(), robot.model().nominal, training,
-                      baseline_options, &baseline);
-      result->have_baseline =
-          baseline.termination_type == TerminationType::kConvergence;
-      result->registration_only_rms_m = baseline.rms_m;
       result->warnings =
           EstimateWarnings(model, summary, EstimateWarningOptions());
     }();
@@ -220,6 +245,10 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
     Fail(failure);
   }
   result->model = model;
+  result->measurements = training;
+  result->measurements.insert(result->measurements.end(),
+                              selection_validation.begin(),
+                              selection_validation.end());
   return result;
 }
 

@@ -7,7 +7,7 @@
 using namespace activecal;
 using namespace activecal::python;
 
-PYBIND11_MODULE(activecal, m) {
+PYBIND11_MODULE(_activecal, m) {
   m.doc() =
       "activecal: robot kinematic calibration (C++ core, pybind11 "
       "bindings). Units are SI (m, rad); errors are ValueError (bad input) "
@@ -556,8 +556,10 @@ PYBIND11_MODULE(activecal, m) {
   m.def("identify", &IdentifyPy, py::arg("robot"), py::arg("measurements"),
         "identify(robot, measurements, **options) -> Estimate, as "
         "activecal_identify with the same options: parameter_set, "
-        "register_base, auto_fix, model_selection ('cv', 'validation', "
-        "'none'), folds, selection_ranking, validation (Measurements), "
+        "register_base, auto_fix, model_selection ('auto': 'none' for the "
+        "robot file's free set, 'cv' for a named set; 'cv', 'validation', "
+        "'none'), folds, selection_ranking, selection_rule ('1se_most', "
+        "'min', '1se', 'ftest'), validation (Measurements), "
         "robust_loss, robust_scale_m, outlier_threshold, rotation_weight, "
         "default_sigma_m, default_sigma_rad, prior_std_m, prior_std_rad, "
         "seed, num_threads. The GIL is released while it runs.");
@@ -699,4 +701,6 @@ PYBIND11_MODULE(activecal, m) {
         py::arg("parameters") = py::none(),
         "The errors of a model (robot's nominal, or `parameters`) on "
         "measurements, no fitting: a dict of statistics (m, rad).");
+
+  BindExport(m);
 }

@@ -20,6 +20,7 @@ RobotPtr LoadRobotPy(const py::object& path_obj, const py::object& base_link,
   if (!LoadRobot(path, options, &robot->description, &error)) Fail(error);
   robot->path = path;
   robot->urdf = IsUrdfPath(path);
+  robot->chain = options.chain;
   return robot;
 }
 
@@ -185,11 +186,14 @@ py::tuple RobotState(const Robot& robot) {
       RobotFileText(robot.model(), robot.model().nominal, options);
   return py::make_tuple(1, py::bytes(text), robot.path, robot.urdf,
                         robot.description.angle_unit == AngleUnit::kDegree,
-                        robot.description.true_parameters.size() > 0);
+                        robot.description.true_parameters.size() > 0,
+                        robot.chain.base_link, robot.chain.tip_link);
 }
 
 RobotPtr RobotFromState(const py::tuple& state) {
-  if (state.size() != 6 || py::cast<int>(state[0]) != 1) {
+  // 6 entries: written before the chain's ends were kept.
+  if ((state.size() != 6 && state.size() != 8) ||
+      py::cast<int>(state[0]) != 1) {
     Fail("Robot: unknown pickle state");
   }
   auto robot = std::make_shared<Robot>();
@@ -203,6 +207,10 @@ RobotPtr RobotFromState(const py::tuple& state) {
   robot->description.angle_unit =
       py::cast<bool>(state[4]) ? AngleUnit::kDegree : AngleUnit::kRadian;
   if (!py::cast<bool>(state[5])) robot->description.true_parameters.resize(0);
+  if (state.size() == 8) {
+    robot->chain.base_link = py::cast<std::string>(state[6]);
+    robot->chain.tip_link = py::cast<std::string>(state[7]);
+  }
   return robot;
 }
 

@@ -6,22 +6,24 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <map>
 #include <string>
 
-#include "activecal/estimation/evaluation.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/estimation/registration.h"
 #include "activecal/core/simulation.h"
-#include "activecal/io/urdf_robot.h"
 #include "activecal/estimation/estimate_warnings.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/estimation/identification.h"
-#include "activecal/residuals/jacobians.h"
 #include "activecal/estimation/model_selection.h"
 #include "activecal/estimation/parameter_reduction.h"
+#include "activecal/estimation/registration.h"
 #include "activecal/estimation/registration_fit.h"
+#include "activecal/estimation/residual_scale.h"
+#include "activecal/io/urdf_robot.h"
+#include "activecal/residuals/jacobians.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -256,6 +258,152 @@ TEST(RegistrationFitTest, EqualsADirectRegistrationIdentification) {
             m.nominal.segment(m.block_offset(1), links));
 }
 
+// The baseline of a calibration frees only the registration parameters
+// the calibrated model has free: the PUMA file holds its tool point, and
+// the registration set freed it anyway ("0.350 m -> 0.378 m calibrated
+// (-8.0 % lower)": a baseline with more parameters than the calibration).
+TEST(RegistrationFitTest, BaselineOfTheFreeSetIsASubsetOfIt) {
+  const RobotModel m = Puma560PaperModel();
+  const std::vector<Measurement> data = PumaMeasurements(30, 0.001, 4);
+  RegistrationFitSummary all, of_free;
+  FitRegistration(m, m.nominal, data, {}, &all);
+  FitRegistrationOfFreeSet(m, m.nominal, data, {}, &of_free);
+  ASSERT_EQ(of_free.termination_type, TerminationType::kConvergence)
+      << of_free.message;
+  const std::vector<std::string> free = m.FreeParameterNames();
+  for (const std::string& name : of_free.names) {
+    EXPECT_NE(std::find(free.begin(), free.end(), name), free.end()) << name;
+  }
+  EXPECT_EQ(of_free.names,
+            (std::vector<std::string>{"B.gamma", "B.alpha", "B.a", "B.beta"}));
+  // The registration set alone frees the held tool point too.
+  EXPECT_GT(all.names.size(), of_free.names.size());
+  const int tool = m.block_offset(m.marker_block(0));
+  EXPECT_EQ(of_free.parameters.segment(tool, 3), m.nominal.segment(tool, 3));
+  // A calibration of the free set fits at least as well as its baseline.
+  IdentificationSummary fit;
+  Identify(m, data, m.nominal, {}, &fit);
+  ASSERT_EQ(fit.termination_type, TerminationType::kConvergence);
+  EXPECT_LE(fit.rms_m, of_free.rms_m);
+  // A URDF chain with the full set reduced: a subset again, and a model
+  // that holds its whole base gets no closed-form registration.
+  const RobotDescription ur = Ur10e();
+  RobotModel reduced = ur.model;
+  Eigen::VectorXd start = reduced.nominal;
+  const std::vector<Measurement> points =
+      Simulate(reduced, Ur10eInDeviceFrame(reduced),
+               UrPlan(reduced, 25, MeasurementType::kPosition, 5), 0.0005, 6);
+  std::vector<DroppedParameter> dropped;
+  std::string error;
+  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, points, 1.0,
+                                         &reduced, &start, &dropped, &error));
+  FitRegistrationOfFreeSet(reduced, reduced.nominal, points, {}, &of_free);
+  ASSERT_EQ(of_free.termination_type, TerminationType::kConvergence);
+  const std::vector<std::string> ur_free = reduced.FreeParameterNames();
+  for (const std::string& name : of_free.names) {
+    EXPECT_NE(std::find(ur_free.begin(), ur_free.end(), name), ur_free.end())
+        << name;
+  }
+  EXPECT_EQ(of_free.names.size(), 9u);  // base and reflector point
+  RobotModel held = reduced;
+  for (int j = 0; j < 6; ++j) held.SetFree(j, false);
+  FitRegistrationOfFreeSet(held, held.nominal, points, {}, &of_free);
+  ASSERT_EQ(of_free.termination_type, TerminationType::kConvergence);
+  EXPECT_EQ(of_free.names.size(), 3u);
+  EXPECT_EQ(of_free.parameters.head(6), held.nominal.head(6));
+}
+
+// chi^2 / dof against its 99.9 % interval (identification.h): the sigma
+// stated just inside and just outside each end. chi^2 scales exactly with
+// 1 / sigma^2 for a uniform sigma (the estimates do not change).
+TEST(WeightedIdentificationTest, ChiSquareOutsideItsIntervalScalesTheStd) {
+  const RobotModel m = Puma560PaperModel();
+  std::vector<Measurement> data = PumaMeasurements(60, 0.001, 3);
+  for (Measurement& d : data) d.sigma_m.setConstant(0.001);
+  const IdentificationSummary first = Fit(m, data, {});
+  ASSERT_TRUE(first.weighted);
+  const double c = first.chi_square_per_dof;
+  const double low = first.chi_square_per_dof_low;
+  const double high = first.chi_square_per_dof_high;
+  EXPECT_EQ(first.degrees_of_freedom, 180 - 27);
+  EXPECT_LT(low, 1.0);
+  EXPECT_GT(high, 1.0);
+  EXPECT_GT(low, 0.5);  // 153 dof: about 0.66 .. 1.42
+  EXPECT_LT(high, 1.6);
+  for (double target : {low, high}) {
+    for (double side : {-1.0, 1.0}) {
+      // chi^2 / dof = target * (1 + side * 1e-3): inside for side = -1 at
+      // the high end and +1 at the low one.
+      const double wanted = target * (1 + side * 1e-3);
+      const double sigma = 0.001 * std::sqrt(c / wanted);
+      for (Measurement& d : data) d.sigma_m.setConstant(sigma);
+      const IdentificationSummary s = Fit(m, data, {});
+      ASSERT_NEAR(s.chi_square_per_dof, wanted, 1e-6 * wanted);
+      const bool inside = (target == high) == (side < 0);
+      EXPECT_EQ(s.chi_square_plausible, inside) << target << " " << side;
+      ASSERT_EQ(s.scaled_standard_deviations.size(), 27);
+      EXPECT_LT((s.scaled_standard_deviations -
+                 s.standard_deviations * std::sqrt(wanted))
+                    .cwiseAbs()
+                    .maxCoeff(),
+                1e-9 * s.standard_deviations.maxCoeff());
+      const bool says = s.BriefReport().find("outside the 99.9 % interval") !=
+                        std::string::npos;
+      EXPECT_EQ(says, !inside);
+    }
+  }
+  // Far outside (a tracker's datasheet sigma against a robot's errors):
+  // the warnings use the scaled std and say so.
+  for (Measurement& d : data) d.sigma_m.setConstant(1e-5);
+  const IdentificationSummary s = Fit(m, data, {});
+  EXPECT_FALSE(s.chi_square_plausible);
+  EXPECT_GT(s.chi_square_per_dof, 1000);
+  std::string all;
+  for (const std::string& w : EstimateWarnings(m, s, {})) all += w + "\n";
+  EXPECT_NE(all.find("std (scaled by sqrt(chi^2 / dof))"), std::string::npos)
+      << all;
+  // Without sigmas nothing is scaled.
+  for (Measurement& d : data) d.sigma_m.setZero();
+  const IdentificationSummary plain = Fit(m, data, {});
+  EXPECT_TRUE(plain.chi_square_plausible);
+  EXPECT_EQ(plain.scaled_standard_deviations.size(), 0);
+}
+
+// The unit check (residual_scale.h): the reach is the farthest measured
+// point from the base frame with the base at the identity, and the rule
+// refuses an RMS residual just above it, accepts it at the reach.
+TEST(ResidualScaleTest, ReachIsTheFarthestPointAndTheRuleCrossesIt) {
+  const RobotModel m = Puma560PaperModel();
+  const std::vector<Measurement> data = PumaMeasurements(20, 0.001, 6);
+  Eigen::VectorXd at_origin = m.nominal;
+  at_origin.head(m.block_size(0)).setZero();
+  double farthest = 0.0;
+  for (const Measurement& d : data) {
+    farthest =
+        std::max(farthest, PredictMeasurement(m, at_origin, d).position.norm());
+  }
+  const double reach = ReachAtPoses(m, m.nominal, data);
+  EXPECT_NEAR(reach, farthest, 1e-12);
+  EXPECT_GT(reach, 0.5);  // a PUMA arm, not its base 20 m away
+  EXPECT_LT(reach, 1.5);
+  std::string error;
+  EXPECT_TRUE(ResidualWithinReach(m, m.nominal, data, reach, &error));
+  EXPECT_FALSE(
+      ResidualWithinReach(m, m.nominal, data, reach * (1 + 1e-9), &error));
+  EXPECT_NE(error.find("are the measured values in millimetres?"),
+            std::string::npos)
+      << error;
+  // Points in mm read as m: the registration-only residual is far beyond.
+  std::vector<Measurement> mm = data;
+  for (Measurement& d : mm) d.position *= 1000;
+  RegistrationFitSummary fit;
+  FitRegistrationOfFreeSet(m, m.nominal, mm, {}, &fit);
+  EXPECT_FALSE(ResidualWithinReach(m, m.nominal, mm, fit.rms_m, &error));
+  FitRegistrationOfFreeSet(m, m.nominal, data, {}, &fit);
+  ASSERT_EQ(fit.termination_type, TerminationType::kConvergence);
+  EXPECT_TRUE(ResidualWithinReach(m, m.nominal, data, fit.rms_m, &error));
+}
+
 TEST(ModelSelectionTest, RankingPutsRegistrationFirstAndEachPrefixHasFullRank) {
   RobotDescription robot = Ur10e();
   RobotModel m = robot.model;
@@ -364,6 +512,7 @@ TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
   const int p = problem.model.num_free();
   ModelSelectionOptions options;
   options.method = ModelSelectionMethod::kCrossValidation;
+  options.rule = SelectionRule::kMinimum;
   options.num_folds = 4;
   RobotModel chosen = problem.model;
   ModelSelectionSummary summary;
@@ -488,6 +637,84 @@ TEST(ModelSelectionTest, CountsThatCouldNotBeTestedAreNamed) {
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence);
   EXPECT_EQ(summary.message.find("not tested"), std::string::npos)
       << summary.message;
+}
+
+// The rules that choose the count from one curve (model_selection.h): the
+// same curve for every rule; "within one SE" is the paired excess of the
+// held-out MSE over the minimum's against its standard error; each rule's
+// choice crosses its own threshold (the point it keeps passes, the next
+// one in its direction does not).
+TEST(ModelSelectionTest, EachRuleChoosesByItsThreshold) {
+  const std::vector<Measurement> data = PumaMeasurements(30, 0.01, 1);
+  std::map<SelectionRule, ModelSelectionSummary> by_rule;
+  for (SelectionRule rule :
+       {SelectionRule::kMinimum, SelectionRule::kFewestWithinOneSe,
+        SelectionRule::kMostWithinOneSe, SelectionRule::kFTest}) {
+    RobotModel chosen = Puma560PaperModel();
+    ModelSelectionOptions options;
+    options.rule = rule;
+    options.num_threads = 2;
+    ModelSelectionSummary& summary = by_rule[rule];
+    SelectModel(&chosen, chosen.nominal, data, {}, options, &summary);
+    ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+        << summary.message;
+    EXPECT_EQ(chosen.num_free(), summary.best_num_kept);
+    EXPECT_NE(
+        summary.message.find(std::string("rule ") + SelectionRuleName(rule)),
+        std::string::npos)
+        << summary.message;
+  }
+  const ModelSelectionSummary& min = by_rule[SelectionRule::kMinimum];
+  const std::vector<ModelSelectionPoint>& curve = min.curve;
+  const int first = curve.front().num_kept;
+  int argmin = -1;
+  for (size_t k = 0; k < curve.size(); ++k) {
+    ASSERT_TRUE(curve[k].ok);
+    if (argmin < 0 || curve[k].held_out_rms_m < curve[argmin].held_out_rms_m) {
+      argmin = static_cast<int>(k);
+    }
+  }
+  EXPECT_EQ(min.best_num_kept, first + argmin);
+  EXPECT_EQ(min.minimum_num_kept, first + argmin);
+  const double mse_min = std::pow(curve[argmin].held_out_rms_m, 2);
+  for (size_t k = 0; k < curve.size(); ++k) {
+    const ModelSelectionPoint& pt = curve[k];
+    // The excess is MSE_k - MSE_min; paired, its SE is 0 at the minimum.
+    EXPECT_NEAR(pt.excess_m2, pt.held_out_rms_m * pt.held_out_rms_m - mse_min,
+                1e-9 * mse_min);
+    EXPECT_EQ(pt.within_one_se, pt.excess_m2 <= pt.excess_se_m2);
+    EXPECT_GT(pt.held_out_se_m, 0.0);
+    EXPECT_LT(pt.held_out_se_m, pt.held_out_rms_m);
+    // Every rule sees the same curve.
+    for (const auto& [rule, s] : by_rule) {
+      EXPECT_EQ(s.curve[k].held_out_rms_m, pt.held_out_rms_m);
+    }
+  }
+  EXPECT_EQ(curve[argmin].excess_se_m2, 0.0);
+  EXPECT_TRUE(curve[argmin].within_one_se);
+  const int most =
+      by_rule[SelectionRule::kMostWithinOneSe].best_num_kept - first;
+  const int fewest =
+      by_rule[SelectionRule::kFewestWithinOneSe].best_num_kept - first;
+  EXPECT_GE(most, argmin);
+  EXPECT_LE(fewest, argmin);
+  EXPECT_TRUE(curve[most].within_one_se);
+  EXPECT_TRUE(curve[fewest].within_one_se);
+  for (size_t k = most + 1; k < curve.size(); ++k) {
+    EXPECT_FALSE(curve[k].within_one_se) << k;
+  }
+  for (int k = 0; k < fewest; ++k) EXPECT_FALSE(curve[k].within_one_se) << k;
+  // Every one of the paper's 27 parameters carries a real error: the
+  // noisy minimum drops some (25 here), the most within one SE keeps all.
+  EXPECT_LT(min.best_num_kept, 27);
+  EXPECT_EQ(by_rule[SelectionRule::kMostWithinOneSe].best_num_kept, 27);
+  // The F test: the last point is the fit of all (p = 1); the choice is the
+  // first count at or above the 1 % level.
+  const int f = by_rule[SelectionRule::kFTest].best_num_kept - first;
+  EXPECT_EQ(curve.back().f_test_p_value, 1.0);
+  EXPECT_GE(curve[f].f_test_p_value, 0.01);
+  for (int k = 0; k < f; ++k) EXPECT_LT(curve[k].f_test_p_value, 0.01) << k;
+  EXPECT_LT(f + 1, static_cast<int>(curve.size()));
 }
 
 // A pose measurement with sigma_m and no sigma_rad (FIGAROH's file with a

@@ -9,14 +9,14 @@
 #include <limits>
 #include <string>
 
-#include "activecal/io/csv_files.h"
-#include "activecal/io/frames_file.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/io/robot_file.h"
 #include "activecal/core/simulation.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/frames_file.h"
+#include "activecal/io/robot_file.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -52,9 +52,7 @@ Eigen::Isometry3d ReferenceTip(const RobotModel& m, const Eigen::VectorXd& p,
     } else {
       motion.translation() = s * l.axis;
     }
-    T = T *
-        Pose(l.origin_xyz,
-             Rpy(l.origin_rpy[0], l.origin_rpy[1], l.origin_rpy[2])) *
+    T = T * Pose(l.origin_xyz, l.origin_rotation) *
         Pose(Eigen::Vector3d(c[0], c[1], c[2]), Rpy(c[3], c[4], c[5])) * motion;
   }
   return T * Pose(m.tip.translation, m.tip.rotation);
@@ -143,12 +141,12 @@ TEST(ModelConventionsTest, RobotFileRoundTripKeepsStructureAndValues) {
       EXPECT_EQ(r.links[j].convention, LinkConvention::kUrdf);
       EXPECT_EQ(r.links[j].joint_type, m.links[j].joint_type);
       EXPECT_LE((r.links[j].origin_xyz - m.links[j].origin_xyz).norm(), 0.0);
-      EXPECT_LE((r.links[j].origin_rpy - m.links[j].origin_rpy).norm(),
-                10 * tol);
+      // The origin's rotation re-reads exactly (as rpy or as its matrix).
+      EXPECT_EQ(r.links[j].origin_rotation, m.links[j].origin_rotation);
       EXPECT_LE((r.links[j].axis - m.links[j].axis).norm(), 1e-15);
     }
-    // The tip goes through roll-pitch-yaw: the same transform to rounding.
-    EXPECT_LT((r.tip.rotation - m.tip.rotation).norm(), 1e-14);
+    // So does the tip's (an angle-axis rotation: written as its matrix).
+    EXPECT_EQ(r.tip.rotation, m.tip.rotation);
     EXPECT_LT((r.tip.translation - m.tip.translation).norm(), 1e-15);
     const Eigen::VectorXd q = testing::RandomJoints(m, &random);
     EXPECT_LT(
@@ -216,6 +214,131 @@ TEST(ModelConventionsTest, RpyRoundTripIncludingGimbalLock) {
   }
 }
 
+// The angles written for a rotation (robot YAML files, URDF export): read
+// back, they give the rotation, at and near pitch +-90 deg too (issue #26:
+// never a snapped pitch), and a rotation made from short decimals is
+// written with the same decimals, in radians and in degrees (so the robot
+// files written before keep their bytes).
+TEST(ModelConventionsTest, ShortRpyReadsBackToTheRotation) {
+  Random random(8);
+  const double eps = std::numeric_limits<double>::epsilon();
+  for (double sign : {1.0, -1.0}) {
+    for (double gap :
+         {0.0, 1e-15, 1e-12, 1e-9, 1e-6, 1e-4, 4.4e-3, 4.6e-3, 0.3, 1.5}) {
+      for (int trial = 0; trial < 20; ++trial) {
+        const double r = M_PI * (2 * random.Uniform() - 1);
+        const double y = M_PI * (2 * random.Uniform() - 1);
+        const Eigen::Matrix3d R = RpyRotation(r, sign * (M_PI / 2 - gap), y);
+        for (double unit : {1.0, M_PI / 180}) {
+          const Eigen::Vector3d a = RotationToShortRpy(R, unit) * unit;
+          EXPECT_LE((RpyRotation(a[0], a[1], a[2]) - R).cwiseAbs().maxCoeff(),
+                    8 * eps)
+              << "gap " << gap << " unit " << unit;
+        }
+      }
+    }
+  }
+  // Short decimals, pitch beyond +-90 deg among them (the other branch),
+  // come back as they were; at exactly +-90 deg, roll is 0.
+  const Eigen::Vector3d short_angles[] = {{0.1, 0.2, 0.3},
+                                          {0, 1.5708, 0},
+                                          {0, -1.5707963267948966, 2},
+                                          {1.570796327, 0, 0},
+                                          {0, 0, 3.14159},
+                                          {0.2, -1.569, 0.1},
+                                          {0.01, -0.02, 1.0},
+                                          {0, 0, 0},
+                                          {3.141592653589793, 0, 0},
+                                          {0.3, 2.0, -0.1},
+                                          {1.5708, -1.5708, -1.5708}};
+  for (const Eigen::Vector3d& v : short_angles) {
+    const Eigen::Matrix3d R = RpyRotation(v[0], v[1], v[2]);
+    EXPECT_EQ(RotationToShortRpy(R), v) << v.transpose();
+    const Eigen::Vector3d deg = v * 50;  // degrees, also short
+    const Eigen::Vector3d rad = deg * (M_PI / 180);
+    EXPECT_EQ(
+        RotationToShortRpy(RpyRotation(rad[0], rad[1], rad[2]), M_PI / 180),
+        deg)
+        << deg.transpose();
+  }
+  // In a robot file: the digits as they were.
+  RobotModel m = testing::UrdfStyleModel();
+  m.links[0].origin_rotation = RpyRotation(0.1, 0.2, 0.3);
+  m.links[1].origin_rotation = RpyRotation(0.0, 1.5707963267948966, -0.4);
+  const std::string text = RobotFileText(m, m.nominal);
+  EXPECT_NE(text.find("rpy: [0.1, 0.2, 0.3]"), std::string::npos) << text;
+  EXPECT_NE(text.find("rpy: [0, 1.5707963267948966, -0.4]"), std::string::npos)
+      << text;
+}
+
+// A rotation no rpy angles give exactly (a URDF origin read from urdfdom's
+// quaternion, at and near pitch 90 deg) is written as its matrix and read
+// back bit for bit, so a robot file (and a Python pickle, which is one)
+// holds the model exactly; a bad matrix is refused with file:line.
+TEST(ModelConventionsTest, RobotFileHoldsRotationsExactly) {
+  RobotModel m = testing::UrdfStyleModel();
+  m.links[0].origin_rotation =
+      Eigen::Quaterniond(0.7071067811140325, 0.7071067812590626, 0, 0)
+          .normalized()
+          .toRotationMatrix();  // urdfdom's rpy="1.570796327 0 0"
+  m.links[1].origin_rotation =
+      RpyRotation(0.2, -(M_PI / 2 - 1e-9), 0.1) * RpyRotation(0.3, 0.0, 0.0);
+  m.links[2].origin_rotation = RpyRotation(0.3, 1.5707963267948966, 0.0);
+  for (AngleUnit unit : {AngleUnit::kRadian, AngleUnit::kDegree}) {
+    RobotFileOptions options;
+    options.angle_unit = unit;
+    const std::string text = RobotFileText(m, m.nominal, options);
+    RobotDescription back;
+    std::string error;
+    ASSERT_TRUE(ParseRobotDescription(text, "r.yaml", &back, &error))
+        << error << "\n"
+        << text;
+    for (int j = 0; j < m.num_joints(); ++j) {
+      EXPECT_EQ(back.model.links[j].origin_rotation, m.links[j].origin_rotation)
+          << j << "\n"
+          << text;
+    }
+    EXPECT_EQ(back.model.tip.rotation, m.tip.rotation);
+    if (unit == AngleUnit::kRadian) {
+      EXPECT_NE(text.find("rotation: [1, 0, 0, 0, -2.0510348974767112e-10, "
+                          "-1, 0, 1, -2.0510348974767112e-10]"),
+                std::string::npos)
+          << text;
+    }
+  }
+  std::string text = RobotFileText(m, m.nominal);
+  const size_t at = text.find("rotation: [1, 0, 0,");
+  ASSERT_NE(at, std::string::npos);
+  const size_t end = text.find(']', at) + 1;
+  struct Case {
+    const char* replacement;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"rotation: [1, 0, 0, 0, 1, 0, 0, 0]",
+       "links[0].origin.rotation: expected the 9 entries of a rotation "
+       "matrix, row by row"},
+      {"rotation: [1, 0, 0, 0, 1, 0, 0, 0, 1.01]",
+       "links[0].origin.rotation: not a rotation matrix (orthonormal to "
+       "1e-9, determinant +1)"},
+      {"rotation: [1, 0, 0, 0, 1, 0, 0, 0, -1]", "not a rotation matrix"},
+      {"rotation: [1, 0, 0, 0, 1, 0, 0, 0, x]",
+       "links[0].origin.rotation[8]: expected a number, got 'x'"},
+      {"rpy: [0, 0, 0], rotation: [1, 0, 0, 0, 1, 0, 0, 0, 1]",
+       "links[0].origin.rotation: give rpy or rotation, not both"},
+  };
+  for (const Case& c : cases) {
+    std::string bad = text;
+    bad.replace(at, end - at, c.replacement);
+    RobotDescription back;
+    std::string error;
+    EXPECT_FALSE(ParseRobotDescription(bad, "bad.yaml", &back, &error))
+        << c.replacement;
+    EXPECT_NE(error.find(c.message), std::string::npos) << error;
+    EXPECT_EQ(error.rfind("bad.yaml:", 0), 0u) << error;
+  }
+}
+
 TEST(ModelConventionsTest, StructuralErrorsAreNamed) {
   struct Case {
     const char* name;
@@ -231,6 +354,19 @@ TEST(ModelConventionsTest, StructuralErrorsAreNamed) {
        "convention 'frame' is only allowed for the base"},
       {"axis not unit", [](RobotModel* m) { m->links[0].axis *= 2.0; },
        "the axis a unit vector"},
+      {"origin not a rotation",
+       [](RobotModel* m) { m->links[1].origin_rotation *= 1.001; },
+       "link 'joint2': the URDF origin's rotation is not a rotation matrix "
+       "(orthonormal, determinant +1)"},
+      {"origin a reflection",
+       [](RobotModel* m) { m->links[2].origin_rotation.col(0) *= -1.0; },
+       "link 'joint3': the URDF origin's rotation is not a rotation matrix"},
+      {"origin not finite",
+       [](RobotModel* m) {
+         m->links[0].origin_rotation(1, 1) =
+             std::numeric_limits<double>::quiet_NaN();
+       },
+       "link 'joint1': the URDF origin's rotation is not a rotation matrix"},
       {"no markers", [](RobotModel* m) { m->markers.clear(); }, "no markers"},
       {"duplicate names", [](RobotModel* m) { m->markers[1].name = "tool"; },
        "two parameter blocks are named 'tool'"},

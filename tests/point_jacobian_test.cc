@@ -163,7 +163,7 @@ TEST(PointJacobianTest, UrdfCacheFollowsTheLinkAndTheBits) {
   RobotModel m2 = m;
   for (Link& link : m2.links) {
     if (link.convention != LinkConvention::kUrdf) continue;
-    link.origin_rpy += Eigen::Vector3d(0.1, -0.2, 0.3);
+    link.origin_rotation *= RpyRotation(0.1, -0.2, 0.3);
     link.axis = Eigen::Vector3d(link.axis + Eigen::Vector3d(0.1, 0.2, 0.3))
                     .normalized();
   }

@@ -13,7 +13,6 @@
 
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/calibration/active_loop.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/criteria.h"
@@ -446,71 +445,6 @@ TEST_F(TaskCriterionTest, ABatchWithAPriorHasTheSizeAsked) {
     EXPECT_EQ(g.design.size(), static_cast<size_t>(n));
     EXPECT_LE(s.task_criterion, g.task_criterion * (1 + 1e-12));
   }
-}
-
-// The loop cannot know the truth, but it can see that the identified model
-// does not explain the measurements. A truth carrying an error the model
-// lacks (a parameter held fixed, 2 mm off) leaves residuals well above the
-// noise: the round is flagged and a predicted target is not reported as
-// met. The same loop on a truth the model can express converges with
-// residuals at the noise level.
-TEST(ActiveLoopTest, ResidualsAboveTheNoiseAreNotConvergence) {
-  RobotModel model = Puma560PaperModel();
-  const Eigen::VectorXd truth = Puma560TrueParameters();
-  model.nominal = truth;
-  JointLattice lattice;
-  std::string error;
-  ASSERT_TRUE(JointLattice::Create(model, 3, &lattice, &error)) << error;
-  const Eigen::MatrixXd joints = lattice.AllJointValues();
-  ActiveLoopOptions options;
-  options.sigma_m = 1e-4;
-  options.target_rms_m = 1.0;  // met by the first round's prediction
-  options.first_batch = 40;
-  options.max_rounds = 1;
-  BatchSelector first_poses = [](int, const CandidatePool&,
-                                 const Eigen::MatrixXd&, const RowMatrixXd&,
-                                 const std::vector<int64_t>& measured, int n,
-                                 std::vector<int64_t>* batch, std::string*) {
-    batch->clear();
-    for (int64_t i = 0; static_cast<int>(batch->size()) < n; i += 7) {
-      batch->push_back(i + static_cast<int64_t>(measured.size()));
-    }
-    return true;
-  };
-  ActiveLoopSummary fits;
-  ASSERT_TRUE(
-      RunActiveLoop(model, truth, joints, joints, options, first_poses, &fits))
-      << fits.message;
-  EXPECT_EQ(fits.termination_type, TerminationType::kConvergence)
-      << fits.message;
-  ASSERT_EQ(fits.rounds.size(), 1u);
-  EXPECT_FALSE(fits.rounds[0].residuals_exceed_noise);
-  EXPECT_GT(fits.rounds[0].residual_sigma_m, 0.5 * options.sigma_m);
-  EXPECT_LT(fits.rounds[0].residual_sigma_m, 1.5 * options.sigma_m);
-
-  // An error the model lacks: link 2's length held at a value 2 mm off.
-  const int fixed = 6 * 2 + kA;
-  ASSERT_TRUE(model.IsFree(fixed));
-  model.SetFree(fixed, false);
-  Eigen::VectorXd unmodelled = truth;
-  unmodelled[fixed] += 2e-3;
-  ActiveLoopSummary lacks;
-  ASSERT_TRUE(RunActiveLoop(model, unmodelled, joints, joints, options,
-                            first_poses, &lacks))
-      << lacks.message;
-  ASSERT_EQ(lacks.rounds.size(), 1u);
-  EXPECT_LE(lacks.rounds[0].predicted_task_rms_m, options.target_rms_m);
-  EXPECT_TRUE(lacks.rounds[0].residuals_exceed_noise);
-  EXPECT_GT(lacks.rounds[0].residual_sigma_m, 2 * options.sigma_m);
-  EXPECT_EQ(lacks.termination_type, TerminationType::kNoConvergence);
-  EXPECT_NE(lacks.message.find("does not fit the measurements"),
-            std::string::npos)
-      << lacks.message;
-  // The check can be switched off.
-  options.residual_ratio_limit = 0;
-  ASSERT_TRUE(RunActiveLoop(model, unmodelled, joints, joints, options,
-                            first_poses, &lacks));
-  EXPECT_EQ(lacks.termination_type, TerminationType::kConvergence);
 }
 
 // The rows of poses already measured are whitened to the reference sigma:

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
@@ -112,7 +113,7 @@ inline RobotModel UrdfStyleModel() {
     l.joint_min = i == 2 ? -0.1 : -2.5;
     l.joint_max = i == 2 ? 0.3 : 2.5;
     l.origin_xyz = Eigen::Vector3d(0.1 * i, 0.05, 0.3 - 0.02 * i);
-    l.origin_rpy = Eigen::Vector3d(0.3 * i - 0.2, 0.1, -0.4 + 0.2 * i);
+    l.origin_rotation = RpyRotation(0.3 * i - 0.2, 0.1, -0.4 + 0.2 * i);
     l.axis = axes[i];
     l.free = {true, true, true, true, true, true, true, true};
     m.links.push_back(l);

@@ -7,18 +7,20 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <charconv>
 #include <fstream>
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/tree.hpp>
 #include <kdl_parser/kdl_parser.hpp>
+#include <limits>
 #include <sstream>
 #include <string>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/io/urdf_export.h"
 #include "test_util.h"
 
@@ -31,6 +33,13 @@ std::string DataFile(const std::string& name) {
 
 std::string TestFile(const std::string& name) {
   return std::string(ACTIVECAL_TEST_DATA_DIR) + "/" + name;
+}
+
+// Shortest text that reads back to `v`.
+std::string Text(double v) {
+  char buffer[64];
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), v);
+  return std::string(buffer, end.ptr);
 }
 
 std::string Read(const std::string& path) {
@@ -51,19 +60,18 @@ Eigen::VectorXd RandomInside(const RobotModel& m, Random* random) {
   return q;
 }
 
-// activecal's tip frame against KDL's for the same chain.
-void CompareWithKdl(const std::string& path, const std::string& base,
-                    const std::string& tip) {
-  const std::string xml = Read(path);
-  RobotDescription robot;
-  UrdfChainOptions options;
-  options.base_link = base;
-  options.tip_link = tip;
-  std::string error;
-  ASSERT_TRUE(ParseUrdfRobot(xml, path, options, &robot, &error)) << error;
-  const RobotModel& m = robot.model;
+// The largest difference, over 500 random configurations inside the
+// limits, between activecal's tip frame of `m` at `values` and KDL's for the
+// chain base..tip of `xml` (kdl_parser builds its own tree from the text,
+// reading every origin from urdfdom's quaternion): position entries (m) in
+// *position, rotation-matrix entries in *rotation.
+void KdlDifference(const std::string& xml, const std::string& base,
+                   const std::string& tip, const RobotModel& m,
+                   const Eigen::VectorXd& values, double* position,
+                   double* rotation) {
+  *position = *rotation = std::numeric_limits<double>::infinity();
   KDL::Tree tree;
-  ASSERT_TRUE(kdl_parser::treeFromString(xml, tree));
+  ASSERT_TRUE(kdl_parser::treeFromString(xml, tree)) << xml;
   KDL::Chain chain;
   ASSERT_TRUE(tree.getChain(base, tip, chain));
   ASSERT_EQ(static_cast<int>(chain.getNrOfJoints()), m.num_joints());
@@ -78,7 +86,7 @@ void CompareWithKdl(const std::string& path, const std::string& base,
     ASSERT_GE(fk.JntToCart(kq, frame), 0);
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
-    ForwardKinematics(m, m.nominal, q, &R, &t);
+    ForwardKinematics(m, values, q, &R, &t);
     for (int r = 0; r < 3; ++r) {
       worst = std::max(worst, std::abs(t[r] - frame.p(r)));
       for (int c = 0; c < 3; ++c) {
@@ -87,8 +95,29 @@ void CompareWithKdl(const std::string& path, const std::string& base,
       }
     }
   }
-  EXPECT_LT(worst, 1e-12) << path << ": largest position difference (m)";
-  EXPECT_LT(worst_rotation, 1e-12) << path << ": largest rotation entry";
+  *position = worst;
+  *rotation = worst_rotation;
+}
+
+// activecal's tip frame against KDL's for the same chain of URDF text.
+void CompareTextWithKdl(const std::string& xml, const std::string& source,
+                        const std::string& base, const std::string& tip) {
+  RobotDescription robot;
+  UrdfChainOptions options;
+  options.base_link = base;
+  options.tip_link = tip;
+  std::string error;
+  ASSERT_TRUE(ParseUrdfRobot(xml, source, options, &robot, &error)) << error;
+  double position, rotation;
+  KdlDifference(xml, base, tip, robot.model, robot.model.nominal, &position,
+                &rotation);
+  EXPECT_LT(position, 1e-12) << source << ": largest position difference (m)";
+  EXPECT_LT(rotation, 1e-12) << source << ": largest rotation entry";
+}
+
+void CompareWithKdl(const std::string& path, const std::string& base,
+                    const std::string& tip) {
+  CompareTextWithKdl(Read(path), path, base, tip);
 }
 
 TEST(UrdfRobotTest, Ur10MatchesKdl) {
@@ -101,6 +130,116 @@ TEST(UrdfRobotTest, SevenAxisArmOnARailMatchesKdl) {
   // A chain that ends inside the arm, and one that starts on it.
   CompareWithKdl(TestFile("arm7_rail.urdf"), "world", "camera");
   CompareWithKdl(TestFile("arm7_rail.urdf"), "mount", "tcp");
+}
+
+// A chain whose every origin has pitch `pitch` (text, as written in a
+// URDF): a fixed joint, a revolute, a prismatic and a continuous joint, and
+// a fixed joint after them (the tip transform).
+std::string PitchChain(const std::string& pitch) {
+  auto origin = [&](const char* xyz, const char* roll, const char* yaw) {
+    return std::string("<origin xyz=\"") + xyz + "\" rpy=\"" + roll + " " +
+           pitch + " " + yaw + "\"/>";
+  };
+  return "<robot name=\"pitch\"><link name=\"base\"/><link name=\"a\"/>"
+         "<link name=\"b\"/><link name=\"c\"/><link name=\"d\"/>"
+         "<link name=\"e\"/>"
+         "<joint name=\"fixed_in\" type=\"fixed\"><parent link=\"base\"/>"
+         "<child link=\"a\"/>" +
+         origin("0.1 0.2 0.3", "0.2", "0.1") +
+         "</joint><joint name=\"rev\" type=\"revolute\"><parent "
+         "link=\"a\"/><child link=\"b\"/>" +
+         origin("0.3 -0.1 0.2", "0.2", "0.1") +
+         "<axis xyz=\"0 0 1\"/><limit lower=\"-3\" upper=\"3\" "
+         "effort=\"1\" velocity=\"1\"/></joint>"
+         "<joint name=\"pri\" type=\"prismatic\"><parent link=\"b\"/>"
+         "<child link=\"c\"/>" +
+         origin("0 0.2 0.1", "-0.3", "0.4") +
+         "<axis xyz=\"1 0 0\"/><limit lower=\"0\" upper=\"1\" "
+         "effort=\"1\" velocity=\"1\"/></joint>"
+         "<joint name=\"cont\" type=\"continuous\"><parent link=\"c\"/>"
+         "<child link=\"d\"/>" +
+         origin("0.2 0 0", "0.5", "-0.2") +
+         "<axis xyz=\"0 1 0\"/></joint>"
+         "<joint name=\"fixed_out\" type=\"fixed\"><parent link=\"d\"/>"
+         "<child link=\"e\"/>" +
+         origin("0 0 0.15", "0.1", "0.3") + "</joint></robot>";
+}
+
+// Issue #26, item 1: urdfdom's getRPY snaps a pitch within 0.256 deg of
+// +-90 deg (|sin(pitch)| >= 0.99999) to +-90 deg, so origins on moving
+// joints read through it were turned by up to 4.5 mrad (0.9 mm at the tip
+// for the issue's rpy="0.2 -1.569 0.1"); fixed joints were read right.
+// Every origin is now read from urdfdom's quaternion: KDL's forward
+// kinematics to 1e-12 at pitch exactly +-pi/2, within 1e-12 .. 1e-4 rad of
+// it, just inside (0.252 deg) and outside (0.264 deg) the snapping band,
+// and far from it. (Failed before the fix from the 1e-9 gap on: 1e-9 m.)
+TEST(UrdfRobotTest, OriginsNearPitch90MatchKdl) {
+  const double gaps[] = {0.0,    1e-12,  1e-9, 1e-6, 1e-4,
+                         4.4e-3, 4.6e-3, 0.3,  1.2};
+  for (double sign : {1.0, -1.0}) {
+    for (double gap : gaps) {
+      const std::string pitch = Text(sign * (M_PI / 2 - gap));
+      SCOPED_TRACE("pitch " + pitch);
+      CompareTextWithKdl(PitchChain(pitch), "pitch.urdf", "base", "d");
+      CompareTextWithKdl(PitchChain(pitch), "pitch.urdf", "base", "e");
+      // The moving joints' origins are the quaternions' rotations.
+      RobotDescription robot;
+      std::string error;
+      UrdfChainOptions options;
+      options.tip_link = "e";
+      ASSERT_TRUE(
+          ParseUrdfRobot(PitchChain(pitch), "p.urdf", options, &robot, &error))
+          << error;
+      const double p = sign * (M_PI / 2 - gap);
+      const Eigen::Matrix3d exact = RpyRotation(0.5, p, -0.2);
+      EXPECT_LT(
+          (robot.model.links[2].origin_rotation - exact).cwiseAbs().maxCoeff(),
+          1e-15);
+    }
+  }
+  // The issue's origin and the common 4-digit pi/2.
+  for (const char* pitch : {"-1.569", "1.5708", "-1.5708", "1.57079632679"}) {
+    SCOPED_TRACE(pitch);
+    CompareTextWithKdl(PitchChain(pitch), "pitch.urdf", "base", "e");
+  }
+}
+
+// The same origin on a moving joint and on a fixed joint before a moving
+// joint at the identity: the same forward kinematics (0.9 mm apart before).
+TEST(UrdfRobotTest, AnOriginIsTheSameOnMovingAndFixedJoints) {
+  const std::string origin = "<origin xyz=\"0 0 0.2\" rpy=\"0.2 -1.569 0.1\"/>";
+  const std::string joint_tail =
+      "<axis xyz=\"0 0 1\"/><limit lower=\"-3\" upper=\"3\" effort=\"1\" "
+      "velocity=\"1\"/></joint><joint name=\"t\" type=\"fixed\"><parent "
+      "link=\"b\"/><child link=\"c\"/><origin xyz=\"0.5 0 0\"/></joint>"
+      "</robot>";
+  const std::string links =
+      "<link name=\"a\"/><link name=\"b\"/><link name=\"c\"/>";
+  const std::string moving =
+      "<robot name=\"m\">" + links +
+      "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child "
+      "link=\"b\"/>" +
+      origin + joint_tail;
+  const std::string fixed =
+      "<robot name=\"f\">" + links +
+      "<link name=\"f\"/><joint name=\"pre\" type=\"fixed\"><parent "
+      "link=\"a\"/><child link=\"f\"/>" +
+      origin +
+      "</joint><joint name=\"j\" type=\"revolute\"><parent link=\"f\"/>"
+      "<child link=\"b\"/>" +
+      joint_tail;
+  RobotDescription a, b;
+  std::string error;
+  ASSERT_TRUE(ParseUrdfRobot(moving, "moving.urdf", {}, &a, &error)) << error;
+  ASSERT_TRUE(ParseUrdfRobot(fixed, "fixed.urdf", {}, &b, &error)) << error;
+  for (double q : {-2.0, 0.0, 0.7}) {
+    const Eigen::VectorXd qv = Eigen::VectorXd::Constant(1, q);
+    EXPECT_LT((MeasuredPoint(a.model, a.model.nominal, qv) -
+               MeasuredPoint(b.model, b.model.nominal, qv))
+                  .norm(),
+              1e-15)
+        << q;
+  }
 }
 
 TEST(UrdfRobotTest, ChainStructure) {
@@ -383,6 +522,287 @@ TEST(UrdfExportTest, DhModelsAsUrdfMatchKdl) {
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("'L4' has gain 0.98"), std::string::npos)
       << warnings[0];
+}
+
+// Issue #26, item 2: --urdf_out failed its own reload check by 1.6-3 mm on
+// chains with origins near pitch 90 deg (rpy="1.5708 -1.5708 -1.5708", a
+// prismatic first joint): the file's origins and the written ones were
+// read through urdfdom's snapping getRPY. The export is now exact: the
+// calibrated file (full corrections, then offsets only), the URDF written
+// from the model, and that model through the robot YAML file all reload
+// to 1e-9 m, and KDL agrees with the model to 1e-12 m. (Failed before the
+// fix: 2.2e-3 m.)
+TEST(UrdfExportTest, Pitch90ChainsExportExactly) {
+  UrdfChainOptions chain;
+  chain.tip_link = "tool";
+  const std::string path = TestFile("pitch90_arm.urdf");
+  CheckCalibratedExport(path, chain, 6);
+  const std::string xml = Read(path);
+  RobotDescription robot;
+  std::string error;
+  ASSERT_TRUE(ParseUrdfRobot(xml, path, chain, &robot, &error)) << error;
+  const RobotModel& m = robot.model;
+  const std::vector<Measurement> measurements = RandomMeasurements(m, 100, 7);
+  // --parameter_set=offsets: joint offsets, base frame and tool point.
+  Eigen::VectorXd offsets = m.nominal;
+  for (int b = 1; b <= m.num_joints(); ++b) {
+    offsets[m.block_offset(b) + kUrdfOffset] = 0.003 * b - 0.01;
+  }
+  offsets.head(6) << 0.1, -0.2, 0.3, 0.01, -0.02, 0.5;
+  offsets.tail(6).head(3) << 0.01, 0.02, 0.03;
+  std::string out;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(
+      CalibratedUrdfText(xml, path, chain, m, offsets, &out, &warnings, &error))
+      << error;
+  double worst = 1.0;
+  ASSERT_TRUE(CheckUrdfAgainstModel(out, "out.urdf", chain, m, offsets,
+                                    measurements, &worst, &error))
+      << error;
+  EXPECT_LT(worst, 1e-9) << "offsets";
+  // The URDF written from the model (links base_link .. tip), from the
+  // model read from the file and from the model through the YAML file.
+  const Eigen::VectorXd values = Perturbed(m, 11);
+  RobotDescription yaml;
+  ASSERT_TRUE(
+      ParseRobotDescription(RobotFileText(m, values), "m.yaml", &yaml, &error))
+      << error;
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  Random random(3);
+  const std::vector<const RobotModel*> models = {&m, &yaml.model};
+  for (const RobotModel* model : models) {
+    const Eigen::VectorXd& v = model == &m ? values : yaml.model.nominal;
+    const std::string text = UrdfFromModel(*model, v, &warnings);
+    EXPECT_TRUE(warnings.empty());
+    ASSERT_TRUE(CheckUrdfAgainstModel(text, "gen.urdf", generated, *model, v,
+                                      measurements, &worst, &error))
+        << error;
+    EXPECT_LT(worst, 1e-9) << (model == &m ? "from the URDF" : "from YAML");
+    // KDL's chain starts at base_link: the model at the identity base.
+    Eigen::VectorXd at_base = v;
+    at_base.head(6).setZero();
+    double position, rotation;
+    KdlDifference(text, "base_link", "tip", *model, at_base, &position,
+                  &rotation);
+    EXPECT_LT(position, 1e-12);
+    EXPECT_LT(rotation, 1e-12);
+    // The robot YAML file holds the origins to rounding: the same points.
+    const Eigen::VectorXd q = RandomInside(m, &random);
+    EXPECT_LT(
+        (MeasuredPoint(*model, v, q) - MeasuredPoint(m, values, q)).norm(),
+        1e-14);
+  }
+}
+
+// Issue #26, item 10: a joint name holding an XML entity (name="j2 &amp;
+// b", the joint "j2 & b") was compared as raw attribute text: "cannot find
+// the <joint ...> element". Names are compared as the parser reads them
+// (entities and character references replaced, either quote) and written
+// escaped. (Failed before the fix.)
+TEST(UrdfExportTest, JointNamesWithXmlEntities) {
+  std::string xml = Read(TestFile("arm7_rail.urdf"));
+  const std::pair<std::string, std::string> renames[] = {
+      {"name=\"j2\"", "name=\"j2 &amp; b\""},
+      {"name=\"j3\"", "name='a &lt;3&gt;'"},
+      {"name=\"j4\"", "name=\"say &quot;4&quot;\""},
+      {"name=\"j5\"", "name=\"it&apos;s 5\""},
+      {"name=\"j6\"", "name=\"&#106;&#x36;\""}};
+  for (const auto& [from, to] : renames) {
+    ASSERT_NE(xml.find(from), std::string::npos) << from;
+    xml.replace(xml.find(from), from.size(), to);
+  }
+  UrdfChainOptions chain;
+  chain.tip_link = "tcp";
+  RobotDescription robot;
+  std::string error;
+  ASSERT_TRUE(ParseUrdfRobot(xml, "names.urdf", chain, &robot, &error))
+      << error;
+  const RobotModel& m = robot.model;
+  const std::vector<std::string> names = {
+      "rail", "j1", "j2 & b", "a <3>", "say \"4\"", "it's 5", "j6", "j7"};
+  for (int j = 0; j < m.num_joints(); ++j) EXPECT_EQ(m.links[j].name, names[j]);
+  const Eigen::VectorXd values = Perturbed(m, 12);
+  std::string out;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(CalibratedUrdfText(xml, "names.urdf", chain, m, values, &out,
+                                 &warnings, &error))
+      << error;
+  double worst = 1.0;
+  const std::vector<Measurement> measurements = RandomMeasurements(m, 50, 9);
+  ASSERT_TRUE(CheckUrdfAgainstModel(out, "out.urdf", chain, m, values,
+                                    measurements, &worst, &error))
+      << error;
+  EXPECT_LT(worst, 1e-9);
+  const std::vector<std::string> changed = ChangedLines(xml, out);
+  EXPECT_EQ(changed.size(), 8u);
+  for (const std::string& line : changed) {
+    EXPECT_NE(line.find("<origin"), std::string::npos) << line;
+  }
+  // Written from the model: the names escaped, read back as they were.
+  const std::string text = UrdfFromModel(m, values, &warnings);
+  EXPECT_NE(text.find("name=\"j2 &amp; b\""), std::string::npos);
+  EXPECT_NE(text.find("name=\"it&apos;s 5\""), std::string::npos);
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  RobotDescription back;
+  ASSERT_TRUE(ParseUrdfRobot(text, "gen.urdf", generated, &back, &error))
+      << error;
+  for (int j = 0; j < m.num_joints(); ++j) {
+    EXPECT_EQ(back.model.links[j].name, names[j]);
+  }
+  ASSERT_TRUE(CheckUrdfAgainstModel(text, "gen.urdf", generated, m, values,
+                                    measurements, &worst, &error))
+      << error;
+  EXPECT_LT(worst, 1e-9);
+  KDL::Tree tree;
+  EXPECT_TRUE(kdl_parser::treeFromString(text, tree));
+}
+
+// The elements <joint name="..."> of a URDF's text, in order.
+std::vector<std::string> JointElements(const std::string& xml) {
+  std::vector<std::string> out;
+  for (size_t at = xml.find("<joint "); at != std::string::npos;
+       at = xml.find("<joint ", at + 1)) {
+    out.push_back(xml.substr(at, xml.find("</joint>", at) - at));
+  }
+  return out;
+}
+
+// Issue #26, item 11: a model with continuous joints (unbounded ranges)
+// was written as type="revolute" without limits, which urdfdom refuses.
+// Unbounded revolute joints are written continuous, finite ones revolute
+// with their limits; ranges a URDF cannot hold (one end unbounded) are
+// reported. urdfdom and KDL read the file and it reloads to 1e-9 m.
+// (Failed before the fix: "Joint [joint2] is of type REVOLUTE but it does
+// not specify limits".)
+TEST(UrdfExportTest, ContinuousJointsAreWrittenContinuous) {
+  const double inf = std::numeric_limits<double>::infinity();
+  RobotModel urdf_style = testing::UrdfStyleModel();
+  urdf_style.links[0].joint_min = -inf;  // one end: continuous, reported
+  urdf_style.links[1].joint_min = -inf;  // continuous
+  urdf_style.links[1].joint_max = inf;
+  urdf_style.links[2].joint_max = inf;  // prismatic: reported
+  // A DH model from a robot YAML file with a continuous joint.
+  RobotModel mixed = testing::MixedModel();
+  for (int b = 1; b <= mixed.num_joints(); ++b) {
+    mixed.nominal[mixed.block_offset(b) + kGain] = 1.0;
+  }
+  mixed.links[3].joint_min = -inf;
+  mixed.links[3].joint_max = inf;
+  RobotDescription yaml;
+  std::string error;
+  ASSERT_TRUE(ParseRobotDescription(RobotFileText(mixed, mixed.nominal),
+                                    "mixed.yaml", &yaml, &error))
+      << error;
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  for (const RobotModel* m : {&urdf_style, &yaml.model}) {
+    SCOPED_TRACE(m->name);
+    std::vector<std::string> warnings;
+    const std::string xml = UrdfFromModel(*m, m->nominal, &warnings);
+    const std::vector<std::string> joints = JointElements(xml);
+    ASSERT_EQ(static_cast<int>(joints.size()), m->num_joints() + 1);
+    for (int j = 0; j < m->num_joints(); ++j) {
+      const Link& l = m->links[j];
+      const bool revolute = l.joint_type == JointType::kRevolute;
+      const bool bounded =
+          std::isfinite(l.joint_min) && std::isfinite(l.joint_max);
+      const char* type = !revolute ? "type=\"prismatic\""
+                         : bounded ? "type=\"revolute\""
+                                   : "type=\"continuous\"";
+      EXPECT_NE(joints[j].find(type), std::string::npos) << joints[j];
+      EXPECT_EQ(joints[j].find("<limit") == std::string::npos,
+                revolute && !bounded)
+          << joints[j];
+    }
+    RobotDescription back;
+    ASSERT_TRUE(ParseUrdfRobot(xml, "gen.urdf", generated, &back, &error))
+        << error;
+    for (int j = 0; j < m->num_joints(); ++j) {
+      const Link& l = m->links[j];
+      const Link& r = back.model.links[j];
+      if (std::isfinite(l.joint_min) && std::isfinite(l.joint_max)) {
+        EXPECT_EQ(r.joint_min, l.joint_min);
+        EXPECT_EQ(r.joint_max, l.joint_max);
+      } else if (l.joint_type == JointType::kRevolute) {
+        EXPECT_TRUE(std::isinf(r.joint_min) && std::isinf(r.joint_max));
+      }
+    }
+    double worst = 1.0;
+    ASSERT_TRUE(CheckUrdfAgainstModel(xml, "gen.urdf", generated, *m,
+                                      m->nominal, RandomMeasurements(*m, 50, 3),
+                                      &worst, &error))
+        << error;
+    EXPECT_LT(worst, 1e-9);
+    // KDL's chain starts at base_link: a 6-DOF base at the identity.
+    Eigen::VectorXd at_base = m->nominal;
+    if (m->base.convention == LinkConvention::kFrame) at_base.head(6).setZero();
+    double position, rotation;
+    KdlDifference(xml, "base_link", "tip", *m, at_base, &position, &rotation);
+    EXPECT_LT(position, 1e-12);
+    EXPECT_LT(rotation, 1e-12);
+    if (m == &urdf_style) {
+      ASSERT_EQ(warnings.size(), 2u);
+      EXPECT_NE(warnings[0].find("joint 'joint1' has the range [-inf, 2.5] "
+                                 "rad, which a URDF cannot hold"),
+                std::string::npos)
+          << warnings[0];
+      EXPECT_NE(warnings[1].find("joint 'joint3' has the range [-0.1, inf] m"),
+                std::string::npos)
+          << warnings[1];
+    } else {
+      EXPECT_TRUE(warnings.empty());
+    }
+  }
+}
+
+// Issue #26, item 12: a robot with a link named "tip_fixed" was written
+// with two joints of that name ("joint 'tip_fixed' is not unique"). The
+// generated joint takes a name no joint of the model has; the generated
+// links (base_link, link1 .. linkN, tip) live apart from the joints' names.
+// Every generated name as a link name of the model, and several at once.
+// (Failed before the fix for "tip_fixed".)
+TEST(UrdfExportTest, GeneratedNamesNeverCollide) {
+  const std::vector<std::vector<std::string>> cases = {
+      {"tip_fixed"},
+      {"base_link"},
+      {"link1"},
+      {"link2"},
+      {"tip"},
+      {"tip_fixed_2"},
+      {"tip_fixed", "tip_fixed_2", "tip_fixed_3", "tip"}};
+  UrdfChainOptions generated;
+  generated.base_link = "base_link";
+  generated.tip_link = "tip";
+  for (const std::vector<std::string>& names : cases) {
+    SCOPED_TRACE(names[0]);
+    RobotModel m = testing::MixedModel();
+    for (int b = 1; b <= m.num_joints(); ++b) {
+      m.nominal[m.block_offset(b) + kGain] = 1.0;
+    }
+    for (size_t k = 0; k < names.size(); ++k) m.links[k].name = names[k];
+    std::vector<std::string> warnings;
+    const std::string xml = UrdfFromModel(m, m.nominal, &warnings);
+    RobotDescription back;
+    std::string error;
+    ASSERT_TRUE(ParseUrdfRobot(xml, "gen.urdf", generated, &back, &error))
+        << error;
+    for (int j = 0; j < m.num_joints(); ++j) {
+      EXPECT_EQ(back.model.links[j].name, m.links[j].name);
+    }
+    double worst = 1.0;
+    ASSERT_TRUE(CheckUrdfAgainstModel(xml, "gen.urdf", generated, m, m.nominal,
+                                      RandomMeasurements(m, 30, 1), &worst,
+                                      &error))
+        << error;
+    EXPECT_LT(worst, 1e-9);
+    KDL::Tree tree;
+    EXPECT_TRUE(kdl_parser::treeFromString(xml, tree));
+  }
 }
 
 }  // namespace

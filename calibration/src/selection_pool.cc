@@ -89,6 +89,27 @@ bool FitsInMemory(int64_t pool_size, double need, bool lower_bound,
   return false;
 }
 
+// The preprocess hook: the rows options.filter keeps, into *kept_joints.
+bool ApplyPoolFilter(const SelectionPoolOptions& options,
+                     const Eigen::MatrixXd& pool_joints,
+                     Eigen::MatrixXd* kept_joints,
+                     SelectionPoolSummary* summary) {
+  summary->filtered = true;
+  if (!options.filter(pool_joints, &summary->kept, &summary->filter_note)) {
+    summary->message = "pool filter: " + summary->filter_note;
+    return false;
+  }
+  if (summary->kept.empty()) {
+    summary->message = "no pose of the pool is left: " + summary->filter_note;
+    return false;
+  }
+  kept_joints->resize(summary->kept.size(), pool_joints.cols());
+  for (size_t k = 0; k < summary->kept.size(); ++k) {
+    kept_joints->row(k) = pool_joints.row(summary->kept[k]);
+  }
+  return true;
+}
+
 }  // namespace
 
 bool CheckSelectionPoolSize(int64_t pool_size, const RobotModel& model,
@@ -103,7 +124,7 @@ bool CheckSelectionPoolSize(int64_t pool_size, const RobotModel& model,
       available_bytes, error);
 }
 
-bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
+bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
                         const SelectionPoolOptions& options,
                         CandidatePool* pool, SelectionPoolSummary* summary) {
   *summary = SelectionPoolSummary();
@@ -113,6 +134,14 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
     summary->message = error;
     return false;
   }
+  // The preprocess (a cell's): everything below sees the rows kept.
+  Eigen::MatrixXd kept_joints;
+  if (options.filter &&
+      !ApplyPoolFilter(options, all_joints, &kept_joints, summary)) {
+    return false;
+  }
+  const Eigen::MatrixXd& pool_joints =
+      options.filter ? kept_joints : all_joints;
   {
     const Eigen::MatrixXd sample =
         SubsampleRows(pool_joints, options.reduction_sample_size);
@@ -164,6 +193,8 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
   if (!BuildCandidatePool(model, model->nominal, pool_joints, pool_options,
                           pool, &summary->pool)) {
     summary->message = summary->pool.message;
+    if (summary->filtered)
+      summary->message += " (" + summary->filter_note + ")";
     return false;
   }
   summary->termination_type = TerminationType::kConvergence;

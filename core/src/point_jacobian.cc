@@ -132,16 +132,15 @@ const PointJacobianWorkspace::UrdfLinkCache& PrepareUrdfLink(
     const Link& link, const double* p,
     PointJacobianWorkspace::UrdfLinkCache* c) {
   constexpr int n = kMaxBlockSize;
-  double key[n + 6];
+  constexpr int size = PointJacobianWorkspace::UrdfLinkCache::kKeySize;
+  double key[size];
   std::copy(p, p + n, key);
-  for (int k = 0; k < 3; ++k) {
-    key[n + k] = link.origin_rpy[k];
-    key[n + 3 + k] = link.axis[k];
-  }
+  std::copy(link.origin_rotation.data(), link.origin_rotation.data() + 9,
+            key + n);
+  std::copy(link.axis.data(), link.axis.data() + 3, key + n + 9);
   if (c->valid && std::memcmp(key, c->key, sizeof(key)) == 0) return *c;
-  std::copy(key, key + n + 6, c->key);
-  c->origin_rotation =
-      RpyRotation(link.origin_rpy[0], link.origin_rpy[1], link.origin_rpy[2]);
+  std::copy(key, key + size, c->key);
+  c->origin_rotation = link.origin_rotation;
   c->correction_rotation = RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]);
   c->link_rotation = c->origin_rotation * c->correction_rotation;
   c->axis = c->correction_rotation * link.axis;

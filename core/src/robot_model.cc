@@ -2,13 +2,35 @@
 
 #include <glog/logging.h>
 
+#include <Eigen/LU>
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
 
 namespace activecal {
+namespace {
+
+// A proper rotation to rounding: orthonormal and of determinant +1.
+bool IsRotation(const Eigen::Matrix3d& R) {
+  return R.allFinite() &&
+         (R.transpose() * R - Eigen::Matrix3d::Identity())
+                 .cwiseAbs()
+                 .maxCoeff() <= 1e-9 &&
+         R.determinant() > 0.0;
+}
+
+// The largest entry of |RpyRotation(angles * unit) - R|.
+double RpyError(const Eigen::Vector3d& angles, double unit,
+                const Eigen::Matrix3d& R) {
+  const Eigen::Vector3d a = angles * unit;
+  return (RpyRotation(a[0], a[1], a[2]) - R).cwiseAbs().maxCoeff();
+}
+
+}  // namespace
 
 int LinkBlockSize(LinkConvention convention) {
   return convention == LinkConvention::kUrdf ? 8 : 6;
@@ -294,11 +316,14 @@ bool RobotModel::Validate(std::string* error) const {
         msg << "link '" << block_name(b) << "': joint range [" << l.joint_min
             << ", " << l.joint_max << "] is empty or not a number";
       } else if (l.convention == LinkConvention::kUrdf &&
-                 (!l.origin_xyz.allFinite() || !l.origin_rpy.allFinite() ||
-                  !l.axis.allFinite() ||
+                 (!l.origin_xyz.allFinite() || !l.axis.allFinite() ||
                   std::abs(l.axis.norm() - 1.0) > 1e-9)) {
         msg << "link '" << block_name(b) << "': the URDF origin must be "
             << "finite and the axis a unit vector";
+      } else if (l.convention == LinkConvention::kUrdf &&
+                 !IsRotation(l.origin_rotation)) {
+        msg << "link '" << block_name(b) << "': the URDF origin's rotation "
+            << "is not a rotation matrix (orthonormal, determinant +1)";
       } else {
         for (int j = LinkBlockSize(l.convention); j < kMaxBlockSize; ++j) {
           if (l.free[j]) {
@@ -432,6 +457,40 @@ Eigen::Vector3d RotationToRpy(const Eigen::Matrix3d& R) {
       std::atan2(s * R(0, 2) - c * R(1, 2), c * R(1, 1) - s * R(0, 1));
   const double pitch = std::atan2(-R(2, 0), c * R(0, 0) + s * R(1, 0));
   return Eigen::Vector3d(roll, pitch, yaw);
+}
+
+Eigen::Vector3d RotationToShortRpy(const Eigen::Matrix3d& R, double unit) {
+  // The angles, and those of the other branch (pitch beyond +-pi/2: R =
+  // Rz(yaw + pi) Ry(pi - pitch) Rx(roll + pi)), wrapped to (-pi, pi].
+  const Eigen::Vector3d rpy = RotationToRpy(R);
+  auto wrap = [](double a) {
+    return a > M_PI ? a - 2 * M_PI : (a <= -M_PI ? a + 2 * M_PI : a);
+  };
+  const Eigen::Vector3d branches[2] = {
+      rpy / unit, Eigen::Vector3d(wrap(rpy[0] + M_PI),
+                                  wrap((rpy[1] < 0 ? -M_PI : M_PI) - rpy[1]),
+                                  wrap(rpy[2] + M_PI)) /
+                      unit};
+  // The fewest decimal places at which the angles of either branch read
+  // back to exactly R (a rotation read from short decimals gets them back,
+  // whichever way they were written).
+  for (const Eigen::Vector3d& raw : branches) {
+    for (int places = 0; places <= 20; ++places) {
+      Eigen::Vector3d rounded;
+      for (int k = 0; k < 3; ++k) {
+        // Locale-independent decimal text, and back.
+        char text[64];
+        const std::to_chars_result end =
+            std::to_chars(text, text + sizeof(text), raw[k],
+                          std::chars_format::fixed, places);
+        double value = raw[k];
+        std::from_chars(text, end.ptr, value);
+        rounded[k] = value + 0.0;  // no -0
+      }
+      if (RpyError(rounded, unit, R) == 0.0) return rounded;
+    }
+  }
+  return branches[0];
 }
 
 Eigen::VectorXd ExtractFree(const RobotModel& model,

@@ -19,12 +19,20 @@ std::vector<std::string> EstimateWarnings(
   auto is_length = [&](int k) {
     return std::string(model.ParameterUnit(free[k])) == "m";
   };
+  // Stated sigmas that the residuals contradict (chi^2 / dof outside its
+  // 99.9 % interval): the std the implied noise gives.
+  const bool scaled = !summary.chi_square_plausible &&
+                      summary.scaled_standard_deviations.size() == p;
+  const Eigen::VectorXd& std_used =
+      scaled ? summary.scaled_standard_deviations : summary.standard_deviations;
+  const std::string std_label =
+      scaled ? " std (scaled by sqrt(chi^2 / dof))" : " std";
   for (int k = 0; k < p; ++k) {
-    const double sd = summary.standard_deviations[k];
+    const double sd = std_used[k];
     const double limit = is_length(k) ? options.max_std_m : options.max_std_rad;
     if (sd > limit) {
       std::ostringstream line;
-      line << summary.names[k] << " has std " << sd << " "
+      line << summary.names[k] << " has" << std_label << " " << sd << " "
            << model.ParameterUnit(free[k]) << " > " << limit
            << ": the measurements hardly determine it";
       lines.push_back(line.str());
@@ -91,7 +99,7 @@ std::vector<std::string> EstimateWarnings(
     const int i = free[k];
     const int block = model.BlockOf(i);
     if (block == 0 || model.is_marker_block(block)) continue;
-    const double sd = summary.standard_deviations[k];
+    const double sd = std_used[k];
     const double moved = summary.estimates[k] - model.nominal[i];
     if (sd > 0 && std::abs(moved) > options.max_moved_std * sd) {
       moved_line << (num_moved++ ? ", " : " ") << summary.names[k] << " "
@@ -102,8 +110,8 @@ std::vector<std::string> EstimateWarnings(
   if (num_moved > 0) {
     std::ostringstream line;
     line << num_moved << " link parameter" << (num_moved > 1 ? "s" : "")
-         << " moved more than " << options.max_moved_std
-         << " std from nominal (is the nominal model the right one?):"
+         << " moved more than " << options.max_moved_std << std_label
+         << " from nominal (is the nominal model the right one?):"
          << moved_line.str();
     lines.push_back(line.str());
   }

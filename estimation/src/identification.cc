@@ -7,6 +7,7 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -17,8 +18,11 @@
 
 namespace activecal {
 namespace {
-// Columns shorter than this times the longest are taken as zero.
-constexpr double kNoEffectTolerance = 1e-12;
+// Columns shorter than this times the longest are taken as zero
+// (residuals/jacobians.h).
+constexpr double kNoEffectTolerance = kNoEffectRelativeNorm;
+// Each tail of the chi-square interval of IdentificationSummary (99.9 %).
+constexpr double kChiSquareTail = 0.0005;
 }  // namespace
 
 const char* RobustLossName(RobustLoss loss) {
@@ -614,6 +618,15 @@ void Identify(const RobotModel& model,
     summary->chi_square_per_dof = summary->chi_square / dof;
     summary->implied_sigma_m =
         std::sqrt(summary->chi_square_per_dof) * rms_sigma_m;
+    const boost::math::chi_squared_distribution<double> chi2(dof);
+    summary->chi_square_per_dof_low =
+        boost::math::quantile(chi2, kChiSquareTail) / dof;
+    summary->chi_square_per_dof_high =
+        boost::math::quantile(boost::math::complement(chi2, kChiSquareTail)) /
+        dof;
+    summary->chi_square_plausible =
+        summary->chi_square_per_dof >= summary->chi_square_per_dof_low &&
+        summary->chi_square_per_dof <= summary->chi_square_per_dof_high;
   }
   if (dof <= 0) {
     std::ostringstream msg;
@@ -666,6 +679,10 @@ void Identify(const RobotModel& model,
           ? Eigen::MatrixXd(cov)
           : Eigen::MatrixXd(cov * (summary->sigma_m * summary->sigma_m));
   summary->standard_deviations = summary->covariance.diagonal().cwiseSqrt();
+  if (summary->weighted) {
+    summary->scaled_standard_deviations =
+        summary->standard_deviations * std::sqrt(summary->chi_square_per_dof);
+  }
   summary->correlation = summary->covariance;
   for (int i = 0; i < p; ++i) {
     for (int j = 0; j < p; ++j) {
@@ -695,6 +712,15 @@ std::string IdentificationSummary::BriefReport() const {
         << chi_square_per_dof << " (" << degrees_of_freedom
         << " dof); the residuals imply " << implied_sigma_m
         << " m per position row\n";
+    if (!chi_square_plausible) {
+      out << "  chi^2 / dof = " << chi_square_per_dof
+          << " is outside the 99.9 % interval of chi-square for "
+          << degrees_of_freedom << " dof [" << chi_square_per_dof_low << ", "
+          << chi_square_per_dof_high
+          << "]: the stated sigmas do not describe the residuals; std "
+             "scaled by sqrt(chi^2 / dof) = "
+          << std::sqrt(chi_square_per_dof) << " are given beside them\n";
+    }
   }
   if (with_prior) out << "  MAP fit: a prior on the link parameters\n";
   if (!outliers.empty()) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/QR>
 #include <algorithm>
+#include <boost/math/distributions/fisher_f.hpp>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,8 +13,8 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
-#include "activecal/residuals/jacobians.h"
 #include "activecal/estimation/registration_fit.h"
+#include "activecal/residuals/jacobians.h"
 
 namespace activecal {
 
@@ -52,6 +53,32 @@ bool ParseParameterRanking(const std::string& name, ParameterRanking* ranking) {
        {ParameterRanking::kSignificance, ParameterRanking::kJacobian}) {
     if (name == ParameterRankingName(r)) {
       *ranking = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* SelectionRuleName(SelectionRule rule) {
+  switch (rule) {
+    case SelectionRule::kMinimum:
+      return "min";
+    case SelectionRule::kFewestWithinOneSe:
+      return "1se";
+    case SelectionRule::kMostWithinOneSe:
+      return "1se_most";
+    case SelectionRule::kFTest:
+      return "ftest";
+  }
+  return "unknown";
+}
+
+bool ParseSelectionRule(const std::string& name, SelectionRule* rule) {
+  for (SelectionRule r :
+       {SelectionRule::kMinimum, SelectionRule::kFewestWithinOneSe,
+        SelectionRule::kMostWithinOneSe, SelectionRule::kFTest}) {
+    if (name == SelectionRuleName(r)) {
+      *rule = r;
       return true;
     }
   }
@@ -143,11 +170,14 @@ std::vector<int> RankBySignificance(const RobotModel& model,
   return order;
 }
 
-bool AssignPoseFolds(const std::vector<Measurement>& measurements,
-                     int num_folds, uint64_t seed, std::vector<int>* fold,
-                     int* num_poses, std::string* error) {
+namespace {
+
+// The pose of each measurement (0-based, in order of first appearance):
+// equal joint values, a distance by both poses. Returns the pose count.
+int PoseIds(const std::vector<Measurement>& measurements,
+            std::vector<int>* pose) {
   std::map<std::vector<double>, int> pose_of;
-  std::vector<int> pose(measurements.size());
+  pose->resize(measurements.size());
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     std::vector<double> key(m.joints.data(), m.joints.data() + m.joints.size());
@@ -157,9 +187,18 @@ bool AssignPoseFolds(const std::vector<Measurement>& measurements,
                  m.joints2.data() + m.joints2.size());
     }
     auto it = pose_of.emplace(key, static_cast<int>(pose_of.size())).first;
-    pose[i] = it->second;
+    (*pose)[i] = it->second;
   }
-  const int n = static_cast<int>(pose_of.size());
+  return static_cast<int>(pose_of.size());
+}
+
+}  // namespace
+
+bool AssignPoseFolds(const std::vector<Measurement>& measurements,
+                     int num_folds, uint64_t seed, std::vector<int>* fold,
+                     int* num_poses, std::string* error) {
+  std::vector<int> pose;
+  const int n = PoseIds(measurements, &pose);
   if (num_poses) *num_poses = n;
   if (num_folds < 2 || n < num_folds) {
     if (error) {
@@ -182,6 +221,9 @@ bool AssignPoseFolds(const std::vector<Measurement>& measurements,
 
 namespace {
 
+// The level of the F test of SelectionRule::kFTest.
+constexpr double kFTestLevel = 0.01;
+
 // The model with only the first `kept` ranked parameters free.
 RobotModel Keep(const RobotModel& model, const std::vector<int>& free,
                 const std::vector<int>& ranking, int kept) {
@@ -191,18 +233,31 @@ RobotModel Keep(const RobotModel& model, const std::vector<int>& free,
   return m;
 }
 
-// Sum of squared residual norms of `measurements` at `parameters`.
-bool SumSquares(const RobotModel& model, const Eigen::VectorXd& parameters,
-                const std::vector<Measurement>& measurements,
-                double rotation_weight, double* sum) {
+// Squared residual norms of `measurements` at `parameters`.
+bool SquaredNorms(const RobotModel& model, const Eigen::VectorXd& parameters,
+                  const std::vector<Measurement>& measurements,
+                  double rotation_weight, Eigen::VectorXd* squares) {
   Eigen::VectorXd norms;
   std::string error;
   if (!MeasurementErrors(model, parameters, measurements, rotation_weight,
                          &norms, &error)) {
     return false;
   }
-  *sum = norms.squaredNorm();
-  return std::isfinite(*sum);
+  *squares = norms.cwiseAbs2();
+  return squares->allFinite();
+}
+
+// sqrt(n * sample variance of v) / divisor: the standard error of
+// sum(v) / divisor for n = v.size() independent terms.
+double StandardErrorOfSum(const std::vector<double>& v, double divisor) {
+  const int n = static_cast<int>(v.size());
+  if (n < 2) return 0.0;
+  double mean = 0.0;
+  for (double x : v) mean += x;
+  mean /= n;
+  double ss = 0.0;
+  for (double x : v) ss += (x - mean) * (x - mean);
+  return std::sqrt(n * ss / (n - 1)) / divisor;
 }
 
 }  // namespace
@@ -241,8 +296,13 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
     return;
   }
   // Splits: 0 is the whole training set; 1..F the folds of a
-  // cross-validation (training part, held-out part).
+  // cross-validation (training part, held-out part). held_index: each
+  // held-out measurement's place among all held-out ones (the training
+  // measurements with cv, the validation ones otherwise).
   std::vector<std::vector<Measurement>> split_train(1, training), split_test(1);
+  std::vector<std::vector<int>> held_index(1);
+  std::vector<int> held_pose;
+  int num_held_poses = 0;
   if (options.method == ModelSelectionMethod::kCrossValidation) {
     std::vector<int> fold;
     if (!AssignPoseFolds(training, options.num_folds, options.seed, &fold,
@@ -251,12 +311,15 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
     }
     split_train.resize(options.num_folds + 1);
     split_test.resize(options.num_folds + 1);
+    held_index.resize(options.num_folds + 1);
     for (size_t i = 0; i < training.size(); ++i) {
       for (int f = 0; f < options.num_folds; ++f) {
         (fold[i] == f ? split_test : split_train)[f + 1].push_back(training[i]);
       }
+      held_index[fold[i] + 1].push_back(static_cast<int>(i));
     }
     summary->num_held_out = static_cast<int>(training.size());
+    num_held_poses = PoseIds(training, &held_pose);
   } else {
     if (validation.empty()) {
       return fail(TerminationType::kUserFailure,
@@ -269,8 +332,10 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
             TerminationType::kUserFailure,
             "validation measurement " + std::to_string(i) + ": " + error);
       }
+      held_index[0].push_back(static_cast<int>(i));
     }
     summary->num_held_out = static_cast<int>(validation.size());
+    num_held_poses = PoseIds(validation, &held_pose);
   }
   const int num_splits = static_cast<int>(split_train.size());
   const int threads = ResolveNumThreads(options.num_threads);
@@ -314,14 +379,15 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
   for (int k : rankings[0]) summary->ranking.push_back(names[k]);
   const int first = std::max(1, summary->num_registration);
   const int num_points = p - first + 1;
-  // Per (point, split): converged, training RMS, held-out sum of squares.
-  // Each split walks up the curve, every fit started from the one before
-  // (the added parameter at its start value): the splits run in parallel,
-  // the points of one split in order, so the result does not depend on the
-  // thread count.
+  // Per (point, split): converged, training RMS and cost, the held-out
+  // squared norms. Each split walks up the curve, every fit started from
+  // the one before (the added parameter at its start value): the splits
+  // run in parallel, the points of one split in order, so the result does
+  // not depend on the thread count.
   const int num_tasks = num_points * num_splits;
-  std::vector<char> ok(num_tasks, 0);
-  std::vector<double> train_rms(num_tasks, 0.0), held_sum(num_tasks, 0.0);
+  std::vector<char> ok(num_tasks, 0), fitted(num_tasks, 0);
+  std::vector<double> train_rms(num_tasks, 0.0), train_cost(num_tasks, 0.0);
+  std::vector<Eigen::VectorXd> held_squares(num_tasks);
   // kValidation: why the first refit of the registration to the
   // validation measurements failed (split 0 only, one thread writes it).
   std::string refit_error;
@@ -338,27 +404,36 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
           continue;
         }
         from = fit.parameters;
+        fitted[task] = 1;
         train_rms[task] = fit.rms_m;
-        double sum = 0.0;
+        train_cost[task] = 2.0 * fit.solver_summary.final_cost;
         bool good = true;
         if (sp > 0) {
-          good = SumSquares(m, fit.parameters, split_test[sp], w, &sum);
+          good = SquaredNorms(m, fit.parameters, split_test[sp], w,
+                              &held_squares[task]);
         } else if (options.method == ModelSelectionMethod::kValidation) {
           if (options.register_held_out) {
             RegistrationFitSummary reg;
             FitRegistration(m, fit.parameters, validation, fast, &reg);
             good = reg.termination_type == TerminationType::kConvergence;
             if (!good && refit_error.empty()) refit_error = reg.message;
-            sum = reg.rms_m * reg.rms_m * validation.size();
+            if (good) {
+              held_squares[task] =
+                  reg.identification.residual_norms.cwiseAbs2();
+            }
           } else {
-            good = SumSquares(m, fit.parameters, validation, w, &sum);
+            good = SquaredNorms(m, fit.parameters, validation, w,
+                                &held_squares[task]);
           }
         }
         ok[task] = good;
-        held_sum[task] = sum;
       }
     }
   });
+  // Per point: the held-out squared norms summed per held-out pose.
+  const double num_held = summary->num_held_out;
+  std::vector<std::vector<double>> pose_sums(num_points);
+  int best_point = -1;
   double best = std::numeric_limits<double>::infinity();
   for (int point = 0; point < num_points; ++point) {
     ModelSelectionPoint pt;
@@ -367,33 +442,122 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
       pt.added = names[rankings[0][pt.num_kept - 1]];
     }
     pt.ok = true;
-    double sum = 0.0;
+    std::vector<double>& sums = pose_sums[point];
+    sums.assign(num_held_poses, 0.0);
     for (int sp = 0; sp < num_splits; ++sp) {
       const int task = point * num_splits + sp;
       pt.ok = pt.ok && ok[task];
-      sum += held_sum[task];
+      if (!pt.ok) break;
+      const Eigen::VectorXd& sq = held_squares[task];
+      for (int j = 0; j < sq.size(); ++j) {
+        sums[held_pose[held_index[sp][j]]] += sq[j];
+      }
     }
     pt.training_rms_m = train_rms[point * num_splits];
-    pt.held_out_rms_m = pt.ok ? std::sqrt(sum / summary->num_held_out)
-                              : std::numeric_limits<double>::quiet_NaN();
-    if (pt.ok && pt.held_out_rms_m < best) {
-      best = pt.held_out_rms_m;
-      summary->best_num_kept = pt.num_kept;
+    pt.training_cost = train_cost[point * num_splits];
+    if (pt.ok) {
+      double sum = 0.0;
+      for (double x : sums) sum += x;
+      pt.held_out_rms_m = std::sqrt(sum / num_held);
+      pt.held_out_se_m =
+          pt.held_out_rms_m > 0
+              ? StandardErrorOfSum(sums, num_held) / (2 * pt.held_out_rms_m)
+              : 0.0;
+      if (pt.held_out_rms_m < best) {
+        best = pt.held_out_rms_m;
+        best_point = point;
+      }
+    } else {
+      pt.held_out_rms_m = std::numeric_limits<double>::quiet_NaN();
     }
     summary->curve.push_back(pt);
   }
-  if (summary->best_num_kept == 0 && !refit_error.empty()) {
+  if (best_point < 0 && !refit_error.empty()) {
     return fail(TerminationType::kFailure,
                 "model selection: the base and markers could not be "
                 "refitted to the " +
                     std::to_string(validation.size()) +
                     " validation measurements: " + refit_error);
   }
-  if (summary->best_num_kept == 0) {
+  if (best_point < 0) {
     return fail(TerminationType::kFailure,
                 "model selection: no parameter count could be fitted and "
                 "validated (too few measurements in the folds?)");
   }
+  summary->minimum_num_kept = first + best_point;
+  // Paired by pose against the minimum.
+  for (int point = 0; point < num_points; ++point) {
+    ModelSelectionPoint& pt = summary->curve[point];
+    if (!pt.ok) continue;
+    std::vector<double> d(num_held_poses);
+    double sum = 0.0;
+    for (int k = 0; k < num_held_poses; ++k) {
+      d[k] = pose_sums[point][k] - pose_sums[best_point][k];
+      sum += d[k];
+    }
+    pt.excess_m2 = sum / num_held;
+    pt.excess_se_m2 = StandardErrorOfSum(d, num_held);
+    pt.within_one_se = pt.excess_m2 <= pt.excess_se_m2;
+  }
+  // The F test of each point against the fit of every parameter, on the
+  // training rows.
+  const ModelSelectionPoint& last = summary->curve.back();
+  const bool last_fitted = fitted[(num_points - 1) * num_splits] != 0;
+  int rows = 0;
+  for (const Measurement& m : training) rows += m.dimension();
+  const int dof = rows - p;
+  for (int point = 0; point < num_points; ++point) {
+    ModelSelectionPoint& pt = summary->curve[point];
+    if (!last_fitted || !fitted[point * num_splits] || dof <= 0) continue;
+    const int extra = p - pt.num_kept;
+    if (extra == 0) {
+      pt.f_test_p_value = 1.0;
+      continue;
+    }
+    const double residual = last.training_cost / dof;
+    const double f =
+        residual > 0 ? std::max(0.0, pt.training_cost - last.training_cost) /
+                           extra / residual
+                     : std::numeric_limits<double>::infinity();
+    pt.f_test_p_value =
+        std::isfinite(f)
+            ? boost::math::cdf(boost::math::complement(
+                  boost::math::fisher_f_distribution<double>(extra, dof), f))
+            : 0.0;
+  }
+  summary->rule = options.rule;
+  int chosen = -1;
+  switch (options.rule) {
+    case SelectionRule::kMinimum:
+      chosen = best_point;
+      break;
+    case SelectionRule::kFewestWithinOneSe:
+    case SelectionRule::kMostWithinOneSe:
+      for (int point = 0; point < num_points; ++point) {
+        if (!summary->curve[point].within_one_se) continue;
+        if (chosen < 0 || options.rule == SelectionRule::kMostWithinOneSe) {
+          chosen = point;
+        }
+      }
+      break;
+    case SelectionRule::kFTest:
+      if (!last_fitted) {
+        return fail(TerminationType::kFailure,
+                    "model selection: the F test needs the fit of every "
+                    "free parameter on the training measurements, which "
+                    "failed");
+      }
+      for (int point = 0; point < num_points && chosen < 0; ++point) {
+        if (fitted[point * num_splits] &&
+            summary->curve[point].f_test_p_value >= kFTestLevel) {
+          chosen = point;
+        }
+      }
+      break;
+  }
+  CHECK_GE(chosen, 0);
+  summary->best_num_kept = first + chosen;
+  const double chosen_rms = summary->curve[chosen].held_out_rms_m;
   for (int k = summary->best_num_kept; k < p; ++k) {
     summary->dropped.push_back(names[rankings[0][k]]);
   }
@@ -401,9 +565,14 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
   summary->termination_type = TerminationType::kConvergence;
   std::ostringstream msg;
   msg << "model selection (" << ModelSelectionMethodName(options.method)
-      << ", ranked by " << ParameterRankingName(options.ranking)
-      << "): " << summary->best_num_kept << " of " << p
-      << " free parameters kept, held-out RMS " << best << " m";
+      << ", ranked by " << ParameterRankingName(options.ranking) << ", rule "
+      << SelectionRuleName(options.rule) << "): " << summary->best_num_kept
+      << " of " << p << " free parameters kept, held-out RMS " << chosen_rms
+      << " m";
+  if (summary->best_num_kept != summary->minimum_num_kept) {
+    msg << " (the minimum, " << best << " m, at " << summary->minimum_num_kept
+        << ")";
+  }
   // Counts above the kept one that could not be tested are not shown to
   // predict worse: on few poses the folds' training parts are too small
   // for the larger models, and the choice falls on a smaller one by
@@ -436,14 +605,18 @@ std::string ModelSelectionSummary::BriefReport() const {
   out << message << "\n";
   if (curve.empty()) return out.str();
   out << "  kept  added                         training RMS (m)  held-out "
-         "RMS (m)\n";
+         "RMS (m)  +- SE (m)\n";
   for (const ModelSelectionPoint& pt : curve) {
-    char line[160];
-    std::snprintf(line, sizeof(line), "  %4d  %-28s  %16.6g  %16.6g%s\n",
-                  pt.num_kept,
-                  pt.added.empty() ? "(registration)" : pt.added.c_str(),
-                  pt.training_rms_m, pt.held_out_rms_m,
-                  pt.num_kept == best_num_kept ? "  <- kept" : "");
+    char line[200];
+    std::string mark;
+    if (pt.num_kept == best_num_kept) mark += "  <- kept";
+    if (pt.num_kept == minimum_num_kept && best_num_kept != minimum_num_kept) {
+      mark += "  <- minimum";
+    }
+    std::snprintf(
+        line, sizeof(line), "  %4d  %-28s  %16.6g  %16.6g  %9.3g%s\n",
+        pt.num_kept, pt.added.empty() ? "(registration)" : pt.added.c_str(),
+        pt.training_rms_m, pt.held_out_rms_m, pt.held_out_se_m, mark.c_str());
     out << line;
   }
   if (!dropped.empty()) {

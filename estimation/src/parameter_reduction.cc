@@ -61,7 +61,7 @@ int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
     const int c = static_cast<int>(
         std::find(free.begin(), free.end(), parameter) - free.begin());
     const double norm = jacobian.col(c).norm();
-    if (!(norm > 1e-12 * longest)) {
+    if (!(norm > kNoEffectRelativeNorm * longest)) {
       dropped->push_back(
           {names[parameter], "has no effect on these measurements"});
       drop.push_back(parameter);
@@ -135,7 +135,22 @@ bool ApplyAndReduceParameterSet(ParameterSet set,
   }
   if (set == ParameterSet::kFile) return true;
   const Eigen::VectorXd given = *point;
+  // The reduction is done where the fit will be. Only a marker guessed at
+  // the tip frame's origin (the default, which says nothing about the end
+  // effector) moves to the generic point: there, on the last joint's axis,
+  // that joint's rotations look like they have no effect, which they have
+  // on a real end effector. A marker given anywhere else is where the fit
+  // starts and where its truth is: reduced there, a marker on the flange
+  // axis drops the combinations that are degenerate on the axis instead of
+  // keeping them for a fit that cannot separate them.
   *point = GenericPoint(*model, given);
+  for (int k = 0; k < model->num_markers(); ++k) {
+    const int offset = model->block_offset(model->marker_block(k));
+    if (!given.segment(offset, 3).isZero(0)) {
+      point->segment(offset, kMarkerBlockSize) =
+          given.segment(offset, kMarkerBlockSize);
+    }
+  }
   Eigen::MatrixXd J;
   if (!StackedJacobian(*model, *point, measurements, rotation_weight_m_per_rad,
                        &J, error)) {

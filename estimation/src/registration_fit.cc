@@ -3,15 +3,17 @@
 #include <glog/logging.h>
 
 #include "activecal/core/parameter_sets.h"
-#include "activecal/estimation/registration.h"
 #include "activecal/estimation/parameter_reduction.h"
+#include "activecal/estimation/registration.h"
 
 namespace activecal {
+namespace {
 
-void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
-                     const std::vector<Measurement>& measurements,
-                     const IdentificationOptions& options,
-                     RegistrationFitSummary* summary) {
+// within_free: fit only the registration parameters free in `model`.
+void Fit(const RobotModel& model, const Eigen::VectorXd& geometry,
+         const std::vector<Measurement>& measurements,
+         const IdentificationOptions& options, bool within_free,
+         RegistrationFitSummary* summary) {
   CHECK(summary != nullptr);
   *summary = RegistrationFitSummary();
   RobotModel m = model;
@@ -25,8 +27,11 @@ void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
   for (const Measurement& x : measurements) {
     num_points += x.type != MeasurementType::kDistance;
   }
+  bool base_free = true;
+  for (int j = 0; j < m.block_size(0); ++j) base_free &= model.IsFree(j);
   // Distances carry no position: they leave the base where it is.
-  if (m.base.convention == LinkConvention::kFrame && num_points > 0) {
+  if (m.base.convention == LinkConvention::kFrame && num_points > 0 &&
+      (base_free || !within_free)) {
     RegistrationSummary closed_form;
     if (!RegisterBaseFrame(m, measurements, &start, &closed_form)) {
       summary->message = closed_form.message;
@@ -40,6 +45,23 @@ void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
     summary->message = "registration fit: " + error;
     return;
   }
+  if (within_free) {
+    // What the reduction kept, less what `model` holds: those keep their
+    // given values (the reduction moved free marker points to a generic
+    // point).
+    for (int i = 0; i < m.num_parameters(); ++i) {
+      if (m.IsFree(i) && !model.IsFree(i)) {
+        m.SetFree(i, false);
+        start[i] = geometry[i];
+      }
+    }
+    if (m.num_free() == 0) {
+      summary->message =
+          "registration fit: no base or marker parameter is free in the "
+          "calibrated model";
+      return;
+    }
+  }
   summary->names = m.FreeParameterNames();
   Identify(m, measurements, start, options, &summary->identification);
   const IdentificationSummary& id = summary->identification;
@@ -49,6 +71,23 @@ void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
     summary->parameters = id.parameters;
     summary->rms_m = id.rms_m;
   }
+}
+
+}  // namespace
+
+void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
+                     const std::vector<Measurement>& measurements,
+                     const IdentificationOptions& options,
+                     RegistrationFitSummary* summary) {
+  Fit(model, geometry, measurements, options, false, summary);
+}
+
+void FitRegistrationOfFreeSet(const RobotModel& model,
+                              const Eigen::VectorXd& geometry,
+                              const std::vector<Measurement>& measurements,
+                              const IdentificationOptions& options,
+                              RegistrationFitSummary* summary) {
+  Fit(model, geometry, measurements, options, true, summary);
 }
 
 }  // namespace activecal

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -29,7 +30,7 @@ class Parser : public internal::YamlReader {
     if (!LoadMap(text, "of robot fields at the top", &root)) return false;
     if (!CheckKeys(root, "",
                    {"name", "angle_unit", "base", "links", "tip", "tool",
-                    "markers"})) {
+                    "markers", "collision"})) {  // collision: read by cell/
       return false;
     }
     RobotModel& m = robot->model;
@@ -111,10 +112,9 @@ class Parser : public internal::YamlReader {
       }
     }
     if (const YAML::Node tip = root["tip"]) {
-      Eigen::Vector3d xyz, rpy;
-      if (!Origin(tip, "tip", &xyz, &rpy)) return false;
-      m.tip.translation = xyz;
-      m.tip.rotation = RpyRotation(rpy[0], rpy[1], rpy[2]);
+      if (!Origin(tip, "tip", &m.tip.translation, &m.tip.rotation)) {
+        return false;
+      }
     }
     std::string why;
     if (!m.Validate(&why)) return Fail(root.Mark(), "", why);
@@ -147,11 +147,43 @@ class Parser : public internal::YamlReader {
                     convention + "'");
   }
 
-  // {xyz: [..], rpy: [..]}, rpy in the file's angle unit; both optional.
+  // {xyz: [..], rpy: [..]} (rpy in the file's angle unit) or {xyz: [..],
+  // rotation: [9 entries, row by row]} (what the writer uses when no rpy
+  // angles read back to exactly the rotation); all optional.
   bool Origin(const YAML::Node& node, const std::string& field,
-              Eigen::Vector3d* xyz, Eigen::Vector3d* rpy) {
-    return Pose(node, field, angle_scale_, xyz, rpy) &&
-           CheckKeys(node, field, {"xyz", "rpy"});
+              Eigen::Vector3d* xyz, Eigen::Matrix3d* rotation) {
+    Eigen::Vector3d rpy;
+    if (!Pose(node, field, angle_scale_, xyz, &rpy) ||
+        !CheckKeys(node, field, {"xyz", "rpy", "rotation"})) {
+      return false;
+    }
+    *rotation = RpyRotation(rpy[0], rpy[1], rpy[2]);
+    const YAML::Node matrix = node["rotation"];
+    if (!matrix) return true;
+    const std::string where = field + ".rotation";
+    if (node["rpy"]) {
+      return Fail(matrix.Mark(), where, "give rpy or rotation, not both");
+    }
+    if (!matrix.IsSequence() || matrix.size() != 9) {
+      return Fail(matrix.Mark(), where,
+                  "expected the 9 entries of a rotation matrix, row by row");
+    }
+    for (int k = 0; k < 9; ++k) {
+      if (!Number(matrix[k], where + "[" + std::to_string(k) + "]",
+                  &(*rotation)(k / 3, k % 3))) {
+        return false;
+      }
+    }
+    const double off =
+        (rotation->transpose() * *rotation - Eigen::Matrix3d::Identity())
+            .cwiseAbs()
+            .maxCoeff();
+    if (!(off <= 1e-9) || !(rotation->determinant() > 0.0)) {
+      return Fail(matrix.Mark(), where,
+                  "not a rotation matrix (orthonormal to 1e-9, determinant "
+                  "+1)");
+    }
+    return true;
   }
 
   // One block: base (0), link (1..n) or marker (n+1..).
@@ -234,7 +266,7 @@ class Parser : public internal::YamlReader {
     if (convention == LinkConvention::kUrdf) {
       if (const YAML::Node origin = node["origin"]) {
         if (!Origin(origin, field + ".origin", &link->origin_xyz,
-                    &link->origin_rpy)) {
+                    &link->origin_rotation)) {
           return false;
         }
       }
@@ -358,11 +390,25 @@ std::string RobotFileText(const RobotModel& model,
     for (int k = 0; k < 3; ++k) out << ShortestText(v[k] * s);
     out << YAML::EndSeq;
   };
-  auto origin = [&](const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy) {
+  // A rotation as the angles that read back to exactly it in the file's
+  // unit, or else as its matrix (a rotation read from a URDF's quaternion is
+  // seldom exactly Rz Ry Rx of any angles): the file holds the model
+  // exactly.
+  const double unit = options.angle_unit == AngleUnit::kDegree ? kDegree : 1.0;
+  auto origin = [&](const Eigen::Vector3d& xyz, const Eigen::Matrix3d& R) {
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "xyz" << YAML::Value;
     triple(xyz, 1.0);
-    out << YAML::Key << "rpy" << YAML::Value;
-    triple(rpy, scale);
+    const Eigen::Vector3d rpy = RotationToShortRpy(R, unit);
+    const Eigen::Vector3d rad = rpy * unit;
+    if (RpyRotation(rad[0], rad[1], rad[2]) == R) {
+      out << YAML::Key << "rpy" << YAML::Value;
+      triple(rpy, 1.0);
+    } else {
+      out << YAML::Key << "rotation" << YAML::Value << YAML::Flow
+          << YAML::BeginSeq;
+      for (int k = 0; k < 9; ++k) out << ShortestText(R(k / 3, k % 3));
+      out << YAML::EndSeq;
+    }
     out << YAML::EndMap;
   };
   auto block = [&](int b) {
@@ -397,7 +443,7 @@ std::string RobotFileText(const RobotModel& model,
       }
       if (convention == LinkConvention::kUrdf) {
         out << YAML::Key << "origin" << YAML::Value;
-        origin(l.origin_xyz, l.origin_rpy);
+        origin(l.origin_xyz, l.origin_rotation);
         out << YAML::Key << "axis" << YAML::Value;
         triple(l.axis, 1.0);
       }
@@ -441,7 +487,7 @@ std::string RobotFileText(const RobotModel& model,
   out << YAML::EndSeq;
   if (!model.tip.IsIdentity()) {
     out << YAML::Key << "tip" << YAML::Value;
-    origin(model.tip.translation, RotationToRpy(model.tip.rotation));
+    origin(model.tip.translation, model.tip.rotation);
   }
   const bool single = model.num_markers() == 1 &&
                       model.block_name(model.marker_block(0)) == "tool";

@@ -2,8 +2,14 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <set>
 #include <sstream>
+#include <utility>
 
 #include "activecal/core/kinematics.h"
 #include "number_text.h"
@@ -13,6 +19,10 @@ namespace {
 
 using internal::ShortestText;
 
+// How far (largest matrix entry) a written rotation may read back from the
+// one meant: RotationToRpy's few ulp and urdfdom's quaternion.
+constexpr double kRereadTolerance = 1e-14;
+
 Eigen::Isometry3d Iso(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;
@@ -20,9 +30,10 @@ Eigen::Isometry3d Iso(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   return T;
 }
 
-Eigen::Isometry3d FromRpy(const Eigen::Vector3d& xyz,
-                          const Eigen::Vector3d& rpy) {
-  return Iso(RpyRotation(rpy[0], rpy[1], rpy[2]), xyz);
+// The correction of a URDF block: Trans(x, y, z) Rz(rz) Ry(ry) Rx(rx).
+Eigen::Isometry3d Correction(const double* p) {
+  return Iso(RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]),
+             Eigen::Vector3d(p[kUrdfX], p[kUrdfY], p[kUrdfZ]));
 }
 
 Eigen::Isometry3d LinkAt(const Link& link, const double* p) {
@@ -49,6 +60,9 @@ std::string Escaped(const std::string& text) {
       case '"':
         out += "&quot;";
         break;
+      case '\'':
+        out += "&apos;";
+        break;
       default:
         out += c;
     }
@@ -56,9 +70,78 @@ std::string Escaped(const std::string& text) {
   return out;
 }
 
+// UTF-8 of a character number (a numeric character reference).
+void AppendUtf8(unsigned long c, std::string* out) {
+  if (c < 0x80) {
+    *out += static_cast<char>(c);
+  } else if (c < 0x800) {
+    *out += static_cast<char>(0xC0 | (c >> 6));
+    *out += static_cast<char>(0x80 | (c & 0x3F));
+  } else if (c < 0x10000) {
+    *out += static_cast<char>(0xE0 | (c >> 12));
+    *out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    *out += static_cast<char>(0x80 | (c & 0x3F));
+  } else {
+    *out += static_cast<char>(0xF0 | (c >> 18));
+    *out += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+    *out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    *out += static_cast<char>(0x80 | (c & 0x3F));
+  }
+}
+
+// The value an XML parser gives for attribute text: the five predefined
+// entities and numeric character references replaced (what urdfdom's
+// parser does), anything else kept as it is.
+std::string Unescaped(const std::string& text) {
+  static const std::pair<const char*, char> kEntities[] = {{"&amp;", '&'},
+                                                           {"&lt;", '<'},
+                                                           {"&gt;", '>'},
+                                                           {"&quot;", '"'},
+                                                           {"&apos;", '\''}};
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    if (text[i] != '&') {
+      out += text[i++];
+      continue;
+    }
+    bool replaced = false;
+    for (const auto& [entity, c] : kEntities) {
+      if (text.compare(i, std::strlen(entity), entity) == 0) {
+        out += c;
+        i += std::strlen(entity);
+        replaced = true;
+        break;
+      }
+    }
+    const size_t semicolon = text.find(';', i);
+    if (!replaced && text.compare(i, 2, "&#") == 0 &&
+        semicolon != std::string::npos) {
+      const bool hex = i + 2 < text.size() && text[i + 2] == 'x';
+      const std::string digits =
+          text.substr(i + (hex ? 3 : 2), semicolon - i - (hex ? 3 : 2));
+      char* end = nullptr;
+      const unsigned long c = std::strtoul(digits.c_str(), &end, hex ? 16 : 10);
+      if (!digits.empty() && *end == 0 && c > 0 && c <= 0x10FFFF) {
+        AppendUtf8(c, &out);
+        i = semicolon + 1;
+        replaced = true;
+      }
+    }
+    if (!replaced) out += text[i++];
+  }
+  return out;
+}
+
 std::string Triple(const Eigen::Vector3d& v) {
   return ShortestText(v[0]) + " " + ShortestText(v[1]) + " " +
          ShortestText(v[2]);
+}
+
+// The rpy attribute of a rotation: RotationToRpy's angles, which read back
+// to it to rounding also at pitch +-90 deg (where urdfdom's own getRPY
+// snaps); CalibratedUrdfText checks the text it writes.
+std::string RpyText(const Eigen::Matrix3d& R) {
+  return Triple(RotationToRpy(R));
 }
 
 // The gain of a link block (1 for the base).
@@ -185,6 +268,8 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
   if (!UrdfChainJoints(xml, source, chain, &joints, error)) return false;
   std::string text = xml;
   const std::vector<const double*> blocks = BlockPointers(model, values.data());
+  // The origins written, checked against the text read back.
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> written;
   for (int i = 0; i < model.num_joints(); ++i) {
     const Link& link = model.links[i];
     if (link.convention != LinkConvention::kUrdf) {
@@ -218,24 +303,22 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
       motion.translation() = s * link.axis;
     }
     const Eigen::Isometry3d origin =
-        FromRpy(joint->xyz, joint->rpy) *
-        FromRpy(Eigen::Vector3d(p[kUrdfX], p[kUrdfY], p[kUrdfZ]),
-                Eigen::Vector3d(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz])) *
-        motion;
-    // The joint's start tag: name="..." and a type attribute (joints of
+        Iso(joint->rotation, joint->xyz) * Correction(p) * motion;
+    // The joint's start tag: name="..." (compared as the XML parser reads
+    // it: "j2 &amp; b" is joint "j2 & b") and a type attribute (joints of
     // transmissions have no type).
     Tag found;
     for (const Tag& tag : StartTags(text, "joint", 0, text.size())) {
       size_t vb, ve, tb, te;
       if (Attribute(text, tag, "name", &vb, &ve) &&
-          text.compare(vb, ve - vb, link.name) == 0 &&
+          Unescaped(text.substr(vb, ve - vb)) == link.name &&
           Attribute(text, tag, "type", &tb, &te)) {
         found = tag;
         break;
       }
     }
     if (found.begin == std::string::npos) {
-      return fail("cannot find the <joint name=\"" + link.name +
+      return fail("cannot find the <joint name=\"" + Escaped(link.name) +
                   "\" type=...> element in the text");
     }
     const size_t close = text.find("</joint>", found.end);
@@ -243,7 +326,8 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
       return fail("joint '" + link.name + "' has no </joint>");
     }
     const std::string xyz = Triple(origin.translation());
-    const std::string rpy = Triple(RotationToRpy(origin.linear()));
+    const std::string rpy = RpyText(origin.linear());
+    written.emplace_back(link.name, origin);
     const std::vector<Tag> origins =
         StartTags(text, "origin", found.end, close);
     if (origins.empty()) {
@@ -253,6 +337,29 @@ bool CalibratedUrdfText(const std::string& xml, const std::string& source,
       Tag tag = origins[0];
       SetAttribute(&text, &tag, "xyz", xyz);
       SetAttribute(&text, &tag, "rpy", rpy);
+    }
+  }
+  // Every origin written reads back (through urdfdom) as the rotation and
+  // translation meant, to the rounding of urdfdom's quaternion.
+  if (!written.empty()) {
+    std::vector<UrdfChainJoint> reread;
+    std::string why;
+    if (!UrdfChainJoints(text, source, chain, &reread, &why)) {
+      return fail("the edited text does not parse: " + why);
+    }
+    for (const auto& [name, origin] : written) {
+      for (const UrdfChainJoint& j : reread) {
+        if (!j.moving || j.name != name) continue;
+        const double rotation =
+            (j.rotation - origin.linear()).cwiseAbs().maxCoeff();
+        const double translation =
+            (j.xyz - origin.translation()).cwiseAbs().maxCoeff();
+        if (!(rotation <= kRereadTolerance && translation == 0.0)) {
+          return fail("joint '" + name + "': the written origin reads back " +
+                      ShortestText(std::max(rotation, translation)) +
+                      " away from the calibrated one");
+        }
+      }
     }
   }
   *out = std::move(text);
@@ -272,24 +379,55 @@ std::string UrdfFromModel(const RobotModel& model,
     out << "  <link name=\"link" << i << "\"/>\n";
   }
   out << "  <link name=\"tip\"/>\n";
-  auto joint = [&](const std::string& name, const std::string& type,
-                   const std::string& parent, const std::string& child,
-                   const Eigen::Isometry3d& origin, const Eigen::Vector3d& axis,
-                   const Link* link) {
+  // A moving joint's URDF type and <limit>: a revolute joint unbounded at
+  // both ends is continuous (no limits); revolute and prismatic joints need
+  // finite limits.
+  auto type_and_limits = [&](const Link& link, const std::string& name,
+                             std::string* limits) {
+    const bool revolute = link.joint_type == JointType::kRevolute;
+    const bool finite =
+        std::isfinite(link.joint_min) && std::isfinite(link.joint_max);
+    auto range = [&] {
+      return "[" + ShortestText(link.joint_min) + ", " +
+             ShortestText(link.joint_max) + "] " + (revolute ? "rad" : "m");
+    };
+    if (revolute && !finite) {
+      if (std::isfinite(link.joint_min) || std::isfinite(link.joint_max)) {
+        if (warnings) {
+          warnings->push_back("joint '" + name + "' has the range " + range() +
+                              ", which a URDF cannot hold (a revolute joint "
+                              "has two finite limits): written as continuous");
+        }
+      }
+      return std::string("continuous");
+    }
+    const double big = std::numeric_limits<double>::max();
+    if (!finite && warnings) {
+      warnings->push_back("joint '" + name + "' has the range " + range() +
+                          ", which a URDF cannot hold (a prismatic joint has "
+                          "two finite limits): its unbounded end is written "
+                          "as " +
+                          ShortestText(big) + " m");
+    }
+    *limits = "    <limit lower=\"" +
+              ShortestText(std::max(link.joint_min, -big)) + "\" upper=\"" +
+              ShortestText(std::min(link.joint_max, big)) +
+              "\" effort=\"0\" velocity=\"0\"/>\n";
+    return std::string(revolute ? "revolute" : "prismatic");
+  };
+  auto joint = [&](const std::string& name, const std::string& parent,
+                   const std::string& child, const Eigen::Isometry3d& origin,
+                   const Eigen::Vector3d& axis, const Link* link) {
+    std::string limits;
+    const std::string type =
+        link ? type_and_limits(*link, name, &limits) : "fixed";
     out << "  <joint name=\"" << Escaped(name) << "\" type=\"" << type
         << "\">\n"
         << "    <parent link=\"" << parent << "\"/>\n"
         << "    <child link=\"" << child << "\"/>\n"
         << "    <origin xyz=\"" << Triple(origin.translation()) << "\" rpy=\""
-        << Triple(RotationToRpy(origin.linear())) << "\"/>\n";
-    if (link) {
-      out << "    <axis xyz=\"" << Triple(axis) << "\"/>\n";
-      if (std::isfinite(link->joint_min) && std::isfinite(link->joint_max)) {
-        out << "    <limit lower=\"" << ShortestText(link->joint_min)
-            << "\" upper=\"" << ShortestText(link->joint_max)
-            << "\" effort=\"0\" velocity=\"0\"/>\n";
-      }
-    }
+        << RpyText(origin.linear()) << "\"/>\n";
+    if (link) out << "    <axis xyz=\"" << Triple(axis) << "\"/>\n" << limits;
     out << "  </joint>\n";
   };
   // The fixed transform waiting to be folded into the next joint's origin.
@@ -318,10 +456,8 @@ std::string UrdfFromModel(const RobotModel& model,
         } else {
           motion.translation() = p[kUrdfOffset] * l.axis;
         }
-        origin = pending * FromRpy(l.origin_xyz, l.origin_rpy) *
-                 FromRpy(Eigen::Vector3d(p[0], p[1], p[2]),
-                         Eigen::Vector3d(p[3], p[4], p[5])) *
-                 motion;
+        origin = pending * Iso(l.origin_rotation, l.origin_xyz) *
+                 Correction(p) * motion;
         axis = l.axis;
         break;
       }
@@ -345,14 +481,23 @@ std::string UrdfFromModel(const RobotModel& model,
         break;
       }
     }
-    joint(model.block_name(i + 1), revolute ? "revolute" : "prismatic",
+    joint(model.block_name(i + 1),
           i == 0 ? "base_link" : "link" + std::to_string(i),
           "link" + std::to_string(i + 1), origin, axis, &l);
     pending = next;
   }
-  joint("tip_fixed", "fixed", "link" + std::to_string(model.num_joints()),
-        "tip", pending * Iso(model.tip.rotation, model.tip.translation), z,
-        nullptr);
+  // The links are all generated (base_link, link1 .. linkN, tip); the
+  // joints are the model's, and the fixed one to the tip gets a name none
+  // of them has.
+  std::set<std::string> names;
+  for (int b = 1; b <= model.num_joints(); ++b)
+    names.insert(model.block_name(b));
+  std::string tip_joint = "tip_fixed";
+  for (int k = 2; names.count(tip_joint); ++k) {
+    tip_joint = "tip_fixed_" + std::to_string(k);
+  }
+  joint(tip_joint, "link" + std::to_string(model.num_joints()), "tip",
+        pending * Iso(model.tip.rotation, model.tip.translation), z, nullptr);
   out << "</robot>\n";
   return out.str();
 }

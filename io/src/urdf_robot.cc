@@ -187,9 +187,11 @@ bool UrdfChainJoints(const std::string& xml, const std::string& source,
     UrdfChainJoint out;
     out.name = j->name;
     out.moving = Moving(*j);
+    out.parent_link = j->parent_link_name;
+    out.child_link = j->child_link_name;
     const urdf::Pose& o = j->parent_to_joint_origin_transform;
     out.xyz = Vec(o.position);
-    o.rotation.getRPY(out.rpy[0], out.rpy[1], out.rpy[2]);
+    out.rotation = Rotation(o.rotation);
     joints->push_back(out);
   }
   return true;
@@ -205,19 +207,17 @@ bool ParseUrdfRobot(const std::string& xml, const std::string& source,
   m.base.name = "B";
   m.base.convention = LinkConvention::kFrame;
   m.base.joint_type = JointType::kFixed;
-  // The fixed transform accumulated since the last moving joint.
+  // The fixed transform accumulated since the last moving joint. Rotations
+  // are read as the quaternions urdfdom holds, never through its getRPY
+  // (which snaps a pitch within 0.26 deg of +-90 deg to +-90 deg).
   Eigen::Isometry3d pending = Eigen::Isometry3d::Identity();
-  bool folded = false;  // a fixed joint is in `pending`
   for (const urdf::JointConstSharedPtr& j : chain.joints) {
     const urdf::Pose& o = j->parent_to_joint_origin_transform;
     Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
     origin.linear() = Rotation(o.rotation);
     origin.translation() = Vec(o.position);
     pending = pending * origin;
-    if (!Moving(*j)) {
-      folded = true;
-      continue;
-    }
+    if (!Moving(*j)) continue;
     Link l;
     l.name = j->name;
     l.convention = LinkConvention::kUrdf;
@@ -228,12 +228,7 @@ bool ParseUrdfRobot(const std::string& xml, const std::string& source,
       l.joint_max = j->limits->upper;
     }
     l.origin_xyz = pending.translation();
-    // The joint's own rpy when nothing was folded in keeps its digits.
-    if (!folded) {
-      o.rotation.getRPY(l.origin_rpy[0], l.origin_rpy[1], l.origin_rpy[2]);
-    } else {
-      l.origin_rpy = RotationToRpy(pending.linear());
-    }
+    l.origin_rotation = pending.linear();
     const Eigen::Vector3d axis = Vec(j->axis);
     if (!(axis.norm() > 0)) {
       if (error) *error = source + ": joint '" + j->name + "' has a zero axis";
@@ -242,7 +237,6 @@ bool ParseUrdfRobot(const std::string& xml, const std::string& source,
     l.axis = axis.normalized();
     m.links.push_back(l);
     pending = Eigen::Isometry3d::Identity();
-    folded = false;
   }
   if (m.links.empty()) {
     if (error) {

@@ -7,6 +7,7 @@ ACTIVECAL_BUILD_DIR / ACTIVECAL_SOURCE_DIR set; by hand:
 """
 import os
 import pathlib
+import re
 import subprocess
 
 import pytest
@@ -20,6 +21,18 @@ BUILD_DIR = pathlib.Path(
     os.environ.get("ACTIVECAL_BUILD_DIR", SOURCE_DIR / "build"))
 PUMA = str(SOURCE_DIR / "data" / "puma560.yaml")
 UR10 = str(SOURCE_DIR / "data" / "ur10.urdf")
+
+
+def readme_python_example():
+    """The README's Python example: (code, what it prints)."""
+    readme = (SOURCE_DIR / "README.md").read_text()
+    block = re.search(
+        r"<!-- python-example[^>]*-->\n```python\n(.*?)```\n\nprints\n\n"
+        r"((?:    [^\n]*\n)+)", readme, re.S)
+    assert block, "the README's Python example is gone"
+    printed = "".join(line[4:] + "\n"
+                      for line in block.group(2).splitlines())
+    return block.group(1), printed
 
 
 def program(name):

@@ -7,21 +7,15 @@ import sys
 
 import pytest
 
-from conftest import BUILD_DIR, SOURCE_DIR
+from conftest import BUILD_DIR, SOURCE_DIR, readme_python_example
 
 
 def test_readme_example():
-    readme = (SOURCE_DIR / "README.md").read_text()
-    block = re.search(
-        r"<!-- python-example[^>]*-->\n```python\n(.*?)```\n\nprints\n\n"
-        r"((?:    [^\n]*\n)+)", readme, re.S)
-    assert block, "the README's Python example is gone"
-    code, printed = block.group(1), block.group(2)
+    code, expected = readme_python_example()
     done = subprocess.run([sys.executable, "-c", code], cwd=SOURCE_DIR,
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     # It prints what the README says it prints.
-    expected = "".join(line[4:] + "\n" for line in printed.splitlines())
     assert done.stdout == expected
 
 

@@ -42,15 +42,19 @@ def assert_same_as_program(estimate, report):
     assert estimate.iterations == report["iterations"]
 
 
-@pytest.mark.parametrize("model_selection", ["cv", "none"])
+@pytest.mark.parametrize("model_selection", ["cv", "none", None])
 def test_same_estimates_as_the_program(puma, puma_data, tmp_path,
                                        model_selection):
+    # None: both with their defaults (the same).
     m, path = puma_data
+    flags = [] if model_selection is None else [
+        f"--model_selection={model_selection}"]
+    options = {} if model_selection is None else {
+        "model_selection": model_selection}
     report, model_out = program_report(
-        tmp_path, [f"--robot={PUMA}"], path,
-        f"--model_selection={model_selection}", "--seed=5")
+        tmp_path, [f"--robot={PUMA}"], path, *flags, "--seed=5")
     estimate = activecal.identify(puma, activecal.read_measurements(
-        puma, str(path)), model_selection=model_selection, seed=5)
+        puma, str(path)), seed=5, **options)
     assert_same_as_program(estimate, report)
     assert (estimate.registration_only_rms_m ==
             report["registration_only"]["rms_residual_m"])
@@ -144,12 +148,14 @@ def test_identify_bad_input(puma, puma_data):
         activecal.identify(puma, m, robust="huber")
     with pytest.raises(ValueError, match="robust_loss must be none, huber or cauchy, got 'l1'"):
         activecal.identify(puma, m, robust_loss="l1")
-    with pytest.raises(ValueError, match="model_selection must be none, validation or cv"):
+    with pytest.raises(ValueError, match="model_selection must be auto, none, validation or cv"):
         activecal.identify(puma, m, model_selection="aic")
+    with pytest.raises(ValueError, match="selection_rule must be 1se_most, min, 1se or ftest, got 'aic'"):
+        activecal.identify(puma, m, model_selection="cv", selection_rule="aic")
     with pytest.raises(ValueError, match="option folds: expected an integer"):
         activecal.identify(puma, m, folds="five")
     with pytest.raises(ValueError, match="choose one"):
-        activecal.identify(puma, m, prior_std_m=1e-3)
+        activecal.identify(puma, m, model_selection="cv", prior_std_m=1e-3)
     with pytest.raises(ValueError, match="the 3 measurements: .*auto_fix=True|the 3 measurements"):
         activecal.identify(puma, m[:3], model_selection="none")
     with pytest.raises(ValueError, match="no measurements"):
@@ -164,10 +170,24 @@ def test_identify_bad_input(puma, puma_data):
 
 def test_identify_does_not_depend_on_threads(puma, puma_data):
     m, _ = puma_data
-    one = activecal.identify(puma, m, num_threads=1, seed=2)
-    two = activecal.identify(puma, m, num_threads=2, seed=2)
+    one = activecal.identify(puma, m, num_threads=1, seed=2,
+                             model_selection="cv")
+    two = activecal.identify(puma, m, num_threads=2, seed=2,
+                             model_selection="cv")
     assert one.parameter_names == two.parameter_names
     np.testing.assert_array_equal(one.estimates, two.estimates)
     np.testing.assert_array_equal(one.covariance, two.covariance)
     assert one.model_selection_curve == two.model_selection_curve
     assert len(one.model_selection_curve) > 1  # cv ran
+
+
+def test_the_files_free_set_is_identified_by_default(puma, puma_data):
+    # Issue #26 item 4: the robot file names the paper's 27 parameters; the
+    # default (model_selection='auto') identifies them all, as
+    # activecal_identify does; asked for, cv still selects.
+    m, _ = puma_data
+    e = activecal.identify(puma, m)
+    assert e.model_selection_curve == []  # no selection ran
+    assert len(e.parameter_names) == 27 and e.held_fixed == []
+    cv = activecal.identify(puma, m, model_selection="cv")
+    assert len(cv.model_selection_curve) > 1

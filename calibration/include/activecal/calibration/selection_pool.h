@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,15 @@ enum class PoolStorage { kAuto, kDouble, kFloat };
 
 // "auto", "double", "float".
 bool PoolStorageFromString(const std::string& name, PoolStorage* storage);
+
+// The preprocess of the pool (e.g. the cell's, cell/pool_filter.h): sets
+// *kept to the rows of pool_joints to keep (ascending) and *note to one
+// line saying what removed the others ("6211 of 200000 poses feasible;
+// rejected: joint margin 9114, ..."). False (with *note saying why) when
+// it cannot run.
+using PoolFilter =
+    std::function<bool(const Eigen::MatrixXd& pool_joints,
+                       std::vector<int64_t>* kept, std::string* note)>;
 
 struct SelectionPoolOptions {
   // Reduced to what the pool separates (analysed on at most
@@ -59,6 +69,9 @@ struct SelectionPoolOptions {
   // chosen, fails (USER_FAILURE) before its Jacobians are allocated.
   double memory_limit_bytes = 0.0;
   ProgressCallback progress;  // the pool's Jacobians
+  // If set, applied first: the reduction, the Jacobians and the
+  // identifiability check see only the rows it keeps.
+  PoolFilter filter;
 
   bool IsValid(std::string* error) const;
 };
@@ -74,6 +87,11 @@ struct SelectionPoolSummary {
   bool single_precision = false;          // the storage chosen
   double double_mib = 0;                  // the blocks' size in double
   CandidatePoolSummary pool;  // auto_fix's fixed_names, jacobian_seconds
+  // With options.filter: the rows of pool_joints the pool was built from
+  // (pool pose k is row kept[k]) and the filter's note.
+  bool filtered = false;
+  std::vector<int64_t> kept;
+  std::string filter_note;
 
   // dropped, then the pool's fixed_names.
   std::vector<std::string> HeldFixed() const;
@@ -104,9 +122,14 @@ bool CheckSelectionPoolSize(int64_t pool_size, const RobotModel& model,
                             MeasurementType type, std::string* error,
                             double available_bytes = 0.0);
 
-// Applies and reduces options.parameter_set on *model (its nominal becomes
-// the analysis point), chooses the storage and builds *pool at
-// pool_joints with the identifiability check.
+// Applies options.filter (if set), then applies and reduces
+// options.parameter_set on *model (its nominal becomes the analysis
+// point), chooses the storage and builds *pool at the rows kept with the
+// identifiability check. A filter that keeps no row is a FAILURE whose
+// message carries its note; so is a failed identifiability check, which
+// then names the filter's note too. A pool larger than
+// options.memory_limit_bytes once its parameters and storage are chosen is
+// a USER_FAILURE ("a pool of N poses needs X GiB (...), more than ...").
 bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
                         const SelectionPoolOptions& options,
                         CandidatePool* pool, SelectionPoolSummary* summary);

@@ -71,9 +71,9 @@ void LinkTransform(const Link& link, const T* p, double q, Matrix3<T>* R,
     return;
   }
   if (link.convention == LinkConvention::kUrdf) {
-    // Origin(xyz, rpy) * Correction(x..rz) * Motion(axis, offset + gain q).
-    const Eigen::Matrix3d Ro =
-        RpyRotation(link.origin_rpy[0], link.origin_rpy[1], link.origin_rpy[2]);
+    // Origin(xyz, rotation) * Correction(x..rz) * Motion(axis, offset +
+    // gain q).
+    const Eigen::Matrix3d& Ro = link.origin_rotation;
     const Matrix3<T> Rc = RpyRotation(p[kUrdfRx], p[kUrdfRy], p[kUrdfRz]);
     Vector3<T> tc(p[kUrdfX], p[kUrdfY], p[kUrdfZ]);
     const T s = p[kUrdfOffset] + p[kUrdfGain] * q;
@@ -192,6 +192,17 @@ void TargetFrame(const RobotModel& model, const Eigen::VectorXd& parameters,
 // Ry(pitch) Rx(roll), with pitch in [-pi/2, pi/2] (the URDF convention); at
 // pitch = +-pi/2, roll is 0.
 Eigen::Vector3d RotationToRpy(const Eigen::Matrix3d& R);
+
+// RotationToRpy of R for a file whose angles are in units of `unit` radians
+// (1: radians; M_PI / 180: degrees), each angle rounded to the fewest
+// decimal places (0 to 20) at which the three read back (times `unit`,
+// through RpyRotation) to exactly R, on this branch or on the other one
+// (pitch beyond +-pi/2); RotationToRpy(R) / unit when none does (then they
+// read back to R to rounding, a few ulp). A rotation read from "rpy: [0.1,
+// 0.2, 0.3]" or "[0, 2, 0]" is so written the same again (at exactly pitch
+// +-90 deg only yaw - roll is defined: roll is written 0). Write the angles
+// with the shortest round-trip text (std::to_chars).
+Eigen::Vector3d RotationToShortRpy(const Eigen::Matrix3d& R, double unit = 1.0);
 
 // Pointers to each block of a full parameter vector.
 template <typename T>

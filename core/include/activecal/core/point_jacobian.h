@@ -32,14 +32,17 @@ class PointJacobianWorkspace {
 
   // What a URDF link's transform and columns need that depends on its
   // parameter block only (not on the joint reading): the sines and
-  // cosines of its origin and correction angles, computed once per block
-  // value instead of once per pose (a pool's poses share the parameters).
+  // cosines of its correction angles and the rotations made of them,
+  // computed once per block value instead of once per pose (a pool's poses
+  // share the parameters).
   struct UrdfLinkCache {
+    // The block's values, the link's nominal origin_rotation (9 entries)
+    // and its axis.
+    static constexpr int kKeySize = kMaxBlockSize + 9 + 3;
     bool valid = false;
-    // The block's values and the link's nominal origin_rpy and axis the
-    // entries were computed from (compared bit for bit: a workspace reused
-    // for another model, or -0.0 for 0.0, recomputes).
-    double key[kMaxBlockSize + 6] = {};
+    // The key the entries were computed from (compared bit for bit: a
+    // workspace reused for another model, or -0.0 for 0.0, recomputes).
+    double key[kKeySize] = {};
     Eigen::Matrix3d origin_rotation;      // Ro
     Eigen::Matrix3d correction_rotation;  // Rc
     Eigen::Matrix3d link_rotation;        // Ro Rc

@@ -23,8 +23,8 @@
 //     d      link offset (m): d + gain * q for a prismatic joint
 //     beta   Hayati twist about the new y axis (rad); Hayati links only
 //     gain   joint gain (dimensionless), scales the joint reading q
-//   urdf (8): a URDF joint: its nominal origin (xyz, rpy) and axis are
-//     structure; the parameters correct them:
+//   urdf (8): a URDF joint: its nominal origin (translation and rotation
+//     matrix) and axis are structure; the parameters correct them:
 //     x, y, z     translation (m) applied after the nominal origin, in the
 //                 joint's frame
 //     rx, ry, rz  rotation Rz(rz) Ry(ry) Rx(rx) (rad) applied after that
@@ -67,8 +67,8 @@ enum class LinkConvention {
   // Hayati-Mirmirani, for nearly parallel consecutive axes:
   // Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta); d is normally held at 0.
   kHayati,
-  // A URDF joint: Origin(xyz, rpy) Correction(x..rz) Motion(axis, offset +
-  // gain * q).
+  // A URDF joint: Origin(xyz, rotation) Correction(x..rz) Motion(axis,
+  // offset + gain * q).
   kUrdf,
   // A rigid 6-DOF frame (the base only): Trans(x, y, z) Rz Ry Rx.
   kFrame,
@@ -136,11 +136,15 @@ struct Link {
   // LinkBlockSize(convention) are used).
   std::array<bool, kMaxBlockSize> free{};
   // kUrdf only: the nominal origin of the joint frame in the previous
-  // link's frame (translation, then fixed-axis roll-pitch-yaw: R = Rz(yaw)
-  // Ry(pitch) Rx(roll), as in URDF) and the unit joint axis in the joint
-  // frame.
+  // link's frame, a point x of the joint frame being origin_rotation * x +
+  // origin_xyz there, and the unit joint axis in the joint frame. The
+  // rotation is held as a matrix (a proper rotation: orthonormal, det +1),
+  // never as angles: a URDF's rpy="r p y" is Rz(y) Ry(p) Rx(r), read from
+  // urdfdom's quaternion, and converted back to angles only to write a file
+  // (RotationToRpy, RotationToShortRpy), so that origins at pitch +-90 deg
+  // keep their rotation.
   Eigen::Vector3d origin_xyz = Eigen::Vector3d::Zero();
-  Eigen::Vector3d origin_rpy = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d origin_rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
 };
 

@@ -12,6 +12,11 @@
 //     The base frame and the markers are unknowns rather than nominal
 //     values and are not checked for it.
 //
+// When the rows were weighted by stated sigmas that the residuals
+// contradict (summary.chi_square_plausible false, identification.h), the
+// std and moved warnings use the scaled standard deviations (the noise the
+// residuals imply) and say "std (scaled by sqrt(chi^2 / dof))".
+//
 //   for (const std::string& w : EstimateWarnings(model, summary, {}))
 //     std::cout << "warning: " << w << "\n";
 

@@ -30,6 +30,14 @@
 // imply. Outliers are still judged on the unweighted rows (in metres).
 // Without sigmas nothing changes.
 //
+// chi^2 / dof far from 1: the stated sigmas do not describe the residuals
+// (a tracker's datasheet sigma against a robot's unmodelled errors). The
+// rule: chi^2 outside the central 99.9 % interval of the chi-square
+// distribution with dof degrees of freedom (chi_square_plausible false).
+// The covariance stays the one of the stated sigmas; scaled_standard_
+// deviations are multiplied by sqrt(chi^2 / dof), the std the implied noise
+// gives (filled whenever the rows are weighted).
+//
 // MAP fit: prior_std_m / prior_std_rad > 0 add a Gaussian prior centred on
 // `initial` to every free link (geometric) parameter, not to the base frame
 // or the markers, whose values are unknown rather than nominal. A prior row
@@ -192,6 +200,11 @@ struct IdentificationSummary {
   double chi_square = 0.0;          // sum of the weighted squared rows
   int degrees_of_freedom = 0;       // rows - free parameters
   double chi_square_per_dof = 0.0;  // ~1 when the stated sigmas fit
+  // The central 99.9 % interval of chi^2 / dof for this dof, and whether
+  // chi_square_per_dof lies inside it (true when not weighted).
+  double chi_square_per_dof_low = 0.0, chi_square_per_dof_high = 0.0;
+  bool chi_square_plausible = true;
+  Eigen::VectorXd scaled_standard_deviations;  // weighted only, see above
   // The noise of a position (or distance) row the residuals imply, m:
   // sqrt(chi^2 / dof) times the RMS of the stated sigmas when weighted,
   // sigma_m otherwise.

@@ -31,7 +31,25 @@
 //            training measurements (every row of one pose in the same fold;
 //            poses assigned by a seeded shuffle, round robin), the held-out
 //            errors of all folds pooled. Deterministic for a seed.
-//   choice   the k with the smallest held-out RMS (the smaller k on a tie).
+//   choice   by `rule` (SelectionRule):
+//            kMinimum     the k with the smallest held-out RMS (the smaller
+//                         k on a tie);
+//            kFewestWithinOneSe  the smallest k whose held-out error is
+//                         within one standard error of the minimum's;
+//            kMostWithinOneSe    the largest such k: a parameter is dropped
+//                         only when the held-out poses show that keeping
+//                         it predicts worse, by more than one standard
+//                         error;
+//            kFTest       the smallest k whose training fit is not worse
+//                         than the fit of every parameter by an F test at
+//                         the 1 % level (the dropped parameters jointly not
+//                         significant; training data only, held-out errors
+//                         still shown).
+//            "Within one standard error": D_k = MSE_k - MSE_min, the paired
+//            difference of the held-out mean squared residual norms
+//            (per held-out pose: the same poses for every k), is at most
+//            its standard error, sqrt(P * var_pose(d)) / N for P held-out
+//            poses and N held-out measurements.
 //
 //   ModelSelectionOptions options;
 //   options.method = ModelSelectionMethod::kCrossValidation;
@@ -56,6 +74,15 @@ namespace activecal {
 
 enum class ModelSelectionMethod { kNone, kValidation, kCrossValidation };
 enum class ParameterRanking { kSignificance, kJacobian };
+enum class SelectionRule {
+  kMinimum,
+  kFewestWithinOneSe,
+  kMostWithinOneSe,
+  kFTest
+};
+// "min", "1se", "1se_most", "ftest".
+const char* SelectionRuleName(SelectionRule rule);
+bool ParseSelectionRule(const std::string& name, SelectionRule* rule);
 const char* ParameterRankingName(ParameterRanking ranking);
 // "significance" or "jacobian"; false if neither.
 bool ParseParameterRanking(const std::string& name, ParameterRanking* ranking);
@@ -70,6 +97,8 @@ struct ModelSelectionOptions {
   uint64_t seed = 1;  // of the fold assignment
   bool register_held_out = true;  // kValidation, see above
   ParameterRanking ranking = ParameterRanking::kSignificance;
+  // kMostWithinOneSe: the comparison in docs/accuracy.md.
+  SelectionRule rule = SelectionRule::kMostWithinOneSe;
   // The splits (whole training set, folds) run in parallel, each walking
   // up the curve with every fit started from the previous one; each fit is
   // single-threaded, so the result is the same for every thread count. <= 0:
@@ -88,6 +117,18 @@ struct ModelSelectionPoint {
   bool ok = false;    // every fit of this point converged
   double training_rms_m = 0.0;
   double held_out_rms_m = 0.0;
+  // Standard error of held_out_rms_m over the held-out poses (delta
+  // method: SE(MSE) / (2 RMS)).
+  double held_out_se_m = 0.0;
+  // Held-out MSE minus the minimum point's (m^2, paired by pose) and its
+  // standard error; within_one_se: the excess is at most its SE.
+  double excess_m2 = 0.0;
+  double excess_se_m2 = 0.0;
+  bool within_one_se = false;
+  // Sum of the squared (weighted) residual rows of the training fit and
+  // the p-value of the F test of this point against the last one.
+  double training_cost = 0.0;
+  double f_test_p_value = 0.0;
 };
 
 struct ModelSelectionSummary {
@@ -97,7 +138,9 @@ struct ModelSelectionSummary {
   // Every free parameter, kept first (from the whole training set).
   std::vector<std::string> ranking;
   std::vector<ModelSelectionPoint> curve;
-  int best_num_kept = 0;
+  SelectionRule rule = SelectionRule::kMinimum;
+  int best_num_kept = 0;             // chosen by `rule`
+  int minimum_num_kept = 0;          // the smallest held-out RMS
   std::vector<std::string> dropped;  // held at `start`, ranking order
   int num_poses = 0;                 // distinct training poses
   int num_held_out = 0;              // held-out measurements (all folds)

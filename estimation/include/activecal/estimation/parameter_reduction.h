@@ -8,7 +8,10 @@
 // block, the block's own order. So a redundancy between the base frame and
 // the first joint's origin is resolved for the base (the registration stays
 // whole), a marker's point wins over the last joint's origin, and an offset
-// over a rotation about the same axis. Columns are scaled to unit norm (the
+// over a rotation about the same axis. A column shorter than
+// kNoEffectRelativeNorm (1e-6, residuals/jacobians.h) times the longest has
+// no effect and is dropped (rounded angles in a robot file leave such
+// columns at ~1e-10 instead of 0). The others are scaled to unit norm (the
 // rule does not depend on units); a column is dropped when the part of it
 // outside the span of the kept columns is shorter than `tolerance`
 // (default 1e-7: structural redundancies, which are ~1e-15 at a generic
@@ -55,10 +58,13 @@ int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
 // The whole step from a named parameter set to the parameters to identify:
 // applies `set` to *model (with marker angles free when `measurements` hold
 // 6D poses) and, unless it is kFile, reduces the set to what the Jacobian
-// of `measurements` at GenericPoint(*point) separates. *point (a full
-// parameter vector, e.g. the nominal or registered start) keeps every held
-// parameter exactly; the free marker parameters move to the generic point
-// (about 1 mm), the start the fit needs to see every kept direction.
+// of `measurements` separates where the fit will be: at *point (a full
+// parameter vector, e.g. the nominal or registered start), except that a
+// marker whose point is at the tip frame's origin (the default guess, on
+// the last joint's axis) has its free parameters moved to
+// GenericPoint(*point) (about 1 mm), the start the fit needs to see every
+// kept direction. A marker given elsewhere (e.g. a reflector on the flange
+// axis) stays where it was given. Every held parameter keeps its value.
 // Returns false with *error when a Jacobian cannot be evaluated or nothing
 // is left free.
 bool ApplyAndReduceParameterSet(ParameterSet set,

@@ -48,6 +48,19 @@ void FitRegistration(const RobotModel& model, const Eigen::VectorXd& geometry,
                      const IdentificationOptions& options,
                      RegistrationFitSummary* summary);
 
+// The baseline of a calibration of `model`: as FitRegistration, but only
+// the registration parameters that are free in `model` are fitted (its
+// free set after the parameter set, the reduction and the model
+// selection), so that the baseline never has a parameter the calibrated
+// model holds fixed (e.g. a tool point given in the robot file). The
+// closed-form registration of a 'frame' base runs only when the whole
+// base is free. Fails when no registration parameter is free.
+void FitRegistrationOfFreeSet(const RobotModel& model,
+                              const Eigen::VectorXd& geometry,
+                              const std::vector<Measurement>& measurements,
+                              const IdentificationOptions& options,
+                              RegistrationFitSummary* summary);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_ESTIMATION_REGISTRATION_FIT_H_

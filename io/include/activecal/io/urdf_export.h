@@ -15,8 +15,17 @@
 //
 // UrdfFromModel writes a URDF of any model (DH, modified DH, Hayati, URDF
 // joints): links "base_link", "link1" ... "linkN" and "tip", joints named
-// after the model's links, the base block folded into the first joint's
-// origin unless it is a 6-DOF frame (then it is metrology and left out).
+// after the model's links (XML-escaped) and a fixed joint to "tip" named
+// "tip_fixed" (or "tip_fixed_2", ... if a link of the model has that name),
+// the base block folded into the first joint's origin unless it is a 6-DOF
+// frame (then it is metrology and left out). Revolute joints unbounded at
+// both ends are "continuous", others carry their <limit>; a range with one
+// unbounded end cannot be held and is reported in *warnings.
+//
+// Rotations are written as rpy angles that read back to them
+// (RotationToRpy: also at pitch +-90 deg); joints of the input file are
+// found by their name as the XML parser reads it (entities replaced), and
+// CalibratedUrdfText reads the edited text back to check its origins.
 //
 // Both are checked by reloading: CheckUrdfAgainstModel reads a URDF (with
 // the model's base frame and markers applied) and compares the measured

@@ -14,7 +14,9 @@
 // it becomes a link of convention kUrdf, in chain order, named after the
 // joint: its origin is the joint's origin with the fixed joints before it
 // (back to the previous moving joint or base_link) folded in, its axis the
-// joint's axis, its range the URDF limits (continuous: unbounded). The fixed
+// joint's axis, its range the URDF limits (continuous: unbounded); every
+// rotation is read from urdfdom's quaternion, never through roll-pitch-yaw
+// (urdfdom's getRPY snaps pitches near +-90 deg). The fixed
 // joints after the last moving joint form the model's tip transform, so the
 // markers are given in tip_link's frame. The base is a 6-DOF frame
 // (convention kFrame) at the identity: the registration of base_link in the
@@ -41,12 +43,15 @@ struct UrdfChainOptions {
 };
 
 // A joint of the URDF file on the chosen chain, as the file has it (for
-// writing a calibrated URDF back).
+// writing a calibrated URDF back): its origin, a point x of the joint frame
+// being rotation * x + xyz in the parent link's frame (the rotation from
+// urdfdom's quaternion, not through roll-pitch-yaw).
 struct UrdfChainJoint {
   std::string name;
   bool moving = false;  // revolute, continuous or prismatic
+  std::string parent_link, child_link;
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
-  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
 };
 
 // Parses URDF text; `source` names it in messages ("<source>: ...").

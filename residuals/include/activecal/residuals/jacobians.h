@@ -17,6 +17,21 @@
 
 namespace activecal {
 
+// A Jacobian column shorter than this times the longest column is taken as
+// having no effect, by every identifiability rule (the analysis, the
+// auto-fix, the reduction of a parameter set). Real robot files round
+// their angles (data/ur10e.urdf writes pi/2 as 1.570796327): a parameter
+// with no effect at exact angles (a translation along an axis that data
+// cannot see, a base parameter under distances) then has a column of the
+// rounding error times a lever, ~1e-10 of the longest, instead of zero.
+// Normalised to unit length, that column is rounding noise taken for a
+// direction of its own, kept, and the fit fails at the solution ("the
+// Jacobian ... is rank deficient"). At 1e-6, moving the parameter by a
+// whole metre or radian moves the measurements by a millionth of what the
+// strongest parameter does: no effect a calibration can use, and files
+// rounded to 7 decimals or more are read as their exact angles are.
+inline constexpr double kNoEffectRelativeNorm = 1e-6;
+
 // The dimension() x num_free Jacobian of one measurement's residual at the
 // full parameter vector `parameters`, columns in free-parameter order (the
 // measured values do not matter). Returns false with a message on bad input.

@@ -1,0 +1,406 @@
+// activecal_sim_cell: a simulated robot cell (a robot and a tracker) that
+// speaks the driver protocol (docs/driver_protocol.md) on stdin/stdout, or
+// on TCP with --listen, for trying activecal_active --driver without
+// hardware and for testing the loop end to end through a real pipe.
+//
+// The cell's robot is --robot with its true values ('true:' entries), or a
+// robot (a URDF) whose parameters --perturb_m / --perturb_rad move by
+// seeded Gaussian amounts (--truth_out writes the robot file with those
+// true values, for activecal_active to report the true error). Every
+// answer is seeded per pose (by the commanded joints and --seed), so the
+// same pose always gets the same answer, whatever was asked before:
+// tracker noise, occlusions, refused poses, the servo error. Only the drift
+// (--drift_m_per_measurement) depends on how many measurements were served.
+
+#include <gflags/gflags.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "activecal/core/random.h"
+#include "activecal/core/simulation.h"
+#include "activecal/driver/connection.h"
+#include "activecal/driver/protocol.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/robot_loader.h"
+#include "app_common.h"
+
+DEFINE_double(noise_m, 1e-4, "Tracker noise per axis (m), >= 0.");
+DEFINE_bool(rotations, false,
+            "Report the marker frame's orientation too (a 6D probe): "
+            "\"rotations\" in the reply.");
+DEFINE_double(rotation_noise_rad, 1e-4,
+              "With --rotations: noise of each rotation-vector component "
+              "(rad).");
+DEFINE_bool(report_sigma, false, "Send sigma_m (= --noise_m) in replies.");
+DEFINE_double(joint_noise_rad, 0.0,
+              "Servo error: the robot stops this far (Gaussian per joint, "
+              "rad or m) from the commanded joints; the encoders read where "
+              "it stopped (the reply's joints_rad).");
+DEFINE_double(perturb_m, 0.0,
+              "Move every free length parameter of --robot by a Gaussian of "
+              "this sigma (m) to make the cell's true robot (on top of the "
+              "file's true values, if any).");
+DEFINE_double(perturb_rad, 0.0,
+              "The same for every free angle parameter (rad).");
+DEFINE_string(truth_out, "",
+              "Write the cell's robot (nominal values and true values) as "
+              "an activecal robot file here.");
+DEFINE_double(not_visible_fraction, 0.0,
+              "Fraction of poses the tracker cannot see (status "
+              "not_visible), drawn per pose.");
+DEFINE_double(unreachable_fraction, 0.0,
+              "Fraction of poses the robot refuses (status unreachable), "
+              "drawn per pose.");
+DEFINE_double(drift_m_per_measurement, 0.0,
+              "Tracker drift: every point moves by this much (m, along x) "
+              "per measurement served.");
+DEFINE_int64(die_after, -1,
+             "Exit (status 3, no reply) at the measure request after this "
+             "many measurements were served; < 0: never.");
+DEFINE_double(measure_delay_s, 0.0,
+              "Wait this long before each reply (the robot moving).");
+DEFINE_string(listen, "",
+              "Serve TCP on PORT or HOST:PORT (HOST default 127.0.0.1; PORT "
+              "0: any free one, printed on stderr) instead of stdin/stdout, "
+              "one client after another.");
+DEFINE_string(served_log, "",
+              "Append every reply sent to this file (one JSON line each).");
+DEFINE_string(garbage, "",
+              "Answer measure request --garbage_at with bad output, to test "
+              "activecal: not_json, nan, wrong_id, wrong_joints, "
+              "wrong_markers, unknown_status, hang (no reply), exit.");
+DEFINE_int64(garbage_at, 1, "Which measure request (1-based) --garbage hits.");
+DEFINE_uint64(seed, 1, "Seed of the perturbation and of every answer.");
+
+namespace activecal {
+namespace {
+
+// The protocol's output: the real stdout, kept aside so that nothing else
+// the program prints (robot notes) reaches activecal.
+int g_protocol_out = -1;
+
+uint64_t PoseHash(const Eigen::VectorXd& q) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over the doubles' bytes
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const double v = q[i] == 0 ? 0.0 : q[i];  // -0 and 0 are one pose
+    unsigned char bytes[sizeof(double)];
+    std::memcpy(bytes, &v, sizeof(v));
+    for (unsigned char b : bytes) {
+      h ^= b;
+      h *= 1099511628211ull;
+    }
+  }
+  return h;
+}
+
+class Cell {
+ public:
+  Cell(RobotModel model, Eigen::VectorXd truth)
+      : model_(std::move(model)), truth_(std::move(truth)) {}
+
+  // Serves one conversation; false when the program must exit (with
+  // *status).
+  bool Serve(LineChannel* channel, int* status) {
+    std::string line, error;
+    for (;;) {
+      const LineChannel::ReadResult r = channel->ReadLine(0, &line, &error);
+      if (r != LineChannel::ReadResult::kLine) return true;  // client gone
+      ActivecalMessage message;
+      if (!ParseActivecalMessage(line, &message, &error)) {
+        std::fprintf(stderr, "activecal_sim_cell: %s\n", error.c_str());
+        continue;
+      }
+      switch (message.type) {
+        case ActivecalMessageType::kBye:
+          return true;
+        case ActivecalMessageType::kHello:
+          if (!Hello(message.hello, channel, status)) return false;
+          break;
+        case ActivecalMessageType::kMeasure:
+          if (!Measure(message, channel, status)) return false;
+          break;
+      }
+    }
+  }
+
+ private:
+  bool Hello(const DriverHello& hello, LineChannel* channel, int* status) {
+    if (static_cast<int>(hello.joint_names.size()) != model_.num_joints() ||
+        hello.markers != model_.num_markers()) {
+      std::fprintf(stderr,
+                   "activecal_sim_cell: activecal's robot has %zu joints "
+                   "and %d markers, the cell's '%s' %d and %d\n",
+                   hello.joint_names.size(), hello.markers, model_.name.c_str(),
+                   model_.num_joints(), model_.num_markers());
+      *status = 2;
+      return false;
+    }
+    char about[512];
+    std::snprintf(about, sizeof(about),
+                  "{\"driver\":\"activecal_sim_cell\",\"robot\":\"%s\","
+                  "\"noise_m\":%.17g,\"seed\":%llu}",
+                  model_.name.c_str(), FLAGS_noise_m,
+                  static_cast<unsigned long long>(FLAGS_seed));
+    return Send(DriverHelloMessage(about), channel);
+  }
+
+  bool Send(const std::string& text, LineChannel* channel) {
+    std::string error;
+    if (!channel->WriteLine(text, &error)) {
+      std::fprintf(stderr, "activecal_sim_cell: cannot reply: %s\n",
+                   error.c_str());
+      return true;  // the client has gone; the next read says so
+    }
+    if (!FLAGS_served_log.empty()) {
+      std::ofstream log(FLAGS_served_log, std::ios::app);
+      log << text << "\n";
+    }
+    return true;
+  }
+
+  bool Measure(const ActivecalMessage& request, LineChannel* channel,
+               int* status) {
+    ++requests_;
+    if (FLAGS_die_after >= 0 && served_ >= FLAGS_die_after) {
+      std::fprintf(stderr,
+                   "activecal_sim_cell: dying after %lld measurements "
+                   "(--die_after)\n",
+                   static_cast<long long>(served_));
+      *status = 3;
+      return false;
+    }
+    if (FLAGS_measure_delay_s > 0) {
+      std::this_thread::sleep_for(
+          std::chrono::duration<double>(FLAGS_measure_delay_s));
+    }
+    MeasurementReply reply;
+    reply.id = request.id;
+    Answer(request.joints, &reply);
+    std::string text = MeasurementReplyMessage(reply);
+    if (!FLAGS_garbage.empty() && requests_ == FLAGS_garbage_at) {
+      const std::string& g = FLAGS_garbage;
+      if (g == "exit") {
+        *status = 4;
+        return false;
+      }
+      if (g == "hang") {
+        std::this_thread::sleep_for(std::chrono::hours(1));
+      }
+      text = Garbage(g, request, reply);
+    }
+    ++served_;
+    return Send(text, channel);
+  }
+
+  static std::string Garbage(const std::string& kind,
+                             const ActivecalMessage& request,
+                             MeasurementReply reply) {
+    if (kind == "not_json") return "moving to pose " + std::to_string(reply.id);
+    if (kind == "wrong_id") {
+      reply.id = request.id + 1;
+      return MeasurementReplyMessage(reply);
+    }
+    if (kind == "unknown_status") {
+      std::string t = MeasurementReplyMessage(reply);
+      const std::string s = "\"status\":\"";
+      const size_t at = t.find(s);
+      const size_t end = t.find('"', at + s.size());
+      return t.substr(0, at + s.size()) + "done" + t.substr(end);
+    }
+    reply.status = MeasureStatus::kOk;
+    if (reply.joints.size() == 0) reply.joints = request.joints;
+    if (reply.points_m.empty() || !reply.points_m[0]) {
+      reply.points_m.assign(1, Eigen::Vector3d(0.5, 0.1, 0.2));
+    }
+    if (kind == "wrong_joints") {
+      reply.joints.conservativeResize(reply.joints.size() - 1);
+      return MeasurementReplyMessage(reply);
+    }
+    if (kind == "wrong_markers") {
+      reply.points_m.push_back(reply.points_m[0]);
+      return MeasurementReplyMessage(reply);
+    }
+    if (kind == "nan") {
+      // What Python's json.dumps writes for a float('nan').
+      std::string t = MeasurementReplyMessage(reply);
+      const size_t at = t.find("\"points_m\":[[") + 13;
+      const size_t end = t.find(',', at);
+      return t.substr(0, at) + "NaN" + t.substr(end);
+    }
+    return "garbage kind '" + kind + "' unknown";
+  }
+
+  void Answer(const Eigen::VectorXd& commanded, MeasurementReply* reply) {
+    if (commanded.size() != model_.num_joints()) {
+      reply->status = MeasureStatus::kError;
+      reply->message = "expected " + std::to_string(model_.num_joints()) +
+                       " joints, got " + std::to_string(commanded.size());
+      return;
+    }
+    const uint64_t pose_seed =
+        Random::StreamSeed(FLAGS_seed, PoseHash(commanded));
+    Random random(pose_seed);
+    const double visible = random.Uniform();
+    const double reachable = random.Uniform();
+    if (reachable < FLAGS_unreachable_fraction) {
+      reply->status = MeasureStatus::kUnreachable;
+      reply->message = "simulated: outside the cell's workspace";
+      return;
+    }
+    if (visible < FLAGS_not_visible_fraction) {
+      reply->status = MeasureStatus::kNotVisible;
+      reply->message = "simulated: the tracker's line of sight is blocked";
+      return;
+    }
+    Eigen::VectorXd actual = commanded;
+    for (Eigen::Index j = 0; j < actual.size(); ++j) {
+      actual[j] += FLAGS_joint_noise_rad * random.Gaussian();
+    }
+    std::vector<Measurement> plan;
+    for (int k = 0; k < model_.num_markers(); ++k) {
+      Measurement m;
+      m.type =
+          FLAGS_rotations ? MeasurementType::kPose : MeasurementType::kPosition;
+      m.joints = actual;
+      m.marker = k;
+      plan.push_back(m);
+    }
+    SimulationNoise noise;
+    noise.position_m = FLAGS_noise_m;
+    noise.rotation_rad = FLAGS_rotation_noise_rad;
+    std::vector<Measurement> measured;
+    std::string error;
+    if (!SimulateMeasurements(model_, truth_, plan, noise,
+                              Random::StreamSeed(pose_seed, 1), &measured,
+                              &error)) {
+      reply->status = MeasureStatus::kError;
+      reply->message = error;
+      return;
+    }
+    reply->status = MeasureStatus::kOk;
+    reply->joints = actual;
+    const Eigen::Vector3d drift(
+        FLAGS_drift_m_per_measurement * static_cast<double>(served_), 0, 0);
+    for (const Measurement& m : measured) {
+      reply->points_m.push_back(m.position + drift);
+      if (FLAGS_rotations) reply->rotations.push_back(m.rotation);
+    }
+    if (FLAGS_report_sigma && FLAGS_noise_m > 0) reply->sigma_m = FLAGS_noise_m;
+  }
+
+  RobotModel model_;
+  Eigen::VectorXd truth_;
+  int64_t requests_ = 0;
+  int64_t served_ = 0;
+};
+
+int Main() {
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"noise_m", FLAGS_noise_m},
+        {"rotation_noise_rad", FLAGS_rotation_noise_rad},
+        {"joint_noise_rad", FLAGS_joint_noise_rad},
+        {"perturb_m", FLAGS_perturb_m},
+        {"perturb_rad", FLAGS_perturb_rad},
+        {"measure_delay_s", FLAGS_measure_delay_s}}) {
+    if (!(value >= 0) || !std::isfinite(value)) {
+      app::Fail(std::string("--") + name + " must be >= 0");
+    }
+  }
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"not_visible_fraction",
+                                       FLAGS_not_visible_fraction},
+        {"unreachable_fraction", FLAGS_unreachable_fraction}}) {
+    if (!(value >= 0 && value <= 1)) {
+      app::Fail(std::string("--") + name + " must be in [0, 1]");
+    }
+  }
+  RobotDescription robot = app::LoadRobotOrDie();
+  RobotModel& model = robot.model;
+  const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
+  if (urdf || !FLAGS_parameter_set.empty()) {
+    const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
+    app::ApplyParameterSetOrDie(&model, urdf, lattice.AllJointValues());
+  }
+  Eigen::VectorXd truth = robot.true_parameters.size() == model.num_parameters()
+                              ? robot.true_parameters
+                              : model.nominal;
+  const bool perturbed = FLAGS_perturb_m > 0 || FLAGS_perturb_rad > 0;
+  if (robot.true_parameters.size() != model.num_parameters() && !perturbed) {
+    app::Fail(
+        "--robot has no true values: add 'true:' entries (docs/formats.md) "
+        "or perturb it (--perturb_m, --perturb_rad)");
+  }
+  if (perturbed) {
+    Random random(Random::StreamSeed(FLAGS_seed, 0x5eed));
+    for (int i : model.FreeParameterIndices()) {
+      const ParameterKind kind = model.Kind(i);
+      const double g = random.Gaussian();
+      if (kind == ParameterKind::kLength) truth[i] += FLAGS_perturb_m * g;
+      if (kind == ParameterKind::kAngle) truth[i] += FLAGS_perturb_rad * g;
+    }
+  }
+  if (!FLAGS_truth_out.empty()) {
+    RobotFileOptions options;
+    options.true_parameters = truth;
+    options.comment =
+        "The robot of activecal_sim_cell --seed=" + std::to_string(FLAGS_seed) +
+        " (nominal values and the cell's true values)";
+    app::WriteTextOrDie(FLAGS_truth_out,
+                        RobotFileText(model, model.nominal, options));
+  }
+  Cell cell(model, truth);
+  int status = 0;
+  if (FLAGS_listen.empty()) {
+    LineChannel channel(STDIN_FILENO, g_protocol_out);
+    cell.Serve(&channel, &status);
+    return status;
+  }
+  std::string host = "127.0.0.1", port = FLAGS_listen;
+  const size_t colon = FLAGS_listen.rfind(':');
+  if (colon != std::string::npos) {
+    host = FLAGS_listen.substr(0, colon);
+    port = FLAGS_listen.substr(colon + 1);
+  }
+  if (port.empty() || port.find_first_not_of("0123456789") != port.npos) {
+    app::Fail("--listen must be PORT or HOST:PORT, got '" + FLAGS_listen + "'");
+  }
+  std::unique_ptr<TcpListener> listener;
+  std::string error;
+  if (!TcpListener::Listen(host, std::stoi(port), &listener, &error)) {
+    app::Fail("--listen: " + error);
+  }
+  std::fprintf(stderr, "activecal_sim_cell: listening on %s:%d\n", host.c_str(),
+               listener->port());
+  for (;;) {
+    std::unique_ptr<LineChannel> channel;
+    if (!listener->Accept(&channel, &error)) app::Fail(error);
+    if (!cell.Serve(channel.get(), &status)) return status;
+  }
+}
+
+}  // namespace
+}  // namespace activecal
+
+int main(int argc, char** argv) {
+  // The protocol owns the real stdout; everything else goes to stderr.
+  activecal::g_protocol_out = dup(STDOUT_FILENO);
+  dup2(STDERR_FILENO, STDOUT_FILENO);
+  activecal::app::Init(
+      &argc, &argv,
+      "A simulated robot cell speaking activecal's driver protocol "
+      "(docs/driver_protocol.md) on stdin/stdout, or TCP with --listen: the "
+      "robot of --robot with its true values (or perturbed: --perturb_m, "
+      "--perturb_rad), tracker noise, occlusions, refused poses, drift, and "
+      "a crash on demand (--die_after).\n"
+      "  activecal_active --driver=\"activecal_sim_cell --seed=3 "
+      "--not_visible_fraction=0.1\" --session=run1");
+  return activecal::Main();
+}

@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# activecal_select with a cell (docs/formats.md "Cell file"): the README's
+# UR10e-on-a-table example on a small Sobol pool, the JSON's feasible_poses
+# and rejected counts, the rejected CSV, the tour, the measurable pool, the
+# thread-count independence, and bad input ending with status 1 and one
+# line.
+#
+#   tests/cell_cli_test.sh <build/apps dir> <data dir>
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+apps="$(cd "$1" && pwd)"
+data="$(cd "$2" && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+failures=0
+ok() { echo "ok   [$1]"; }
+fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
+
+source "$here/cli_lib.sh"
+
+ur=(--robot="$data/ur10e.urdf" --tip_link=tool0)
+cell="$data/cells/ur10e_table.yaml"
+
+# The example: a Sobol pool filtered by the cell, a design, the tour.
+for threads in 1 2; do
+  if "$apps/activecal_select" "${ur[@]}" --cell="$cell" --pool=sobol \
+    --pool_size=4000 --num_poses=12 --algorithm=fedorov --order=shortest \
+    --threads=$threads --json_out=d$threads.json --poses_csv=p$threads.csv \
+    --rejected_csv=r$threads.csv >out$threads.txt 2>err$threads.txt; then
+    ok "select --cell --order=shortest (threads $threads)"
+  else
+    fail "select --cell (threads $threads)"; cat err$threads.txt
+  fi
+done
+grep -q "cell: [0-9]* of 4000 poses feasible" out1.txt &&
+  grep -q "rejected: joint margin [0-9]*, self-collision [0-9]*, obstacle table [0-9]*, obstacle wall [0-9]*, out of range [0-9]*, target facing away [0-9]*, line of sight blocked [0-9]*" out1.txt &&
+  grep -q "tour: 12 poses, estimated motion time" out1.txt &&
+  ok "the counts and the tour are printed" || { fail "printed counts"; cat out1.txt; }
+cmp -s r1.csv r2.csv && cmp -s p1.csv p2.csv &&
+  ok "the rejected CSV and the design do not depend on the thread count" ||
+  fail "thread-count independence"
+python3 - <<'EOF' && ok "the JSON, the poses CSV and the rejected CSV agree" || fail "cell outputs"
+import csv, json
+d = json.load(open("d1.json"))
+e = json.load(open("d2.json"))
+assert d["pose_indices"] == e["pose_indices"] and d["rejected"] == e["rejected"]
+assert d["drawn_pool_size"] == 4000
+r = d["rejected"]
+total = d["feasible_poses"] + sum(v for k, v in r.items() if k != "obstacle") \
+    + sum(r["obstacle"].values())
+assert total == 4000, total
+assert set(r["obstacle"]) == {"table", "wall"}
+assert d["pool_size"] == d["feasible_poses"], (d["pool_size"], d["feasible_poses"])
+rows = list(csv.DictReader(open("r1.csv")))
+assert len(rows) == 4000 - d["feasible_poses"]
+reasons = {}
+for row in rows:
+    reasons[row["reason"]] = reasons.get(row["reason"], 0) + 1
+    if row["reason"] == "obstacle":
+        assert row["obstacle"] in ("table", "wall") and row["detail"], row
+    elif row["reason"] == "self_collision":
+        assert "|" in row["detail"], row
+    elif row["reason"] == "joint_margin":
+        assert row["detail"].endswith("_joint"), row
+for k, v in r.items():
+    if k == "obstacle":
+        assert reasons.get("obstacle", 0) == sum(v.values())
+    else:
+        assert reasons.get(k, 0) == v, (k, v, reasons.get(k))
+# No design pose was rejected; the poses CSV keeps the tour's order.
+rejected = {int(row["pose_index"]) for row in rows}
+assert not rejected & set(d["pose_indices"])
+poses = [int(row["pose_index"]) for row in csv.DictReader(open("p1.csv"))]
+assert poses == d["pose_indices"], (poses, d["pose_indices"])
+t = d["tour"]
+assert t["moves_checked"] is True and t["resolution_deg"] == 1.0
+if t["blocked_moves_before"] == 0:
+    assert t["motion_time_after_s"] <= t["motion_time_before_s"] + 1e-9, t
+assert abs(t["velocities"][0] - 2.0943951023931953) < 1e-12
+assert d["targets_seen"] == [["smr"]] * 12
+assert d["efficiency_lower_bound"] > 0.5
+EOF
+
+# The measurable pool: every pose feasible, far fewer draws than poses.
+if "$apps/activecal_select" "${ur[@]}" --cell="$cell" --pool=measurable \
+  --pool_size=300 --num_poses=12 --algorithm=fedorov --json_out=m.json \
+  >m.txt 2>m.err; then
+  ok "select --pool=measurable"
+else
+  fail "select --pool=measurable"; cat m.err
+fi
+python3 - <<'EOF' && ok "the measurable pool is all feasible" || fail "measurable pool"
+import json
+d = json.load(open("m.json"))
+assert d["pool"] == "measurable"
+assert d["feasible_poses"] == 300 == d["drawn_pool_size"], d["feasible_poses"]
+assert d["measurable_pool"]["draws_per_pose"] < 5, d["measurable_pool"]
+EOF
+
+# The task criterion goes through the same (feasible) pool.
+if "$apps/activecal_select" "${ur[@]}" --cell="$cell" --pool=sobol \
+  --pool_size=3000 --num_poses=12 --criterion=task_rms --json_out=t.json \
+  >t.txt 2>t.err; then
+  python3 -c "
+import json
+d = json.load(open('t.json'))
+assert d['criterion'] == 'task_rms'
+assert d['num_task_poses'] == d['feasible_poses'] == d['pool_size'], d['num_task_poses']
+" && ok "the task criterion over the feasible pool" || fail "task criterion pool"
+else
+  fail "select --cell --criterion=task_rms"; cat t.err
+fi
+
+# Bad input: one line each.
+printf 'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 0], acceptance_deg: 30}]\n' >zero.yaml
+expect_fail "zero normal" "--cell: zero.yaml:2:38: targets[0].normal: a zero vector" \
+  activecal_select "${ur[@]}" --cell=zero.yaml --pool=sobol --pool_size=100
+printf 'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 95}]\n' >angle.yaml
+expect_fail "acceptance angle" "targets[0].acceptance_deg: must be in (0, 90], got 95" \
+  activecal_select "${ur[@]}" --cell=angle.yaml --pool=sobol --pool_size=100
+printf 'obstacles: [{name: box, type: box, size_m: [1, 1, 1], xyz_m: [2, 0, 1]}]\ndevice: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 30}]\n' >inside.yaml
+expect_fail "device inside an obstacle" "device.xyz_m: the device lies inside obstacle 'box'" \
+  activecal_select "${ur[@]}" --cell=inside.yaml --pool=sobol --pool_size=100
+printf 'obstacles: [{name: m, type: mesh, file: missing.stl}]\n' >mesh.yaml
+expect_fail "mesh that cannot be read" "obstacles[0].file: missing.stl: Unable to open file" \
+  activecal_select "${ur[@]}" --cell=mesh.yaml --pool=sobol --pool_size=100
+expect_fail "missing cell file" "--cell: nothing.yaml: cannot open the file" \
+  activecal_select "${ur[@]}" --cell=nothing.yaml --pool=sobol --pool_size=100
+expect_fail "measurable without a cell" "--pool=measurable needs --cell" \
+  activecal_select "${ur[@]}" --pool=measurable --pool_size=100
+expect_fail "rejected_csv without a cell" "--rejected_csv needs --cell" \
+  activecal_select "${ur[@]}" --rejected_csv=r.csv
+expect_fail "bad --order" "--order must be none or shortest, got 'fast'" \
+  activecal_select --order=fast
+# Every pose of a 2-level lattice sits on a joint limit: none is left.
+printf 'joint_margin_deg: 1\n' >margin.yaml
+expect_fail "empty feasible pool" "--cell: no pose of the pool is left: 0 of 64 poses feasible; rejected: joint margin 64" \
+  activecal_select --cell=margin.yaml --levels=2
+# The middle level of joints 1-3 only: 27 poses cannot identify the PUMA.
+printf 'joint_margin_override_deg: {L1: 1, L2: 1, L3: 1}\n' >middle.yaml
+expect_fail "unidentifiable feasible pool" "the feasible pool (27 of 729 poses feasible; rejected: joint margin 702" \
+  activecal_select --cell=middle.yaml --levels=3
+expect_fail "feasible pool smaller than the design" "--num_poses=200: the feasible pool has only" \
+  activecal_select "${ur[@]}" --cell="$cell" --pool=sobol --pool_size=2000 --num_poses=200 --json_out=x.json
+[ ! -e x.json ] && ok "a failed run writes nothing" || fail "a failed run wrote its JSON"
+
+echo "$failures failure(s)"
+[ "$failures" -eq 0 ]

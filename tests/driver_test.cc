@@ -1,0 +1,508 @@
+// The driver protocol: every bad reply named, messages read back exactly,
+// commands split without a shell, the client against real processes (a
+// driver that exits, hangs, answers garbage or another protocol) and over
+// TCP; and the controller programs, parsed back, in the controller's joint
+// convention (the shipped iiwa file checked against the URDF's axes).
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include "activecal/core/measurement.h"
+#include "activecal/core/puma560.h"
+#include "activecal/driver/connection.h"
+#include "activecal/driver/driver_client.h"
+#include "activecal/driver/protocol.h"
+#include "activecal/io/controller_programs.h"
+#include "activecal/io/robot_loader.h"
+
+namespace activecal {
+namespace {
+
+const char kOk[] =
+    R"({"type":"measurement","id":7,"status":"ok","joints_rad":[0.1,-0.2],)"
+    R"("points_m":[[1,2,3],null]})";
+
+TEST(DriverProtocolTest, AGoodReplyIsReadExactly) {
+  MeasurementReply reply;
+  std::string error;
+  ASSERT_TRUE(ParseMeasurementReply(kOk, 7, 2, 2, &reply, &error)) << error;
+  EXPECT_EQ(reply.status, MeasureStatus::kOk);
+  EXPECT_EQ(reply.joints, Eigen::Vector2d(0.1, -0.2));
+  ASSERT_EQ(reply.points_m.size(), 2u);
+  EXPECT_EQ(*reply.points_m[0], Eigen::Vector3d(1, 2, 3));
+  EXPECT_FALSE(reply.points_m[1].has_value());
+  const std::vector<Measurement> m = ReplyMeasurements(reply);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].marker, 0);
+  EXPECT_EQ(m[0].type, MeasurementType::kPosition);
+
+  // Written by the driver side and read back: the same doubles.
+  MeasurementReply out;
+  out.id = 3;
+  out.joints = Eigen::Vector2d(1.0 / 3.0, -2e-300);
+  out.points_m = {Eigen::Vector3d(0.1, 1e10, -M_PI), std::nullopt};
+  out.rotations = {Eigen::Vector3d(0.3, 0.2, 0.1), std::nullopt};
+  out.sigma_m = 2.5e-5;
+  ASSERT_TRUE(ParseMeasurementReply(MeasurementReplyMessage(out), 3, 2, 2,
+                                    &reply, &error))
+      << error;
+  EXPECT_EQ(reply.joints, out.joints);
+  EXPECT_EQ(*reply.points_m[0], *out.points_m[0]);
+  EXPECT_EQ(*reply.rotations[0], *out.rotations[0]);
+  EXPECT_EQ(reply.sigma_m, out.sigma_m);
+  const std::vector<Measurement> pose = ReplyMeasurements(reply);
+  ASSERT_EQ(pose.size(), 1u);
+  EXPECT_EQ(pose[0].type, MeasurementType::kPose);
+  EXPECT_EQ(pose[0].sigma_m, Eigen::Vector3d::Constant(2.5e-5));
+
+  // Activecal's measure request, as the driver reads it.
+  ActivecalMessage m2;
+  ASSERT_TRUE(ParseActivecalMessage(MeasureMessage(9, out.joints), &m2, &error))
+      << error;
+  EXPECT_EQ(m2.type, ActivecalMessageType::kMeasure);
+  EXPECT_EQ(m2.id, 9);
+  EXPECT_EQ(m2.joints, out.joints);
+
+  // ok without any marker seen is not_visible.
+  ASSERT_TRUE(ParseMeasurementReply(
+      R"({"type":"measurement","id":1,"status":"ok","joints_rad":[0,0],"points_m":[null]})",
+      1, 2, 1, &reply, &error));
+  EXPECT_EQ(reply.status, MeasureStatus::kNotVisible);
+  EXPECT_TRUE(ReplyMeasurements(reply).empty());
+  // The other statuses need nothing else.
+  ASSERT_TRUE(ParseMeasurementReply(
+      R"({"type":"measurement","id":1,"status":"unreachable","message":"fence"})",
+      1, 2, 1, &reply, &error));
+  EXPECT_EQ(reply.status, MeasureStatus::kUnreachable);
+  EXPECT_EQ(reply.message, "fence");
+}
+
+TEST(DriverProtocolTest, EveryBadReplyIsNamed) {
+  const std::string head = R"({"type":"measurement","id":7,)";
+  const struct {
+    std::string line;
+    std::string named;
+  } cases[] = {
+      {"moving to pose 7", "not JSON: 'moving to pose 7'"},
+      {head + R"("status":"ok","joints_rad":[0,0],"points_m":[[NaN,1,2]]})",
+       "NaN and Infinity are not JSON numbers"},
+      {"[1,2]", "not a JSON object"},
+      {R"({"type":"hello","protocol":1})",
+       "expected a message of type 'measurement', got 'hello'"},
+      {R"({"type":"measurement","id":8,"status":"ok"})", "id 8, expected 7"},
+      {R"({"type":"measurement","status":"ok"})", "no integer \"id\""},
+      {head + R"("status":"done"})",
+       "status 'done' is not ok, not_visible, unreachable or error"},
+      {head + R"("joints_rad":[0,0]})", "no \"status\""},
+      {head + R"("status":"ok","points_m":[[1,2,3]]})",
+       "without \"joints_rad\""},
+      {head + R"("status":"ok","joints_rad":[0,0,0],"points_m":[[1,2,3]]})",
+       "joints_rad has 3 values, the robot has 2 joints"},
+      {head + R"("status":"ok","joints_rad":[0,null],"points_m":[[1,2,3]]})",
+       "joints_rad[1] is not a number"},
+      {head + R"("status":"ok","joints_rad":[0,1e400],"points_m":[[1,2,3]]})",
+       "a number beyond the range of a double"},
+      {head + R"("status":"ok","joints_rad":[0,0]})", "without \"points_m\""},
+      {head +
+           R"("status":"ok","joints_rad":[0,0],"points_m":[[1,2,3],[1,2,3]]})",
+       "points_m has 2 entries, one per marker expected (1"},
+      {head + R"("status":"ok","joints_rad":[0,0],"points_m":[[1,2]]})",
+       "points_m[0] has 2 values, expected [x, y, z] or null"},
+      {head + R"("status":"ok","joints_rad":[0,0],"points_m":[null],)"
+              R"("rotations":[[0,0,1]]})",
+       "rotations[0] is given for a marker whose point is null"},
+      {head + R"("status":"ok","joints_rad":[0,0],"points_m":[[1,2,3]],)"
+              R"("sigma_m":0})",
+       "sigma_m must be > 0"},
+  };
+  for (const auto& c : cases) {
+    MeasurementReply reply;
+    std::string error;
+    EXPECT_FALSE(ParseMeasurementReply(c.line, 7, 2, 1, &reply, &error))
+        << c.line;
+    EXPECT_NE(error.find(c.named), std::string::npos)
+        << "line: " << c.line << "\nerror: " << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+  std::string error;
+  EXPECT_FALSE(ParseDriverHello(R"({"type":"hello","protocol":2})", &error));
+  EXPECT_NE(error.find("the driver speaks protocol 2, activecal 1"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(ParseDriverHello(R"({"type":"hello"})", &error));
+  EXPECT_NE(error.find("no integer \"protocol\""), std::string::npos);
+  // A binary answer stays on one line.
+  EXPECT_EQ(Excerpt(std::string("a\nb\x01", 4)), "a\\x0ab\\x01");
+}
+
+TEST(DriverConnectionTest, CommandsAreSplitWithoutAShell) {
+  std::vector<std::string> words;
+  std::string error;
+  ASSERT_TRUE(SplitDriverCommand(
+      "python3 'my driver.py' --port=\"/dev/tty USB0\" a\\ b", &words, &error))
+      << error;
+  EXPECT_EQ(words, (std::vector<std::string>{"python3", "my driver.py",
+                                             "--port=/dev/tty USB0", "a b"}));
+  EXPECT_FALSE(SplitDriverCommand("driver | tee log", &words, &error));
+  EXPECT_NE(error.find("runs the command without a shell"), std::string::npos)
+      << error;
+  EXPECT_FALSE(SplitDriverCommand("driver $(rm -rf x)", &words, &error));
+  EXPECT_NE(error.find("command substitution"), std::string::npos) << error;
+  EXPECT_FALSE(SplitDriverCommand("driver 'open", &words, &error));
+  EXPECT_NE(error.find("unbalanced quotes"), std::string::npos) << error;
+  EXPECT_FALSE(SplitDriverCommand("   ", &words, &error));
+}
+
+DriverHello TwoJoints() {
+  DriverHello hello;
+  hello.joint_names = {"j1", "j2"};
+  hello.markers = 1;
+  hello.robot = "test";
+  return hello;
+}
+
+// A driver written in sh: reads activecal's hello, then runs `body`.
+std::string ShDriver(const std::string& body) {
+  return "sh -c 'read line; " + body + "'";
+}
+
+const char kHelloReply[] = R"(echo "{\"type\":\"hello\",\"protocol\":1}")";
+
+TEST(DriverClientTest, AConversationWithAChildProcess) {
+  DriverClientOptions options;
+  options.timeout_s = 5;
+  options.driver = ShDriver(
+      std::string(kHelloReply) +
+      R"(; read line; echo "{\"type\":\"measurement\",\"id\":1,\"status\":)"
+      R"(\"ok\",\"joints_rad\":[0.5,0.25],\"points_m\":[[1,2,3]]}"; )"
+      R"(read line; echo "{\"type\":\"measurement\",\"id\":2,\"status\":)"
+      R"(\"not_visible\",\"message\":\"behind the column\"}"; read line)");
+  std::unique_ptr<DriverClient> client;
+  std::string error;
+  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
+      << error;
+  EXPECT_EQ(client->driver_hello(), R"({"type":"hello","protocol":1})");
+  MeasurementReply reply;
+  ASSERT_TRUE(client->Measure(Eigen::Vector2d(0.5, 0.2), &reply, &error))
+      << error;
+  EXPECT_EQ(reply.joints, Eigen::Vector2d(0.5, 0.25));  // read, not commanded
+  ASSERT_TRUE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error)) << error;
+  EXPECT_EQ(reply.status, MeasureStatus::kNotVisible);
+  EXPECT_EQ(reply.message, "behind the column");
+  EXPECT_EQ(client->Close(), "");
+}
+
+TEST(DriverClientTest, EveryFailureIsOneLineNamingTheDriver) {
+  DriverClientOptions options;
+  options.timeout_s = 0.3;
+  struct Case {
+    std::string driver;
+    bool at_start;
+    std::string named;
+  };
+  const Case cases[] = {
+      {"sh -c 'exit 3'", true,
+       "exited with status 3 while activecal waited for its hello"},
+      {"no-such-driver-program --x", true,
+       "cannot start 'no-such-driver-program': No such file or directory"},
+      {ShDriver(R"(echo "{\"type\":\"hello\",\"protocol\":2}"; read line)"),
+       true, "the driver speaks protocol 2"},
+      {ShDriver("exec sleep 10"), true,
+       "no reply within 0.3 s while waiting for its hello"},
+      {ShDriver(std::string(kHelloReply) + "; read line; echo ready"), false,
+       "the reply to measure 1: not JSON: 'ready'"},
+      {ShDriver(std::string(kHelloReply) + "; read line; kill -9 $$"), false,
+       "was killed by signal 9"},
+      {ShDriver(std::string(kHelloReply) + "; read line; exec sleep 10"), false,
+       "no reply within 0.3 s while waiting for the reply to measure 1"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.driver);
+    options.driver = c.driver;
+    std::unique_ptr<DriverClient> client;
+    std::string error;
+    const bool started =
+        DriverClient::Start(options, TwoJoints(), &client, &error);
+    if (c.at_start) {
+      EXPECT_FALSE(started);
+    } else {
+      ASSERT_TRUE(started) << error;
+      MeasurementReply reply;
+      EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+      // After a failure the conversation is over.
+      std::string again;
+      EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &again));
+      EXPECT_NE(again.find("ended after an earlier failure"),
+                std::string::npos);
+    }
+    EXPECT_NE(error.find(c.named), std::string::npos) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+}
+
+TEST(DriverClientTest, ADriverOverTcp) {
+  std::unique_ptr<TcpListener> listener;
+  std::string error;
+  ASSERT_TRUE(TcpListener::Listen("127.0.0.1", 0, &listener, &error)) << error;
+  ASSERT_GT(listener->port(), 0);
+  std::string got_hello, got_bye;
+  std::thread driver([&] {
+    std::unique_ptr<LineChannel> channel;
+    std::string e, line;
+    if (!listener->Accept(&channel, &e)) return;
+    channel->ReadLine(5, &got_hello, &e);
+    channel->WriteLine(DriverHelloMessage(R"({"driver":"test"})"), &e);
+    channel->ReadLine(5, &line, &e);
+    ActivecalMessage m;
+    ParseActivecalMessage(line, &m, &e);
+    MeasurementReply r;
+    r.id = m.id;
+    r.joints = m.joints;
+    r.points_m = {Eigen::Vector3d(0.5, 0.5, 0.5)};
+    channel->WriteLine(MeasurementReplyMessage(r), &e);
+    channel->ReadLine(5, &got_bye, &e);
+  });
+  DriverClientOptions options;
+  options.driver = "tcp://127.0.0.1:" + std::to_string(listener->port());
+  options.timeout_s = 5;
+  std::unique_ptr<DriverClient> client;
+  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
+      << error;
+  MeasurementReply reply;
+  ASSERT_TRUE(client->Measure(Eigen::Vector2d(0.125, 0.5), &reply, &error))
+      << error;
+  EXPECT_EQ(reply.joints, Eigen::Vector2d(0.125, 0.5));
+  client->Close();
+  driver.join();
+  EXPECT_NE(got_hello.find("\"joint_names\":[\"j1\",\"j2\"]"),
+            std::string::npos)
+      << got_hello;
+  EXPECT_EQ(got_bye, R"({"type":"bye"})");
+
+  const int port = listener->port();
+  listener.reset();
+  options.driver = "tcp://127.0.0.1:" + std::to_string(port);
+  EXPECT_FALSE(DriverClient::Start(options, TwoJoints(), &client, &error));
+  EXPECT_NE(error.find("cannot connect to tcp://127.0.0.1:"), std::string::npos)
+      << error;
+  options.driver = "tcp://nohost";
+  EXPECT_FALSE(DriverClient::Start(options, TwoJoints(), &client, &error));
+  EXPECT_NE(error.find("is not tcp://HOST:PORT"), std::string::npos) << error;
+}
+
+// --- Controller programs ---
+
+std::vector<std::vector<double>> NumbersIn(const std::string& text,
+                                           const std::regex& line) {
+  std::vector<std::vector<double>> rows;
+  const std::regex number(R"(-?[0-9]+(\.[0-9]+)?(E9)?)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), line);
+       it != std::sregex_iterator(); ++it) {
+    const std::string inside = (*it)[1];
+    std::vector<double> row;
+    for (auto n = std::sregex_iterator(inside.begin(), inside.end(), number);
+         n != std::sregex_iterator(); ++n) {
+      row.push_back(std::stod(n->str()));
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+RobotModel Iiwa() {
+  RobotDescription robot;
+  std::string error;
+  EXPECT_TRUE(LoadRobot(ACTIVECAL_DATA_DIR "/kuka_iiwa14.urdf",
+                        RobotLoadOptions(), &robot, &error))
+      << error;
+  return robot.model;
+}
+
+// The shipped data/controllers/kuka_iiwa14.yaml.
+ControllerConvention IiwaConvention(const RobotModel& model) {
+  ControllerConvention convention;
+  std::string error;
+  EXPECT_TRUE(ReadControllerConvention(ACTIVECAL_DATA_DIR
+                                       "/controllers/kuka_iiwa14.yaml",
+                                       model, &convention, &error))
+      << error;
+  return convention;
+}
+
+TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
+  const RobotModel model = Iiwa();
+  ControllerConvention convention = IiwaConvention(model);
+  std::string error;
+  // An offset too, to see the zero applied.
+  convention.joints[2].offset = 10 * M_PI / 180;
+  PoseList poses;
+  poses.joints.resize(3, 7);
+  poses.joints << 0.1, -0.2, 0.3, -1.5, 2.9, -2.0, 3.0,  //
+      0, 0, 0, 0, 0, 0, 0,                               //
+      -2.9, 2.0, -0.7, 1.1, -0.01, 0.5, -3.05;
+  poses.pose_indices = {17, 3, 250};
+  ControllerProgramOptions options;
+  options.wait_s = 1.5;
+  const struct {
+    ProgramLanguage language;
+    std::regex move;
+    double unit;  // program unit per rad
+    double digits;
+  } languages[] = {
+      {ProgramLanguage::kUrScript, std::regex(R"(movej\(\[([^\]]*)\])"), 1.0,
+       1e-9},
+      {ProgramLanguage::kKrl, std::regex(R"(PTP \{([^}]*)\})"), 180 / M_PI,
+       1e-6},
+      {ProgramLanguage::kRapid, std::regex(R"(MoveAbsJ \[\[(.*)\]\],)"),
+       180 / M_PI, 1e-6},
+  };
+  for (const auto& l : languages) {
+    SCOPED_TRACE(ProgramLanguageToString(l.language));
+    options.language = l.language;
+    std::string text;
+    ASSERT_TRUE(
+        ControllerProgramText(model, convention, poses, options, &text, &error))
+        << error;
+    std::vector<std::vector<double>> rows = NumbersIn(text, l.move);
+    ASSERT_EQ(rows.size(), 3u) << text;
+    for (int i = 0; i < 3; ++i) {
+      std::vector<double>& row = rows[i];
+      if (l.language == ProgramLanguage::kKrl) {
+        // "A1 v, ..., E1 v": every other number is an axis number.
+        std::vector<double> values;
+        for (size_t k = 1; k < row.size(); k += 2) values.push_back(row[k]);
+        row = values;
+      }
+      if (l.language == ProgramLanguage::kRapid) {
+        ASSERT_EQ(row.size(), 12u);
+        for (int k = 7; k < 12; ++k) EXPECT_EQ(row[k], 9e9);
+        row.resize(7);
+      }
+      ASSERT_EQ(row.size(), 7u);
+      for (int j = 0; j < 7; ++j) {
+        const ControllerJoint& c = convention.joints[j];
+        const double want = (c.sign * poses.joints(i, j) + c.offset) * l.unit;
+        EXPECT_NEAR(row[j], want, 0.51 * l.digits)
+            << "pose " << i << " joint " << j;
+      }
+    }
+    // The waits, one per pose, and the pose indices in comments.
+    const std::regex wait(
+        l.language == ProgramLanguage::kUrScript ? R"(sleep\(1\.500\))"
+        : l.language == ProgramLanguage::kKrl    ? R"(WAIT SEC 1\.500)"
+                                                 : R"(WaitTime 1\.500;)");
+    EXPECT_EQ(
+        std::distance(std::sregex_iterator(text.begin(), text.end(), wait),
+                      std::sregex_iterator()),
+        3);
+    EXPECT_NE(text.find("pose 3 of 3: pose_index 250"), std::string::npos);
+  }
+  // Zero is written without a sign.
+  options.language = ProgramLanguage::kKrl;
+  std::string text;
+  ASSERT_TRUE(
+      ControllerProgramText(model, convention, poses, options, &text, &error));
+  EXPECT_NE(text.find("PTP {A1 0.000000, A2 0.000000"), std::string::npos);
+  // KRL and RAPID hold 12 axes at most; the names are checked.
+  options.name = "9lives";
+  EXPECT_FALSE(
+      ControllerProgramText(model, convention, poses, options, &text, &error));
+  EXPECT_NE(error.find("must be a letter"), std::string::npos) << error;
+}
+
+// The shipped convention of data/kuka_iiwa14.urdf: at zero the controller's
+// axes are A1 +z, A2 +y, A3 +z, A4 -y, A5 +z, A6 +y, A7 +z of the base (the
+// LBR iiwa's published joint twists). The axis of each URDF joint at zero,
+// from the flange's orientation under a small turn, times the file's sign,
+// must be the controller's.
+TEST(ControllerProgramTest, TheIiwaConventionMatchesTheControllersAxes) {
+  const RobotModel model = Iiwa();
+  ControllerConvention convention = IiwaConvention(model);
+  std::string error;
+  const Eigen::Vector3d kuka[] = {
+      Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(),
+      Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitY(),
+      Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(),
+      Eigen::Vector3d::UnitZ()};
+  auto rotation = [&](const Eigen::VectorXd& q) {
+    Measurement like;
+    like.type = MeasurementType::kPose;
+    like.joints = q;
+    const Eigen::Vector3d r =
+        PredictMeasurement(model, model.nominal, like).rotation;
+    return Eigen::AngleAxisd(r.norm(), r.norm() > 0
+                                           ? Eigen::Vector3d(r.normalized())
+                                           : Eigen::Vector3d::UnitX())
+        .toRotationMatrix();
+  };
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(7);
+  const Eigen::Matrix3d R0 = rotation(zero);
+  for (int j = 0; j < 7; ++j) {
+    const double h = 1e-6;
+    Eigen::VectorXd q = zero;
+    q[j] = h;  // a controller turn of +h / sign
+    const Eigen::Matrix3d dR = rotation(q) * R0.transpose();
+    const Eigen::Vector3d w(dR(2, 1) - dR(1, 2), dR(0, 2) - dR(2, 0),
+                            dR(1, 0) - dR(0, 1));
+    const Eigen::Vector3d axis = w / (2 * h) * convention.joints[j].sign;
+    EXPECT_LT((axis - kuka[j]).norm(), 1e-6)
+        << convention.joints[j].name << ": " << axis.transpose();
+    EXPECT_EQ(convention.joints[j].offset, 0.0);
+  }
+}
+
+TEST(ControllerProgramTest, BadConventionFilesAreNamed) {
+  const RobotModel model = Iiwa();
+  const std::string seven =
+      "joints:\n"
+      "  - {name: A1}\n  - {name: A2}\n  - {name: A3}\n  - {name: A4}\n"
+      "  - {name: A5}\n  - {name: A6}\n";
+  const struct {
+    std::string text;
+    std::string named;
+  } cases[] = {
+      {seven, "c.yaml:2:3: joints: has 6 entries, the robot 'kuka_iiwa14' 7"},
+      {seven + "  - {name: A7, sign: 2}\n", "joints[6].sign: expected 1 or -1"},
+      {seven + "  - {name: A7, offset_mm: 3}\n",
+       "joints[6].offset_mm: joint 7 is revolute: use offset_deg or "
+       "offset_rad"},
+      {seven + "  - {name: A7, offset_deg: 1, offset_rad: 0}\n",
+       "one offset per joint"},
+      {seven + "  - {name: A7, joint: joint_a6}\n",
+       "joints[6].joint: is for joint 'joint_a6', the robot's joint 7 is "
+       "'joint_a7'"},
+      {seven + "  - {name: A7, speed: 3}\n", "joints[6].speed: unknown field"},
+      {"joint: []\n", "joint: unknown field"},
+  };
+  for (const auto& c : cases) {
+    ControllerConvention convention;
+    std::string error;
+    EXPECT_FALSE(
+        ParseControllerConvention(c.text, "c.yaml", model, &convention, &error))
+        << c.text;
+    EXPECT_NE(error.find(c.named), std::string::npos)
+        << c.text << "\nerror: " << error;
+  }
+  ControllerConvention convention;
+  std::string error;
+  ASSERT_TRUE(ParseControllerConvention(
+      seven + "  - {name: A7, sign: -1, offset_deg: 90}\n", "c.yaml", model,
+      &convention, &error))
+      << error;
+  EXPECT_EQ(convention.joints[6].sign, -1);
+  EXPECT_NEAR(convention.joints[6].offset, M_PI / 2, 1e-15);
+  EXPECT_NEAR(ControllerJointValue(model, convention, ProgramLanguage::kKrl, 6,
+                                   M_PI / 4),
+              45.0, 1e-12);
+  EXPECT_NEAR(ControllerJointValue(model, convention,
+                                   ProgramLanguage::kUrScript, 6, M_PI / 4),
+              M_PI / 4, 1e-15);
+}
+
+}  // namespace
+}  // namespace activecal
