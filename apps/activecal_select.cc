@@ -15,6 +15,7 @@
 #include <iostream>
 #include <string>
 
+#include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
@@ -140,15 +141,6 @@ std::string Number(double x, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), "%.*g", digits, x);
   return buffer;
-}
-
-// The targets seen per pose as names.
-nlohmann::json TargetsSeen(const Cell& cell, uint32_t seen) {
-  nlohmann::json names = nlohmann::json::array();
-  for (size_t t = 0; t < cell.targets.size(); ++t) {
-    if (seen & (1u << t)) names.push_back(cell.targets[t].name);
-  }
-  return names;
 }
 
 int Main() {
@@ -305,16 +297,7 @@ int Main() {
       o.num_threads = FLAGS_threads;
       app::ProgressLine line("cell checks");
       o.progress = line.callback();
-      if (!FilterPool(*cell.checker, joints, o, &feasibility)) {
-        *note = feasibility.message;
-        return false;
-      }
-      *kept = feasibility.feasible;
-      *note =
-          std::to_string(feasibility.num_feasible()) + " of " +
-          std::to_string(feasibility.num_poses) +
-          " poses feasible; rejected: " + feasibility.CountsText(*cell.checker);
-      return true;
+      return CellPoolFilter(*cell.checker, o, &feasibility)(joints, kept, note);
     };
   }
   CandidatePool pool;
@@ -619,26 +602,12 @@ int Main() {
       // The preprocess: what the cell kept and why the rest went.
       j["cell"] = FLAGS_cell;
       j["drawn_pool_size"] = drawn_pool_size;
-      j["feasible_poses"] = feasibility.num_feasible();
-      nlohmann::json rejected;
-      for (int r = 1; r < kNumRejectionReasons; ++r) {
-        const RejectionReason reason = static_cast<RejectionReason>(r);
-        if (reason == RejectionReason::kObstacle) {
-          nlohmann::json by_obstacle = nlohmann::json::object();
-          for (size_t o = 0; o < cell.cell.obstacles.size(); ++o) {
-            by_obstacle[cell.cell.obstacles[o].name] =
-                feasibility.rejected_by_obstacle[o];
-          }
-          rejected["obstacle"] = by_obstacle;
-        } else {
-          rejected[RejectionReasonToString(reason)] = feasibility.rejected[r];
-        }
-      }
-      j["rejected"] = rejected;
+      j.update(CellPoolJson(cell.cell, feasibility));
       if (!cell.cell.targets.empty()) {
         nlohmann::json seen = nlohmann::json::array();
         for (int64_t i : summary.design) {
-          seen.push_back(TargetsSeen(cell.cell, feasibility.targets_seen[i]));
+          seen.push_back(
+              TargetsSeenJson(cell.cell, feasibility.targets_seen[i]));
         }
         j["targets_seen"] = seen;
       }
