@@ -3,8 +3,8 @@
 # #25, items 6): activecal_active --cell designs every batch from the
 # feasible pool (every pose it measured passes the cell's checks, recomputed
 # by activecal_select on those poses alone; without --cell some do not),
-# its JSON counts; a cell that leaves no pose fails in one line, writing
-# nothing; activecal_select's task criterion chooses feasible poses only;
+# its JSON counts, --order=shortest per batch; a cell that leaves no pose
+# fails in one line, writing nothing; activecal_select's task criterion chooses feasible poses only;
 # activecal_compensate --cell gives a configuration through the table status
 # collision.
 #
@@ -147,6 +147,57 @@ for name in ("t_none.json", "t_3e-4.json"):
 free = json.load(open("t_free.json"))
 assert set(free["pose_indices"]) & rejected, "the check proves nothing"
 PY
+
+# --- Compensation through the table. ---
+# A program of a pose the cell keeps and one it rejects for the table
+# (activecal_select's rejected CSV names it), compensated on the robot it
+# was taught with: each converges to itself, and only the second collides.
+"$apps/activecal_select" --robot="$puma" --levels=3 --cell="$cell" \
+  --num_poses=12 --poses_csv=design.csv --rejected_csv=rejected.csv \
+  --threads=2 >sel.out 2>sel.err || { fail "select --cell"; cat sel.err; }
+python3 - <<'PY' || fail "the program"
+import csv
+table = [r for r in csv.DictReader(open("rejected.csv")) if r["obstacle"] == "table"]
+kept = list(csv.DictReader(open("design.csv")))
+cols = ["pose_index"] + ["q%d_rad" % j for j in range(1, 7)]
+with open("program.csv", "w") as f:
+    f.write(",".join(cols) + "\n")
+    for r in (kept[0], table[0]):
+        f.write(",".join(r[c] for c in cols) + "\n")
+open("table_link", "w").write(table[0]["detail"])
+PY
+"$apps/activecal_compensate" --robot="$puma" --nominal="$puma" \
+  --poses_csv=program.csv --out=free.csv --json_out=free.json >/dev/null 2>&1
+"$apps/activecal_compensate" --robot="$puma" --nominal="$puma" \
+  --poses_csv=program.csv --cell="$cell" --out=comp.csv \
+  --json_out=comp.json >comp.out 2>comp.err
+status=$?
+link=$(cat table_link 2>/dev/null)
+[ "$status" -eq 2 ] &&
+  grep -q "1 of 2 targets did not converge, written with their status to comp.csv; the first, pose_index [0-9]*, is collision: obstacle table ($link)" comp.err &&
+  ok "compensate --cell: the pose through the table is a collision (status 2)" ||
+  { fail "compensate --cell (status $status)"; cat comp.err; }
+python3 - <<'PY' && ok "... in the CSV and the JSON" || fail "compensate --cell outputs"
+import csv, json
+free = json.load(open("free.json"))
+assert free["num_converged"] == 2 and free["num_collision"] == 0, free
+d = json.load(open("comp.json"))
+assert d["num_converged"] == 1 and d["num_collision"] == 1, d
+assert d["cell"].endswith("puma_table_cell.yaml")
+t = d["targets"]
+assert t[0]["status"] == "converged" and t[1]["status"] == "collision", t
+assert t[1]["message"].startswith("obstacle table ("), t[1]
+rows = list(csv.DictReader(open("comp.csv")))
+assert [r["status"] for r in rows] == ["converged", "collision"], rows
+PY
+# A joint margin the program's pose leaves (its joints sit on the limits).
+sed 's/joint_margin_deg: 0/joint_margin_deg: 3/; s/offset_m: 0.3/offset_m: -5/' \
+  "$cell" >margin.yaml
+"$apps/activecal_compensate" --robot="$puma" --nominal="$puma" \
+  --poses_csv=program.csv --cell=margin.yaml --out=m.csv >m.out 2>m.err
+grep -q "is collision: joint margin (L[1-6])" m.err &&
+  ok "compensate --cell: a joint margin left is a collision too" ||
+  { fail "compensate --cell joint margin"; cat m.err; }
 
 echo "cell_wire_cli_test: $failures failure(s)"
 [ "$failures" -eq 0 ]
