@@ -227,23 +227,12 @@ int Main() {
   // The cell: its checks, and its targets as the markers unless --frames
   // gives them (before the truth is read: the markers' true values come
   // with them).
-  CellSetup cell;
   const bool with_cell = !FLAGS_cell.empty();
+  const CellSetup cell =
+      with_cell ? app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot)
+                : CellSetup();
   std::string cell_text;
   if (with_cell) {
-    CellSetupOptions cell_options;
-    cell_options.cell_path = FLAGS_cell;
-    cell_options.robot_path = FLAGS_robot;
-    cell_options.chain.base_link = FLAGS_base_link;
-    cell_options.chain.tip_link = FLAGS_tip_link;
-    cell_options.targets_as_markers = FLAGS_frames.empty();
-    std::string error;
-    if (!SetUpCell(cell_options, &robot, &cell, &error)) {
-      app::Fail("--cell: " + error);
-    }
-    for (const std::string& note : cell.notes) {
-      std::printf("  --cell: note: %s\n", note.c_str());
-    }
     std::ifstream in(FLAGS_cell, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();

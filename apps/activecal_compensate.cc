@@ -140,23 +140,12 @@ int Main() {
   const RobotModel& model = robot.model;
   // The cell, on the calibrated robot with its own markers (the program
   // places them; the cell's targets are for measuring).
-  CellSetup cell;
-  if (!FLAGS_cell.empty()) {
-    CellSetupOptions cell_options;
-    cell_options.cell_path = FLAGS_cell;
-    cell_options.robot_path = FLAGS_robot;
-    cell_options.chain.base_link = FLAGS_base_link;
-    cell_options.chain.tip_link = FLAGS_tip_link;
-    cell_options.targets_as_markers = false;
-    if (!SetUpCell(cell_options, &robot, &cell, &error)) {
-      app::Fail("--cell: " + error);
-    }
-    for (const std::string& note : cell.notes) {
-      std::printf("%s: --cell: note: %s\n", app::ProgramName().c_str(),
-                  note.c_str());
-    }
-    options.check = CellCompensationCheck(*cell.checker);
-  }
+  const CellSetup cell =
+      FLAGS_cell.empty()
+          ? CellSetup()
+          : app::SetUpCellOrDie(FLAGS_cell, /*targets_as_markers=*/false,
+                                &robot);
+  if (cell.checker) options.check = CellCompensationCheck(*cell.checker);
   options.ik.marker = model.MarkerIndex(FLAGS_marker);
   if (options.ik.marker < 0) {
     app::Fail("--marker: '" + FLAGS_marker + "' is not a marker of robot '" +

@@ -163,22 +163,10 @@ int Main() {
   chain.tip_link = FLAGS_tip_link;
   // The cell: its checks, and its targets as the markers unless --frames
   // gives them.
-  CellSetup cell;
   const bool with_cell = !FLAGS_cell.empty();
-  if (with_cell) {
-    CellSetupOptions cell_options;
-    cell_options.cell_path = FLAGS_cell;
-    cell_options.robot_path = FLAGS_robot;
-    cell_options.chain = chain;
-    cell_options.targets_as_markers = FLAGS_frames.empty();
-    std::string error;
-    if (!SetUpCell(cell_options, &robot, &cell, &error)) {
-      app::Fail("--cell: " + error);
-    }
-    for (const std::string& note : cell.notes) {
-      std::printf("  --cell: note: %s\n", note.c_str());
-    }
-  }
+  const CellSetup cell =
+      with_cell ? app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot)
+                : CellSetup();
   RobotModel model = robot.model;
   MeasurementType type;
   if (!ParseMeasurementType(FLAGS_measurement, &type) ||
