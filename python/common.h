@@ -57,6 +57,8 @@
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/estimation/registration_fit.h"
 #include "activecal/calibration/selection_pool.h"
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/cell/cell_setup.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"
@@ -243,6 +245,13 @@ struct Robot {
   const RobotModel& model() const { return description.model; }
 };
 using RobotPtr = std::shared_ptr<Robot>;
+
+// design.cc: the cell of the kwarg cell= (a path; None or absent: null),
+// set up by the library (SetUpCell) on the robot as loaded, its markers
+// kept; the notes of the setup appended to *notes. A ValueError
+// "cell: <file>:<line>:<col>: <field>: ..." for a bad cell file.
+std::unique_ptr<CellSetup> CellArg(const Robot& robot, const py::kwargs& kwargs,
+                                   std::vector<std::string>* notes);
 
 inline Eigen::VectorXd ParametersArg(const Robot& robot,
                                      const py::object& obj) {
