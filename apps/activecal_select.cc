@@ -194,6 +194,16 @@ int Main() {
   }
   MeasurablePoolSummary measurable_summary;
   const bool from_lattice = FLAGS_pool_csv.empty() && !sampled && !measurable;
+  // --pool_size sizes a drawn pool only: with the lattice (or a CSV) it was
+  // silently ignored, so --pool_size=100000000000 exited 0 (issue 26).
+  if (!sampled && !measurable &&
+      !gflags::GetCommandLineFlagInfoOrDie("pool_size").is_default) {
+    app::Fail("--pool_size sizes a --pool=sobol, random or measurable pool; " +
+              std::string(from_lattice ? "the lattice has --levels poses per "
+                                         "joint"
+                                       : "--pool_csv has its rows") +
+              ": give --pool or drop --pool_size");
+  }
   // A pool too large for memory is refused before it is listed (it was a
   // std::bad_alloc), by the check the Python module uses (for a lattice in
   // MakeLatticeOrDie).

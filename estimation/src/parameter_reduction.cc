@@ -157,7 +157,7 @@ bool ApplyAndReduceParameterSet(ParameterSet set,
     *point = given;
     return false;
   }
-  ReduceToIdentifiable(model, J, 1e-7, dropped);
+  ReduceToIdentifiable(model, J, kRedundancyTolerance, dropped);
   // What is held keeps exactly the value it was given; only parameters the
   // fit will estimate start from the generic point.
   for (int i = 0; i < model->num_parameters(); ++i) {
