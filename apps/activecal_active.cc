@@ -234,7 +234,8 @@ int Main() {
   const Eigen::MatrixXd joints = lattice.AllJointValues();
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
-    app::ApplyParameterSetOrDie(&model, urdf, joints);
+    model =
+        WithFreeSet(model, app::ReducedParameterSetOrDie(model, urdf, joints));
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
       model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
@@ -437,11 +438,10 @@ int Main() {
     const int n = static_cast<int>(summary.measured.size());
     CandidatePoolOptions pool_options;
     pool_options.num_threads = FLAGS_threads;
-    RobotModel pool_model = model;
     CandidatePool pool;
     CandidatePoolSummary pool_summary;
-    if (!BuildCandidatePool(&pool_model, model.nominal, joints, pool_options,
-                            &pool, &pool_summary)) {
+    if (!BuildCandidatePool(model, model.nominal, joints, pool_options, &pool,
+                            &pool_summary)) {
       app::Fail("pool at nominal: " + pool_summary.message);
     }
     const Eigen::MatrixXd W = TaskMatrix(pool);

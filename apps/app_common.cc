@@ -56,6 +56,8 @@ namespace {
 std::string g_program = "activecal";
 }
 
+const std::string& ProgramName() { return g_program; }
+
 void Fail(const std::string& message) {
   std::cerr << g_program << ": error: " << message << std::endl;
   std::exit(1);
@@ -175,7 +177,7 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
 ParameterSet ParameterSetOrDie(bool urdf_robot) {
   ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
   if (!FLAGS_parameter_set.empty() &&
-      !ParseParameterSet(FLAGS_parameter_set, &set)) {
+      !StringToParameterSet(FLAGS_parameter_set, &set)) {
     Fail("--parameter_set must be registration, offsets, full or file, got '" +
          FLAGS_parameter_set + "'");
   }
@@ -218,7 +220,8 @@ RobotDescription LoadRobotOrDie() {
   return robot;
 }
 
-CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
+CandidatePool BuildPoolOrDie(const RobotModel& model,
+                             const Eigen::MatrixXd& joints,
                              CandidatePoolOptions options,
                              const std::string& what, double* seconds,
                              std::vector<std::string>* fixed) {
@@ -226,7 +229,7 @@ CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
   options.progress = line.callback();
   CandidatePool pool;
   CandidatePoolSummary summary;
-  if (!BuildCandidatePool(model, model->nominal, joints, options, &pool,
+  if (!BuildCandidatePool(model, model.nominal, joints, options, &pool,
                           &summary)) {
     if (options.check_identifiability &&
         !summary.identifiability.identifiable() &&
@@ -235,10 +238,10 @@ CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
     }
     Fail(summary.message);
   }
-  NoteAutoFixed(summary.fixed_names, summary.num_free_before, what,
+  NoteAutoFixed(HeldNames(summary.held), summary.num_free_before, what,
                 "--auto_fix");
   if (seconds) *seconds = summary.jacobian_seconds;
-  if (fixed) *fixed = summary.fixed_names;
+  if (fixed) *fixed = HeldNames(summary.held);
   return pool;
 }
 
@@ -386,30 +389,28 @@ void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
               static_cast<long long>(poses.joints.rows()));
 }
 
-void ApplyParameterSetOrDie(RobotModel* model, bool urdf_robot,
-                            const Eigen::MatrixXd& joints) {
+FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
+                                 const Eigen::MatrixXd& joints) {
   const ParameterSet set = ParameterSetOrDie(urdf_robot);
   const Eigen::Index n = std::min<Eigen::Index>(joints.rows(), 2000);
   Eigen::MatrixXd sample(n, joints.cols());
   for (Eigen::Index i = 0; i < n; ++i) {
     sample.row(i) = joints.row(i * joints.rows() / n);
   }
-  RobotModel reduced = *model;
-  Eigen::VectorXd point = model->nominal;
-  std::vector<DroppedParameter> dropped;
+  Eigen::VectorXd point = model.nominal;
+  FreeSet free;
+  std::vector<HeldParameter> dropped;
   std::string error;
-  if (!ApplyAndReduceParameterSet(set, MeasurementPlan(sample), 1.0, &reduced,
-                                  &point, &dropped, &error)) {
-    Fail("--parameter_set=" + std::string(ParameterSetName(set)) + ": " +
+  if (!ReduceParameterSet(model, set, MeasurementPlan(sample), 1.0, &point,
+                          &free, &dropped, &error)) {
+    Fail("--parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
          error);
   }
-  for (const DroppedParameter& d : dropped) {
+  for (const HeldParameter& d : dropped) {
     std::printf("  --parameter_set=%s: %s held fixed: %s\n",
-                ParameterSetName(set), d.name.c_str(), d.reason.c_str());
+                ParameterSetToString(set), d.name.c_str(), d.reason.c_str());
   }
-  for (int i = 0; i < model->num_parameters(); ++i) {
-    model->SetFree(i, reduced.IsFree(i));
-  }
+  return free;
 }
 
 }  // namespace app

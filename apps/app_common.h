@@ -12,16 +12,16 @@
 #include <string>
 #include <vector>
 
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/candidate_pool.h"
-#include "activecal/io/controller_programs.h"
-#include "activecal/io/csv_files.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
-#include "activecal/io/robot_file.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/estimation/identification.h"
-#include "activecal/calibration/pool_builder.h"
+#include "activecal/io/controller_programs.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_file.h"
 #include "activecal/selection/design.h"
 
 // --robot (with --base_link, --tip_link, --frames), shared by every program.
@@ -55,6 +55,20 @@ std::vector<Measurement> ReadMeasurementsOrDie(
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);
 
+// The program's name (argv[0] without its directory).
+const std::string& ProgramName();
+
+// The enum value of --<flag>=<text> (a StringToX of the library), or dies
+// with "--<flag> must be <choices>, got '<text>'".
+template <typename Enum>
+void EnumFlagOrDie(bool (*string_to)(const std::string&, Enum*),
+                   const std::string& flag, const std::string& text,
+                   const std::string& choices, Enum* value) {
+  if (!string_to(text, value)) {
+    Fail("--" + flag + " must be " + choices + ", got '" + text + "'");
+  }
+}
+
 // Parses gflags and sets up glog; logs go to stderr, warnings and above.
 void Init(int* argc, char*** argv, const char* usage);
 
@@ -77,7 +91,8 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels);
 // (options->check_identifiability) and auto_fix as given; fails naming the
 // unidentifiable combinations ("<what>: ...") and prints the --auto_fix
 // note on stderr. *fixed (may be null): the parameters held fixed.
-CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
+CandidatePool BuildPoolOrDie(const RobotModel& model,
+                             const Eigen::MatrixXd& joints,
                              CandidatePoolOptions options,
                              const std::string& what, double* seconds,
                              std::vector<std::string>* fixed);
@@ -142,12 +157,12 @@ ProgramRequest ProgramRequestOrDie(const RobotModel& model,
 void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
                        const PoseList& poses, const std::string& comment);
 
-// Applies --parameter_set (ParameterSetOrDie) to the free flags of *model,
-// reduced to what position measurements at the rows of `joints` separate
-// (at most 2,000 of them, evenly spaced); the nominal values stay. Prints
-// the parameters held fixed; dies when nothing is left to identify.
-void ApplyParameterSetOrDie(RobotModel* model, bool urdf_robot,
-                            const Eigen::MatrixXd& joints);
+// The free set of --parameter_set (ParameterSetOrDie) on `model`, reduced
+// to what position measurements at the rows of `joints` separate (at most
+// 2,000 of them, evenly spaced). Prints the parameters held fixed; dies
+// when nothing is left to identify.
+FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
+                                 const Eigen::MatrixXd& joints);
 
 }  // namespace app
 }  // namespace activecal

@@ -180,11 +180,11 @@ std::shared_ptr<DesignResult> SelectPy(
       const bool pool_built = BuildSelectionPool(
           &model, pool_joints, pool_options, &pool, &pool_summary);
       result->single_precision = pool_summary.single_precision;
-      for (const DroppedParameter& d : pool_summary.dropped) {
+      for (const HeldParameter& d : pool_summary.dropped) {
         result->notes.push_back(
             "parameter_set=" +
-            std::string(ParameterSetName(pool_options.parameter_set)) + ": " +
-            d.name + " held fixed: " + d.reason);
+            std::string(ParameterSetToString(pool_options.parameter_set)) +
+            ": " + d.name + " held fixed: " + d.reason);
       }
       if (!pool_built) {
         const IdentifiabilityReport& report = pool_summary.pool.identifiability;
@@ -202,7 +202,7 @@ std::shared_ptr<DesignResult> SelectPy(
         return;
       }
       result->auto_fixed = pool_summary.HeldFixed();
-      for (const std::string& f : pool_summary.pool.fixed_names) {
+      for (const std::string& f : HeldNames(pool_summary.pool.held)) {
         result->notes.push_back("auto_fix: " + f + " held fixed");
       }
       result->num_task_poses =

@@ -14,18 +14,18 @@
 #include <string>
 #include <vector>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/estimation/registration.h"
-#include "activecal/io/robot_loader.h"
 #include "activecal/core/simulation.h"
+#include "activecal/estimation/identification.h"
+#include "activecal/estimation/parameter_reduction.h"
+#include "activecal/estimation/registration.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/io/targets_csv.h"
 #include "activecal/kinematics/compensation.h"
-#include "activecal/estimation/identification.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/estimation/parameter_reduction.h"
 #include "activecal/selection/fedorov.h"
 #include "test_util.h"
 
@@ -812,9 +812,9 @@ TEST(CompensationTest, SixDofLoopOnUr10eBringsTheTrueErrorToCalibrationLevel) {
   RegistrationSummary registration;
   ASSERT_TRUE(RegisterBaseFrame(model, measurements, &initial, &registration))
       << registration.message;
-  std::vector<DroppedParameter> dropped;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, measurements, 1.0,
-                                         &model, &initial, &dropped, &error))
+  std::vector<HeldParameter> dropped;
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, measurements, 1.0,
+                                   &model, &initial, &dropped, &error))
       << error;
   IdentificationSummary identified;
   Identify(model, measurements, initial, IdentificationOptions(), &identified);
