@@ -6,7 +6,9 @@
 
 #include <Eigen/Geometry>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <sstream>
 
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
@@ -45,7 +47,15 @@ DEFINE_double(rotation_tolerance_rad, 1e-9,
 DEFINE_double(rotation_weight_m, 1.0,
               "--match=pose: metres per radian of orientation error in the "
               "least-squares merit.");
-DEFINE_int32(max_iterations, 100, "Jacobian evaluations per target.");
+DEFINE_int32(max_iterations, 100,
+             "Jacobian evaluations per run of the solver (a target may take "
+             "a run inside the limits, one without them and up to 24 short "
+             "restarts).");
+DEFINE_string(joint_weights, "",
+              "The weight of each joint in the joint change the solver "
+              "minimises, sum_j w_j (q_j - q_program_j)^2 (per rad, or per m "
+              "for a prismatic joint), comma-separated, one per joint, e.g. "
+              "10,10,1,1,1,1 to move the base joints less. Empty: 1 each.");
 DEFINE_double(singular_threshold, 1e-6,
               "sigma_min / sigma_max of the Jacobian below which a "
               "configuration is reported singular.");
@@ -84,8 +94,37 @@ int Main() {
   options.ik.max_iterations = FLAGS_max_iterations;
   options.ik.singular_threshold = FLAGS_singular_threshold;
   options.num_threads = FLAGS_threads;
+  if (!FLAGS_joint_weights.empty()) {
+    std::istringstream in(FLAGS_joint_weights);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+      char* end = nullptr;
+      const double w = std::strtod(item.c_str(), &end);
+      if (item.empty() || *end != '\0') {
+        app::Fail("--joint_weights: '" + item +
+                  "' is not a number (comma-separated weights, one per "
+                  "joint)");
+      }
+      options.ik.joint_weights.push_back(w);
+    }
+  }
   std::string error;
   if (!options.ik.IsValid(&error)) app::Fail(error);
+  if (IsUrdfPath(FLAGS_robot) && FLAGS_frames.empty()) {
+    // First, before anything else: a URDF carries neither the base frame
+    // nor the markers a calibration found (they are in --frames_out), and
+    // without them the joints move to fit a marker that is not there.
+    const std::string tip =
+        FLAGS_tip_link.empty() ? std::string() : " '" + FLAGS_tip_link + "'";
+    std::fprintf(stderr,
+                 "activecal_compensate: note: --robot=%s has no --frames: "
+                 "the device frame is taken as the chain's base link and the "
+                 "marker as the origin of the tip link%s, with no offset; "
+                 "give the calibration's frames (activecal_identify "
+                 "--frames_out) with --frames when it had a base frame or "
+                 "markers\n",
+                 FLAGS_robot.c_str(), tip.c_str());
+  }
 
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -131,8 +170,15 @@ int Main() {
                       nominal.model.nominal, program.joints, options, &summary);
   } else {
     TargetList list;
-    if (!ReadTargetsCsv(FLAGS_targets_csv, model, &list, &error)) {
+    TargetsCsvOptions csv;
+    csv.columns_strict = app::ColumnsStrict();
+    std::vector<std::string> notes;
+    if (!ReadTargetsCsv(FLAGS_targets_csv, model, csv, &list, &notes, &error)) {
       app::Fail("--targets_csv: " + error);
+    }
+    // On stdout: stderr keeps one line for an error.
+    for (const std::string& n : notes) {
+      std::printf("%s: note: %s\n", app::ProgramName().c_str(), n.c_str());
     }
     if (options.ik.match == IkMatch::kPose &&
         list.rotation_vectors.rows() == 0) {
@@ -168,6 +214,7 @@ int Main() {
     j["num_limit"] = summary.num_limit;
     j["num_unreachable"] = summary.num_unreachable;
     j["num_invalid"] = summary.num_invalid;
+    j["num_iteration_cap"] = summary.num_iteration_cap;
     j["max_position_error_m"] = summary.max_position_error_m;
     j["max_rotation_error_rad"] = summary.max_rotation_error_rad;
     j["max_joint_change"] = summary.max_joint_change;

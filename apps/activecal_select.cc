@@ -214,6 +214,14 @@ int Main() {
   }
   MeasurablePoolSummary measurable_summary;
   const bool from_lattice = FLAGS_pool_csv.empty() && !sampled && !measurable;
+  // A pool too large for memory is refused before it is listed (it was a
+  // std::bad_alloc), by the check the Python module uses (for a lattice in
+  // MakeLatticeOrDie).
+  std::string size_error;
+  if ((sampled || measurable) &&
+      !CheckSelectionPoolSize(FLAGS_pool_size, model, type, &size_error)) {
+    app::Fail("--pool_size: " + size_error);
+  }
   if (measurable) {
     MeasurablePoolOptions o;
     o.num_poses = FLAGS_pool_size;
@@ -233,7 +241,7 @@ int Main() {
     }
     pool_joints = measurable_summary.joints;
   } else if (from_lattice) {
-    lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
+    lattice = app::MakeLatticeOrDie(model, FLAGS_levels, type);
     pool_joints = lattice.AllJointValues();
   } else if (sampled) {
     std::string error;

@@ -4,18 +4,18 @@
 #include <glog/logging.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 
-#include "activecal/io/frames_file.h"
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/core/puma560.h"
-#include "activecal/io/robot_loader.h"
 #include "activecal/estimation/identification.h"
-#include "activecal/estimation/parameter_reduction.h"
+#include "activecal/io/frames_file.h"
+#include "activecal/io/output_files.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/selection/criteria.h"
 
 DEFINE_string(robot, "",
@@ -28,27 +28,10 @@ DEFINE_string(base_link, "",
 DEFINE_string(tip_link, "",
               "URDF robots: the link the calibrated chain ends at (default: "
               "the only leaf; several leaves are listed in the error).");
-DEFINE_string(parameter_set, "",
-              "Which parameters to identify: registration (base frame and "
-              "marker points), offsets (+ joint offsets), full (+ every "
-              "geometric correction of every link), file (the robot file's "
-              "'free' lists). Empty: full for a URDF robot, file otherwise. "
-              "Sets other than file are reduced to what the measurements "
-              "(or the pool) can separate; the parameters held are named.");
 DEFINE_string(frames, "",
               "Metrology frames (YAML, docs/formats.md): the robot base in "
               "the device's frame and the markers, e.g. from "
               "activecal_identify --frames_out.");
-
-DEFINE_bool(strict_limits, false,
-            "Refuse a measurements file whose joint readings lie beyond the "
-            "robot's joint limits. Default: readings within 5 deg (revolute) "
-            "or 10 mm (prismatic) of a limit are accepted with one warning "
-            "per file; farther out they are always an error.");
-DEFINE_bool(columns_strict, false,
-            "Refuse a measurements file with columns activecal does not read "
-            "(a device's temperature, timestamps, ...). Default: they are "
-            "ignored and listed in a note.");
 
 namespace activecal {
 namespace app {
@@ -61,29 +44,6 @@ const std::string& ProgramName() { return g_program; }
 void Fail(const std::string& message) {
   std::cerr << g_program << ": error: " << message << std::endl;
   std::exit(1);
-}
-
-std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
-                                               const RobotModel& model,
-                                               const std::string& flag) {
-  MeasurementsCsvOptions options;
-  options.strict_limits = FLAGS_strict_limits;
-  options.columns_strict = FLAGS_columns_strict;
-  std::vector<Measurement> measurements;
-  MeasurementsCsvReport report;
-  std::string error;
-  if (!ReadMeasurementsCsv(path, model, options, &measurements, &report,
-                           &error)) {
-    Fail("--" + flag + ": " + error);
-  }
-  // On stdout: stderr keeps one line for an error.
-  for (const std::string& w : report.warnings) {
-    std::cout << g_program << ": warning: " << w << std::endl;
-  }
-  for (const std::string& n : report.notes) {
-    std::cout << g_program << ": note: " << n << std::endl;
-  }
-  return measurements;
 }
 
 void Init(int* argc, char*** argv, const char* usage) {
@@ -112,31 +72,6 @@ void Init(int* argc, char*** argv, const char* usage) {
   }
 }
 
-bool WriteFileAtomically(const std::string& path, const std::string& text,
-                         std::string* error) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      *error = "cannot open '" + tmp + "' for writing";
-      return false;
-    }
-    out << text;
-    out.flush();
-    if (!out) {
-      *error = "failed writing '" + tmp + "'";
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    *error = "cannot rename '" + tmp + "' to '" + path + "'";
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
-}
-
 void WriteTextOrDie(const std::string& path, const std::string& text) {
   std::string error;
   if (!WriteFileAtomically(path, text, &error)) Fail(error);
@@ -144,44 +79,28 @@ void WriteTextOrDie(const std::string& path, const std::string& text) {
 
 void CheckWritableOrDie(const std::string& path, const std::string& flag) {
   if (path.empty()) return;
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::app);
-    if (!out) Fail("--" + flag + ": cannot write '" + path + "'");
-  }
-  std::remove(tmp.c_str());
+  std::string error;
+  if (!CheckWritable(path, &error)) Fail("--" + flag + ": " + error);
 }
 
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json) {
   WriteTextOrDie(path, json.dump(2) + "\n");
 }
 
-JointLattice MakeLatticeOrDie(const RobotModel& model, int levels) {
+JointLattice MakeLatticeOrDie(const RobotModel& model, int levels,
+                              MeasurementType type) {
   JointLattice lattice;
   std::string error;
   if (!JointLattice::Create(model, levels, &lattice, &error)) {
     Fail("--levels=" + std::to_string(levels) + ": " + error);
   }
-  for (int j = 0; j < model.num_joints(); ++j) {
-    if (lattice.one_turn(j)) {
-      std::printf(
-          "note: joint %d (%s) spans a full turn: its %d levels cover one "
-          "turn from %.6g deg (both ends would repeat a pose)\n",
-          j + 1, model.block_name(j + 1).c_str(), levels,
-          model.links[j].joint_min * 180 / M_PI);
-    }
+  if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
+    Fail("--levels=" + std::to_string(levels) + ": " + error);
+  }
+  for (const std::string& note : lattice.OneTurnNotes(model)) {
+    std::printf("note: %s\n", note.c_str());
   }
   return lattice;
-}
-
-ParameterSet ParameterSetOrDie(bool urdf_robot) {
-  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
-  if (!FLAGS_parameter_set.empty() &&
-      !StringToParameterSet(FLAGS_parameter_set, &set)) {
-    Fail("--parameter_set must be registration, offsets, full or file, got '" +
-         FLAGS_parameter_set + "'");
-  }
-  return set;
 }
 
 RobotDescription LoadRobotOrDie() {
@@ -387,30 +306,6 @@ void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
   std::printf("wrote %s: a %s program through %lld poses\n",
               request.path.c_str(), ProgramLanguageToString(request.language),
               static_cast<long long>(poses.joints.rows()));
-}
-
-FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
-                                 const Eigen::MatrixXd& joints) {
-  const ParameterSet set = ParameterSetOrDie(urdf_robot);
-  const Eigen::Index n = std::min<Eigen::Index>(joints.rows(), 2000);
-  Eigen::MatrixXd sample(n, joints.cols());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    sample.row(i) = joints.row(i * joints.rows() / n);
-  }
-  Eigen::VectorXd point = model.nominal;
-  FreeSet free;
-  std::vector<HeldParameter> dropped;
-  std::string error;
-  if (!ReduceParameterSet(model, set, MeasurementPlan(sample), 1.0, &point,
-                          &free, &dropped, &error)) {
-    Fail("--parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
-         error);
-  }
-  for (const HeldParameter& d : dropped) {
-    std::printf("  --parameter_set=%s: %s held fixed: %s\n",
-                ParameterSetToString(set), d.name.c_str(), d.reason.c_str());
-  }
-  return free;
 }
 
 }  // namespace app

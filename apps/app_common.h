@@ -1,4 +1,13 @@
 // Helpers shared by the activecal programs (not part of the library).
+//
+// Flags: each flag shared by several programs is defined in the file of the
+// function that reads it (--robot, --base_link, --tip_link, --frames in
+// app_common.cc with LoadRobotOrDie; --parameter_set in
+// app_parameter_set.cc; --strict_limits in app_measurements.cc;
+// --columns_strict in app_columns_strict.cc). The programs link this code as
+// a static library, whose files the linker takes only when a program calls
+// one of their functions: a program has, and lists in --help, exactly the
+// flags it reads (tests/cli_test.sh checks every program).
 
 #ifndef ACTIVECAL_APPS_APP_COMMON_H_
 #define ACTIVECAL_APPS_APP_COMMON_H_
@@ -29,6 +38,7 @@ DECLARE_string(robot);
 DECLARE_string(frames);
 DECLARE_string(base_link);
 DECLARE_string(tip_link);
+// A program that reads it links app_parameter_set.cc, so has the flag.
 DECLARE_string(parameter_set);
 
 namespace activecal {
@@ -41,22 +51,27 @@ namespace app {
 RobotDescription LoadRobotOrDie();
 
 // The parameter set of --parameter_set (default: full for a URDF robot,
-// file otherwise). Dies on an unknown name.
+// file otherwise). Dies on an unknown name. (app_parameter_set.cc)
 ParameterSet ParameterSetOrDie(bool urdf_robot);
 
 // The measurements file `path` read with --strict_limits and
 // --columns_strict. Prints the reader's warning ("<program>: warning: ...",
 // joint readings beyond the limits) and notes (ignored columns, markers not
 // seen) on stdout; dies with "--<flag>: file:line: ..." on errors.
+// (app_measurements.cc)
 std::vector<Measurement> ReadMeasurementsOrDie(
     const std::string& path, const RobotModel& model,
     const std::string& flag = "measurements");
 
+// --columns_strict: refuse columns activecal does not read.
+// (app_columns_strict.cc)
+bool ColumnsStrict();
+
+// The program's name, as Init found it ("activecal_select").
+const std::string& ProgramName();
+
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);
-
-// The program's name (argv[0] without its directory).
-const std::string& ProgramName();
 
 // The enum value of --<flag>=<text> (a StringToX of the library), or dies
 // with "--<flag> must be <choices>, got '<text>'".
@@ -72,10 +87,8 @@ void EnumFlagOrDie(bool (*string_to)(const std::string&, Enum*),
 // Parses gflags and sets up glog; logs go to stderr, warnings and above.
 void Init(int* argc, char*** argv, const char* usage);
 
-// Writes text to path atomically: to a temporary file beside it, then
-// renamed over it, so a failure never leaves a half-written file.
-bool WriteFileAtomically(const std::string& path, const std::string& text,
-                         std::string* error);
+// The writers below go through io/output_files.h (a temporary file beside
+// the path, renamed over it: a failure never leaves a half-written file).
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 // Dies with "--<flag>: cannot write '<path>' ..." unless a file can be
 // created beside `path` (empty: nothing to check): checked before the work,
@@ -83,9 +96,13 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 void CheckWritableOrDie(const std::string& path, const std::string& flag);
 void WriteTextOrDie(const std::string& path, const std::string& text);
 
-// The lattice over the model with `levels` values per joint. Dies with a
-// message on bad input.
-JointLattice MakeLatticeOrDie(const RobotModel& model, int levels);
+// The lattice over the model with `levels` values per joint, its one-turn
+// joints noted on stdout. Dies with a message on bad input or when a pool
+// of `type` measurements over it cannot fit in memory
+// (CheckSelectionPoolSize).
+JointLattice MakeLatticeOrDie(
+    const RobotModel& model, int levels,
+    MeasurementType type = MeasurementType::kPosition);
 
 // BuildCandidatePool with a progress line, the identifiability check on
 // (options->check_identifiability) and auto_fix as given; fails naming the
@@ -160,7 +177,7 @@ void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
 // The free set of --parameter_set (ParameterSetOrDie) on `model`, reduced
 // to what position measurements at the rows of `joints` separate (at most
 // 2,000 of them, evenly spaced). Prints the parameters held fixed; dies
-// when nothing is left to identify.
+// when nothing is left to identify. (app_parameter_set.cc)
 FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
                                  const Eigen::MatrixXd& joints);
 

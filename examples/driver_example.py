@@ -16,8 +16,9 @@ JSON object per line (docs/driver_protocol.md):
 
 To drive your cell, replace the bodies of the two functions marked ADAPT:
 move_robot() (your robot's SDK) and read_tracker() (your tracker's SDK).
-Everything else is the protocol and stays as it is. Print anything you like
-on stderr (activecal shows it); stdout carries the protocol only.
+Everything else is the protocol and stays as it is. Print anything you like:
+it goes to stderr (activecal shows it), as does whatever your SDKs print;
+the protocol has stdout to itself (see PROTOCOL below).
 
 As shipped, the two functions fake a cell: a 6-joint arm (standard DH, the
 true values of examples/driver_example_robot.yaml) seen by a tracker with
@@ -30,8 +31,19 @@ true values of examples/driver_example_robot.yaml) seen by a tracker with
 
 import json
 import math
+import os
 import random
 import sys
+
+# stdout carries the protocol only, so it is taken here, before anything can
+# print: the protocol is written on a copy of it, and the real stdout (file
+# descriptor 1) becomes stderr. Your prints, an SDK's, and programs they
+# run then reach activecal's terminal instead of corrupting the protocol.
+# Keep this above the imports of your robot's and tracker's SDKs.
+sys.stdout.flush()
+PROTOCOL = os.fdopen(os.dup(sys.stdout.fileno()), "w")
+os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+sys.stdout = sys.stderr
 
 
 class Unreachable(Exception):
@@ -118,8 +130,8 @@ def fake_point(joints, marker):
 # --- the protocol (keep) ---------------------------------------------------
 def send(message):
     # allow_nan=False: NaN is not JSON; a bad reading must fail here, loudly.
-    sys.stdout.write(json.dumps(message, allow_nan=False) + "\n")
-    sys.stdout.flush()
+    PROTOCOL.write(json.dumps(message, allow_nan=False) + "\n")
+    PROTOCOL.flush()
 
 
 def main():

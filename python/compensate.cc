@@ -22,6 +22,21 @@ static void CheckRows(const RobotModel& model, const Eigen::MatrixXd& rows,
   }
 }
 
+// Rows of numbers given to compensate: every value finite (a NaN rotation
+// vector was read as the identity and its target reported converged).
+static void CheckFinite(const Eigen::MatrixXd& rows, const std::string& what) {
+  for (int r = 0; r < rows.rows(); ++r) {
+    for (int c = 0; c < rows.cols(); ++c) {
+      if (!std::isfinite(rows(r, c))) {
+        std::ostringstream value;
+        value << rows(r, c);
+        Fail(what + " row " + std::to_string(r) + ": value " +
+             std::to_string(c) + " is not finite (" + value.str() + ")");
+      }
+    }
+  }
+}
+
 std::shared_ptr<CompensationResult> CompensatePy(
     const RobotPtr& robot, const py::object& program, const py::object& nominal,
     const py::object& targets, const py::object& rotations,
@@ -74,9 +89,11 @@ std::shared_ptr<CompensationResult> CompensatePy(
   } else {
     TargetList list;
     list.points = MatrixArg(targets, "targets", 3, false);
+    CheckFinite(list.points, "targets");
     n = list.points.rows();
     if (!rotations.is_none()) {
       list.rotation_vectors = MatrixArg(rotations, "rotations", 3, false);
+      CheckFinite(list.rotation_vectors, "rotations");
       if (list.rotation_vectors.rows() != n) {
         Fail("rotations: expected " + std::to_string(n) +
              " rows (one per target), got " +
@@ -111,6 +128,10 @@ std::shared_ptr<CompensationResult> CompensatePy(
     if (static_cast<int64_t>(result->pose_indices.size()) != n) {
       Fail("pose_indices: expected " + std::to_string(n) + " values, got " +
            std::to_string(result->pose_indices.size()));
+    }
+    std::string error;
+    if (!CheckPoseIndices(result->pose_indices, /*unique=*/false, &error)) {
+      Fail(error);
     }
   }
   return result;

@@ -1,8 +1,6 @@
 // The Python module `activecal`: select: the pool, the task and the design, by
 // the library (selection_pool.h, select_design.h).
 
-#include <unistd.h>
-
 #include "common.h"
 
 namespace activecal {
@@ -44,13 +42,11 @@ std::shared_ptr<DesignResult> SelectPy(
     if (!JointLattice::Create(model, levels, &lattice, &error)) {
       Fail("levels=" + std::to_string(levels) + ": " + error);
     }
-    for (int j = 0; j < model.num_joints(); ++j) {
-      if (lattice.one_turn(j)) {
-        result->notes.push_back(
-            "joint " + std::to_string(j + 1) + " (" + model.block_name(j + 1) +
-            ") spans a full turn: its " + std::to_string(levels) +
-            " levels cover one turn (both ends would repeat a pose)");
-      }
+    if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
+      Fail("levels=" + std::to_string(levels) + ": " + error);
+    }
+    for (const std::string& note : lattice.OneTurnNotes(model)) {
+      result->notes.push_back(note);
     }
     pool_joints = lattice.AllJointValues();
   } else if (pool_kind == "array") {
@@ -62,6 +58,10 @@ std::shared_ptr<DesignResult> SelectPy(
              " values (one per pool pose), got " +
              std::to_string(labels.size()));
       }
+      std::string error;
+      if (!CheckPoseIndices(labels, /*unique=*/true, &error)) {
+        Fail("pool_indices: " + error);
+      }
     }
   } else {
     JointSampling sampling;
@@ -72,21 +72,11 @@ std::shared_ptr<DesignResult> SelectPy(
           pool_kind + "'");
     }
     // A pool too large for memory is refused up front (the alternative is
-    // std::bad_alloc midway): its joint values and at least one Jacobian
-    // column per measurement row.
-    const double need = static_cast<double>(pool_size) *
-                        (model.num_joints() + MeasurementDimension(type)) *
-                        sizeof(double);
-    const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
-                        static_cast<double>(sysconf(_SC_PAGE_SIZE));
-    if (pool_size > 0 && have > 0 && need > have) {
-      std::ostringstream s;
-      s << "pool_size=" << pool_size << ": the pool needs at least "
-        << need / (1 << 30) << " GiB (joint values and Jacobians), more "
-        << "than this machine's " << have / (1 << 30) << " GiB";
-      Fail(s.str());
-    }
+    // std::bad_alloc midway), by the library's check, as activecal_select.
     std::string error;
+    if (!CheckSelectionPoolSize(pool_size, model, type, &error)) {
+      Fail("pool_size: " + error);
+    }
     if (!SampleJointValues(model, sampling, pool_size, seed, &pool_joints,
                            &error)) {
       Fail("pool=" + pool_kind + ": " + error);

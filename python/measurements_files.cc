@@ -111,6 +111,10 @@ void WritePosesPy(const Robot& robot, const py::object& path_obj,
            " values (one per pose), got " +
            std::to_string(list.pose_indices.size()));
     }
+    std::string error;
+    if (!CheckPoseIndices(list.pose_indices, /*unique=*/false, &error)) {
+      Fail(error);
+    }
   }
   for (int r = 0; r < list.joints.rows(); ++r) {
     std::string error;

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -128,10 +130,38 @@ std::string StickCell(const std::string& extra, double normal_angle_deg = 0,
          target;
 }
 
+// `urdf` with one more link, `name`: a 2 x 20 x 20 cm plate (thin along
+// x) at `xyz` in link `parent`, fixed to it.
+std::string WithFixedPlate(std::string urdf, const std::string& name,
+                           const std::string& parent, const std::string& xyz) {
+  urdf.replace(urdf.find("  <link name=\"tip\"/>"), 0,
+               "  <link name=\"" + name + "\"><collision><origin xyz=\"" + xyz +
+                   "\" rpy=\"0 0 0\"/><geometry><box size=\"0.02 0.2 0.2\"/>"
+                   "</geometry></collision></link>\n");
+  urdf.replace(urdf.find("</robot>"), 0,
+               "  <joint name=\"" + name +
+                   "_joint\" type=\"fixed\"><parent "
+                   "link=\"" +
+                   parent + "\"/><child link=\"" + name +
+                   "\"/><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint>\n");
+  return urdf;
+}
+
 PoseVerdict CheckStick(const Fixture& f, double q1, double q2) {
   auto w = f.checker.NewWorkspace();
   const double q[2] = {q1, q2};
   return f.checker.Check(q, w.get());
+}
+
+// What blocks the stick's line of sight at q = (0, 0.1) in StickCell(""):
+// the link or obstacle, else the verdict.
+std::string LineOfSightBlocker(const std::string& urdf) {
+  Fixture f;
+  std::string error;
+  if (!MakeChecker(urdf, StickCell(""), &f, &error)) return error;
+  const PoseVerdict v = CheckStick(f, 0.0, 0.1);
+  return v.reason == RejectionReason::kLineOfSight ? f.checker.Detail(v)
+                                                   : f.checker.Describe(v);
 }
 
 TEST(CellCheckTest, TargetExactlyAtTheAcceptanceAnglePassesJustPastFails) {
@@ -203,7 +233,16 @@ TEST(CellCheckTest, JointMarginOverrideByName) {
   EXPECT_FALSE(MakeChecker(kStickUrdf,
                            StickCell("joint_margin_override_m: {j2: 0.11}\n"),
                            &g, &error));
-  EXPECT_NE(error.find("joint 'j2' has a range narrower than twice its margin"),
+  EXPECT_NE(error.find("cell.yaml:3:27: joint_margin_override_m.j2: joint "
+                       "'j2' has a range of 0.2 m, narrower than twice its "
+                       "margin (0.11 m)"),
+            std::string::npos)
+      << error;
+  // The margin of every joint, where it was given, in its unit.
+  EXPECT_FALSE(MakeChecker(kStickUrdf, "joint_margin_deg: 60\n", &g, &error));
+  EXPECT_NE(error.find("cell.yaml:1:19: joint_margin_deg: joint 'j1' has a "
+                       "range of 114.6 deg, narrower than twice its margin "
+                       "(60 deg)"),
             std::string::npos)
       << error;
 }
@@ -243,20 +282,70 @@ TEST(CellCheckTest, LineOfSightBlockedByAnObstacleAndByALink) {
   {
     // A link of the robot between the device and the target: a second
     // body fixed to the base, at (1.3, 0, 0.5).
-    std::string urdf = kStickUrdf;
-    urdf.replace(urdf.find("  <link name=\"tip\"/>"), 0,
-                 "  <link name=\"screen\"><collision><origin xyz=\"1.3 0 0.5\" "
-                 "rpy=\"0 0 0\"/><geometry><box size=\"0.02 0.2 0.2\"/>"
-                 "</geometry></collision></link>\n");
-    urdf.replace(urdf.find("</robot>"), 0,
-                 "  <joint name=\"screen_joint\" type=\"fixed\"><parent "
-                 "link=\"base_link\"/><child link=\"screen\"/><origin "
-                 "xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint>\n");
+    EXPECT_EQ(LineOfSightBlocker(WithFixedPlate(kStickUrdf, "screen",
+                                                "base_link", "1.3 0 0.5")),
+              "screen");
+  }
+}
+
+TEST(CellCheckTest, LineOfSightIgnoresTheTargetsOwnMount) {
+  // The target at the slider's origin inside a ball of the slider (its
+  // mount, 4 cm in radius: more than the 2 cm line_of_sight_margin_m), the
+  // device along +x. The beam leaves the convex ball once and never comes
+  // back: that ball is not an occlusion.
+  std::string urdf = kStickUrdf;
+  urdf.replace(urdf.find("<origin xyz=\"-0.05 0 0\" rpy=\"0 0 0\"/>\n"
+                         "      <geometry><sphere radius=\"0.02\"/>"),
+               75,
+               "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n"
+               "      <geometry><sphere radius=\"0.04\"/>");
+  ASSERT_NE(urdf.find("<sphere radius=\"0.04\"/>"), std::string::npos);
+  std::string error;
+  {
     Fixture f;
     ASSERT_TRUE(MakeChecker(urdf, StickCell(""), &f, &error)) << error;
     const PoseVerdict v = CheckStick(f, 0.0, 0.1);
-    EXPECT_EQ(v.reason, RejectionReason::kLineOfSight);
-    EXPECT_EQ(f.checker.Detail(v), "screen");
+    EXPECT_TRUE(v.feasible()) << f.checker.Describe(v);
+    EXPECT_EQ(v.targets_seen, 1u);
+  }
+  {
+    // A second shape of the same link that does not hold the target, 0.3 m
+    // along the beam: it still blocks.
+    EXPECT_EQ(
+        LineOfSightBlocker(WithFixedPlate(urdf, "visor", "slider", "0.3 0 0")),
+        "visor");
+  }
+  {
+    // The PUMA 560's capsules: its measured point (L6's origin) lies in
+    // L6's tool capsule (3 cm in radius). Lines of sight are blocked by
+    // other links at some poses, never by the tool the target is on.
+    RobotDescription robot;
+    ASSERT_TRUE(LoadRobotFile(kData + "/puma560.yaml", &robot, &error))
+        << error;
+    RobotCollisionModel collision;
+    ASSERT_TRUE(LoadRobotCollision(kData + "/puma560.yaml", {}, robot.model,
+                                   &collision, &error))
+        << error;
+    const Cell cell = ParseCellOrDie(
+        "self_clearance_m: 0.005\n"
+        "device: {type: laser_tracker, xyz_m: [2.0, 0.0, 1.0]}\n"
+        "targets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: "
+        "45}]\n");
+    CellChecker checker;
+    ASSERT_TRUE(checker.Init(robot.model, collision, cell, &error)) << error;
+    Eigen::MatrixXd joints;
+    ASSERT_TRUE(SampleJointValues(robot.model, JointSampling::kRandom, 3000, 11,
+                                  &joints, &error))
+        << error;
+    PoolFilterSummary s;
+    ASSERT_TRUE(FilterPool(checker, joints, {}, &s));
+    int64_t by_l6 = 0;
+    for (const PoseVerdict& v : s.verdicts) {
+      by_l6 += v.reason == RejectionReason::kLineOfSight &&
+               checker.Detail(v) == "L6";
+    }
+    EXPECT_EQ(by_l6, 0);
+    EXPECT_GT(s.num_feasible(), 50);
   }
 }
 
@@ -779,6 +868,15 @@ TEST(CellFileTest, EveryBadInputNamesLineAndField) {
        "file"},
       {"joint_margin_override_deg: {a: 1, a: 2}\n",
        "cell.yaml:1:35: joint_margin_override_deg.a: given twice"},
+      // A key given twice is an error, not one of the two silently lost
+      // (yaml-cpp's map[key] reads the first).
+      {"clearance_m: 0.05\nclearance_m: 0.01\n",
+       "cell.yaml:2:1: clearance_m: given twice"},
+      {"obstacles:\n  - {name: t, type: plane, normal: [0, 0, 1]}\n"
+       "obstacles:\n  - {name: w, type: sphere, radius_m: 1}\n",
+       "cell.yaml:3:1: obstacles: given twice"},
+      {"obstacles:\n  - {name: w, type: sphere, radius_m: 1, radius_m: 2}\n",
+       "cell.yaml:2:42: obstacles[0].radius_m: given twice"},
       {"obstacles: {name: t}\n", "cell.yaml:1:12: obstacles: expected a list"},
       {"[1, 2]\n", "cell.yaml:1:1: expected a mapping of cell fields"},
       {"clearance_m: [0.05\n", "cell.yaml:2:1: not valid YAML"},
@@ -789,6 +887,26 @@ TEST(CellFileTest, EveryBadInputNamesLineAndField) {
         << "input:\n"
         << c.text << "got:  " << error << "\nwant: " << c.want;
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  }
+  // A mocap system of 64 cameras is read; 65 are refused (the checks keep
+  // a bit per camera in 64).
+  for (int n : {64, 65}) {
+    std::string text = "device:\n  type: mocap\n  cameras:\n";
+    for (int k = 0; k < n; ++k) {
+      text += "    - {xyz_m: [2, " + std::to_string(0.01 * k) +
+              ", 1], look_at_m: [0, 0, 0], fov_deg: 60}\n";
+    }
+    text +=
+        "targets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], "
+        "acceptance_deg: 30}]\n";
+    Cell cell;
+    std::string error;
+    EXPECT_EQ(ParseCellFile(text, "cell.yaml", "", &cell, &error), n == 64)
+        << n;
+    if (n == 65) {
+      EXPECT_EQ(error,
+                "cell.yaml:4:5: device.cameras: at most 64 cameras, got 65");
+    }
   }
 }
 
@@ -930,6 +1048,14 @@ TEST(CellFileTest, UrdfCollisionOfTheShippedRobots) {
         << error;
     EXPECT_EQ(c.num_shapes(), shapes) << file;
     for (double v : c.velocity_limits) EXPECT_GT(v, 0) << file;
+    if (file != "kuka_iiwa14.urdf") {
+      // ur_description's config/<robot>/joint_limits.yaml: 120 deg/s at the
+      // shoulder, 180 deg/s at the elbow and the wrists (the tour's times).
+      EXPECT_EQ(c.velocity_limits,
+                (std::vector<double>{2.0943951023931953, 2.0943951023931953,
+                                     M_PI, M_PI, M_PI, M_PI}))
+          << file;
+    }
     // The straight arm is free of itself.
     Cell cell;
     cell.self_clearance_m = 0.01;
@@ -1046,6 +1172,97 @@ TEST(CellPoolTest, FilterIsThreadCountIndependentAndItsCsvReadsBack) {
     ++k;
   }
   EXPECT_EQ(k, read.joints.rows());
+}
+
+TEST(CellPoolTest, EachReasonIsTheFirstCheckThatFails) {
+  // Every check recomputed on its own, without the checker's shortcuts
+  // (bounding balls, early exits): the margins from the limits, range and
+  // facing from the tip frame, the collisions from the exact distances of
+  // every pair. A pose's reason is the first check in the documented order
+  // (margin, range, facing, self-collision, obstacles in the file's order,
+  // line of sight) that fails, and a feasible pose fails none.
+  Ur10e u;
+  std::string error;
+  ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &u, &error))
+      << error;
+  const CellChecker& c = *u.setup.checker;
+  const Cell& cell = u.setup.cell;
+  const RobotModel& m = u.robot.model;
+  const Eigen::MatrixXd joints = UrSobol(m, 3000);
+  PoolFilterSummary s;
+  ASSERT_TRUE(FilterPool(c, joints, {}, &s));
+  auto w = c.NewWorkspace();
+  std::array<int, kNumRejectionReasons> seen{};
+  for (int64_t i = 0; i < joints.rows(); ++i) {
+    const Eigen::VectorXd q = joints.row(i).transpose();
+    std::vector<RejectionReason> fails;
+    int first_joint = -1;
+    for (int j = m.num_joints() - 1; j >= 0; --j) {
+      if (q[j] < m.links[j].joint_min + c.joint_margin(j) - 1e-12 ||
+          q[j] > m.links[j].joint_max - c.joint_margin(j) + 1e-12) {
+        first_joint = j;
+      }
+    }
+    if (first_joint >= 0) fails.push_back(RejectionReason::kJointMargin);
+    const FixedTransform tip = c.TipFrame(q.data());
+    const Eigen::Vector3d p =
+        tip.rotation * cell.targets[0].xyz_m + tip.translation;
+    const Eigen::Vector3d to_device = cell.device.position - p;
+    if (to_device.norm() < cell.device.min_range_m ||
+        to_device.norm() > cell.device.max_range_m) {
+      fails.push_back(RejectionReason::kOutOfRange);
+    }
+    const double angle = std::acos(std::clamp(
+        (tip.rotation * cell.targets[0].normal).dot(to_device.normalized()),
+        -1.0, 1.0));
+    if (angle > cell.targets[0].acceptance_rad + 1e-9) {
+      fails.push_back(RejectionReason::kFacingAway);
+    }
+    double self = 1e9;
+    std::vector<double> to_obstacle(cell.obstacles.size(), 1e9);
+    for (const PairDistance& d : c.Distances(q.data(), w.get())) {
+      if (!d.obstacle) {
+        self = std::min(self, d.distance_m);
+        continue;
+      }
+      for (size_t o = 0; o < cell.obstacles.size(); ++o) {
+        if (cell.obstacles[o].name == d.second) {
+          to_obstacle[o] = std::min(to_obstacle[o], d.distance_m);
+        }
+      }
+    }
+    if (self < cell.self_clearance_m) {
+      fails.push_back(RejectionReason::kSelfCollision);
+    }
+    int first_obstacle = -1;
+    for (int o = static_cast<int>(cell.obstacles.size()) - 1; o >= 0; --o) {
+      if (to_obstacle[o] < cell.clearance_m) first_obstacle = o;
+    }
+    if (first_obstacle >= 0) fails.push_back(RejectionReason::kObstacle);
+    const PoseVerdict& v = s.verdicts[i];
+    ++seen[static_cast<int>(v.reason)];
+    if (fails.empty()) {
+      // Feasible, or only the line of sight (not recomputed here) failed.
+      EXPECT_TRUE(v.feasible() || v.reason == RejectionReason::kLineOfSight)
+          << i << ": " << c.Describe(v);
+      continue;
+    }
+    ASSERT_EQ(v.reason, fails[0]) << "pose " << i << ": " << c.Describe(v);
+    if (v.reason == RejectionReason::kJointMargin) {
+      EXPECT_EQ(v.a, first_joint) << i;
+    }
+    if (v.reason == RejectionReason::kObstacle) {
+      EXPECT_EQ(v.a, first_obstacle) << i;
+    }
+  }
+  // The pool exercises every reason but the camera's.
+  for (RejectionReason r :
+       {RejectionReason::kNone, RejectionReason::kJointMargin,
+        RejectionReason::kOutOfRange, RejectionReason::kFacingAway,
+        RejectionReason::kSelfCollision, RejectionReason::kObstacle,
+        RejectionReason::kLineOfSight}) {
+    EXPECT_GT(seen[static_cast<int>(r)], 0) << RejectionReasonLabel(r);
+  }
 }
 
 TEST(CellPoolTest, MeasurablePoolIsFeasibleDeterministicAndCheaper) {
@@ -1241,6 +1458,54 @@ TEST(CellSetupTest, TargetsBecomeTheMarkers) {
   ASSERT_EQ(m.num_markers(), 2);
   EXPECT_EQ(m.markers[1].name, "side");
   EXPECT_DOUBLE_EQ(m.nominal[m.block_offset(m.marker_block(1))], 0.05);
+}
+
+TEST(CellSetupTest, LinkPairsNeverAsFarApartAsTheClearanceAreNoted) {
+  // The issue's cell sets only clearance_m: 0.05, which self_clearance_m
+  // then takes. The UR10e's forearm and wrist 2 are 2.1-2.2 cm apart at
+  // every pose (wrist 1 turns the wrist about the forearm housing's axis),
+  // so every pose would be a self-collision: a note says so.
+  Ur10e u;
+  std::string error;
+  const std::string path = TempPath("ur_clearance.yaml");
+  WriteText(path, "clearance_m: 0.05\n");
+  ASSERT_TRUE(LoadUr10e(path, &u, &error)) << error;
+  const std::vector<PairDistance> close =
+      SelfPairsAlwaysTooClose(*u.setup.checker);
+  std::set<std::string> names;
+  for (const PairDistance& d : close) {
+    names.insert(d.first + "|" + d.second);
+    EXPECT_LT(d.distance_m, 0.05);
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"base_link_inertia|upper_arm_link",
+                                          "forearm_link|wrist_2_link",
+                                          "wrist_1_link|wrist_3_link"}));
+  std::string notes;
+  for (const std::string& n : u.setup.notes) notes += n + "\n";
+  EXPECT_NE(notes.find("self_clearance_m 0.05: links base_link_inertia and "
+                       "upper_arm_link are never that far apart (at most "
+                       "0.021"),
+            std::string::npos)
+      << notes;
+  EXPECT_NE(notes.find(", forearm_link and wrist_2_link (0.02"),
+            std::string::npos)
+      << notes;
+  EXPECT_NE(notes.find("lower self_clearance_m or add the pairs to skip_pairs"),
+            std::string::npos)
+      << notes;
+  // Every pose that reaches the collision checks is rejected indeed.
+  PoolFilterSummary s;
+  ASSERT_TRUE(
+      FilterPool(*u.setup.checker, UrSobol(u.robot.model, 500), {}, &s));
+  EXPECT_EQ(s.num_feasible(), 0);
+  // The example cell (self_clearance_m: 0.01) has no such pair.
+  Ur10e example;
+  ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &example, &error))
+      << error;
+  EXPECT_TRUE(SelfPairsAlwaysTooClose(*example.setup.checker).empty());
+  for (const std::string& n : example.setup.notes) {
+    EXPECT_EQ(n.find("never that far apart"), std::string::npos) << n;
+  }
 }
 
 TEST(CellSetupTest, TheTargetsSeenAreRecorded) {

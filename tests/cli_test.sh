@@ -102,6 +102,67 @@ for prog in activecal_select activecal_simulate activecal_identify \
   fi
 done
 
+# --- Every flag a program lists in --help is one it reads (issue 26:
+# --parameter_set was listed by every program and ignored by simulate,
+# active and monte_carlo; --parameter_set=bogus exited 0; active and the
+# cell simulator now read it). ---
+all_programs="activecal_select activecal_identify activecal_evaluate
+  activecal_simulate activecal_compensate activecal_active
+  activecal_monte_carlo activecal_puma_paper activecal_sim_cell"
+for prog in $all_programs; do
+  "$apps/$prog" --help >help.txt 2>&1
+  # "  Flags from ../../apps/<file>.cc:" then "    -<flag> (...": each flag
+  # with the file that defines it; that file must read FLAGS_<flag>.
+  unread=$(awk '/Flags from /{f=$3; sub(/:$/, "", f); n=split(f, p, "/"); f=p[n]}
+                /^    -[a-z0-9_]+ /{sub(/^    -/, ""); print f, $1}' help.txt |
+    while read -r file flag; do
+      src="$here/../apps/$file"
+      if [ ! -f "$src" ] || [ "$(grep -c "FLAGS_$flag\b" "$src")" -lt 1 ]; then
+        echo "--$flag ($file)"
+      fi
+    done)
+  n=$(grep -cE '^    -[a-z0-9_]+ ' help.txt)
+  if [ -z "$unread" ] && [ "$n" -gt 0 ]; then
+    echo "ok   [$prog --help: every one of its $n flags is read]"
+  else
+    echo "FAIL [$prog --help lists flags it does not read: $unread]"
+    failures=$((failures + 1))
+  fi
+done
+# The shared flags: where a program has one, a bad value fails naming it;
+# elsewhere the flag is unknown.
+has_flag() {  # <program> <flag>: listed in --help
+  "$apps/$1" --help >flag_help.txt 2>&1
+  grep -qE "^    -$2 " flag_help.txt
+}
+for prog in $all_programs; do
+  for flag in parameter_set strict_limits columns_strict; do
+    case "$flag:$prog" in
+      parameter_set:activecal_select | parameter_set:activecal_identify |\
+        parameter_set:activecal_active | parameter_set:activecal_sim_cell) want=yes ;;
+      strict_limits:activecal_identify | strict_limits:activecal_evaluate) want=yes ;;
+      columns_strict:activecal_identify | columns_strict:activecal_evaluate |\
+        columns_strict:activecal_compensate) want=yes ;;
+      *) want=no ;;
+    esac
+    if has_flag "$prog" "$flag"; then got=yes; else got=no; fi
+    if [ "$want" != "$got" ]; then
+      echo "FAIL [$prog --$flag: listed=$got, expected $want]"
+      failures=$((failures + 1))
+    elif [ "$got" = no ]; then
+      expect_fail "$prog has no --$flag" "unknown command line flag '$flag'" \
+        "$prog" --$flag=bogus
+    elif [ "$flag" = parameter_set ]; then
+      expect_fail "$prog --parameter_set=bogus" \
+        "--parameter_set must be registration, offsets, full or file, got 'bogus'" \
+        "$prog" --parameter_set=bogus
+    else
+      expect_fail "$prog --$flag=bogus" "illegal value 'bogus' specified for bool flag '$flag'" \
+        "$prog" --$flag=bogus
+    fi
+  done
+done
+
 # --- Bad flags. ---
 expect_fail "levels=1" "--levels=1" activecal_select --levels=1
 sed 's/limits: \[-4.363323129985824, 1.2217304763960306\]/limits: [-6.283185307179586, 6.283185307179586]/' \
@@ -112,6 +173,31 @@ if "$apps/activecal_select" --robot=turn.yaml --levels=3 --num_poses=30 >turn.tx
 else
   echo "FAIL [full-turn lattice]"; cat turn.txt; failures=$((failures + 1))
 fi
+# Issue 26: a robot with a continuous joint (the rail arm's j3) got no
+# pool of any kind ("no finite range"); it is sampled over one turn.
+for pool in lattice sobol random; do
+  if "$apps/activecal_select" --robot="$here/data/arm7_rail.urdf" --tip_link=tcp \
+    --pool=$pool --levels=2 --pool_size=500 --parameter_set=offsets \
+    --num_poses=20 --poses_csv=rail_$pool.csv >rail.txt 2>rail.err &&
+    [ "$(($(wc -l <rail_$pool.csv) - 1))" -eq 20 ] &&
+    { [ $pool != lattice ] ||
+      grep -q "note: joint 4 (j3) has no limits: its 2 levels cover one turn from -180 deg (a continuous joint)" rail.txt; }; then
+    echo "ok   [a continuous joint: --pool=$pool designs]"
+  else
+    echo "FAIL [a continuous joint, --pool=$pool]"; cat rail.txt rail.err
+    failures=$((failures + 1))
+  fi
+done
+# Issue 26: a pool too large for memory was a std::bad_alloc (exit 134).
+expect_fail "a sobol pool too large for memory" \
+  "--pool_size: a pool of 100000000000 poses needs at least" \
+  activecal_select --pool=sobol --pool_size=100000000000
+expect_fail "a random pool too large for memory" \
+  "--pool_size: a pool of 2000000000 poses needs at least" \
+  activecal_select --pool=random --pool_size=2000000000
+expect_fail "a lattice too large for memory" \
+  "--levels=31: a pool of 887503681 poses needs at least" \
+  activecal_select --levels=31
 expect_fail "num_poses=0" "--num_poses must be in [1, 15625]" activecal_select --num_poses=0
 expect_fail "more poses than the pool" "--num_poses must be in [1, 15625]" \
   activecal_select --num_poses=20000
@@ -155,6 +241,10 @@ expect_fail "zero degrees of freedom" "27 measurement rows for 27 free parameter
 printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n' >dup.csv
 expect_fail "duplicate pool poses" "dup.csv:3: duplicate pose: the same joint values as line 2" \
   activecal_select --pool_csv=dup.csv --num_poses=1
+# Issue 26: two pool rows of the same label were accepted silently.
+printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n4,0,0,0,0,0,0\n5,10,0,0,0,0,0\n4,20,0,0,0,0,0\n' >duplabel.csv
+expect_fail "duplicate pool labels" "--pool_csv: duplabel.csv:4: pose_index: 4 is also the label of line 2 (the labels of a pool name its poses, each once)" \
+  activecal_select --pool_csv=duplabel.csv --num_poses=1
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,400\n' >range.csv
 expect_fail "joint out of range" "range.csv:2: joint 6 (L6) value 6.98132 rad (400 deg) is outside its range [-176, 356] deg" \
   activecal_simulate --poses_csv=range.csv --out=x.csv

@@ -187,6 +187,22 @@ assert j['max_joint_change'] <= 1e-12, j['max_joint_change']
   fi
 done
 
+# Issue 26: forgetting --frames with a URDF robot moved joints by up to
+# 3 deg without a word. Now the first line on stderr says what is assumed
+# (and with --frames nothing is said).
+"$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --nominal="$ur" \
+  --poses_csv=ur_prog.csv --out=ur_noframes.csv >ur_noframes.txt 2>ur_noframes.err
+nstatus=$?
+if [ "$nstatus" -eq 0 ] && [ "$(wc -l <ur_noframes.err)" -eq 1 ] &&
+  grep -qF "activecal_compensate: note: --robot=$ur has no --frames: the device frame is taken as the chain's base link and the marker as the origin of the tip link 'tool0', with no offset" ur_noframes.err; then
+  ok "URDF without --frames: one note first on stderr: $(cut -c1-100 ur_noframes.err)"
+else
+  fail "URDF without --frames (status $nstatus)"; cat ur_noframes.err
+fi
+"$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --nominal="$ur" --poses_csv=ur_prog.csv --out=ur_frames.csv >/dev/null 2>ur_frames.err
+[ ! -s ur_frames.err ] && ok "URDF with --frames: no note" ||
+  { fail "URDF with --frames: stderr not empty"; cat ur_frames.err; }
 # Cartesian targets: the meant points of the first 40 converged targets,
 # with the program's joints as starts, give the same joints as the program
 # path; without starts, each starts from the previous result.
@@ -218,13 +234,53 @@ for x in t["targets"]:
     assert max(abs(a - b) for a, b in zip(x["joints"], y["joints"])) < 1e-7, x["pose_index"]
 p = json.load(open("pcomp.json"))
 assert [x["pose_index"] for x in p["targets"]] == list(range(40))
-assert p["num_converged"] + p["num_limit"] + p["num_unreachable"] + p["num_singular"] == 40
+assert p["num_converged"] + p["num_limit"] + p["num_unreachable"] + p["num_singular"] + p["num_iteration_cap"] == 40
 assert p["num_converged"] >= 30, p["num_converged"]
 for x in p["targets"]:
     assert "start_joints" not in x
     if x["status"] == "converged":
         assert x["position_error_m"] <= 1e-9
 EOF
+
+# Issue 26: the targets CSV dropped columns it did not know, start joints
+# by joint name among them. It reads the measurements CSV's columns (here
+# the UR10e's joints by name, mm), names the rest in a note, and refuses
+# them with --columns_strict.
+python3 - <<'EOF'
+import json
+rep = json.load(open("ur_same.json"))
+names = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+         "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
+with open("ur_targets.csv", "w") as f:
+    f.write("pose_index,x_mm,y_mm,z_mm,temperature_c," +
+            ",".join(n + "_rad" for n in names) + "\n")
+    for t in rep["targets"][:5]:
+        f.write(",".join(repr(v) for v in [t["pose_index"]] +
+                         [1000 * x for x in t["target_m"]] + [21.5] +
+                         t["start_joints"]) + "\n")
+EOF
+"$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --marker=smr2 --targets_csv=ur_targets.csv --out=ur_t.csv --json_out=ur_t.json \
+  >ur_t.txt 2>ur_t.err
+tstatus=$?
+if [ "$tstatus" -eq 0 ] && [ ! -s ur_t.err ] &&
+  grep -q "activecal_compensate: note: ur_targets.csv: ignored 1 column activecal does not read: temperature_c" ur_t.txt &&
+  python3 -c "
+import json
+j = json.load(open('ur_t.json'))
+assert j['all_converged'] and j['num_targets'] == 5, j['message']
+# The start joints were read (by name): the program's own joints reach
+# the targets, so they are kept (to the mm rounding of the points).
+assert j['max_joint_change'] <= 1e-6, j['max_joint_change']
+"; then
+  ok "targets CSV: joints by name and mm read, temperature_c named in a note"
+else
+  fail "targets CSV with joint names (status $tstatus)"; cat ur_t.txt ur_t.err
+fi
+expect_fail "targets CSV column not read, --columns_strict" \
+  "--targets_csv: ur_targets.csv:1: column 'temperature_c' activecal does not read (strict columns" \
+  activecal_compensate --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
+  --marker=smr2 --targets_csv=ur_targets.csv --out=x.csv --columns_strict
 
 # A target outside the workspace: reported per target, exit 2, one line.
 printf 'pose_index,x_m,y_m,z_m\n7,0.3,19.9,0.2\n8,5,30,2\n' >far.csv
@@ -291,6 +347,13 @@ expect_fail "no output" "--out is required" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv
 expect_fail "iteration cap 0" "max_iterations must be >= 1, got 0" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --max_iterations=0
+expect_fail "joint weights of another robot" \
+  "joint_weights: expected 6 weights (one per joint of 'puma560_sun_hollerbach'), got 2" \
+  activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --joint_weights=1,2
+expect_fail "a joint weight of 0" "joint_weights[2] must be finite and > 0, got 0" \
+  activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --joint_weights=1,1,0,1,1,1
+expect_fail "a joint weight not a number" "--joint_weights: 'x' is not a number" \
+  activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --joint_weights=1,x,1,1,1,1
 expect_fail "unknown marker" "--marker: 'smr9' is not a marker of robot" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --marker=smr9
 [ ! -e x.csv ] && ok "no output written on bad input" || fail "output written on bad input"

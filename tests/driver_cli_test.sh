@@ -203,6 +203,28 @@ else
   fail "the Python example driver"; cat example.err
 fi
 
+# --- The example adapted as a user would: an SDK that prints on stdout. ---
+# Robot and tracker SDKs print ("connected", progress) and run programs that
+# do; none of it may reach the protocol.
+python3 - "$examples/driver_example.py" adapted_driver.py <<'PY'
+import sys
+text = open(sys.argv[1]).read()
+old = "    return list(joints_rad)  # the fake robot reaches every pose exactly\n"
+assert old in text
+text = text.replace(old, "    print('sdk: moving to', joints_rad)\n"
+                         "    os.system('echo sdk helper: settled')\n" + old)
+text = text.replace("import json\n", "import json\nimport os\n", 1)
+open(sys.argv[2], "w").write(text)
+PY
+if "$A" --robot="$examples/driver_example_robot.yaml" --levels=3 \
+    --driver="python3 adapted_driver.py" --noise_m=5e-5 --max_rounds=2 \
+    --target_rms_m=5e-5 --json_out=adapted.json >adapted.txt 2>adapted.err &&
+   grep -q "sdk: moving to" adapted.err && grep -q "sdk helper: settled" adapted.err; then
+  pass "the example with prints on stdout: they reach stderr, not the protocol"
+else
+  fail "the example with prints on stdout"; tail -3 adapted.err
+fi
+
 # --- A URDF cell with seeded perturbations; the design as a KRL program. ---
 # The reflector on a bracket, off the flange axis (on the axis its offset
 # could not be told from joint 7's).

@@ -5,6 +5,7 @@
 // convention (the shipped iiwa file checked against the URDF's axes).
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -295,6 +296,90 @@ TEST(DriverClientTest, ADriverOverTcp) {
   EXPECT_NE(error.find("is not tcp://HOST:PORT"), std::string::npos) << error;
 }
 
+// Writing to a driver that has gone is an error, never a SIGPIPE, and the
+// process's own disposition of SIGPIPE is left as it was: activecal_active
+// piped into `head` still ends when head does, instead of driving the
+// robot on with nobody reading.
+TEST(DriverConnectionTest, ADriverThatHasGoneIsAnErrorAndSigpipeIsUntouched) {
+  struct sigaction saved {};
+  sigaction(SIGPIPE, nullptr, &saved);
+  signal(SIGPIPE, SIG_DFL);
+  std::unique_ptr<DriverConnection> connection;
+  std::string error, line;
+  ASSERT_TRUE(OpenDriverConnection("true", 5, &connection, &error)) << error;
+  // The child has exited once its stdout is closed.
+  ASSERT_EQ(connection->channel().ReadLine(5, &line, &error),
+            LineChannel::ReadResult::kClosed);
+  EXPECT_FALSE(
+      connection->channel().WriteLine(std::string(1 << 17, 'x'), &error));
+  EXPECT_EQ(error, "Broken pipe");
+  struct sigaction now {};
+  sigaction(SIGPIPE, nullptr, &now);
+  EXPECT_EQ(now.sa_handler, SIG_DFL);
+  sigset_t pending;
+  sigpending(&pending);
+  EXPECT_FALSE(sigismember(&pending, SIGPIPE));
+  EXPECT_EQ(connection->WhyClosed(5), "exited with status 0");
+  sigaction(SIGPIPE, &saved, nullptr);
+}
+
+// Starts the sh driver that answers the hello and then runs `after_hello`,
+// and asks it for one measurement; returns the error of that request
+// ("" if it succeeded). The client is kept for Close().
+std::string FirstMeasureError(const std::string& after_hello, double timeout_s,
+                              std::unique_ptr<DriverClient>* client) {
+  DriverClientOptions options;
+  options.timeout_s = timeout_s;
+  options.driver =
+      ShDriver(std::string(kHelloReply) + "; read line; " + after_hello);
+  std::string error;
+  if (!DriverClient::Start(options, TwoJoints(), client, &error)) {
+    return "start: " + error;
+  }
+  MeasurementReply reply;
+  return (*client)->Measure(Eigen::Vector2d(0, 0), &reply, &error) ? "" : error;
+}
+
+// A driver that floods its stdout after a failure is not waited for: its
+// pipe is closed, so it ends at once rather than being terminated after
+// the wait.
+TEST(DriverClientTest, AFloodingDriverEndsWhenTheClientCloses) {
+  std::unique_ptr<DriverClient> client;
+  const std::string error = FirstMeasureError("exec yes flood", 5, &client);
+  EXPECT_NE(error.find("not JSON: 'flood'"), std::string::npos) << error;
+  ASSERT_NE(client, nullptr);
+  EXPECT_EQ(client->Close(), "");
+}
+
+// Blank lines are not a reply: they do not restart the timeout.
+TEST(DriverClientTest, BlankLinesDoNotExtendTheTimeout) {
+  std::unique_ptr<DriverClient> client;
+  const std::string error = FirstMeasureError(
+      "for i in 1 2 3 4 5 6 7 8 9 10; do echo; sleep 0.1; done; "
+      R"(echo "{\"type\":\"measurement\",\"id\":1,\"status\":)"
+      R"(\"not_visible\"}"; read line)",
+      0.4, &client);
+  EXPECT_NE(error.find("no reply within 0.4 s"), std::string::npos) << error;
+}
+
+// A driver that stops reading (closes its stdin) and exits is named when
+// the request cannot be sent, with its exit status.
+TEST(DriverClientTest, ADriverThatStopsReadingIsNamed) {
+  DriverClientOptions options;
+  options.timeout_s = 5;
+  options.driver = ShDriver("exec 0<&-; " + std::string(kHelloReply));
+  std::unique_ptr<DriverClient> client;
+  std::string error;
+  ASSERT_TRUE(DriverClient::Start(options, TwoJoints(), &client, &error))
+      << error;
+  MeasurementReply reply;
+  EXPECT_FALSE(client->Measure(Eigen::Vector2d(0, 0), &reply, &error));
+  EXPECT_NE(error.find("cannot send measure 1: Broken pipe (the driver "
+                       "exited with status 0)"),
+            std::string::npos)
+      << error;
+}
+
 // --- Controller programs ---
 
 std::vector<std::vector<double>> NumbersIn(const std::string& text,
@@ -312,6 +397,41 @@ std::vector<std::vector<double>> NumbersIn(const std::string& text,
     rows.push_back(row);
   }
   return rows;
+}
+
+// The joint values of each move of a program, in the program's units:
+// KRL's axis names and RAPID's unused external axes (9E9, checked)
+// dropped, `num_joints` per move.
+std::vector<std::vector<double>> MovesIn(const std::string& text,
+                                         ProgramLanguage language,
+                                         int num_joints) {
+  const std::regex move(
+      language == ProgramLanguage::kUrScript ? R"(movej\(\[([^\]]*)\])"
+      : language == ProgramLanguage::kKrl    ? R"(PTP \{([^}]*)\})"
+                                             : R"(MoveAbsJ \[\[(.*)\]\],)");
+  std::vector<std::vector<double>> rows = NumbersIn(text, move);
+  for (std::vector<double>& row : rows) {
+    if (language == ProgramLanguage::kKrl) {
+      // "A1 v, ..., E1 v": every other number is an axis number.
+      std::vector<double> values;
+      for (size_t k = 1; k < row.size(); k += 2) values.push_back(row[k]);
+      row = values;
+    }
+    if (language == ProgramLanguage::kRapid) {
+      EXPECT_EQ(row.size(), 12u);
+      for (size_t k = num_joints; k < row.size(); ++k) {
+        EXPECT_EQ(row[k], 9e9);
+      }
+      row.resize(std::min<size_t>(row.size(), num_joints));
+    }
+    EXPECT_EQ(row.size(), static_cast<size_t>(num_joints));
+  }
+  return rows;
+}
+
+// Program units per rad (a revolute joint).
+double UnitPerRad(ProgramLanguage language) {
+  return language == ProgramLanguage::kUrScript ? 1.0 : 180 / M_PI;
 }
 
 RobotModel Iiwa() {
@@ -348,54 +468,33 @@ TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
   poses.pose_indices = {17, 3, 250};
   ControllerProgramOptions options;
   options.wait_s = 1.5;
-  const struct {
-    ProgramLanguage language;
-    std::regex move;
-    double unit;  // program unit per rad
-    double digits;
-  } languages[] = {
-      {ProgramLanguage::kUrScript, std::regex(R"(movej\(\[([^\]]*)\])"), 1.0,
-       1e-9},
-      {ProgramLanguage::kKrl, std::regex(R"(PTP \{([^}]*)\})"), 180 / M_PI,
-       1e-6},
-      {ProgramLanguage::kRapid, std::regex(R"(MoveAbsJ \[\[(.*)\]\],)"),
-       180 / M_PI, 1e-6},
-  };
-  for (const auto& l : languages) {
-    SCOPED_TRACE(ProgramLanguageToString(l.language));
-    options.language = l.language;
+  for (ProgramLanguage language :
+       {ProgramLanguage::kUrScript, ProgramLanguage::kKrl,
+        ProgramLanguage::kRapid}) {
+    SCOPED_TRACE(ProgramLanguageToString(language));
+    options.language = language;
+    const double unit = UnitPerRad(language);
+    const double digits = language == ProgramLanguage::kUrScript ? 1e-9 : 1e-6;
     std::string text;
     ASSERT_TRUE(
         ControllerProgramText(model, convention, poses, options, &text, &error))
         << error;
-    std::vector<std::vector<double>> rows = NumbersIn(text, l.move);
+    const std::vector<std::vector<double>> rows = MovesIn(text, language, 7);
     ASSERT_EQ(rows.size(), 3u) << text;
     for (int i = 0; i < 3; ++i) {
-      std::vector<double>& row = rows[i];
-      if (l.language == ProgramLanguage::kKrl) {
-        // "A1 v, ..., E1 v": every other number is an axis number.
-        std::vector<double> values;
-        for (size_t k = 1; k < row.size(); k += 2) values.push_back(row[k]);
-        row = values;
-      }
-      if (l.language == ProgramLanguage::kRapid) {
-        ASSERT_EQ(row.size(), 12u);
-        for (int k = 7; k < 12; ++k) EXPECT_EQ(row[k], 9e9);
-        row.resize(7);
-      }
-      ASSERT_EQ(row.size(), 7u);
+      ASSERT_EQ(rows[i].size(), 7u);
       for (int j = 0; j < 7; ++j) {
         const ControllerJoint& c = convention.joints[j];
-        const double want = (c.sign * poses.joints(i, j) + c.offset) * l.unit;
-        EXPECT_NEAR(row[j], want, 0.51 * l.digits)
+        const double want = (c.sign * poses.joints(i, j) + c.offset) * unit;
+        EXPECT_NEAR(rows[i][j], want, 0.51 * digits)
             << "pose " << i << " joint " << j;
       }
     }
     // The waits, one per pose, and the pose indices in comments.
     const std::regex wait(
-        l.language == ProgramLanguage::kUrScript ? R"(sleep\(1\.500\))"
-        : l.language == ProgramLanguage::kKrl    ? R"(WAIT SEC 1\.500)"
-                                                 : R"(WaitTime 1\.500;)");
+        language == ProgramLanguage::kUrScript ? R"(sleep\(1\.500\))"
+        : language == ProgramLanguage::kKrl    ? R"(WAIT SEC 1\.500)"
+                                               : R"(WaitTime 1\.500;)");
     EXPECT_EQ(
         std::distance(std::sregex_iterator(text.begin(), text.end(), wait),
                       std::sregex_iterator()),
@@ -454,6 +553,82 @@ TEST(ControllerProgramTest, TheIiwaConventionMatchesTheControllersAxes) {
         << convention.joints[j].name << ": " << axis.transpose();
     EXPECT_EQ(convention.joints[j].offset, 0.0);
   }
+}
+
+// A pose at a joint limit is written at the limit or inside it, never a
+// rounding step beyond it (the controller would stop at its software
+// limit): the values read back and converted to activecal's joints are in
+// the robot's range, in every language, with signs and an offset.
+TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
+  const RobotModel model = Iiwa();
+  ControllerConvention convention = IiwaConvention(model);
+  convention.joints[2].offset = 10 * M_PI / 180;
+  PoseList poses;
+  poses.joints.resize(2, 7);
+  for (int j = 0; j < 7; ++j) {
+    poses.joints(0, j) = model.links[j].joint_min;
+    poses.joints(1, j) = model.links[j].joint_max;
+  }
+  for (ProgramLanguage language :
+       {ProgramLanguage::kUrScript, ProgramLanguage::kKrl,
+        ProgramLanguage::kRapid}) {
+    SCOPED_TRACE(ProgramLanguageToString(language));
+    ControllerProgramOptions options;
+    options.language = language;
+    std::string text, error;
+    ASSERT_TRUE(
+        ControllerProgramText(model, convention, poses, options, &text, &error))
+        << error;
+    const std::vector<std::vector<double>> rows = MovesIn(text, language, 7);
+    ASSERT_EQ(rows.size(), 2u) << text;
+    for (int i = 0; i < 2; ++i) {
+      const std::vector<double>& values = rows[i];
+      ASSERT_EQ(values.size(), 7u);
+      for (int j = 0; j < 7; ++j) {
+        const ControllerJoint& c = convention.joints[j];
+        const double q = (values[j] / UnitPerRad(language) - c.offset) / c.sign;
+        // 1e-12 rad: the conversion back; a rounding step is 1e-9 at least.
+        EXPECT_GE(q, model.links[j].joint_min - 1e-12)
+            << "pose " << i << " joint " << j << ": " << values[j];
+        EXPECT_LE(q, model.links[j].joint_max + 1e-12)
+            << "pose " << i << " joint " << j << ": " << values[j];
+        EXPECT_NEAR(q, poses.joints(i, j), 1e-6);
+      }
+    }
+    if (language == ProgramLanguage::kKrl) {
+      // A limit the URDF states in rad, a whole degree on the controller,
+      // stays that degree (not a step inside it).
+      EXPECT_NE(text.find("A4 -120.000000"), std::string::npos) << text;
+      EXPECT_NE(text.find("E1 175.000000"), std::string::npos) << text;
+    }
+  }
+}
+
+// KRL: the speeds are whole percent (the system variables are INT), set
+// the controller's way (BAS), for the external axes too, never below 1 %.
+TEST(ControllerProgramTest, KrlSpeedsAreWholePercentForEveryAxis) {
+  const RobotModel model = Iiwa();
+  PoseList poses;
+  poses.joints = Eigen::MatrixXd::Zero(1, 7);
+  ControllerProgramOptions options;
+  options.language = ProgramLanguage::kKrl;
+  std::string text, error;
+  ASSERT_TRUE(ControllerProgramText(model, IiwaConvention(model), poses,
+                                    options, &text, &error))
+      << error;
+  EXPECT_NE(text.find("  BAS(#VEL_PTP, 10)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  BAS(#ACC_PTP, 10)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  $VEL_EXTAX[1] = 10\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  $ACC_EXTAX[1] = 10\n"), std::string::npos) << text;
+  // No loop variable (a name like AXIS would be KRL's type).
+  EXPECT_EQ(text.find("DECL"), std::string::npos) << text;
+  EXPECT_EQ(text.find("$VEL_EXTAX[2]"), std::string::npos) << text;
+  options.speed_fraction = 0.004;
+  EXPECT_FALSE(ControllerProgramText(model, IiwaConvention(model), poses,
+                                     options, &text, &error));
+  EXPECT_NE(error.find("the speed fraction must be in [0.01, 1]"),
+            std::string::npos)
+      << error;
 }
 
 TEST(ControllerProgramTest, BadConventionFilesAreNamed) {

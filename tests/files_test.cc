@@ -10,13 +10,14 @@
 #include <cstdio>
 #include <string>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
-#include "activecal/io/robot_file.h"
 #include "activecal/core/simulation.h"
 #include "activecal/estimation/identification.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/targets_csv.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -262,6 +263,11 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
        "'q1_rad' twice"},
       {"bad pose_index", "pose_index," + h + "1.5,0,0,0.1,0\n",
        "p.csv:2: pose_index: expected an integer >= 0"},
+      // Issue 26: a pool's labels were taken twice silently.
+      {"duplicate pose_index",
+       "pose_index," + h + "7,0,0,0.1,0\n8,0.1,0,0.1,0\n7,0.2,0,0.1,0\n",
+       "p.csv:4: pose_index: 7 is also the label of line 2 (the labels of a "
+       "pool name its poses, each once)"},
   };
   for (const BadCsv& c : cases) {
     PoseList poses;
@@ -275,6 +281,45 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
   std::string error;
   EXPECT_FALSE(ReadPosesCsv("/nonexistent.csv", m, true, &poses, &error));
   EXPECT_EQ(error, "/nonexistent.csv: cannot open the file");
+  // A program (not a pool) may repeat a label.
+  EXPECT_TRUE(ParsePosesCsv("pose_index," + h + "7,0,0,0.1,0\n7,0.1,0,0.1,0\n",
+                            "p.csv", m, false, &poses, &error))
+      << error;
+}
+
+// Issue 26, item 18: the Python module wrote labels every reader refuses
+// (write_poses(pose_indices=[-1, ...])) and took a pool's labels twice.
+// One library check, at both edges of the range and for repeats.
+TEST(PosesCsvTest, PoseLabelsAreCheckedBeforeTheyAreWritten) {
+  std::string error;
+  EXPECT_TRUE(CheckPoseIndices({}, true, &error));
+  EXPECT_TRUE(CheckPoseIndices({0, kMaxPoseIndex, 3}, true, &error)) << error;
+  EXPECT_FALSE(CheckPoseIndices({0, -1}, false, &error));
+  EXPECT_EQ(error,
+            "pose_indices[1] = -1: a pose label must be an integer in [0, "
+            "9e15] (the files' pose_index; every reader refuses others)");
+  EXPECT_FALSE(CheckPoseIndices({kMaxPoseIndex + 1}, false, &error));
+  EXPECT_NE(error.find("pose_indices[0] = 9000000000000001: a pose label"),
+            std::string::npos)
+      << error;
+  EXPECT_TRUE(CheckPoseIndices({4, 5, 4}, false, &error));
+  EXPECT_FALSE(CheckPoseIndices({4, 5, 4}, true, &error));
+  EXPECT_EQ(error,
+            "pose_indices[2] = 4, the same label as pose_indices[0]: the "
+            "labels of a pool name its poses, each once");
+  // What passes the check reads back; the largest label too.
+  const RobotModel m = testing::MixedModel();
+  PoseList poses;
+  poses.joints = Eigen::MatrixXd::Zero(2, 4);
+  poses.joints(0, 2) = poses.joints(1, 2) = 0.1;
+  poses.joints(1, 0) = 0.2;
+  poses.pose_indices = {kMaxPoseIndex, 0};
+  ASSERT_TRUE(CheckPoseIndices(poses.pose_indices, true, &error));
+  PoseList back;
+  ASSERT_TRUE(
+      ParsePosesCsv(PosesCsvText(m, poses), "p.csv", m, true, &back, &error))
+      << error;
+  EXPECT_EQ(back.pose_indices, poses.pose_indices);
 }
 
 TEST(MeasurementsCsvTest, MixedRoundTripIsExact) {
@@ -1011,6 +1056,132 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
     EXPECT_NE(error.find(c.message), std::string::npos)
         << c.what << "\n  got: " << error << "\n  want: " << c.message;
   }
+}
+
+// Issue 26, item 17: the targets CSV dropped the columns it did not know,
+// among them start joints named by joint name and qw,qx,qy,qz, which the
+// measurements CSV reads. It reads what the measurements CSV reads now:
+// every format MeasurementsCsvText writes (joint names, pendant units, mm,
+// quaternion, roll-pitch-yaw) read as targets gives the points, the
+// orientations and the joints the measurements reader gives; the columns
+// of neither (type, sigma_*) are named in a note, or refused with
+// columns_strict.
+TEST(TargetsCsvTest, ReadsWhatTheMeasurementsCsvReads) {
+  const RobotModel m = testing::UrdfStyleModel();  // joint1..joint4
+  std::vector<Measurement> poses;
+  for (const Measurement& x : MixedMeasurements(m, 12, 5)) {
+    if (x.type == MeasurementType::kPose) poses.push_back(x);
+  }
+  ASSERT_GE(poses.size(), 3u);
+  for (const MeasurementsCsvFormat& format : AllFormats()) {
+    const std::string text = MeasurementsCsvText(m, poses, format);
+    std::vector<Measurement> measured;
+    std::string error;
+    ASSERT_TRUE(ParseMeasurementsCsv(text, "f.csv", m, &measured, &error))
+        << error;
+    TargetList targets;
+    std::vector<std::string> notes;
+    ASSERT_TRUE(ParseTargetsCsv(text, "f.csv", m, TargetsCsvOptions(), &targets,
+                                &notes, &error))
+        << error;
+    ASSERT_EQ(targets.points.rows(), static_cast<int>(measured.size()));
+    ASSERT_EQ(targets.rotation_vectors.rows(), targets.points.rows());
+    ASSERT_EQ(targets.start_joints.rows(), targets.points.rows());
+    for (size_t i = 0; i < measured.size(); ++i) {
+      EXPECT_TRUE(targets.points.row(i).transpose() == measured[i].position);
+      EXPECT_TRUE(targets.rotation_vectors.row(i).transpose() ==
+                  measured[i].rotation);
+      EXPECT_TRUE(targets.start_joints.row(i).transpose() ==
+                  measured[i].joints);
+    }
+    // type and the standard deviations are measurements' columns only.
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_EQ(notes[0].rfind("f.csv: ignored ", 0), 0u) << notes[0];
+    EXPECT_NE(notes[0].find("activecal does not read: type"), std::string::npos)
+        << notes[0];
+    TargetsCsvOptions strict;
+    strict.columns_strict = true;
+    EXPECT_FALSE(
+        ParseTargetsCsv(text, "f.csv", m, strict, &targets, &notes, &error));
+    EXPECT_NE(error.find("f.csv:1: columns 'type'"), std::string::npos)
+        << error;
+    EXPECT_NE(error.find("activecal does not read (strict columns"),
+              std::string::npos)
+        << error;
+  }
+  // A file of only known columns: no note, and strict reads it.
+  TargetList targets;
+  std::vector<std::string> notes = {"stale"};
+  std::string error;
+  TargetsCsvOptions strict;
+  strict.columns_strict = true;
+  ASSERT_TRUE(ParseTargetsCsv(
+      "pose_index,x_mm,y_mm,z_mm,qw,qx,qy,qz,joint1_deg,joint2_rad,joint3_mm,"
+      "joint4_rad\n7,1000,2000,-3,1,0,0,0,90,0.1,50,0.2\n",
+      "t.csv", m, strict, &targets, &notes, &error))
+      << error;
+  EXPECT_TRUE(notes.empty());
+  EXPECT_EQ(targets.pose_indices, (std::vector<int64_t>{7}));
+  EXPECT_EQ(targets.points(0, 0), 1.0);
+  EXPECT_EQ(targets.points(0, 2), -0.003);
+  EXPECT_TRUE(targets.rotation_vectors.row(0).isZero(0));
+  EXPECT_DOUBLE_EQ(targets.start_joints(0, 0), M_PI / 2);
+  EXPECT_EQ(targets.start_joints(0, 2), 0.05);
+  // And the measurements reader's messages.
+  const std::vector<BadCsv> cases = {
+      {"joint names mixed",
+       "x_m,y_m,z_m,q1_rad,joint2_rad,q3_m,q4_rad\n1,2,3,0,0,0,0\n",
+       "t.csv:1: joints are named both q<j> ('q1_rad') and by joint name "
+       "('joint2_rad'): a file uses one of the two"},
+      {"quaternion not unit", "x_m,y_m,z_m,qw,qx,qy,qz\n1,2,3,1,1,0,0\n",
+       "t.csv:2: qw,qx,qy,qz: the quaternion's norm is 1.41421, not 1"},
+      {"two orientations",
+       "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,qw,qx,qy,qz\n1,2,3,0,0,0,1,0,0,0\n",
+       "t.csv:1: the orientation is given both as rx_rad,ry_rad,rz_rad and "
+       "as qw,qx,qy,qz"},
+      {"a joint missing by name",
+       "x_m,y_m,z_m,joint1_rad,joint2_rad,joint4_rad\n1,2,3,0,0,0\n",
+       "t.csv:1: the header has joint columns for joint 1 but not for joint 3 "
+       "('joint3_m' or 'joint3_mm'): give every joint or none"},
+      {"implausible length", "x_mm,y_mm,z_mm\n1e12,0,0\n",
+       "t.csv:2: x_mm: 1e+12 mm is more than 1000 km"},
+  };
+  for (const BadCsv& c : cases) {
+    EXPECT_FALSE(ParseTargetsCsv(c.text, "t.csv", m, &targets, &error))
+        << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
+// The poses CSV names joints as the measurements CSV does: q<j> or the
+// joint's name (item 17).
+TEST(PosesCsvTest, JointsByJointName) {
+  const RobotModel m = testing::UrdfStyleModel();  // joint1..joint4
+  PoseList poses;
+  std::string error;
+  ASSERT_TRUE(
+      ParsePosesCsv("pose_index,joint1_rad,joint2_deg,joint3_mm,joint4_rad\n3,"
+                    "0.1,90,50,0.2\n",
+                    "p.csv", m, false, &poses, &error))
+      << error;
+  EXPECT_EQ(poses.pose_indices, (std::vector<int64_t>{3}));
+  EXPECT_EQ(poses.joints(0, 0), 0.1);
+  EXPECT_DOUBLE_EQ(poses.joints(0, 1), M_PI / 2);
+  EXPECT_DOUBLE_EQ(poses.joints(0, 2), 0.05);
+  EXPECT_FALSE(ParsePosesCsv("q1_rad,joint2_rad,q3_m,q4_rad\n0,0,0,0\n",
+                             "p.csv", m, false, &poses, &error));
+  EXPECT_NE(error.find("p.csv:1: joints are named both q<j> ('q1_rad') and "
+                       "by joint name ('joint2_rad')"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(ParsePosesCsv("joint1_rad,joint2_rad,joint4_rad\n0,0,0\n",
+                             "p.csv", m, false, &poses, &error));
+  EXPECT_NE(error.find("p.csv:1: the header has neither 'q3_m' nor 'q3_mm' "
+                       "for joint 3, nor 'joint3_m' or 'joint3_mm' (its "
+                       "joint name)"),
+            std::string::npos)
+      << error;
 }
 
 // What spreadsheets and device software put around the values (review of

@@ -9,7 +9,9 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -351,6 +353,124 @@ TEST(InverseKinematicsTest, AFreeSolutionWholeTurnsPastAWideRangeIsConverged) {
   EXPECT_LE(result.rotation_error_rad, 1e-9);
 }
 
+// A planar arm of n revolute standard-DH links of 0.5 m in the x-y plane,
+// each joint limited to [lo, hi]; the marker at the last frame's origin.
+RobotModel PlanarArm(int n, double lo, double hi) {
+  RobotModel m;
+  m.name = "planar" + std::to_string(n);
+  m.base.name = "B";
+  m.base.joint_type = JointType::kFixed;
+  for (int i = 0; i < n; ++i) {
+    Link l;
+    l.name = "L" + std::to_string(i + 1);
+    l.joint_min = lo;
+    l.joint_max = hi;
+    m.links.push_back(l);
+  }
+  m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
+  for (int b = 0; b < m.num_blocks(); ++b) {
+    DefaultBlockValues(m, b, m.nominal.data() + m.block_offset(b));
+  }
+  for (int i = 0; i < n; ++i) m.nominal[m.block_offset(i + 1) + kA] = 0.5;
+  return m;
+}
+
+// One revolute joint: the marker on a circle; its only solutions are one
+// angle and its whole turns. At the singular points of the convention: a
+// range of exactly 2 pi ([-pi, pi], both ends the same pose), of 4 pi (a
+// UR's [-2 pi, 2 pi]) and no range at all (a continuous joint).
+TEST(InverseKinematicsTest, WholeTurnsOnRangesOfTwoAndFourPiAndContinuous) {
+  struct Case {
+    const char* what;
+    double lo, hi, start, angle;  // the target is the marker at `angle`
+    double expected;              // the joint value returned
+  };
+  const double kInf = HUGE_VAL;
+  const Case cases[] = {
+      // Range exactly 2 pi: inside, near the upper end ...
+      {"2 pi, inside", -M_PI, M_PI, M_PI - 0.01, M_PI - 0.03, M_PI - 0.03},
+      // ... just past it: the same pose a turn lower is the only one inside.
+      {"2 pi, past the end", -M_PI, M_PI, M_PI - 0.01, M_PI + 0.02,
+       -M_PI + 0.02},
+      // The start at the very end, the target just past it.
+      {"2 pi, start at the end", -M_PI, M_PI, M_PI, M_PI + 0.02, -M_PI + 0.02},
+      // Range 4 pi: the target angle past +2 pi; of its two equivalents
+      // inside, 0.02 - 2 pi and 0.02, the one nearer the start.
+      {"4 pi, past the end", -2 * M_PI, 2 * M_PI, 6.2, 2 * M_PI + 0.02, 0.02},
+      {"4 pi, inside", -2 * M_PI, 2 * M_PI, -6.2, -6.25, -6.25},
+      // Continuous: the equivalent nearest the start, however many turns
+      // out the start is.
+      {"continuous, 3 turns out", -kInf, kInf, 6 * M_PI + 0.3, 0.32,
+       6 * M_PI + 0.32},
+      {"continuous, near -pi", -kInf, kInf, -M_PI + 0.01, M_PI - 0.01,
+       -M_PI - 0.01},
+  };
+  for (const Case& c : cases) {
+    const RobotModel arm = PlanarArm(1, c.lo, c.hi);
+    Eigen::VectorXd angle(1), start(1);
+    angle << c.angle;
+    start << c.start;
+    InverseKinematicsResult result;
+    SolveInverseKinematics(arm, arm.nominal, TargetAt(arm, arm.nominal, angle),
+                           start, InverseKinematicsOptions(), &result);
+    EXPECT_EQ(result.status, IkStatus::kConverged)
+        << c.what << ": " << result.message;
+    EXPECT_NEAR(result.joints[0], c.expected, 1e-8) << c.what;
+    EXPECT_TRUE(InsideLimits(arm, result.joints)) << c.what;
+  }
+}
+
+// The joint change is weighted: a heavy joint moves less. A planar 4-link
+// arm has spare joints for a point (3 equations, 4 joints): its closest
+// solution moves joint 1 less when joint 1 weighs more, and the result is
+// the weighted first-order optimum, W (q - start) in the row space of J.
+TEST(InverseKinematicsTest, JointWeightsChooseWhichJointsMove) {
+  const RobotModel arm = PlanarArm(4, -3.0, 3.0);
+  Eigen::VectorXd start(4), q_star(4), w(4);
+  start << 0.3, 1.2, -0.9, 1.0;
+  q_star << 0.6, 0.9, -1.3, 0.8;
+  const IkTarget target = TargetAt(arm, arm.nominal, q_star);
+  double moved[2];
+  for (int k = 0; k < 2; ++k) {
+    InverseKinematicsOptions options;
+    // The z row of a planar arm is zero: every configuration is "singular"
+    // for the 3-row position Jacobian.
+    options.singular_threshold = 0.0;
+    // Tight, so that the joints are determined to ~1e-9.
+    options.position_tolerance_m = 1e-12;
+    w << (k == 1 ? 100.0 : 1.0), 1, 1, 1;
+    if (k == 1) options.joint_weights = {w[0], w[1], w[2], w[3]};
+    InverseKinematicsResult result;
+    SolveInverseKinematics(arm, arm.nominal, target, start, options, &result);
+    ASSERT_EQ(result.status, IkStatus::kConverged) << result.message;
+    moved[k] = std::abs(result.joints[0] - start[0]);
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    Eigen::MatrixXd J;
+    ASSERT_TRUE(
+        JointJacobian(arm, arm.nominal, result.joints, 0, &R, &t, &J, nullptr));
+    // The in-plane rows (x, y) span the row space.
+    const Eigen::MatrixXd Jp = J.topRows(2);
+    // Half the gradient of the weighted change.
+    const Eigen::VectorXd g = w.cwiseProduct(result.joints - start);
+    const Eigen::VectorXd off_row_space =
+        g - Jp.transpose() * (Jp * Jp.transpose()).ldlt().solve(Jp * g);
+    EXPECT_LT(off_row_space.norm(), 1e-6 * (1 + g.norm())) << k;
+  }
+  EXPECT_LT(moved[1], 0.2 * moved[0]);
+  InverseKinematicsOptions bad;
+  bad.joint_weights = {1.0, 1.0};
+  InverseKinematicsResult result;
+  SolveInverseKinematics(arm, arm.nominal, target, start, bad, &result);
+  EXPECT_EQ(result.status, IkStatus::kInvalid);
+  EXPECT_EQ(result.message,
+            "joint_weights: expected 4 weights (one per joint), got 2");
+  bad.joint_weights = {1.0, 0.0, 1.0, 1.0};
+  std::string error;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_EQ(error, "joint_weights[1] must be finite and > 0, got 0");
+}
+
 TEST(InverseKinematicsTest, AWristSingularTargetIsSingular) {
   // True PUMA: at q5 = 0 axes 4 and 6 line up.
   const RobotModel puma = Puma560PaperModel();
@@ -473,10 +593,16 @@ TEST(InverseKinematicsTest, IterationCapAndToleranceAreHonoured) {
   ASSERT_EQ(result.status, IkStatus::kConverged) << result.message;
   const int needed = result.iterations;
   ASSERT_GT(needed, 2);
-  // One evaluation fewer than it needed: not converged.
+  // One evaluation fewer than it needed: not converged, and said so (it
+  // was "unreachable: out of reach").
   options.max_iterations = needed - 1;
   SolveInverseKinematics(puma, puma.nominal, target, start, options, &result);
-  EXPECT_NE(result.status, IkStatus::kConverged);
+  EXPECT_EQ(result.status, IkStatus::kIterationCap) << result.message;
+  EXPECT_STREQ(IkStatusName(result.status), "iteration_cap");
+  EXPECT_NE(result.message.find("the iteration cap (max_iterations = " +
+                                std::to_string(needed - 1) + ") was hit"),
+            std::string::npos)
+      << result.message;
   EXPECT_LE(result.iterations, needed - 1);
   EXPECT_GT(result.position_error_m, options.position_tolerance_m);
   const double error_before = result.position_error_m;
@@ -501,7 +627,7 @@ TEST(InverseKinematicsTest, LimitsAreNeverViolated) {
   // Random targets, many outside reach or beyond the limits, from random
   // starts: every configuration returned is inside the limits.
   Random random(5);
-  int counts[5] = {0, 0, 0, 0, 0};
+  int counts[6] = {0, 0, 0, 0, 0, 0};
   for (const NamedModel& nm : AllConventions()) {
     const RobotModel& model = nm.model;
     for (int trial = 0; trial < 60; ++trial) {
@@ -593,7 +719,7 @@ TEST(CompensationTest, IdenticalModelsLeaveTheProgramUnchanged) {
 // The UR10e with realistic calibration errors (joint origins off by ~1 mm
 // and ~1 mrad, offsets by ~1 mrad) and a tool with an orientation.
 void PerturbedUr10e(RobotModel* model, Eigen::VectorXd* nominal,
-                    Eigen::VectorXd* calibrated) {
+                    Eigen::VectorXd* calibrated, double error = 1e-3) {
   *model = LoadUrdf(DataFile("ur10e.urdf"), "tool0");
   *nominal = model->nominal;
   const int tool = model->block_offset(model->marker_block(0));
@@ -602,7 +728,7 @@ void PerturbedUr10e(RobotModel* model, Eigen::VectorXd* nominal,
   Random random(3);
   for (int j = 0; j < model->num_joints(); ++j) {
     double* p = calibrated->data() + model->block_offset(j + 1);
-    for (int k = 0; k < 7; ++k) p[k] += 1e-3 * random.Gaussian();
+    for (int k = 0; k < 7; ++k) p[k] += error * random.Gaussian();
   }
   calibrated->head(6) << 0.5, -1.0, 0.2, 0.1, 0.0, -0.3;  // a base frame
 }
@@ -676,6 +802,113 @@ TEST(CompensationTest, CalibratedUr10eReachesWhatTheProgramMeantIn6D) {
   CheckReachesMeant(model, calibrated, nominal, program, IkMatch::kPose, 280);
   CheckReachesMeant(model, calibrated, nominal, program, IkMatch::kPosition,
                     300);
+}
+
+// Issue 26: a UR10e program near the +-2 pi limits (every joint but the
+// elbow within 0.3 rad of +-2 pi, the wrist near its singularity there),
+// calibration errors of ~5 mm / 5 mrad. The solution on the programmed
+// branch often lies just past a limit; its equivalent a turn back is inside.
+// That whole turn was returned as converged (73 of 200 pose targets, 2 of
+// 200 position targets), also where a solution inside the limits with
+// every joint moving less than half a turn existed (17 pose and both
+// position targets, one 0.27 rad away). Now: wherever a search from 48
+// spread starts finds such a solution, the result moves no joint more than
+// half a turn (55 pose targets still turn one: their only solutions inside
+// the limits do).
+TEST(CompensationTest, Ur10eProgramNearTwoPiTurnsNoJointNeedlessly) {
+  RobotModel model;
+  Eigen::VectorXd nominal, calibrated;
+  PerturbedUr10e(&model, &nominal, &calibrated, 5e-3);
+  Random random(21);
+  const int n = 200;
+  Eigen::MatrixXd program(n, 6);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      const double sign = random.Uniform() < 0.5 ? -1.0 : 1.0;
+      program(i, j) = j == 2 ? sign * (0.5 + 2.0 * random.Uniform())
+                             : sign * (2 * M_PI - 0.3 * random.Uniform());
+    }
+  }
+  for (IkMatch match : {IkMatch::kPosition, IkMatch::kPose}) {
+    CompensationOptions options;
+    options.ik.match = match;
+    CompensationSummary summary;
+    CompensateProgram(model, calibrated, model, nominal, program, options,
+                      &summary);
+    ASSERT_EQ(summary.results.size(), static_cast<size_t>(n));
+    int turned = 0, needless = 0;
+    for (int i = 0; i < n; ++i) {
+      const InverseKinematicsResult& r = summary.results[i];
+      const Eigen::VectorXd start = program.row(i).transpose();
+      EXPECT_TRUE(InsideLimits(model, r.joints)) << i;
+      if ((r.joints - start).cwiseAbs().maxCoeff() <= M_PI) continue;
+      ++turned;
+      // Is there a solution inside the limits that turns no joint by more
+      // than half a turn? Plain runs (no restarts) from spread starts.
+      InverseKinematicsOptions search = options.ik;
+      search.restarts = 0;
+      Random spread(1000 + i);
+      double closest = HUGE_VAL;
+      for (int k = 0; k < 48; ++k) {
+        Eigen::VectorXd from = start;
+        for (int j = 0; j < 6; ++j) {
+          from[j] =
+              std::clamp(from[j] + 3.0 * (spread.Uniform() - 0.5),
+                         model.links[j].joint_min, model.links[j].joint_max);
+        }
+        InverseKinematicsResult found;
+        SolveInverseKinematics(model, calibrated, summary.targets[i], from,
+                               search, &found);
+        if (found.status == IkStatus::kConverged) {
+          closest =
+              std::min(closest, (found.joints - start).cwiseAbs().maxCoeff());
+        }
+      }
+      if (closest < M_PI) {
+        ++needless;
+        ADD_FAILURE() << IkMatchName(match) << " target " << i
+                      << ": a joint turned by "
+                      << (r.joints - start).cwiseAbs().maxCoeff()
+                      << " rad; a solution moving every joint at most "
+                      << closest << " rad exists";
+      }
+    }
+    std::printf(
+        "UR10e near +-2 pi, %s: %d of %d targets turn a joint by "
+        "more than half a turn, %d needlessly\n",
+        IkMatchName(match), turned, n, needless);
+  }
+}
+
+// Issue 26, item 19: a UR10e pose target near a wrist singularity
+// (sigma_min / sigma_max ~ 0.003) used up the 100-evaluation cap and was
+// reported "unreachable: out of reach": the null-space pull of the damped
+// step, on a chain with no spare joints, leaked into the barely-moving
+// direction and held the iterate 2.5 mm short for ~150 evaluations (it
+// converged after 181). Without the pull it converges in a few. On a
+// 2000-target UR10e pose program (the 6D loop's robot) the targets that
+// ended at the cap fell from 8 to 0 (1955 -> 1958 converged).
+TEST(InverseKinematicsTest, AChainWithoutSpareJointsIsNotHeldShortByThePull) {
+  RobotModel model;
+  Eigen::VectorXd nominal, calibrated;
+  PerturbedUr10e(&model, &nominal, &calibrated);
+  TargetList list;
+  list.points.resize(1, 3);
+  list.points << 0.60235366374007748, -1.4166166302633294, 0.69750172870516136;
+  list.rotation_vectors.resize(1, 3);
+  list.rotation_vectors << -1.5114034981673303, 1.8779955080804929,
+      -1.9665110518622642;
+  Eigen::VectorXd start(6);
+  start << -2.6430274929845403, 3.4804310077231193, 2.2753959076319248,
+      -0.16940843140676876, 5.9310517603309734, -3.5640055042293142;
+  InverseKinematicsOptions options;
+  options.match = IkMatch::kPose;
+  InverseKinematicsResult result;
+  SolveInverseKinematics(model, calibrated, IkTargetsFromList(list)[0], start,
+                         options, &result);
+  EXPECT_EQ(result.status, IkStatus::kConverged) << result.message;
+  EXPECT_LE(result.iterations, 30);
+  EXPECT_LT(result.conditioning, 0.01);
 }
 
 TEST(CompensationTest, ThreadCountDoesNotChangeTheResult) {
@@ -757,6 +990,46 @@ TEST(CompensationTest, FailedTargetsAreCountedAndReported) {
             std::string::npos)
       << summary.message;
   EXPECT_FALSE(summary.AllConverged());
+}
+
+// Issue 26, item 5: a NaN rotation vector was read as the identity ("angle
+// > 0" is false for NaN) and the target reported converged; an infinite one
+// was refused. Both are invalid now, for either match.
+TEST(CompensationTest, NonFiniteRotationVectorsAreInvalidTargets) {
+  const RobotModel puma = Puma560PaperModel();
+  const Eigen::VectorXd truth = Puma560TrueParameters();
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(6, 0.3);
+  const IkTarget at = TargetAt(puma, truth, q);
+  const Eigen::AngleAxisd aa(at.rotation);
+  TargetList list;
+  list.points.resize(3, 3);
+  list.rotation_vectors.resize(3, 3);
+  for (int i = 0; i < 3; ++i) {
+    list.points.row(i) = at.point.transpose();
+    list.rotation_vectors.row(i) = (aa.angle() * aa.axis()).transpose();
+  }
+  list.rotation_vectors(0, 1) = NAN;
+  list.rotation_vectors(1, 2) = HUGE_VAL;
+  const std::vector<IkTarget> targets = IkTargetsFromList(list);
+  EXPECT_FALSE(targets[0].rotation.allFinite());
+  EXPECT_FALSE(targets[1].rotation.allFinite());
+  for (IkMatch match : {IkMatch::kPosition, IkMatch::kPose}) {
+    CompensationOptions options;
+    options.ik.match = match;
+    CompensationSummary summary;
+    const Eigen::MatrixXd starts = q.transpose().replicate(3, 1);
+    CompensateTargets(puma, truth, targets, starts, Eigen::VectorXd(), options,
+                      &summary);
+    ASSERT_EQ(summary.results.size(), 3u) << summary.message;
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_EQ(summary.results[i].status, IkStatus::kInvalid)
+          << IkMatchName(match) << " " << i;
+      EXPECT_EQ(summary.results[i].message, "the target is not finite");
+    }
+    EXPECT_EQ(summary.results[2].status, IkStatus::kConverged)
+        << summary.results[2].message;
+    EXPECT_EQ(summary.num_invalid, 2);
+  }
 }
 
 TEST(CompensationTest, CompensatedCsvReadsBackWithStatusAndLabels) {
@@ -1016,7 +1289,9 @@ TEST(TargetsCsvTest, RoundTripsAndNamesBadInput) {
   const std::vector<Case> cases = {
       {"empty", "", "e.csv: empty file: no header line"},
       {"header only", "x_m,y_m,z_m\n", "e.csv:1: no targets after the header"},
-      {"no z", "x_m,y_m\n1,2\n", "e.csv:1: the header has no column 'z_m'"},
+      {"no z", "x_m,y_m\n1,2\n",
+       "e.csv:1: the header has x_m,y_m but not z_m (the target point)"},
+      {"no point", "q1_rad\n1\n", "e.csv:1: the header has no column 'x_m'"},
       {"NaN", "x_m,y_m,z_m\n1,nan,3\n",
        "e.csv:2: y_m: must be finite, got 'nan'"},
       {"inf", "x_m,y_m,z_m\n1,2,inf\n", "e.csv:2: z_m: must be finite"},
@@ -1027,7 +1302,8 @@ TEST(TargetsCsvTest, RoundTripsAndNamesBadInput) {
       {"rotation angle > pi", "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad\n1,2,3,4,0,0\n",
        "e.csv:2: the rotation vector has angle 4 rad > pi"},
       {"some joints", "x_m,y_m,z_m,q1_rad\n1,2,3,0\n",
-       "e.csv:1: the header has start joints for joint 1 but not for joint 2"},
+       "e.csv:1: the header has joint columns for joint 1 but not for joint "
+       "2 ('q2_rad' or 'q2_deg'): give every joint or none"},
       {"joint the robot lacks",
        "x_m,y_m,z_m,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,q7_rad\n"
        "1,2,3,0,0,0,0,0,0,0\n",

@@ -7,9 +7,9 @@
 
 #include <string>
 
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/calibration/selection_pool.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/task_criterion.h"
@@ -269,6 +269,70 @@ TEST(SelectionPoolTest, StorageChoiceAndReduction) {
                             &task_is_pool, &error));
   EXPECT_FALSE(task_is_pool);
   EXPECT_EQ(task_pool.size(), 5);
+}
+
+// Issue 26, item 15: activecal_select --pool_size=100000000000 was a
+// std::bad_alloc (exit 134). The size is checked first against a lower
+// bound (one single-precision column), then exactly once the parameters and
+// storage are known; both cross their threshold here.
+TEST(SelectionPoolTest, APoolLargerThanMemoryIsRefused) {
+  const RobotModel model = Puma560PaperModel();
+  EXPECT_EQ(SelectionPoolBytes(10, 6, MeasurementType::kPose, 27, true),
+            10.0 * (6 * 8 + 6 * 27 * 4));
+  EXPECT_EQ(SelectionPoolBytes(10, 6, MeasurementType::kPosition, 27, false),
+            10.0 * (6 * 8 + 3 * 27 * 8));
+  EXPECT_GT(PhysicalMemoryBytes(), 0);
+  std::string error;
+  EXPECT_FALSE(CheckSelectionPoolSize(100000000000, model,
+                                      MeasurementType::kPosition, &error));
+  EXPECT_EQ(error.rfind("a pool of 100000000000 poses needs at least 5.59e+03 "
+                        "GiB (joint values and one single-precision Jacobian "
+                        "column per measurement row), more than this "
+                        "machine's ",
+                        0),
+            0u)
+      << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+  const double limit =
+      SelectionPoolBytes(1000, 6, MeasurementType::kPosition, 1, true);
+  error.clear();
+  EXPECT_TRUE(CheckSelectionPoolSize(1000, model, MeasurementType::kPosition,
+                                     &error, limit));
+  EXPECT_TRUE(error.empty());
+  EXPECT_FALSE(CheckSelectionPoolSize(1001, model, MeasurementType::kPosition,
+                                      &error, limit));
+  EXPECT_NE(error.find("more than the limit of "), std::string::npos) << error;
+  EXPECT_TRUE(
+      CheckSelectionPoolSize(0, model, MeasurementType::kPosition, &error));
+
+  // The exact size, once the 27 parameters and double storage are chosen:
+  // the pool built at the limit holds that many bytes; one byte less fails
+  // before the Jacobians are computed.
+  JointLattice lattice;
+  ASSERT_TRUE(JointLattice::Create(model, 3, &lattice, &error)) << error;
+  const Eigen::MatrixXd joints = lattice.AllJointValues();
+  const double exact = SelectionPoolBytes(
+      joints.rows(), 6, MeasurementType::kPosition, 27, false);
+  SelectionPoolOptions o;
+  o.memory_limit_bytes = exact;
+  CandidatePool pool;
+  SelectionPoolSummary s;
+  RobotModel m = model;
+  ASSERT_TRUE(BuildSelectionPool(&m, joints, o, &pool, &s)) << s.message;
+  ASSERT_EQ(m.num_free(), 27);
+  EXPECT_EQ(static_cast<double>(pool.storage_bytes()) + 8.0 * joints.size(),
+            exact);
+  o.memory_limit_bytes = exact - 1;
+  m = model;
+  CandidatePool refused;
+  EXPECT_FALSE(BuildSelectionPool(&m, joints, o, &refused, &s));
+  EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
+  EXPECT_EQ(refused.size(), 0);
+  EXPECT_EQ(s.message.rfind("a pool of 729 poses needs ", 0), 0u) << s.message;
+  EXPECT_NE(s.message.find("(joint values and double-precision Jacobians of "
+                           "27 parameters), more than the limit of "),
+            std::string::npos)
+      << s.message;
 }
 
 }  // namespace

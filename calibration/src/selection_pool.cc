@@ -1,5 +1,10 @@
 #include "activecal/calibration/selection_pool.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <sstream>
+
 #include "activecal/core/joint_sampling.h"
 
 namespace activecal {
@@ -43,7 +48,46 @@ std::vector<std::string> SelectionPoolSummary::HeldFixed() const {
   return names;
 }
 
+double SelectionPoolBytes(int64_t pool_size, int num_joints,
+                          MeasurementType type, int num_parameters,
+                          bool single_precision) {
+  const double entry = single_precision ? sizeof(float) : sizeof(double);
+  return static_cast<double>(pool_size) *
+         (sizeof(double) * num_joints +
+          entry * MeasurementDimension(type) * num_parameters);
+}
+
+double PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0
+             ? static_cast<double>(pages) * static_cast<double>(page)
+             : 0.0;
+}
+
 namespace {
+
+// True when `need` bytes (at least that when `lower_bound`) fit in
+// `available` (<= 0: the physical memory); otherwise false with one line in
+// *error, `what` saying what is counted.
+bool FitsInMemory(int64_t pool_size, double need, bool lower_bound,
+                  const std::string& what, double available,
+                  std::string* error) {
+  const double have = available > 0 ? available : PhysicalMemoryBytes();
+  if (!(have > 0) || need <= have) return true;
+  if (error) {
+    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+    std::ostringstream s;
+    s.precision(3);
+    s << "a pool of " << pool_size << " poses needs "
+      << (lower_bound ? "at least " : "") << need / kGiB << " GiB (" << what
+      << "), more than "
+      << (available > 0 ? "the limit of " : "this machine's ") << have / kGiB
+      << " GiB of memory";
+    *error = s.str();
+  }
+  return false;
+}
 
 // The preprocess hook: the rows options.filter keeps, into *kept_joints.
 bool ApplyPoolFilter(const SelectionPoolOptions& options,
@@ -67,6 +111,18 @@ bool ApplyPoolFilter(const SelectionPoolOptions& options,
 }
 
 }  // namespace
+
+bool CheckSelectionPoolSize(int64_t pool_size, const RobotModel& model,
+                            MeasurementType type, std::string* error,
+                            double available_bytes) {
+  return FitsInMemory(
+      pool_size,
+      SelectionPoolBytes(pool_size, model.num_joints(), type, 1, true),
+      /*lower_bound=*/true,
+      "joint values and one single-precision Jacobian column per "
+      "measurement row",
+      available_bytes, error);
+}
 
 bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
                         const SelectionPoolOptions& options,
@@ -112,6 +168,22 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
       options.storage == PoolStorage::kFloat ||
       (options.storage == PoolStorage::kAuto && options.reads_float &&
        summary->double_mib > options.max_double_pool_mib);
+  {
+    const bool single = summary->single_precision;
+    const std::string what = std::string("joint values and ") +
+                             (single ? "single" : "double") +
+                             "-precision Jacobians of " +
+                             std::to_string(model->num_free()) + " parameters";
+    if (!FitsInMemory(
+            pool_joints.rows(),
+            SelectionPoolBytes(pool_joints.rows(), model->num_joints(),
+                               options.type, model->num_free(), single),
+            /*lower_bound=*/false, what, options.memory_limit_bytes, &error)) {
+      summary->termination_type = TerminationType::kUserFailure;
+      summary->message = error;
+      return false;
+    }
+  }
 
   CandidatePoolOptions pool_options;
   pool_options.single_precision = summary->single_precision;

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -20,6 +21,8 @@ using internal::Compose;
 // this of a margin's end count as on it (rad or m).
 constexpr double kAngleTolerance = 1e-9;
 constexpr double kJointTolerance = 1e-12;
+// A target this close to a shape's surface, outside, is on it (m).
+constexpr double kMountToleranceM = 1e-9;
 
 fcl::Transform3d ToFcl(const FixedTransform& t) {
   fcl::Transform3d f = fcl::Transform3d::Identity();
@@ -162,6 +165,9 @@ struct CellChecker::Impl {
     std::shared_ptr<fcl::CollisionGeometryd> geometry;
     Eigen::Vector3d ball_centre;  // in the shape's frame
     double ball_radius = 0.0;
+    // Bit t: a convex shape of the tip's frame that holds target t (its
+    // mount), not an occlusion of t's lines of sight.
+    uint32_t mount_of = 0;
   };
   struct SolidObstacle {
     int obstacle = 0;
@@ -229,6 +235,12 @@ bool CellChecker::Init(const RobotModel& model,
     return fail(where + ": targets: at most 32, got " +
                 std::to_string(cell.targets.size()));
   }
+  if (cell.has_device &&
+      cell.device.cameras.size() > static_cast<size_t>(kMaxCellCameras)) {
+    return fail(where + ": device.cameras: at most " +
+                std::to_string(kMaxCellCameras) + " cameras, got " +
+                std::to_string(cell.device.cameras.size()));
+  }
   // Joint margins.
   std::map<std::string, int> joint_index;
   for (int j = 0; j < model.num_joints(); ++j) {
@@ -259,8 +271,21 @@ bool CellChecker::Init(const RobotModel& model,
     const Link& l = model.links[j];
     if (std::isfinite(l.joint_min) && std::isfinite(l.joint_max) &&
         l.joint_max - l.joint_min < 2 * margins_[j]) {
-      return fail(where + ": joint margin: joint '" + l.name +
-                  "' has a range narrower than twice its margin");
+      // Where the margin was given, in its unit.
+      const bool prismatic = l.joint_type == JointType::kPrismatic;
+      const auto o = cell.joint_margin_override_where.find(l.name);
+      std::string at =
+          prismatic ? cell.joint_margin_m_where : cell.joint_margin_deg_where;
+      if (o != cell.joint_margin_override_where.end()) at = o->second;
+      if (at.empty()) at = where + ": joint margin";
+      const double unit = prismatic ? 1.0 : M_PI / 180.0;
+      char numbers[96];
+      std::snprintf(numbers, sizeof(numbers),
+                    "has a range of %.4g %s, narrower than twice its margin "
+                    "(%.4g %s)",
+                    (l.joint_max - l.joint_min) / unit, prismatic ? "m" : "deg",
+                    margins_[j] / unit, prismatic ? "m" : "deg");
+      return fail(at + ": joint '" + l.name + "' " + numbers);
     }
   }
   // Collision shapes.
@@ -278,6 +303,22 @@ bool CellChecker::Init(const RobotModel& model,
       e.geometry = MakeGeometry(s);
       s.BoundingBall(&e.ball_centre, &e.ball_radius);
       im.shapes.push_back(std::move(e));
+    }
+  }
+  // The targets' mounts: a beam from a point inside a convex shape leaves
+  // it once, next to the target, and never enters it again.
+  for (Impl::Shape& e : im.shapes) {
+    if (e.frame != model.num_joints() || e.source->type == ShapeType::kMesh) {
+      continue;
+    }
+    for (size_t t = 0; t < cell.targets.size(); ++t) {
+      const Eigen::Vector3d in_tip_link =
+          model.tip.rotation * cell.targets[t].xyz_m + model.tip.translation;
+      const Eigen::Vector3d local = e.in_frame.rotation.transpose() *
+                                    (in_tip_link - e.in_frame.translation);
+      if (PointInShape(*e.source, local, kMountToleranceM)) {
+        e.mount_of |= 1u << t;
+      }
     }
   }
   // Skip pairs: names of bodies or obstacles.
@@ -660,6 +701,7 @@ PoseVerdict CellChecker::Check(const double* q, Workspace* workspace) const {
           }
         }
         for (size_t i = 0; i < im.shapes.size() && !blocked; ++i) {
+          if (im.shapes[i].mount_of & (1u << t)) continue;
           if (PointSegmentDistance(w->centres[i], from, to) >
               im.shapes[i].ball_radius + kBeamRadiusM) {
             continue;

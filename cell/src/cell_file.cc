@@ -45,6 +45,11 @@ class CellParser : public internal::YamlReader {
     double deg = 0.0;
     if (!OptionalNonNegative(root, "joint_margin_deg", &deg)) return false;
     cell->joint_margin_rad = deg * kDegree;
+    for (const auto& [key, where] :
+         {std::make_pair("joint_margin_deg", &cell->joint_margin_deg_where),
+          std::make_pair("joint_margin_m", &cell->joint_margin_m_where)}) {
+      if (const YAML::Node node = root[key]) *where = Where(node.Mark(), key);
+    }
     if (!OptionalNonNegative(root, "joint_margin_m", &cell->joint_margin_m) ||
         !Overrides(root, "joint_margin_override_deg", kDegree, cell) ||
         !Overrides(root, "joint_margin_override_m", 1.0, cell) ||
@@ -467,6 +472,11 @@ class CellParser : public internal::YamlReader {
         return Fail(cameras ? cameras.Mark() : node.Mark(), "device.cameras",
                     "expected a non-empty list of cameras");
       }
+      if (cameras.size() > static_cast<size_t>(kMaxCellCameras)) {
+        return Fail(cameras.Mark(), "device.cameras",
+                    "at most " + std::to_string(kMaxCellCameras) +
+                        " cameras, got " + std::to_string(cameras.size()));
+      }
       for (size_t i = 0; i < cameras.size(); ++i) {
         const std::string f = "device.cameras[" + std::to_string(i) + "]";
         if (!cameras[i].IsMap()) {
@@ -553,23 +563,6 @@ class CellParser : public internal::YamlReader {
   std::string directory_;
 };
 
-// Moller-Trumbore: does the ray o + s d (s > 0) cross the triangle?
-bool RayCrossesTriangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                        const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                        const Eigen::Vector3d& c) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d p = d.cross(e2);
-  const double det = e1.dot(p);
-  if (std::abs(det) < 1e-15) return false;
-  const Eigen::Vector3d s = o - a;
-  const double u = s.dot(p) / det;
-  if (u < 0 || u > 1) return false;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = d.dot(q) / det;
-  if (v < 0 || u + v > 1) return false;
-  return e2.dot(q) / det > 0;
-}
-
 }  // namespace
 
 const char* DeviceTypeName(DeviceType type) {
@@ -587,33 +580,8 @@ const char* DeviceTypeName(DeviceType type) {
 bool PointInsideObstacle(const Obstacle& o, const Eigen::Vector3d& point) {
   if (o.plane) return o.normal.dot(point) < o.offset_m;
   const CollisionShape& s = o.shape;
-  const Eigen::Vector3d p =
-      s.pose.rotation.transpose() * (point - s.pose.translation);
-  switch (s.type) {
-    case ShapeType::kBox:
-      return (p.cwiseAbs() - 0.5 * s.size_m).maxCoeff() < 0;
-    case ShapeType::kCylinder:
-      return std::abs(p.z()) < 0.5 * s.length_m &&
-             p.head<2>().norm() < s.radius_m;
-    case ShapeType::kCapsule: {
-      const double z = std::clamp(p.z(), -0.5 * s.length_m, 0.5 * s.length_m);
-      return (p - Eigen::Vector3d(0, 0, z)).norm() < s.radius_m;
-    }
-    case ShapeType::kSphere:
-      return p.norm() < s.radius_m;
-    case ShapeType::kMesh: {
-      // An odd number of crossings of a ray in a direction unlikely to
-      // graze an edge.
-      const Eigen::Vector3d d = Eigen::Vector3d(0.5773, 0.5774, 0.5775);
-      int crossings = 0;
-      for (const auto& t : s.triangles) {
-        crossings += RayCrossesTriangle(p, d, s.vertices[t[0]],
-                                        s.vertices[t[1]], s.vertices[t[2]]);
-      }
-      return crossings % 2 == 1;
-    }
-  }
-  return false;
+  return PointInShape(
+      s, s.pose.rotation.transpose() * (point - s.pose.translation));
 }
 
 bool ReadSrdfDisabledPairs(

@@ -1,12 +1,19 @@
 #include "activecal/cell/cell_setup.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <map>
 
+#include "activecal/core/random.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/robot_loader.h"
 
 namespace activecal {
 namespace {
+
+// Configurations SetUpCell samples for SelfPairsAlwaysTooClose.
+constexpr int kSelfPairSamples = 64;
 
 std::string Number(double x) {
   char buffer[40];
@@ -51,6 +58,45 @@ std::vector<double> RobotVelocityLimits(const std::string& robot_path,
   return std::vector<double>(model.num_joints(), 0.0);
 }
 
+std::vector<PairDistance> SelfPairsAlwaysTooClose(const CellChecker& checker,
+                                                  int samples) {
+  const RobotModel& model = checker.model();
+  // (link, link) -> the largest distance seen, while below the clearance
+  // at every sample so far.
+  std::map<std::pair<std::string, std::string>, double> close;
+  Random random(1);
+  auto workspace = checker.NewWorkspace();
+  Eigen::VectorXd q(model.num_joints());
+  for (int k = 0; k < samples && (k == 0 || !close.empty()); ++k) {
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const Link& l = model.links[j];
+      const double m = checker.joint_margin(j);
+      const double lo = std::isfinite(l.joint_min) ? l.joint_min + m : -M_PI;
+      const double hi = std::isfinite(l.joint_max) ? l.joint_max - m : M_PI;
+      q[j] = lo + (hi - lo) * random.Uniform();
+    }
+    std::map<std::pair<std::string, std::string>, double> still;
+    for (const PairDistance& d : checker.Distances(q.data(), workspace.get())) {
+      if (d.obstacle || !(d.distance_m < checker.cell().self_clearance_m)) {
+        continue;
+      }
+      const auto key = std::make_pair(d.first, d.second);
+      const auto it = close.find(key);
+      if (k == 0) {
+        still[key] = d.distance_m;
+      } else if (it != close.end()) {
+        still[key] = std::max(it->second, d.distance_m);
+      }
+    }
+    close = std::move(still);
+  }
+  std::vector<PairDistance> out;
+  for (const auto& [pair, distance] : close) {
+    out.push_back({pair.first, pair.second, false, distance});
+  }
+  return out;
+}
+
 bool SetUpCell(const CellSetupOptions& options, RobotDescription* robot,
                CellSetup* setup, std::string* error) {
   setup->notes.clear();
@@ -78,6 +124,30 @@ bool SetUpCell(const CellSetupOptions& options, RobotDescription* robot,
                             &why)) {
     if (error) *error = why;
     return false;
+  }
+  const std::vector<PairDistance> close =
+      SelfPairsAlwaysTooClose(*setup->checker, kSelfPairSamples);
+  if (!close.empty()) {
+    std::string pairs;
+    for (size_t k = 0; k < close.size(); ++k) {
+      char at_most[32];
+      std::snprintf(at_most, sizeof(at_most), "%.4g", close[k].distance_m);
+      pairs += (k == 0 ? "links " : ", ") + close[k].first + " and " +
+               close[k].second +
+               (k == 0 ? " are never that far apart (at most " : " (") +
+               at_most + " m" +
+               (k == 0 ? " at " + std::to_string(kSelfPairSamples) +
+                             " sampled poses)"
+                       : ")");
+    }
+    char head[64];
+    std::snprintf(head, sizeof(head),
+                  "self_clearance_m %.4g: ", setup->cell.self_clearance_m);
+    setup->notes.push_back(
+        head + pairs +
+        ": every pose that reaches the collision checks is rejected as a "
+        "self-collision; lower self_clearance_m or add the pairs to "
+        "skip_pairs");
   }
   return true;
 }

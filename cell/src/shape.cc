@@ -4,6 +4,7 @@
 #include <assimp/scene.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
 
@@ -61,6 +62,63 @@ void CollisionShape::BoundingBall(Eigen::Vector3d* centre,
     }
   }
   *radius = 0.0;
+}
+
+namespace {
+
+// Moller-Trumbore: does the ray o + s d (s > 0) cross the triangle?
+bool RayCrossesTriangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                        const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                        const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d p = d.cross(e2);
+  const double det = e1.dot(p);
+  if (std::abs(det) < 1e-15) return false;
+  const Eigen::Vector3d s = o - a;
+  const double u = s.dot(p) / det;
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = d.dot(q) / det;
+  if (v < 0 || u + v > 1) return false;
+  return e2.dot(q) / det > 0;
+}
+
+}  // namespace
+
+bool PointInShape(const CollisionShape& s, const Eigen::Vector3d& p,
+                  double grow_m) {
+  switch (s.type) {
+    case ShapeType::kBox: {
+      const Eigen::Vector3d excess = p.cwiseAbs() - 0.5 * s.size_m;
+      if (excess.maxCoeff() < 0) return true;
+      return grow_m > 0 && excess.cwiseMax(0.0).norm() < grow_m;
+    }
+    case ShapeType::kCylinder: {
+      const double radial = p.head<2>().norm() - s.radius_m;
+      const double axial = std::abs(p.z()) - 0.5 * s.length_m;
+      if (radial < 0 && axial < 0) return true;
+      return grow_m > 0 &&
+             std::hypot(std::max(0.0, radial), std::max(0.0, axial)) < grow_m;
+    }
+    case ShapeType::kCapsule: {
+      const double z = std::clamp(p.z(), -0.5 * s.length_m, 0.5 * s.length_m);
+      return (p - Eigen::Vector3d(0, 0, z)).norm() < s.radius_m + grow_m;
+    }
+    case ShapeType::kSphere:
+      return p.norm() < s.radius_m + grow_m;
+    case ShapeType::kMesh: {
+      // An odd number of crossings of a ray in a direction unlikely to
+      // graze an edge.
+      const Eigen::Vector3d d = Eigen::Vector3d(0.5773, 0.5774, 0.5775);
+      int crossings = 0;
+      for (const auto& t : s.triangles) {
+        crossings += RayCrossesTriangle(p, d, s.vertices[t[0]],
+                                        s.vertices[t[1]], s.vertices[t[2]]);
+      }
+      return crossings % 2 == 1;
+    }
+  }
+  return false;
 }
 
 CollisionShape CapsuleBetween(const Eigen::Vector3d& from,

@@ -20,6 +20,37 @@ bool JointSamplingFromString(const std::string& name, JointSampling* sampling) {
   return true;
 }
 
+bool PoolJointRange(const RobotModel& model, int j, double* low, double* width,
+                    bool* one_turn, std::string* why) {
+  const Link& link = model.links[j];
+  const bool lo = std::isfinite(link.joint_min);
+  const bool hi = std::isfinite(link.joint_max);
+  if (link.joint_type != JointType::kRevolute) {
+    if (!lo || !hi) {
+      if (why) {
+        *why = "joint " + std::to_string(j + 1) + " (" + link.name +
+               ") has no finite range to sample";
+      }
+      return false;
+    }
+    *low = link.joint_min;
+    *width = link.joint_max - link.joint_min;
+    *one_turn = false;
+    return true;
+  }
+  if (lo && hi && link.joint_max - link.joint_min < 2 * M_PI) {
+    *low = link.joint_min;
+    *width = link.joint_max - link.joint_min;
+    *one_turn = false;
+    return true;
+  }
+  // One turn: a value and itself + 2 pi are the same pose.
+  *low = lo ? link.joint_min : hi ? link.joint_max - 2 * M_PI : -M_PI;
+  *width = 2 * M_PI;
+  *one_turn = true;
+  return true;
+}
+
 bool SampleJointValues(const RobotModel& model, JointSampling sampling,
                        int64_t num_poses, uint64_t seed,
                        Eigen::MatrixXd* joints, std::string* error) {
@@ -36,18 +67,9 @@ bool SampleJointValues(const RobotModel& model, JointSampling sampling,
   }
   std::vector<double> low(n), width(n);
   for (int j = 0; j < n; ++j) {
-    const Link& link = model.links[j];
-    if (!std::isfinite(link.joint_min) || !std::isfinite(link.joint_max)) {
-      if (error) {
-        *error = "joint " + std::to_string(j + 1) + " (" + link.name +
-                 ") has no finite range to sample";
-      }
+    bool one_turn = false;
+    if (!PoolJointRange(model, j, &low[j], &width[j], &one_turn, error)) {
       return false;
-    }
-    low[j] = link.joint_min;
-    width[j] = link.joint_max - link.joint_min;
-    if (link.joint_type == JointType::kRevolute && width[j] >= 2 * M_PI) {
-      width[j] = 2 * M_PI;  // one turn: a value and itself + 2 pi repeat
     }
   }
   joints->resize(num_poses, n);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "activecal/core/joint_sampling.h"
+
 namespace activecal {
 
 namespace {
@@ -45,7 +47,8 @@ bool JointLattice::Create(const RobotModel& model,
     if (levels[j] < 2) {
       msg << "lattice: joint " << j + 1 << " needs at least 2 levels (both "
           << "ends of its range), got " << levels[j];
-    } else if (!std::isfinite(l.joint_min) || !std::isfinite(l.joint_max)) {
+    } else if ((!std::isfinite(l.joint_min) || !std::isfinite(l.joint_max)) &&
+               l.joint_type != JointType::kRevolute) {
       msg << "lattice: joint " << j + 1 << " (" << model.block_name(j + 1)
           << ") has no finite range";
     }
@@ -64,6 +67,18 @@ bool JointLattice::Create(const RobotModel& model,
   lattice->one_turn_.clear();
   for (size_t j = 0; j < model.links.size(); ++j) {
     const Link& l = model.links[j];
+    if (!std::isfinite(l.joint_min) || !std::isfinite(l.joint_max)) {
+      // A continuous joint (or one bounded on one side): one turn, as the
+      // sampled pools (joint_sampling.h).
+      double low = 0, width = 0;
+      bool one_turn = false;
+      PoolJointRange(model, static_cast<int>(j), &low, &width, &one_turn,
+                     nullptr);
+      lattice->min_.push_back(low);
+      lattice->max_.push_back(low + width);
+      lattice->one_turn_.push_back(1);
+      continue;
+    }
     lattice->min_.push_back(l.joint_min);
     lattice->max_.push_back(l.joint_max);
     lattice->one_turn_.push_back(l.joint_type == JointType::kRevolute &&
@@ -114,6 +129,27 @@ Eigen::MatrixXd JointLattice::AllJointValues() const {
   Eigen::MatrixXd all(size_, num_joints());
   for (int64_t i = 0; i < size_; ++i) all.row(i) = JointValues(i).transpose();
   return all;
+}
+
+std::vector<std::string> JointLattice::OneTurnNotes(
+    const RobotModel& model) const {
+  std::vector<std::string> notes;
+  for (int j = 0; j < num_joints(); ++j) {
+    if (!one_turn(j)) continue;
+    const Link& l = model.links[j];
+    const bool continuous =
+        !std::isfinite(l.joint_min) || !std::isfinite(l.joint_max);
+    std::ostringstream s;
+    s.precision(6);
+    s << "joint " << j + 1 << " (" << model.block_name(j + 1) << ") "
+      << (continuous ? "has no limits" : "spans a full turn") << ": its "
+      << levels_[j] << " levels cover one turn from "
+      << Angle(j, 0) * 180 / M_PI << " deg ("
+      << (continuous ? "a continuous joint" : "both ends would repeat a pose")
+      << ")";
+    notes.push_back(s.str());
+  }
+  return notes;
 }
 
 }  // namespace activecal

@@ -5,6 +5,7 @@
 #include <netdb.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/socket.h>
@@ -14,7 +15,9 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <thread>
 
 extern char** environ;
@@ -30,11 +33,40 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-void IgnoreSigpipe() {
-  struct sigaction old {};
-  if (sigaction(SIGPIPE, nullptr, &old) == 0 && old.sa_handler == SIG_DFL) {
-    signal(SIGPIPE, SIG_IGN);
+// write(2) that cannot raise SIGPIPE: the signal is blocked in this thread
+// for the write, and one the write raised is taken off the pending set (one
+// pending before is left), so a driver that has gone is an EPIPE while the
+// process's disposition of SIGPIPE stays its own (activecal_active | head
+// still ends activecal when head exits). The write may also return a part
+// written and raise SIGPIPE (the reader left during it): what is pending
+// after it is looked at, whatever it returned.
+ssize_t WriteWithoutSigpipe(int fd, const char* data, size_t size) {
+  sigset_t sigpipe, old, pending;
+  sigemptyset(&sigpipe);
+  sigaddset(&sigpipe, SIGPIPE);
+  sigemptyset(&pending);
+  sigpending(&pending);
+  const bool was_pending = sigismember(&pending, SIGPIPE) == 1;
+  pthread_sigmask(SIG_BLOCK, &sigpipe, &old);
+  const ssize_t n = write(fd, data, size);
+  const int saved = errno;
+  sigemptyset(&pending);
+  sigpending(&pending);
+  if (!was_pending && sigismember(&pending, SIGPIPE) == 1) {
+    const timespec zero{0, 0};
+    while (sigtimedwait(&sigpipe, nullptr, &zero) < 0 && errno == EINTR) {
+    }
   }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  errno = saved;
+  return n;
+}
+
+// Milliseconds for poll(2), at most INT_MAX.
+int PollMs(double seconds) {
+  const double ms = std::ceil(seconds * 1000);
+  return ms >= std::numeric_limits<int>::max() ? std::numeric_limits<int>::max()
+                                               : static_cast<int>(ms);
 }
 
 std::string Errno() { return std::strerror(errno); }
@@ -62,7 +94,9 @@ class ProcessConnection : public DriverConnection {
   }
 
   std::string Shutdown(double wait_s) override {
+    // Both ends: a driver blocked writing (a flood) then ends too.
     channel_->CloseWrite();
+    channel_->CloseRead();
     if (pid_ <= 0) return "";
     const auto start = std::chrono::steady_clock::now();
     while (SecondsSince(start) < wait_s) {
@@ -225,7 +259,7 @@ bool ConnectTcp(const std::string& spec, double timeout_s,
     int rc = connect(fd, a->ai_addr, a->ai_addrlen);
     if (rc != 0 && errno == EINPROGRESS) {
       pollfd p{fd, POLLOUT, 0};
-      const int ms = timeout_s > 0 ? static_cast<int>(timeout_s * 1000) : -1;
+      const int ms = timeout_s > 0 ? PollMs(timeout_s) : -1;
       do {
         rc = poll(&p, 1, ms);
       } while (rc < 0 && errno == EINTR);
@@ -273,6 +307,16 @@ LineChannel::~LineChannel() {
   if (write_fd_ >= 0 && write_fd_ != read_fd_) close(write_fd_);
 }
 
+void LineChannel::CloseRead() {
+  if (read_fd_ < 0) return;
+  if (read_fd_ == write_fd_) {
+    shutdown(read_fd_, SHUT_RD);  // a socket still written to
+  } else {
+    close(read_fd_);
+    read_fd_ = -1;
+  }
+}
+
 void LineChannel::CloseWrite() {
   if (write_fd_ < 0) return;
   if (write_fd_ == read_fd_) {
@@ -288,13 +332,18 @@ LineChannel::ReadResult LineChannel::ReadLine(double timeout_s,
                                               std::string* error) {
   const auto start = std::chrono::steady_clock::now();
   for (;;) {
-    const size_t end = buffer_.find('\n');
+    // Only what came since the last look is searched (a long line is not
+    // scanned again for every chunk).
+    const size_t end = buffer_.find('\n', scanned_);
     if (end != std::string::npos) {
       *line = buffer_.substr(0, end);
       buffer_.erase(0, end + 1);
+      scanned_ = 0;
       if (!line->empty() && line->back() == '\r') line->pop_back();
       return ReadResult::kLine;
     }
+    scanned_ = buffer_.size();
+    if (read_fd_ < 0) return ReadResult::kClosed;
     if (buffer_.size() > kMaxLineBytes) {
       *error = "a line longer than " + std::to_string(kMaxLineBytes >> 20) +
                " MB without a newline";
@@ -304,7 +353,7 @@ LineChannel::ReadResult LineChannel::ReadLine(double timeout_s,
     if (timeout_s > 0) {
       const double left = timeout_s - SecondsSince(start);
       if (left <= 0) return ReadResult::kTimeout;
-      ms = static_cast<int>(left * 1000) + 1;
+      ms = PollMs(left);
     }
     pollfd p{read_fd_, POLLIN, 0};
     const int rc = poll(&p, 1, ms);
@@ -335,7 +384,8 @@ bool LineChannel::WriteLine(const std::string& line, std::string* error) {
   const std::string text = line + "\n";
   size_t done = 0;
   while (done < text.size()) {
-    const ssize_t n = write(write_fd_, text.data() + done, text.size() - done);
+    const ssize_t n =
+        WriteWithoutSigpipe(write_fd_, text.data() + done, text.size() - done);
     if (n < 0) {
       if (errno == EINTR || errno == EAGAIN) continue;
       *error = Errno();
@@ -386,7 +436,6 @@ bool SplitDriverCommand(const std::string& command,
 bool OpenDriverConnection(const std::string& spec, double connect_timeout_s,
                           std::unique_ptr<DriverConnection>* connection,
                           std::string* error) {
-  IgnoreSigpipe();
   if (spec.rfind("tcp://", 0) == 0) {
     return ConnectTcp(spec, connect_timeout_s, connection, error);
   }
@@ -400,7 +449,6 @@ TcpListener::~TcpListener() {
 bool TcpListener::Listen(const std::string& host, int port,
                          std::unique_ptr<TcpListener>* listener,
                          std::string* error) {
-  IgnoreSigpipe();
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
   hints.ai_socktype = SOCK_STREAM;

@@ -1,6 +1,7 @@
 #include "activecal/driver/driver_client.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -75,8 +76,17 @@ bool DriverClient::Start(const DriverClientOptions& options,
 bool DriverClient::Read(const std::string& waiting_for, std::string* line,
                         std::string* error) {
   std::string why;
+  // One deadline for the reply: blank lines do not restart it.
+  const auto start = std::chrono::steady_clock::now();
   for (;;) {
-    switch (connection_->channel().ReadLine(options_.timeout_s, line, &why)) {
+    const double left =
+        options_.timeout_s -
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    const LineChannel::ReadResult result =
+        left > 0 ? connection_->channel().ReadLine(left, line, &why)
+                 : LineChannel::ReadResult::kTimeout;
+    switch (result) {
       case LineChannel::ReadResult::kLine:
         if (line->find_first_not_of(" \t") == std::string::npos) continue;
         return true;

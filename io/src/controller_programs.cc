@@ -5,7 +5,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
+#include <utility>
 
 #include "number_text.h"
 #include "yaml_reader.h"
@@ -117,6 +119,30 @@ std::string Fixed(double v, int digits) {
   return s;
 }
 
+// Joint j at activecal's q as the program writes it, to `digits` decimals.
+// Rounding to nearest could put a pose at a limit a step beyond it, where
+// the controller stops at its software limit: such a value is rounded
+// toward the range instead. (Beyond by a millionth of a step is the limit
+// itself: -120.000000 deg for a URDF's -2.0943951023931953 rad.)
+std::string JointText(const RobotModel& model,
+                      const ControllerConvention& convention,
+                      ProgramLanguage language, int j, double q, int digits) {
+  const double v = ControllerJointValue(model, convention, language, j, q);
+  std::string text = Fixed(v, digits);
+  const Link& link = model.links[j];
+  if (!(q >= link.joint_min && q <= link.joint_max)) return text;
+  double lo =
+      ControllerJointValue(model, convention, language, j, link.joint_min);
+  double hi =
+      ControllerJointValue(model, convention, language, j, link.joint_max);
+  if (lo > hi) std::swap(lo, hi);
+  const double written = std::strtod(text.c_str(), nullptr);
+  const double step = std::pow(10.0, -digits);
+  if (written > hi + 1e-6 * step) text = Fixed(v - 0.5 * step, digits);
+  if (written < lo - 1e-6 * step) text = Fixed(v + 0.5 * step, digits);
+  return text;
+}
+
 bool ValidName(const std::string& name) {
   if (name.empty() || name.size() > 24 || !std::isalpha(name[0])) return false;
   for (char c : name) {
@@ -197,8 +223,8 @@ bool ControllerProgramOptions::IsValid(std::string* error) const {
         << "' must be a letter, then letters, digits or '_', at most 24";
   } else if (!(wait_s >= 0) || !std::isfinite(wait_s)) {
     msg << "the wait must be >= 0 s, got " << wait_s;
-  } else if (!(speed_fraction > 0 && speed_fraction <= 1)) {
-    msg << "the speed fraction must be in (0, 1], got " << speed_fraction;
+  } else if (!(speed_fraction >= 0.01 && speed_fraction <= 1)) {
+    msg << "the speed fraction must be in [0.01, 1], got " << speed_fraction;
   } else if (comment.find('\n') != std::string::npos) {
     msg << "the comment must be one line";
   }
@@ -267,9 +293,8 @@ bool ControllerProgramText(const RobotModel& model,
         << "\n";
   };
   auto value = [&](int i, int j) {
-    return Fixed(
-        ControllerJointValue(model, convention, lang, j, poses.joints(i, j)),
-        ur ? 9 : 6);
+    return JointText(model, convention, lang, j, poses.joints(i, j),
+                     ur ? 9 : 6);
   };
   const double pct = 100.0 * options.speed_fraction;
   if (ur) {
@@ -289,12 +314,17 @@ bool ControllerProgramText(const RobotModel& model,
   } else if (lang == ProgramLanguage::kKrl) {
     out << "DEF " << options.name << "( )\n";
     header("  ");
-    out << "  DECL INT axis\n";
+    // KUKA's own way to set the PTP speed of A1..A6 (no loop variable: KRL
+    // names are case-insensitive, and AXIS is one of its types); the
+    // external axes' $VEL_EXTAX and $ACC_EXTAX (INT percent) explicitly.
+    const std::string percent = std::to_string(std::lround(pct));
     out << "  BAS(#INITMOV, 0)\n";
-    out << "  FOR axis = 1 TO 6\n";
-    out << "    $VEL_AXIS[axis] = " << Fixed(pct, 1) << "\n";
-    out << "    $ACC_AXIS[axis] = " << Fixed(pct, 1) << "\n";
-    out << "  ENDFOR\n";
+    out << "  BAS(#VEL_PTP, " << percent << ")\n";
+    out << "  BAS(#ACC_PTP, " << percent << ")\n";
+    for (int e = 1; e <= nj - 6; ++e) {
+      out << "  $VEL_EXTAX[" << e << "] = " << percent << "\n";
+      out << "  $ACC_EXTAX[" << e << "] = " << percent << "\n";
+    }
     for (int i = 0; i < n; ++i) {
       pose_comment("  ", i);
       out << "  PTP {";

@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
 #include <utility>
 
 #include "activecal/core/kinematics.h"
+#include "csv_columns.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -276,19 +278,91 @@ bool ReadJoint(const Table& table, const Row& row, const RobotModel& model,
   return true;
 }
 
+// Every joint of a row from `columns`, checked against the limits.
 bool ReadJoints(const Table& table, const Row& row, const RobotModel& model,
-                const std::string& suffix, Eigen::VectorXd* q,
+                const std::vector<JointColumnPair>& columns, Eigen::VectorXd* q,
                 std::string* error) {
   q->resize(model.num_joints());
   for (int j = 0; j < model.num_joints(); ++j) {
-    if (!ReadJoint(table, row, model, j, QColumns(model, j, suffix), &(*q)[j],
-                   error)) {
+    if (!ReadJoint(table, row, model, j, columns[j], &(*q)[j], error)) {
       return false;
     }
   }
   std::string why;
   if (!model.CheckJointValues(*q, &why)) {
-    return table.Fail(row.line, (suffix.empty() ? "" : "second pose: ") + why,
+    return table.Fail(row.line, why, error);
+  }
+  return true;
+}
+
+// The columns of each joint's reading: q<j> (q1_rad / q1_deg, q3_m /
+// q3_mm) or the joint's name (elbow_joint_rad / _deg, _m / _mm), one
+// scheme per file; *second the same with "_2" (a distance's second pose).
+// *num_present: the joints that have a column. With `required`, a joint
+// without one is an error naming both schemes' columns.
+bool ResolveJointColumns(const Table& table, const RobotModel& model,
+                         bool required, std::vector<JointColumnPair>* first,
+                         std::vector<JointColumnPair>* second, int* num_present,
+                         std::string* error) {
+  const int n = model.num_joints();
+  std::vector<JointColumnPair> q1, q2, n1, n2;
+  bool any_q = false, any_name = false;
+  std::string a_q, a_name;
+  // Names of other quantities' columns: a joint so named is read by q<j>.
+  static const std::set<std::string> kFixed = {
+      "type",       "marker",      "x_m",     "y_m",
+      "z_m",        "x_mm",        "y_mm",    "z_mm",
+      "distance_m", "distance_mm", "sigma_m", "sigma_mm",
+      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm"};
+  for (int j = 0; j < n; ++j) {
+    const bool rev = Revolute(model, j);
+    for (const std::string& suffix : {std::string(""), std::string("_2")}) {
+      const JointColumnPair q = QColumns(model, j, suffix);
+      const std::string name = model.block_name(j + 1);
+      const JointColumnPair by_name = {name + (rev ? "_rad" : "_m") + suffix,
+                                       name + (rev ? "_deg" : "_mm") + suffix};
+      (suffix.empty() ? q1 : q2).push_back(q);
+      (suffix.empty() ? n1 : n2).push_back(by_name);
+      for (const std::string& c : {q.si, q.display}) {
+        if (table.Has(c)) {
+          any_q = true;
+          if (a_q.empty()) a_q = c;
+        }
+      }
+      for (const std::string& c : {by_name.si, by_name.display}) {
+        if (table.Has(c) && !kFixed.count(c) &&
+            name != "q" + std::to_string(j + 1)) {
+          any_name = true;
+          if (a_name.empty()) a_name = c;
+        }
+      }
+    }
+  }
+  if (any_q && any_name) {
+    return table.Fail(table.header_line(),
+                      "joints are named both q<j> ('" + a_q +
+                          "') and by joint name ('" + a_name +
+                          "'): a file uses one of the two",
+                      error);
+  }
+  *first = any_name ? n1 : q1;
+  *second = any_name ? n2 : q2;
+  *num_present = 0;
+  for (int j = 0; j < n; ++j) {
+    if (table.Has((*first)[j].si) || table.Has((*first)[j].display)) {
+      ++*num_present;
+      continue;
+    }
+    if (!required) continue;
+    const std::string name = model.block_name(j + 1);
+    return table.Fail(table.header_line(),
+                      "the header has neither '" + q1[j].si + "' nor '" +
+                          q1[j].display + "' for joint " +
+                          std::to_string(j + 1) +
+                          (name == "q" + std::to_string(j + 1)
+                               ? std::string()
+                               : ", nor '" + n1[j].si + "' or '" +
+                                     n1[j].display + "' (its joint name)"),
                       error);
   }
   return true;
@@ -322,6 +396,55 @@ bool CheckNoExtraJoints(const Table& table, const RobotModel& model,
   return true;
 }
 
+// The header's columns `known` does not name; with `strict` they are an
+// error naming them all.
+bool UnreadColumns(const Table& table,
+                   const std::function<bool(const std::string&)>& known,
+                   bool strict, std::vector<std::string>* unread,
+                   std::string* error) {
+  unread->clear();
+  for (const std::string& name : table.header()) {
+    if (!name.empty() && !known(name)) unread->push_back(name);
+  }
+  if (unread->empty() || !strict) return true;
+  std::string list;
+  for (const std::string& e : *unread) {
+    list += (list.empty() ? "'" : ", '") + e + "'";
+  }
+  return table.Fail(table.header_line(),
+                    "column" + std::string(unread->size() > 1 ? "s " : " ") +
+                        list +
+                        " activecal does not read (strict columns: every "
+                        "column must be one activecal reads)",
+                    error);
+}
+
+// The note on columns that were not read: "<source>: ignored 2 columns
+// activecal does not read: a, b".
+std::string UnreadNote(const std::string& source,
+                       const std::vector<std::string>& unread) {
+  std::string list;
+  for (const std::string& e : unread) list += (list.empty() ? "" : ", ") + e;
+  return source + ": ignored " + std::to_string(unread.size()) + " column" +
+         (unread.size() > 1 ? "s" : "") + " activecal does not read: " + list;
+}
+
+// The optional pose_index label of a row: an integer >= 0.
+bool ReadPoseIndex(const Table& table, const Row& row, int64_t* label,
+                   std::string* error) {
+  double index;
+  if (!table.Number(row, "pose_index", &index, error)) return false;
+  if (index < 0 || index != std::floor(index) ||
+      index > static_cast<double>(kMaxPoseIndex)) {
+    return table.Fail(
+        row.line,
+        "pose_index: expected an integer >= 0, got " + ShortestText(index),
+        error);
+  }
+  *label = static_cast<int64_t>(index);
+  return true;
+}
+
 }  // namespace
 
 std::string JointColumn(const RobotModel& model, int j) {
@@ -338,6 +461,34 @@ bool ReadTextFile(const std::string& path, std::string* text,
   std::ostringstream out;
   out << in.rdbuf();
   *text = out.str();
+  return true;
+}
+
+bool CheckPoseIndices(const std::vector<int64_t>& labels, bool unique,
+                      std::string* error) {
+  std::map<int64_t, size_t> seen;
+  for (size_t i = 0; i < labels.size(); ++i) {
+    const std::string entry = "pose_indices[" + std::to_string(i) +
+                              "] = " + std::to_string(labels[i]);
+    if (labels[i] < 0 || labels[i] > kMaxPoseIndex) {
+      if (error) {
+        *error = entry +
+                 ": a pose label must be an integer in [0, 9e15] (the files' "
+                 "pose_index; every reader refuses others)";
+      }
+      return false;
+    }
+    if (!unique) continue;
+    const auto [it, inserted] = seen.emplace(labels[i], i);
+    if (!inserted) {
+      if (error) {
+        *error = entry + ", the same label as pose_indices[" +
+                 std::to_string(it->second) +
+                 "]: the labels of a pool name its poses, each once";
+      }
+      return false;
+    }
+  }
   return true;
 }
 
@@ -375,26 +526,40 @@ bool ParsePosesCsv(const std::string& text, const std::string& source,
   if (n == 0) {
     return table.Fail(table.header_line(), "no poses after the header", error);
   }
+  // q<j> columns or the joints' names, as the measurements CSV.
+  std::vector<JointColumnPair> columns, unused;
+  int num_present = 0;
+  if (!ResolveJointColumns(table, model, /*required=*/true, &columns, &unused,
+                           &num_present, error)) {
+    return false;
+  }
   PoseList out;
   out.joints.resize(n, model.num_joints());
   out.pose_indices.resize(n);
   std::map<std::vector<double>, int> seen;
+  std::map<int64_t, int> seen_labels;
   for (int i = 0; i < n; ++i) {
     const Row& row = table.rows()[i];
     Eigen::VectorXd q;
-    if (!ReadJoints(table, row, model, "", &q, error)) return false;
+    if (!ReadJoints(table, row, model, columns, &q, error)) return false;
     out.joints.row(i) = q.transpose();
     out.pose_indices[i] = i;
-    if (table.Has("pose_index")) {
-      double index;
-      if (!table.Number(row, "pose_index", &index, error)) return false;
-      if (index < 0 || index != std::floor(index) || index > 9e15) {
-        return table.Fail(
-            row.line,
-            "pose_index: expected an integer >= 0, got " + ShortestText(index),
-            error);
+    if (table.Has("pose_index") &&
+        !ReadPoseIndex(table, row, &out.pose_indices[i], error)) {
+      return false;
+    }
+    if (reject_duplicates && table.Has("pose_index")) {
+      const auto [it, inserted] =
+          seen_labels.emplace(out.pose_indices[i], row.line);
+      if (!inserted) {
+        return table.Fail(row.line,
+                          "pose_index: " + std::to_string(out.pose_indices[i]) +
+                              " is also the label of line " +
+                              std::to_string(it->second) +
+                              " (the labels of a pool name its poses, each "
+                              "once)",
+                          error);
       }
-      out.pose_indices[i] = static_cast<int64_t>(index);
     }
     if (reject_duplicates) {
       const std::vector<double> key(q.data(), q.data() + q.size());
@@ -553,6 +718,40 @@ Eigen::Vector3d RotationVectorOf(const Eigen::Quaternion<long double>& q) {
   return (aa.angle() * aa.axis()).cast<double>();
 }
 
+// The rotation vector of an orientation read in OrientationForms()[form]
+// (values v as written): a rotation vector as is; a quaternion (normalised;
+// its norm within kQuaternionNormTolerance of 1) or roll, pitch, yaw
+// converted in extended precision, so that the conversion adds no more than
+// the final rounding to the file's own.
+bool RotationVectorFromForm(const Table& table, const Row& row, int form,
+                            const double* v, Eigen::Vector3d* rotation,
+                            std::string* error) {
+  switch (form) {
+    case kRotvec:
+      *rotation = Eigen::Vector3d(v[0], v[1], v[2]);
+      return true;
+    case kQuat: {
+      const Eigen::Quaterniond quat(v[0], v[1], v[2], v[3]);
+      const double norm = quat.norm();
+      if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+        return table.Fail(row.line,
+                          "qw,qx,qy,qz: the quaternion's norm is " +
+                              Number6(norm) + ", not 1 (to " +
+                              Number6(kQuaternionNormTolerance) +
+                              "): not a unit quaternion",
+                          error);
+      }
+      *rotation = RotationVectorOf(
+          Eigen::Quaternion<long double>(v[0], v[1], v[2], v[3]).normalized());
+      return true;
+    }
+    default:
+      *rotation = RotationVectorOf(Eigen::Quaternion<long double>(
+          RpyRotation<long double>(v[0], v[1], v[2])));
+      return true;
+  }
+}
+
 // The unit of joint j's readings in the file, for messages.
 struct JointUnit {
   std::string column;  // the column the value came from
@@ -637,66 +836,12 @@ class MeasurementsReader {
 };
 
 bool MeasurementsReader::ResolveJoints(std::string* error) {
-  const int n = model_.num_joints();
-  // q<j> columns, or the URDF joint names: one scheme per file.
-  std::vector<JointColumnPair> q1, q2, n1, n2;
-  bool any_q = false, any_name = false;
-  std::string a_q, a_name;
-  static const std::set<std::string> kFixed = {
-      "type",       "marker",      "x_m",     "y_m",
-      "z_m",        "x_mm",        "y_mm",    "z_mm",
-      "distance_m", "distance_mm", "sigma_m", "sigma_mm",
-      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm"};
-  for (int j = 0; j < n; ++j) {
-    const bool rev = Revolute(model_, j);
-    for (const std::string& suffix : {std::string(""), std::string("_2")}) {
-      const JointColumnPair q = QColumns(model_, j, suffix);
-      const std::string name = model_.block_name(j + 1);
-      const JointColumnPair by_name = {name + (rev ? "_rad" : "_m") + suffix,
-                                       name + (rev ? "_deg" : "_mm") + suffix};
-      (suffix.empty() ? q1 : q2).push_back(q);
-      (suffix.empty() ? n1 : n2).push_back(by_name);
-      for (const std::string& c : {q.si, q.display}) {
-        if (table_.Has(c)) {
-          any_q = true;
-          if (a_q.empty()) a_q = c;
-        }
-      }
-      for (const std::string& c : {by_name.si, by_name.display}) {
-        if (table_.Has(c) && !kFixed.count(c) &&
-            name != "q" + std::to_string(j + 1)) {
-          any_name = true;
-          if (a_name.empty()) a_name = c;
-        }
-      }
-    }
+  int num_present = 0;
+  if (!ResolveJointColumns(table_, model_, /*required=*/true, &joints_,
+                           &joints2_, &num_present, error)) {
+    return false;
   }
-  if (any_q && any_name) {
-    return table_.Fail(table_.header_line(),
-                       "joints are named both q<j> ('" + a_q +
-                           "') and by joint name ('" + a_name +
-                           "'): a file uses one of the two",
-                       error);
-  }
-  joints_ = any_name ? n1 : q1;
-  joints2_ = any_name ? n2 : q2;
-  for (int j = 0; j < n; ++j) {
-    if (table_.Has(q1[j].si) || table_.Has(q1[j].display) ||
-        table_.Has(n1[j].si) || table_.Has(n1[j].display)) {
-      continue;
-    }
-    const std::string name = model_.block_name(j + 1);
-    return table_.Fail(table_.header_line(),
-                       "the header has neither '" + q1[j].si + "' nor '" +
-                           q1[j].display + "' for joint " +
-                           std::to_string(j + 1) +
-                           (name == "q" + std::to_string(j + 1)
-                                ? std::string()
-                                : ", nor '" + n1[j].si + "' or '" +
-                                      n1[j].display + "' (its joint name)"),
-                       error);
-  }
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < model_.num_joints(); ++j) {
     for (const JointColumnPair* p : {&joints_[j], &joints2_[j]}) {
       for (const std::string& c : {p->si, p->display}) {
         if (table_.Has(c)) {
@@ -706,7 +851,7 @@ bool MeasurementsReader::ResolveJoints(std::string* error) {
       }
     }
   }
-  excess_.assign(n, LimitExcess());
+  excess_.assign(model_.num_joints(), LimitExcess());
   return true;
 }
 
@@ -1003,35 +1148,9 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
                 type, v, nullptr, error)) {
     return false;
   }
-  if (pose) {
-    switch (orientation_) {
-      case kRotvec:
-        m.rotation = Eigen::Vector3d(v[0], v[1], v[2]);
-        break;
-      case kQuat: {
-        Eigen::Quaterniond quat(v[0], v[1], v[2], v[3]);
-        const double norm = quat.norm();
-        if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
-          return table_.Fail(row.line,
-                             "qw,qx,qy,qz: the quaternion's norm is " +
-                                 Number6(norm) + ", not 1 (to " +
-                                 Number6(kQuaternionNormTolerance) +
-                                 "): not a unit quaternion",
-                             error);
-        }
-        // In extended precision, so that the conversion adds no more than
-        // the final rounding to the file's own.
-        m.rotation = RotationVectorOf(
-            Eigen::Quaternion<long double>(v[0], v[1], v[2], v[3])
-                .normalized());
-        break;
-      }
-      default: {
-        m.rotation = RotationVectorOf(Eigen::Quaternion<long double>(
-            RpyRotation<long double>(v[0], v[1], v[2])));
-        break;
-      }
-    }
+  if (pose && !RotationVectorFromForm(table_, row, orientation_, v, &m.rotation,
+                                      error)) {
+    return false;
   }
   if (!ReadForm(row, DistanceForms(), distance_, distance, "a distance", type,
                 &m.distance, nullptr, error)) {
@@ -1194,19 +1313,10 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
     return table_.RequireColumn("type", error);
   }
   std::vector<std::string> extra;
-  for (const std::string& name : table_.header()) {
-    if (!name.empty() && !Known(name)) extra.push_back(name);
-  }
-  if (!extra.empty() && options_.columns_strict) {
-    std::string list;
-    for (const std::string& e : extra)
-      list += (list.empty() ? "'" : ", '") + e + "'";
-    return table_.Fail(table_.header_line(),
-                       "column" + std::string(extra.size() > 1 ? "s " : " ") +
-                           list +
-                           " activecal does not read (strict columns: every "
-                           "column must be one activecal reads)",
-                       error);
+  if (!UnreadColumns(
+          table_, [this](const std::string& c) { return Known(c); },
+          options_.columns_strict, &extra, error)) {
+    return false;
   }
   if (table_.rows().empty()) {
     return table_.Fail(table_.header_line(), "no measurements after the header",
@@ -1225,13 +1335,7 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   if (rows_beyond_ > 0) {
     r.warnings.push_back(Warning(static_cast<int>(table_.rows().size())));
   }
-  if (!extra.empty()) {
-    std::string list;
-    for (const std::string& e : extra) list += (list.empty() ? "" : ", ") + e;
-    r.notes.push_back(source_ + ": ignored " + std::to_string(extra.size()) +
-                      " column" + (extra.size() > 1 ? "s" : "") +
-                      " activecal does not read: " + list);
-  }
+  if (!extra.empty()) r.notes.push_back(UnreadNote(source_, extra));
   if (!unseen_.empty()) {
     int total = 0;
     std::string list;
@@ -1252,6 +1356,131 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
 }
 
 }  // namespace
+
+namespace internal {
+
+bool ParsePointTable(const std::string& text, const std::string& source,
+                     const RobotModel& model, bool columns_strict,
+                     PointTable* out, std::string* error) {
+  Table table;
+  if (!table.Parse(text, source, error)) return false;
+  if (!CheckNoExtraJoints(table, model, error)) return false;
+  int position = -1, orientation = -1;
+  if (!ChooseForm(table, "the target point", PositionForms(), &position,
+                  error) ||
+      !ChooseForm(table, "the orientation", OrientationForms(), &orientation,
+                  error)) {
+    return false;
+  }
+  if (position < 0) {
+    return table.Fail(table.header_line(),
+                      "the header has no column 'x_m' (the target point: "
+                      "x_m,y_m,z_m or x_mm,y_mm,z_mm)",
+                      error);
+  }
+  std::vector<JointColumnPair> joints, unused;
+  int num_joints = 0;
+  if (!ResolveJointColumns(table, model, /*required=*/false, &joints, &unused,
+                           &num_joints, error)) {
+    return false;
+  }
+  const int nj = model.num_joints();
+  if (num_joints != 0 && num_joints != nj) {
+    int have = 0, lack = 0;
+    auto present = [&](int j) {
+      return table.Has(joints[j].si) || table.Has(joints[j].display);
+    };
+    while (!present(have)) ++have;
+    while (present(lack)) ++lack;
+    return table.Fail(table.header_line(),
+                      "the header has joint columns for joint " +
+                          std::to_string(have + 1) + " but not for joint " +
+                          std::to_string(lack + 1) + " ('" + joints[lack].si +
+                          "' or '" + joints[lack].display +
+                          "'): give every joint or none",
+                      error);
+  }
+  std::set<std::string> known = {"pose_index"};
+  for (const std::string& c : PositionForms()[position].columns)
+    known.insert(c);
+  if (orientation >= 0) {
+    for (const std::string& c : OrientationForms()[orientation].columns) {
+      known.insert(c);
+    }
+  }
+  for (const JointColumnPair& p : joints) {
+    for (const std::string& c : {p.si, p.display}) {
+      if (table.Has(c)) known.insert(c);
+    }
+  }
+  PointTable t;
+  if (!UnreadColumns(
+          table, [&](const std::string& c) { return known.count(c) > 0; },
+          columns_strict, &t.unread, error)) {
+    return false;
+  }
+  const int n = static_cast<int>(table.rows().size());
+  if (n == 0) {
+    return table.Fail(table.header_line(), "no targets after the header",
+                      error);
+  }
+  t.lines.resize(n);
+  t.pose_indices.resize(n);
+  t.points.resize(n, 3);
+  if (orientation >= 0) t.rotation_vectors.resize(n, 3);
+  t.rotation_given_as_vector = orientation == kRotvec;
+  if (num_joints > 0) t.joints.resize(n, nj);
+  const Form& point = PositionForms()[position];
+  for (int i = 0; i < n; ++i) {
+    const Row& row = table.rows()[i];
+    t.lines[i] = row.line;
+    t.pose_indices[i] = i;
+    if (table.Has("pose_index") &&
+        !ReadPoseIndex(table, row, &t.pose_indices[i], error)) {
+      return false;
+    }
+    for (int a = 0; a < 3; ++a) {
+      double v;
+      if (!table.Number(row, point.columns[a], &v, error)) return false;
+      t.points(i, a) = v * point.scale / point.divisor;
+      if (!(std::abs(t.points(i, a)) <= kMaxLengthM)) {
+        return table.Fail(row.line,
+                          point.columns[a] + ": " + Number6(v) +
+                              (point.divisor == 1.0 ? " m" : " mm") +
+                              " is more than " + Number6(kMaxLengthM / 1e3) +
+                              " km: a corrupt cell or a wrong unit",
+                          error);
+      }
+    }
+    if (orientation >= 0) {
+      const Form& f = OrientationForms()[orientation];
+      double v[4];
+      for (size_t k = 0; k < f.columns.size(); ++k) {
+        if (!table.Number(row, f.columns[k], &v[k], error)) return false;
+        v[k] *= f.scale;
+      }
+      Eigen::Vector3d r;
+      if (!RotationVectorFromForm(table, row, orientation, v, &r, error)) {
+        return false;
+      }
+      t.rotation_vectors.row(i) = r.transpose();
+    }
+    for (int j = 0; j < nj && num_joints > 0; ++j) {
+      if (!ReadJoint(table, row, model, j, joints[j], &t.joints(i, j), error)) {
+        return false;
+      }
+    }
+  }
+  *out = std::move(t);
+  return true;
+}
+
+std::string UnreadColumnsNote(const std::string& source,
+                              const std::vector<std::string>& unread) {
+  return UnreadNote(source, unread);
+}
+
+}  // namespace internal
 
 bool MeasurementsCsvOptions::IsValid(std::string* error) const {
   if (!(limit_tolerance_rad >= 0 &&

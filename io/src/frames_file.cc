@@ -6,8 +6,8 @@
 #include <sstream>
 #include <vector>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
+#include "activecal/io/csv_files.h"
 #include "number_text.h"
 #include "yaml_reader.h"
 

@@ -51,18 +51,24 @@ class YamlReader {
     return false;
   }
 
-  // Every key of `map` is one of `allowed`.
+  // Every key of `map` is one of `allowed`, and none is given twice
+  // (map[key] would read the first and silently drop the other).
   bool CheckKeys(const YAML::Node& map, const std::string& field,
                  const std::set<std::string>& allowed) {
+    std::set<std::string> seen;
     for (const auto& kv : map) {
       const std::string key = kv.first.Scalar();
+      const std::string name = field.empty() ? key : field + "." + key;
       if (!allowed.count(key)) {
         std::string list;
         for (const std::string& a : allowed) {
           list += (list.empty() ? "" : ", ") + a;
         }
-        return Fail(kv.first.Mark(), field.empty() ? key : field + "." + key,
+        return Fail(kv.first.Mark(), name,
                     "unknown field (expected one of: " + list + ")");
+      }
+      if (!seen.insert(key).second) {
+        return Fail(kv.first.Mark(), name, "given twice");
       }
     }
     return true;

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
+#include "activecal/io/csv_files.h"
 
 namespace activecal {
 namespace {
@@ -23,6 +23,7 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
   summary->num_converged = summary->num_singular = summary->num_limit = 0;
   summary->num_unreachable = summary->num_invalid = 0;
+  summary->num_iteration_cap = 0;
   double sum_change2 = 0.0;
   int first_failure = -1;
   const int n = static_cast<int>(summary->results.size());
@@ -43,6 +44,9 @@ void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
         break;
       case IkStatus::kInvalid:
         ++summary->num_invalid;
+        break;
+      case IkStatus::kIterationCap:
+        ++summary->num_iteration_cap;
         break;
     }
     if (r.status != IkStatus::kConverged && first_failure < 0)
@@ -77,6 +81,20 @@ void UserFailure(const std::string& message, CompensationSummary* summary) {
   *summary = CompensationSummary();
   summary->termination_type = TerminationType::kUserFailure;
   summary->message = message;
+}
+
+// The options against the model: valid, and one joint weight per joint.
+bool CheckOptions(const RobotModel& model, const CompensationOptions& options,
+                  std::string* error) {
+  if (!options.ik.IsValid(error)) return false;
+  const size_t n = options.ik.joint_weights.size();
+  if (n != 0 && n != static_cast<size_t>(model.num_joints())) {
+    *error = "joint_weights: expected " + std::to_string(model.num_joints()) +
+             " weights (one per joint of '" + model.name + "'), got " +
+             std::to_string(n);
+    return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -142,6 +160,7 @@ std::string CompensationSummary::BriefReport() const {
   if (num_limit) out << ", " << num_limit << " limit";
   if (num_unreachable) out << ", " << num_unreachable << " unreachable";
   if (num_invalid) out << ", " << num_invalid << " invalid";
+  if (num_iteration_cap) out << ", " << num_iteration_cap << " iteration_cap";
   out << "\n  largest error left " << max_position_error_m << " m";
   if (max_rotation_error_rad > 0)
     out << ", " << max_rotation_error_rad << " rad";
@@ -166,7 +185,7 @@ void CompensateProgram(const RobotModel& calibrated,
   if (!CheckSameChain(calibrated, nominal, &error) ||
       !calibrated.CheckParameters(calibrated_values, &error) ||
       !nominal.CheckParameters(nominal_values, &error) ||
-      !options.ik.IsValid(&error)) {
+      !CheckOptions(calibrated, options, &error)) {
     UserFailure(error, summary);
     return;
   }
@@ -220,7 +239,8 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
   CHECK(summary != nullptr);
   const auto start = std::chrono::steady_clock::now();
   std::string error;
-  if (!model.CheckParameters(values, &error) || !options.ik.IsValid(&error)) {
+  if (!model.CheckParameters(values, &error) ||
+      !CheckOptions(model, options, &error)) {
     UserFailure(error, summary);
     return;
   }
@@ -279,7 +299,11 @@ std::vector<IkTarget> IkTargetsFromList(const TargetList& list) {
     if (list.rotation_vectors.rows() == n) {
       const Eigen::Vector3d v = list.rotation_vectors.row(i).transpose();
       const double angle = v.norm();
-      if (angle > 0.0) {
+      if (!v.allFinite()) {
+        // Not the identity (a NaN angle fails "angle > 0"): a target the
+        // solver refuses as not finite.
+        targets[i].rotation.setConstant(NAN);
+      } else if (angle > 0.0) {
         targets[i].rotation =
             Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
       }

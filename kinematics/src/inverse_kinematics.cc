@@ -241,7 +241,18 @@ class IkSolver {
     if (!CheckModelInputs(model, parameters, options.marker, &setup_error_)) {
       return;
     }
+    if (!options.joint_weights.empty() &&
+        static_cast<int>(options.joint_weights.size()) != n_) {
+      setup_error_ = "joint_weights: expected " + std::to_string(n_) +
+                     " weights (one per joint), got " +
+                     std::to_string(options.joint_weights.size());
+      return;
+    }
     evaluator_ = MakeEvaluator(model, parameters, options.marker);
+    weight_.setOnes(n_);
+    for (size_t j = 0; j < options.joint_weights.size(); ++j) {
+      weight_[j] = options.joint_weights[j];
+    }
     lower_.resize(n_);
     upper_.resize(n_);
     period_.resize(n_);
@@ -273,7 +284,9 @@ class IkSolver {
       result->message = "start configuration: " + why;
       return;
     }
-    if (!target.point.allFinite() || (pose() && !target.rotation.allFinite())) {
+    // The rotation too when only the point is matched: a non-finite one is
+    // bad input, not something to ignore.
+    if (!target.point.allFinite() || !target.rotation.allFinite()) {
       result->message = "the target is not finite";
       return;
     }
@@ -285,15 +298,64 @@ class IkSolver {
     target_ = target;
     // CheckJointValues lets values a few ulps past a limit through.
     start_ = Clamp(start, /*limits=*/true);
-    bool hit_cap = false;
-    Run(options_.respect_limits, &current_, &hit_cap, &result->iterations);
-    result->joints = current_.q;
-    result->position_error_m = current_.position_error;
-    result->rotation_error_rad = pose() ? current_.rotation_error : 0.0;
-    result->conditioning = Conditioning(current_.J);
-    const bool reached = Converged(current_);
-    const bool singular = result->conditioning < options_.singular_threshold;
-    if (reached) {
+    const bool limits = options_.respect_limits;
+    RunResult limited;
+    Run(limits, start_, options_.max_iterations, &limited);
+    result->iterations = limited.iterations;
+    // The candidates (see the header): the run inside the limits; when it
+    // met a limit on the way, the run without them; when the best of those
+    // turns a joint by more than half a turn, runs from restart points.
+    // Each is taken with its revolute joints turned by whole periods to the
+    // equivalent inside the limits nearest the start, and the one of
+    // smallest weighted joint change wins.
+    Iterate best;
+    double best_change = HUGE_VAL;
+    auto consider = [&](const Iterate& candidate) {
+      if (!Converged(candidate)) return;
+      Iterate equivalent = candidate;
+      if (limits) {
+        Joints q = candidate.q;
+        if (!NearestEquivalentInLimits(&q)) return;
+        if (q != candidate.q) {
+          Evaluate(q, &equivalent);
+          if (!Converged(equivalent)) return;
+        }
+      }
+      const double change = Change(equivalent.q);
+      if (change < best_change) {
+        best_change = change;
+        best = equivalent;
+      }
+    };
+    consider(limited.last);
+    RunResult free;
+    bool ran_free = false;
+    if (limits && limited.met_limit) {
+      Run(false, start_, options_.max_iterations, &free);
+      ran_free = true;
+      result->iterations += free.iterations;
+      consider(free.last);
+    }
+    if (limits && best_change < HUGE_VAL && TurnsAJoint(best.q)) {
+      // The best so far turns a joint by more than half a turn: other
+      // solutions inside the limits near the start (another of the arm's
+      // branches, close to it near a singularity) are looked for from
+      // starts spread around the start.
+      // Each with a shorter cap (a restart in the basin of a solution
+      // reaches it in a few evaluations), until one turns no joint by more
+      // than half a turn.
+      constexpr int kRestartIterations = 30;
+      const int cap = std::min(options_.max_iterations, kRestartIterations);
+      for (int k = 0; k < options_.restarts && TurnsAJoint(best.q); ++k) {
+        RunResult again;
+        Run(true, RestartPoint(k), cap, &again);
+        result->iterations += again.iterations;
+        consider(again.last);
+      }
+    }
+    if (best_change < HUGE_VAL) {
+      SetResult(best, result);
+      const bool singular = result->conditioning < options_.singular_threshold;
       result->status = singular ? IkStatus::kSingular : IkStatus::kConverged;
       if (singular) {
         result->message =
@@ -304,60 +366,33 @@ class IkSolver {
       }
       return;
     }
-    if (options_.respect_limits && AtALimit(current_.q)) {
-      // Is it reachable with the limits lifted?
-      Iterate free_iterate;
-      bool free_cap = false;
-      int free_iterations = 0;
-      Run(false, &free_iterate, &free_cap, &free_iterations);
-      result->iterations += free_iterations;
-      if (Converged(free_iterate) && !OutsideLimits(free_iterate.q).empty()) {
-        // The free run may have wound a revolute joint whole turns past a
-        // wide range (a UR's +-2 pi): the same configuration, turned back
-        // into the range, is a solution inside the limits.
-        Joints wrapped = free_iterate.q;
-        if (WrapIntoLimits(&wrapped)) {
-          Iterate w;
-          Evaluate(wrapped, &w);
-          if (Converged(w)) free_iterate = w;
-        }
-      }
-      if (Converged(free_iterate) && OutsideLimits(free_iterate.q).empty()) {
-        // The path without limits found a solution inside them.
-        current_ = free_iterate;
-        result->joints = current_.q;
-        result->position_error_m = current_.position_error;
-        result->rotation_error_rad = pose() ? current_.rotation_error : 0.0;
-        result->conditioning = Conditioning(current_.J);
-        const bool at_singular =
-            result->conditioning < options_.singular_threshold;
-        result->status =
-            at_singular ? IkStatus::kSingular : IkStatus::kConverged;
-        if (at_singular) {
-          result->message =
-              "reached at a singular configuration "
-              "(sigma_min / sigma_max = " +
-              Number(result->conditioning) + ")";
-        }
-        return;
-      }
-      if (Converged(free_iterate)) {
-        result->status = IkStatus::kLimit;
-        result->message = "reachable only outside the joint limits:" +
-                          OutsideLimits(free_iterate.q) +
-                          "; the configuration returned stops at the limit "
-                          "and misses by " +
-                          Number(current_.position_error) + " m";
-        return;
-      }
+    // Not reached inside the limits: the run inside them is returned.
+    const Iterate& at = limited.last;
+    SetResult(at, result);
+    const std::string misses =
+        Number(at.position_error) + " m" +
+        (pose() ? " and " + Number(at.rotation_error) + " rad" : std::string());
+    const std::string near_singular =
+        result->conditioning < kNearSingular
+            ? ", near a singularity (sigma_min / sigma_max = " +
+                  Number(result->conditioning) + ")"
+            : std::string();
+    if (ran_free && Converged(free.last)) {
+      result->status = IkStatus::kLimit;
+      result->message = "reachable only outside the joint limits:" +
+                        OutsideLimits(free.last.q) +
+                        "; the configuration returned stops at the limit "
+                        "and misses by " +
+                        Number(at.position_error) + " m";
+      return;
     }
-    if (hit_cap && singular) {
-      result->status = IkStatus::kSingular;
-      result->message =
-          "not reached after " + std::to_string(result->iterations) +
-          " iterations at a singular configuration (sigma_min / sigma_max = " +
-          Number(result->conditioning) + "); misses by " +
-          Number(current_.position_error) + " m";
+    if (limited.hit_cap) {
+      result->status = IkStatus::kIterationCap;
+      result->message = "the iteration cap (max_iterations = " +
+                        std::to_string(options_.max_iterations) +
+                        ") was hit before the target was reached: the "
+                        "configuration returned misses by " +
+                        misses + near_singular;
       return;
     }
     result->status = IkStatus::kUnreachable;
@@ -371,11 +406,7 @@ class IkSolver {
                         ? "out of reach, or behind a singularity on the "
                           "start's branch: "
                         : "out of reach: ") +
-        "the closest configuration found misses "
-        "the target by " +
-        Number(current_.position_error) + " m" +
-        (pose() ? " and " + Number(current_.rotation_error) + " rad"
-                : std::string());
+        "the closest configuration found misses the target by " + misses;
     if (result->conditioning < kNearSingular) {
       result->message +=
           ", stopped near a singularity (sigma_min / "
@@ -385,6 +416,57 @@ class IkSolver {
   }
 
  private:
+  // What one Levenberg-Marquardt run ends with.
+  struct RunResult {
+    Iterate last;            // the last accepted iterate
+    bool hit_cap = false;    // stopped by max_iterations, not reached
+    bool met_limit = false;  // some step was bounded by a joint limit
+    int iterations = 0;      // Jacobian evaluations
+  };
+
+  // The weighted joint change sum_j w_j (q_j - start_j)^2.
+  double Change(const Joints& q) const {
+    return (q - start_).cwiseAbs2().cwiseProduct(weight_).sum();
+  }
+
+  // True when some revolute joint of q is more than half a turn from the
+  // start.
+  bool TurnsAJoint(const Joints& q) const {
+    for (int j = 0; j < n_; ++j) {
+      if (period_[j] > 0.0 && std::abs(q[j] - start_[j]) > 0.5 * period_[j]) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Restart k: the start with each revolute joint moved by up to
+  // options_.restart_spread_rad, the k-th point of a Halton sequence (one
+  // prime base per joint: deterministic, and evenly spread for any number
+  // of restarts), clamped to the limits.
+  Joints RestartPoint(int k) const {
+    static constexpr int kPrimes[kMaxIkJoints] = {
+        2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
+    Joints q = start_;
+    for (int j = 0; j < n_; ++j) {
+      if (!(period_[j] > 0.0)) continue;
+      double u = 0.0, f = 1.0;
+      for (int i = k + 1; i > 0; i /= kPrimes[j]) {
+        f /= kPrimes[j];
+        u += f * (i % kPrimes[j]);
+      }
+      q[j] += options_.restart_spread_rad * (2.0 * u - 1.0);
+    }
+    return Clamp(q, /*limits=*/true);
+  }
+
+  void SetResult(const Iterate& it, InverseKinematicsResult* result) const {
+    result->joints = it.q;
+    result->position_error_m = it.position_error;
+    result->rotation_error_rad = pose() ? it.rotation_error : 0.0;
+    result->conditioning = Conditioning(it.J);
+  }
+
   bool pose() const { return options_.match == IkMatch::kPose; }
 
   void Evaluate(const Joints& q, Iterate* it) const {
@@ -406,13 +488,6 @@ class IkSolver {
   bool Converged(const Iterate& it) const {
     return it.position_error <= options_.position_tolerance_m &&
            (!pose() || it.rotation_error <= options_.rotation_tolerance_rad);
-  }
-
-  bool AtALimit(const Joints& q) const {
-    for (int j = 0; j < n_; ++j) {
-      if (q[j] <= lower_[j] || q[j] >= upper_[j]) return true;
-    }
-    return false;
   }
 
   std::string OutsideLimits(const Joints& q) const {
@@ -453,61 +528,149 @@ class IkSolver {
     return std::sqrt(std::max(low, 0.0) / top);
   }
 
-  // The damped step from `it` (see the header), holding joints at a limit
-  // whose step points outward; with `pull`, the null-space pull to the
-  // start.
-  Joints Step(const Iterate& it, double mu, bool pull, bool limits) const {
+  // The damped step from `it` (see the header): with `pull` the minimiser
+  // of
+  //
+  //   |J dq - r|^2 + lambda |dq + z|_W^2,   z = q - q_start
+  //
+  // (|x|_W^2 = sum_j w_j x_j^2, the joint weights)
+  // (without, z = 0), and with `limits` subject to lower <= q + dq <= upper,
+  // so that the step itself respects the limits (a step clipped afterwards
+  // is no longer a descent direction of the merit: joints pushed to their
+  // limits one after the other stalled the solver away from solutions
+  // inside them). The box-constrained problem is solved exactly by a
+  // primal active-set method in u = dq + z: joints at a bound are fixed
+  // there, the free ones take the damped minimum-norm solution
+  // W_F^-1 J_F^T (J_F W_F^-1 J_F^T + lambda I)^-1 (b - J_A u_A),
+  // b = r + J z; a free
+  // joint that would cross its bound stops there and joins the active set;
+  // an active joint whose multiplier says the merit falls inwards leaves
+  // it. Every iterate of the method is feasible; it ends at the
+  // Karush-Kuhn-Tucker point (a strictly convex problem: the minimiser).
+  // *bounded: a joint limit was active at the end.
+  Joints Step(const Iterate& it, double mu, bool pull, bool limits,
+              bool* bounded) const {
     const int m = static_cast<int>(it.r.size());
-    Eigen::Array<bool, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1> held(n_);
-    held.setConstant(false);
-    Joints dq(n_);
-    const Joints z = it.q - start_;
-    for (int pass = 0; pass <= n_; ++pass) {
-      Jacobian Jf = it.J;
-      Joints zf = z;
-      for (int j = 0; j < n_; ++j) {
-        if (held[j]) {
-          Jf.col(j).setZero();
-          zf[j] = 0.0;
-        }
-      }
-      if (!pull) zf.setZero();
-      Square A = Jf * Jf.transpose();
-      const double scale = std::max(A.trace() / m, 1e-12);
-      A.diagonal().array() += mu * scale;
-      const Residual b = it.r + Jf * zf;
-      const Residual y = A.llt().solve(b);
-      dq = Jf.transpose() * y - zf;
-      if (!limits) break;
-      bool changed = false;
-      for (int j = 0; j < n_; ++j) {
-        if (held[j]) continue;
-        if ((it.q[j] <= lower_[j] && dq[j] < 0.0) ||
-            (it.q[j] >= upper_[j] && dq[j] > 0.0)) {
-          held[j] = true;
-          changed = true;
-        }
-      }
-      if (!changed) break;
+    const Joints z = pull ? Joints(it.q - start_) : Joints::Zero(n_);
+    const Residual b = it.r + it.J * z;
+    // J W^-1: the weighted columns.
+    Jacobian Jw = it.J;
+    for (int j = 0; j < n_; ++j) Jw.col(j) /= weight_[j];
+    // trace(J W^-1 J^T) / m
+    const double scale = std::max((Jw.cwiseProduct(it.J)).sum() / m, 1e-12);
+    const double lambda = mu * scale;
+    // Bounds of u; joints at a limit start active (u = z is dq = 0).
+    Joints lo(n_), hi(n_), u = z;
+    // 0 free, -1 at its lower bound, +1 at its upper bound.
+    Eigen::Array<int, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1> active(n_);
+    active.setZero();
+    // Inside the limits each joint also moves at most kMaxStep per step (a
+    // trust region): the exact box-constrained Gauss-Newton step from a
+    // start far from the target (the PUMA's nominal geometry, 0.6 m off)
+    // jumped to the limits of four joints at once and lowered the merit
+    // enough to be kept, into a region it never left.
+    constexpr double kMaxStep = 0.5;  // rad, or m
+    Eigen::Array<bool, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1> limit_lo(n_),
+        limit_hi(n_);
+    for (int j = 0; j < n_; ++j) {
+      const double down = lower_[j] - it.q[j], up = upper_[j] - it.q[j];
+      limit_lo[j] = limits && down >= -kMaxStep;
+      limit_hi[j] = limits && up <= kMaxStep;
+      lo[j] = limits ? std::max(down, -kMaxStep) + z[j] : -HUGE_VAL;
+      hi[j] = limits ? std::min(up, kMaxStep) + z[j] : HUGE_VAL;
+      if (limits && it.q[j] >= upper_[j]) active[j] = 1;
+      if (limits && it.q[j] <= lower_[j]) active[j] = -1;
     }
-    return dq;
+    for (int pass = 0; pass < 4 * n_ + 4; ++pass) {
+      // The free joints' minimiser with the active ones held.
+      Jacobian Jf = Jw;
+      Residual c = b;
+      for (int j = 0; j < n_; ++j) {
+        if (active[j] != 0) {
+          c -= it.J.col(j) * u[j];
+          Jf.col(j).setZero();
+        }
+      }
+      Square A = Jf * it.J.transpose();
+      A.diagonal().array() += lambda;
+      const Residual y = A.llt().solve(c);
+      const Joints target = Jf.transpose() * y;
+      // As far towards it as the bounds let the free joints go.
+      double alpha = 1.0;
+      int blocking = -1;
+      for (int j = 0; j < n_; ++j) {
+        if (active[j] != 0) continue;
+        const double p = target[j] - u[j];
+        if (u[j] + p > hi[j] && p > 0.0) {
+          const double a = (hi[j] - u[j]) / p;
+          if (a < alpha) alpha = a, blocking = j;
+        } else if (u[j] + p < lo[j] && p < 0.0) {
+          const double a = (lo[j] - u[j]) / p;
+          if (a < alpha) alpha = a, blocking = j;
+        }
+      }
+      for (int j = 0; j < n_; ++j) {
+        if (active[j] == 0) u[j] += alpha * (target[j] - u[j]);
+      }
+      if (blocking >= 0) {
+        const bool upper =
+            target[blocking] > u[blocking] ||
+            hi[blocking] - u[blocking] < u[blocking] - lo[blocking];
+        u[blocking] = upper ? hi[blocking] : lo[blocking];
+        active[blocking] = upper ? 1 : -1;
+        continue;
+      }
+      if ((active == 0).all()) break;
+      // Multipliers of the active bounds: half the gradient of the merit.
+      const Joints g =
+          it.J.transpose() * (it.J * u - b) + lambda * weight_.cwiseProduct(u);
+      const double tolerance = 1e-13 * (1.0 + g.cwiseAbs().maxCoeff());
+      int release = -1;
+      double worst = tolerance;
+      for (int j = 0; j < n_; ++j) {
+        // At the lower bound the merit falls inwards when g_j < 0; at the
+        // upper one when g_j > 0. A joint whose range is a point stays.
+        const double inwards = active[j] < 0 ? -g[j] : active[j] > 0 ? g[j] : 0;
+        if (inwards > worst && lo[j] < hi[j]) worst = inwards, release = j;
+      }
+      if (release < 0) break;
+      active[release] = 0;
+    }
+    *bounded = false;
+    for (int j = 0; j < n_; ++j) {
+      *bounded |=
+          (active[j] < 0 && limit_lo[j]) || (active[j] > 0 && limit_hi[j]);
+    }
+    return u - z;
   }
 
-  // Turns each revolute joint outside its range by whole periods into it,
-  // as near the start as possible; false if some joint cannot be.
-  bool WrapIntoLimits(Joints* q) const {
+  // Turns each revolute joint by whole periods to the equivalent value
+  // inside its limits nearest the start (the change |q - start| is a sum
+  // over joints, so this is the closest equivalent configuration); false
+  // when some joint has none (a joint outside a range narrower than a
+  // turn, or a prismatic one outside its range).
+  bool NearestEquivalentInLimits(Joints* q) const {
     for (int j = 0; j < n_; ++j) {
       double& v = (*q)[j];
-      if (v >= lower_[j] && v <= upper_[j]) continue;
       const double p = period_[j];
-      if (!(p > 0.0)) return false;
-      // The turn count that brings v nearest the start, then into range.
-      double k = std::round((start_[j] - v) / p);
-      double best = v + k * p;
-      if (best < lower_[j]) best += p * std::ceil((lower_[j] - best) / p);
-      if (best > upper_[j]) best -= p * std::ceil((best - upper_[j]) / p);
-      if (!(best >= lower_[j] && best <= upper_[j])) return false;
-      v = best;
+      if (!(p > 0.0)) {
+        if (!(v >= lower_[j] && v <= upper_[j])) return false;
+        continue;
+      }
+      // The turns k that keep v + k p inside [lower, upper] ...
+      const double k_min = std::isfinite(lower_[j])
+                               ? std::ceil((lower_[j] - v) / p - 1e-12)
+                               : -HUGE_VAL;
+      const double k_max = std::isfinite(upper_[j])
+                               ? std::floor((upper_[j] - v) / p + 1e-12)
+                               : HUGE_VAL;
+      if (k_min > k_max) return false;
+      // ... and of those the one nearest the start (|v + k p - s| is
+      // convex in k).
+      const double k =
+          std::min(std::max(std::round((start_[j] - v) / p), k_min), k_max);
+      if (k != 0.0) v = std::min(std::max(v + k * p, lower_[j]), upper_[j]);
+      if (!(v >= lower_[j] && v <= upper_[j])) return false;
     }
     return true;
   }
@@ -519,50 +682,105 @@ class IkSolver {
     return q;
   }
 
-  // Levenberg-Marquardt from start_; *out is the last accepted iterate.
-  void Run(bool limits, Iterate* out, bool* hit_cap, int* iterations) const {
-    Iterate it, candidate;
-    Evaluate(start_, &it);
-    *iterations = 1;
-    *hit_cap = false;
+  // Levenberg-Marquardt from `from` (inside the limits when `limits`), its
+  // null-space pull towards start_, for at most max_iterations Jacobian
+  // evaluations.
+  void Run(bool limits, const Joints& from, int max_iterations,
+           RunResult* out) const {
+    Iterate it, candidate, corrected;
+    Evaluate(from, &it);
+    int iterations = 1;
+    bool met_limit = false;
+    bool hit_cap = false;
     double mu = 1e-8, nu = 2.0;
     const double kTinyStep = 1e-15;
     const double kPullTolerance = 1e-7;
+    // The merit of the last kWindow passes, to tell at the cap a run still
+    // making progress from one stalled on a target it cannot reach.
+    constexpr int kWindow = 10;
+    std::array<double, kWindow> recent;
+    recent.fill(HUGE_VAL);
+    int passes = 0;
+    const bool spare = n_ > (pose() ? 6 : 3);
     while (true) {
-      if (*iterations >= options_.max_iterations) {
-        *hit_cap = !Converged(it);
+      if (iterations >= max_iterations) {
+        // Stopped by the cap with the merit still falling (by more than
+        // kStillFalling of itself over the last kWindow passes): more
+        // iterations may reach the target. Falling slower, the run has
+        // stalled (a target out of reach, where damped steps creep to
+        // the nearest configuration).
+        constexpr double kStillFalling = 1e-2;
+        // (Fewer passes: since the first. None: the cap hit at once.)
+        const double before = recent[passes >= kWindow ? passes % kWindow : 0];
+        hit_cap = !Converged(it) &&
+                  (passes == 0 || before - it.cost > kStillFalling * before);
         break;
       }
+      recent[passes % kWindow] = it.cost;
+      ++passes;
       const double z_norm = (it.q - start_).norm();
       if (Converged(it)) {
         // Reached: move along the null space towards the start while the
         // target stays reached.
         // Without spare joints the solution is locally unique.
         if (z_norm == 0.0 || n_ <= static_cast<int>(it.r.size())) break;
-        const Joints dq = Step(it, mu, /*pull=*/true, limits);
+        bool bounded = false;
+        const Joints dq = Step(it, mu, /*pull=*/true, limits, &bounded);
+        met_limit |= bounded;
         // Closer than this to the closest solution is not worth a step.
         if (dq.norm() <= kPullTolerance * (1.0 + z_norm)) break;
-        Evaluate(Clamp(it.q + dq, limits), &candidate);
-        ++*iterations;
-        // Each pull step shrinks the component of q - start along the null
-        // space quadratically; near the end the change of |q - start| is
-        // rounding, so a step is kept unless it leaves the target or moves
-        // away from the start.
-        if (Converged(candidate) &&
-            (candidate.q - start_).norm() <= z_norm + 1e-12 * (1.0 + z_norm)) {
-          std::swap(it, candidate);
-          continue;
+        // The pull step runs along the tangent of the (curved) set of
+        // solutions: a predictor, brought back to the target by a few
+        // steps without pull (a corrector: their minimum-norm motion is
+        // across the set, so it changes |q - start|_W to second order
+        // only). The predictor is halved until the corrected configuration
+        // reaches the target closer to the start; near the end each step
+        // shrinks the distance along the set quadratically.
+        const double change = Change(it.q);
+        bool improved = false;
+        double alpha = 1.0;
+        for (int halving = 0; halving < 3 && !improved; ++halving) {
+          if (iterations >= max_iterations) break;
+          Evaluate(Clamp(it.q + alpha * dq, limits), &candidate);
+          ++iterations;
+          for (int correct = 0; correct < 3 && !Converged(candidate) &&
+                                iterations < max_iterations;
+               ++correct) {
+            bool ignored = false;
+            const Joints dc = Step(candidate, 1e-12, /*pull=*/false, limits,
+                                   &ignored);
+            Evaluate(Clamp(candidate.q + dc, limits), &corrected);
+            ++iterations;
+            if (!(corrected.cost < candidate.cost)) break;
+            std::swap(candidate, corrected);
+          }
+          // Near the end the change of |q - start|_W is rounding: a step
+          // is kept unless it moves away from the start.
+          improved = Converged(candidate) &&
+                     Change(candidate.q) <= change + 1e-12 * (1.0 + change);
+          alpha *= 0.25;
         }
-        break;
+        if (!improved) break;
+        std::swap(it, candidate);
+        continue;
       }
       bool accepted = false;
       for (int pass = 0; pass < 2 && !accepted; ++pass) {
         const bool pull = pass == 0;
-        if (pull && z_norm == 0.0) continue;
-        const Joints dq = Step(it, mu, pull, limits);
+        // The pull acts in the null space of J only as lambda -> 0; in the
+        // damped step it also leaks into the directions the Jacobian
+        // barely moves (sigma^2 ~ lambda), where it holds the iterate at a
+        // point short of the target. A chain with no spare joints has no
+        // null space to pull along: no pull at all (near a wrist
+        // singularity the pulled step crept for ~150 evaluations 2.5 mm
+        // from a UR10e pose target it then reached).
+        if (pull && (z_norm == 0.0 || !spare)) continue;
+        bool bounded = false;
+        const Joints dq = Step(it, mu, pull, limits, &bounded);
+        met_limit |= bounded;
         if (dq.norm() <= kTinyStep * (1.0 + it.q.norm())) continue;
         Evaluate(Clamp(it.q + dq, limits), &candidate);
-        ++*iterations;
+        ++iterations;
         if (candidate.cost < it.cost) {
           // Nielsen's damping update from the gain ratio.
           const Joints taken = candidate.q - it.q;
@@ -580,7 +798,7 @@ class IkSolver {
           nu = 2.0;
           if (stalled) mu = 1e30;  // no progress left: stop below
         }
-        if (*iterations >= options_.max_iterations) break;
+        if (iterations >= max_iterations) break;
       }
       if (!accepted) {
         mu = std::max(mu * nu, 1e-4);
@@ -588,7 +806,10 @@ class IkSolver {
       }
       if (mu > 1e8) break;
     }
-    *out = it;
+    out->last = it;
+    out->hit_cap = hit_cap;
+    out->met_limit = met_limit;
+    out->iterations = iterations;
   }
 
   const RobotModel& model_;
@@ -598,9 +819,9 @@ class IkSolver {
   std::unique_ptr<ChainEvaluator> evaluator_;
   Joints lower_, upper_;
   Joints period_;  // revolute joints: 2 pi / |gain|; 0 otherwise
+  Joints weight_;  // options_.joint_weights, or ones
   IkTarget target_;
   Joints start_;
-  Iterate current_;
 };
 
 }  // namespace
@@ -633,6 +854,8 @@ const char* IkStatusName(IkStatus status) {
       return "unreachable";
     case IkStatus::kInvalid:
       return "invalid";
+    case IkStatus::kIterationCap:
+      return "iteration_cap";
   }
   return "unknown";
 }
@@ -658,6 +881,19 @@ bool InverseKinematicsOptions::IsValid(std::string* error) const {
   if (max_iterations < 1) {
     return fail("max_iterations must be >= 1, got " +
                 std::to_string(max_iterations));
+  }
+  for (size_t j = 0; j < joint_weights.size(); ++j) {
+    if (!(joint_weights[j] > 0.0) || !std::isfinite(joint_weights[j])) {
+      return fail("joint_weights[" + std::to_string(j) +
+                  "] must be finite and > 0, got " + Number(joint_weights[j]));
+    }
+  }
+  if (restarts < 0) {
+    return fail("restarts must be >= 0, got " + std::to_string(restarts));
+  }
+  if (!(restart_spread_rad > 0.0) || !std::isfinite(restart_spread_rad)) {
+    return fail("restart_spread_rad must be finite and > 0, got " +
+                Number(restart_spread_rad));
   }
   if (!(singular_threshold >= 0.0) || !(singular_threshold < 1.0)) {
     return fail("singular_threshold must be in [0, 1), got " +

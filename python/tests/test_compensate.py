@@ -81,6 +81,31 @@ def test_compensate_bad_input(puma, calibrated):
         activecal.compensate(robot, targets=np.zeros((3, 2)))
     with pytest.raises(ValueError, match="match='pose' needs the target orientations"):
         activecal.compensate(robot, targets=np.zeros((3, 3)), match="pose")
+    # Issue 26: a NaN rotation vector was the identity, its target
+    # "converged"; every value given must be finite.
+    points = robot.forward(q)
+    rotations = np.zeros((3, 3))
+    for bad in (np.nan, np.inf, -np.inf):
+        r = rotations.copy()
+        r[1, 2] = bad
+        with pytest.raises(ValueError,
+                           match=r"rotations row 1: value 2 is not finite"):
+            activecal.compensate(robot, targets=points, rotations=r,
+                                 match="pose")
+        with pytest.raises(ValueError,
+                           match=r"rotations row 1: value 2 is not finite"):
+            activecal.compensate(robot, targets=points, rotations=r)
+        p = points.copy()
+        p[2, 0] = bad
+        with pytest.raises(ValueError,
+                           match=r"targets row 2: value 0 is not finite"):
+            activecal.compensate(robot, targets=p)
+        s = q.copy()
+        s[0, 3] = bad
+        with pytest.raises(ValueError, match=r"starts row 0: .*not finite"):
+            activecal.compensate(robot, targets=points, starts=s)
+        with pytest.raises(ValueError, match=r"program row 0: .*not finite"):
+            activecal.compensate(robot, program=s, nominal=puma)
     with pytest.raises(ValueError, match="compensate: unknown option 'tolerance'"):
         activecal.compensate(robot, program=q, nominal=puma, tolerance=1)
     ur10 = activecal.load_robot(str(PUMA).replace("puma560.yaml", "ur10.urdf"),

@@ -105,6 +105,19 @@ def test_integer_arguments_given_non_integers_raise_value_error(puma,
                        "float64"):
         activecal.select(puma, pool=pool, pool_indices=np.arange(25.),
                          num_poses=20)
+    # Issue 26: a pool's labels are integers >= 0, each once.
+    with pytest.raises(ValueError, match=r"pool_indices: pose_indices\[3\] "
+                       r"= -1: a pose label must be an integer"):
+        activecal.select(puma, pool=pool, num_poses=20,
+                         pool_indices=[0, 1, 2, -1] + list(range(4, 25)))
+    with pytest.raises(ValueError, match=r"pool_indices: pose_indices\[24\] "
+                       r"= 0, the same label as pose_indices\[0\]"):
+        activecal.select(puma, pool=pool, num_poses=20,
+                         pool_indices=list(range(24)) + [0])
+    with pytest.raises(ValueError, match=r"pose_indices\[0\] = -5: a pose "
+                       "label"):
+        activecal.compensate(puma, targets=np.array([[0.5, 0.2, 0.3]]),
+                             pose_indices=[-5])
     with pytest.raises(ValueError, match="target_rms_m: expected a number "
                        r"\(m\), got '1e-4'"):
         activecal.select(puma, pool=pool, criterion="task_rms",
@@ -175,9 +188,12 @@ def test_complex_and_out_of_range_inputs_are_value_errors(puma, measured):
     with pytest.raises(ValueError,
                        match="q: expected real numbers, got dtype complex128"):
         puma.forward(q)
-    with pytest.raises(ValueError, match=r"pool_size=1000000000000: the pool "
-                       r"needs at least .* GiB"):
+    with pytest.raises(ValueError, match=r"pool_size: a pool of 1000000000000 "
+                       r"poses needs at least .* GiB"):
         activecal.select(puma, pool="sobol", pool_size=10**12)
+    with pytest.raises(ValueError, match=r"levels=31: a pool of 887503681 "
+                       r"poses needs at least .* GiB"):
+        activecal.select(puma, levels=31)
     # polish_pool_size <= 0 means every pose, as the program's flag.
     a = activecal.select(puma, pool="sobol", pool_size=300, num_poses=20,
                          polish_pool_size=-1, certificate=False)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import activecal
-from conftest import PUMA, program, run
+from conftest import PUMA, SOURCE_DIR, program, run
 
 # Small and quick: a 3-level lattice (729 poses), few restarts.
 SMALL = dict(levels=3, num_poses=20, restarts=2)
@@ -176,6 +176,34 @@ def test_bad_input(puma):
     with pytest.raises(ValueError, match="the pool: .*auto_fix=True"):
         # One pose at the same place over and over identifies nothing.
         activecal.select(puma, pool=np.zeros((40, 6)), num_poses=10)
+
+
+@pytest.mark.parametrize("pool", ["lattice", "sobol", "random"])
+def test_a_continuous_joint_gets_a_pool_of_each_kind(pool):
+    # Issue 26, item 13: a robot with a continuous joint (the rail arm's j3)
+    # got no pool of any kind ("no finite range"). It takes one turn,
+    # [-pi, pi), the end left out (it is the start again).
+    robot = activecal.load_robot(
+        str(SOURCE_DIR / "tests" / "data" / "arm7_rail.urdf"), tip_link="tcp")
+    lo, hi = robot.joint_limits.T
+    continuous = np.flatnonzero(~np.isfinite(lo) & ~np.isfinite(hi))
+    assert list(continuous) == [3]
+    design = activecal.select(robot, pool=pool, levels=2, pool_size=500,
+                              parameter_set="offsets", num_poses=20,
+                              restarts=1, seed=1)
+    assert design.joint_angles.shape == (20, robot.num_joints)
+    assert len(set(design.pose_indices)) == 20
+    q = design.joint_angles[:, 3]
+    assert np.all(q >= -np.pi) and np.all(q < np.pi)
+    assert design.termination_type == "CONVERGENCE"
+    if pool == "lattice":
+        # Two levels over one turn: -180 and 0 deg, never +180 (= -180).
+        assert set(q) <= {-np.pi, 0.0}
+        assert ("joint 4 (j3) has no limits: its 2 levels cover one turn "
+                "from -180 deg (a continuous joint)") in design.notes
+        assert design.pool_size == 2 ** robot.num_joints
+    else:
+        assert design.pool_size == 500
 
 
 def test_task_design_with_measured_poses_and_target(puma, tmp_path):

@@ -108,6 +108,15 @@ def test_file_errors_name_the_file_and_line(puma, tmp_path):
     with pytest.raises(ValueError, match="pose_indices: expected 2 values"):
         activecal.write_poses(puma, str(tmp_path / "p.csv"), np.zeros((2, 6)),
                               [1, 2, 3])
+    # Issue 26: labels every reader refuses were written.
+    with pytest.raises(ValueError, match=r"pose_indices\[0\] = -1: a pose "
+                       r"label must be an integer in \[0, 9e15\]"):
+        activecal.write_poses(puma, str(tmp_path / "p.csv"), np.zeros((2, 6)),
+                              [-1, 2])
+    assert not (tmp_path / "p.csv").exists()
+    # A program may repeat a label (a pool may not).
+    activecal.write_poses(puma, str(tmp_path / "p.csv"), np.zeros((2, 6)),
+                          [3, 3])
     with pytest.raises(ValueError, match="cannot write"):
         activecal.write_poses(puma, str(tmp_path / "no" / "p.csv"),
                               np.zeros((2, 6)))

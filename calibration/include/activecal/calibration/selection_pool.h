@@ -64,6 +64,10 @@ struct SelectionPoolOptions {
   PoolStorage storage = PoolStorage::kDouble;
   int64_t max_double_pool_mib = 2048;
   bool reads_float = false;
+  // The memory the pool may take (bytes; <= 0: the machine's physical
+  // memory): a pool larger than this, once its parameters and storage are
+  // chosen, fails (USER_FAILURE) before its Jacobians are allocated.
+  double memory_limit_bytes = 0.0;
   ProgressCallback progress;  // the pool's Jacobians
   // If set, applied first: the reduction, the Jacobians and the
   // identifiability check see only the rows it keeps.
@@ -93,12 +97,39 @@ struct SelectionPoolSummary {
   std::vector<std::string> HeldFixed() const;
 };
 
+// The memory a selection pool holds (bytes): `pool_size` poses' joint
+// values (double) and their Jacobian blocks, MeasurementDimension(type)
+// rows of `num_parameters` columns per pose, in single or double precision.
+double SelectionPoolBytes(int64_t pool_size, int num_joints,
+                          MeasurementType type, int num_parameters,
+                          bool single_precision);
+
+// The machine's physical memory (bytes; 0 when it cannot be told).
+double PhysicalMemoryBytes();
+
+// The check made before a pool of `pool_size` poses of `model` is sampled
+// or a lattice listed, so that a pool too large is refused in one line
+// rather than a std::bad_alloc midway: true when the least such a pool can
+// take (SelectionPoolBytes with one single-precision column: the parameters
+// the design is for are known only after the reduction) fits in
+// `available_bytes` (<= 0: PhysicalMemoryBytes(); no check when that is 0);
+// otherwise false with one line in *error: "a pool of 100000000000 poses
+// needs at least 5.59e+03 GiB (joint values and one single-precision
+// Jacobian column per measurement row), more than this machine's 23.4 GiB
+// of memory". BuildSelectionPool checks the pool's exact size again once
+// its parameters and storage are chosen.
+bool CheckSelectionPoolSize(int64_t pool_size, const RobotModel& model,
+                            MeasurementType type, std::string* error,
+                            double available_bytes = 0.0);
+
 // Applies options.filter (if set), then applies and reduces
 // options.parameter_set on *model (its nominal becomes the analysis
 // point), chooses the storage and builds *pool at the rows kept with the
 // identifiability check. A filter that keeps no row is a FAILURE whose
 // message carries its note; so is a failed identifiability check, which
-// then names the filter's note too.
+// then names the filter's note too. A pool larger than
+// options.memory_limit_bytes once its parameters and storage are chosen is
+// a USER_FAILURE ("a pool of N poses needs X GiB (...), more than ...").
 bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& pool_joints,
                         const SelectionPoolOptions& options,
                         CandidatePool* pool, SelectionPoolSummary* summary);

@@ -26,7 +26,11 @@
 //   7. line of sight blocked
 //                       the segment from the device to the target, but for
 //                       its last line_of_sight_margin_m, crosses a link or
-//                       an obstacle (a beam of radius kBeamRadiusM)
+//                       an obstacle (a beam of radius kBeamRadiusM); a
+//                       convex shape (not a mesh) of the tip link's frame
+//                       that holds the target, or has it on its surface, is
+//                       the target's mount, not an occlusion of its beams
+//                       (a beam leaves a convex shape once, at the target)
 //
 // Steps 2-4 and 7 are per target: a target is seen when it passes them
 // all (mocap: at least min_cameras cameras pass them), and a pose passes
@@ -127,7 +131,7 @@ class CellChecker {
   // Builds the checker. False with a message for names the robot does not
   // have (skip pairs, joint margin overrides: "<file>:<line>:<col>:
   // <field>: ..."), a joint range narrower than twice its margin, more
-  // than 32 targets.
+  // than 32 targets or kMaxCellCameras cameras.
   bool Init(const RobotModel& model, const RobotCollisionModel& robot,
             const Cell& cell, std::string* error);
   // The full parameter vector the link frames are computed at (default:

@@ -70,14 +70,18 @@ struct CellCamera {
   double max_range_m = std::numeric_limits<double>::infinity();
 };
 
+// The most cameras a mocap device may have (the checks keep a bit per
+// camera).
+inline constexpr int kMaxCellCameras = 64;
+
 struct CellDevice {
   DeviceType type = DeviceType::kLaserTracker;
   // laser_tracker: the tracker head (m) and its range.
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double min_range_m = 0.0;
   double max_range_m = std::numeric_limits<double>::infinity();
-  // mocap: the cameras, of which at least min_cameras must see a target;
-  // camera: one.
+  // mocap: the cameras (at most kMaxCellCameras), of which at least
+  // min_cameras must see a target; camera: one.
   std::vector<CellCamera> cameras;
   int min_cameras = 1;
   // camera: the largest angle between a target's normal and the direction
@@ -106,6 +110,8 @@ struct Cell {
   // Where each override and each skip pair was given ("<file>:<line>:<col>:
   // <field>"), for messages about names the robot does not have.
   std::map<std::string, std::string> joint_margin_override_where;
+  // Where joint_margin_deg and joint_margin_m were given (empty: not).
+  std::string joint_margin_deg_where, joint_margin_m_where;
   // The least distance between the robot and an obstacle, and between two
   // links that are not adjacent (self_clearance_m: that of clearance_m
   // unless set).

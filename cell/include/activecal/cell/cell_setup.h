@@ -42,7 +42,9 @@ struct CellSetup {
   Cell cell;
   RobotCollisionModel collision;
   std::unique_ptr<CellChecker> checker;
-  // Lines worth printing: "the robot has no collision geometry: ...".
+  // Lines worth printing: "the robot has no collision geometry: ...",
+  // "self_clearance_m 0.05: links forearm_link and wrist_2_link are never
+  // that far apart ...".
   std::vector<std::string> notes;
 };
 
@@ -51,6 +53,15 @@ struct CellSetup {
 // file ("<file>:<line>:<col>: <field>: ...").
 bool SetUpCell(const CellSetupOptions& options, RobotDescription* robot,
                CellSetup* setup, std::string* error);
+
+// The pairs of links checked for self-collision that are closer than the
+// cell's self_clearance_m at every one of `samples` configurations drawn
+// uniformly inside the joint margins (a fixed seed; unbounded joints over
+// one turn), each with the largest distance seen: pairs that reject every
+// pose, e.g. two links next but one whose gap the intermediate joint does
+// not change. SetUpCell notes them.
+std::vector<PairDistance> SelfPairsAlwaysTooClose(const CellChecker& checker,
+                                                  int samples = 64);
 
 // The cell's targets as the robot's markers (see targets_as_markers); the
 // free flags of every new marker are those of the robot's first marker.

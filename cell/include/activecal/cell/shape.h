@@ -50,6 +50,13 @@ struct CollisionShape {
   void BoundingBall(Eigen::Vector3d* centre, double* radius) const;
 };
 
+// True when `point` (in the shape's own frame, m) lies inside the shape
+// grown by `grow_m` (strictly: with grow_m = 0 a point on the surface is
+// outside). A mesh: by the parity of the crossings of a ray (a closed
+// mesh; grow_m is not applied).
+bool PointInShape(const CollisionShape& shape, const Eigen::Vector3d& point,
+                  double grow_m = 0.0);
+
 // A capsule from point `from` to point `to` (m, in the parent frame) of
 // radius `radius_m`; a zero-length one is a ball.
 CollisionShape CapsuleBetween(const Eigen::Vector3d& from,

@@ -14,7 +14,8 @@
 // uniformity and moves the first point off the corner of the ranges).
 // Random points use Random (random.h). A revolute joint whose range spans a
 // full turn is sampled over one turn from its lower limit, as the lattice
-// does (lattice.h).
+// does (lattice.h); a continuous joint (no limits) over one turn from -pi,
+// [-pi, pi).
 
 #ifndef ACTIVECAL_CORE_JOINT_SAMPLING_H_
 #define ACTIVECAL_CORE_JOINT_SAMPLING_H_
@@ -35,9 +36,20 @@ enum class JointSampling {
 // "sobol" or "random"; false for another name.
 bool JointSamplingFromString(const std::string& name, JointSampling* sampling);
 
+// The interval [*low, *low + *width) a pool takes a joint's values from:
+// its range, both ends included (*one_turn false), for a range narrower
+// than a turn; one turn, its end left out (*one_turn true: it is the start
+// again), for a revolute joint whose range spans a turn or more (from its
+// lower limit) or is unbounded (a continuous joint: from -pi; bounded
+// above only: from upper - 2 pi; below only: from lower). False with the
+// reason in *why (naming the joint, 1-based j) for a prismatic joint
+// without a finite range.
+bool PoolJointRange(const RobotModel& model, int j, double* low, double* width,
+                    bool* one_turn, std::string* why);
+
 // `num_poses` poses (one per row, num_poses x num_joints) inside the joint
-// ranges. Returns false with a message when a range is not finite or
-// num_poses < 1.
+// ranges (PoolJointRange). Returns false with a message for a prismatic
+// joint without a finite range or num_poses < 1.
 bool SampleJointValues(const RobotModel& model, JointSampling sampling,
                        int64_t num_poses, uint64_t seed,
                        Eigen::MatrixXd* joints, std::string* error);

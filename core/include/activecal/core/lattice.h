@@ -23,8 +23,10 @@ class JointLattice {
   JointLattice() = default;
 
   // A lattice over the model's joint ranges with levels[j] values on joint j
-  // (every level count >= 2, every range finite). Returns false with a
-  // message on bad input.
+  // (every level count >= 2; a prismatic joint's range finite; a revolute
+  // joint without a finite range takes one turn as joint_sampling.h's
+  // PoolJointRange: a continuous joint -pi + 2 pi k / levels). Returns
+  // false with a message on bad input.
   static bool Create(const RobotModel& model, const std::vector<int>& levels,
                      JointLattice* lattice, std::string* error);
   // The same number of levels on every joint.
@@ -45,8 +47,13 @@ class JointLattice {
   // True for a revolute joint whose range spans a full turn so that levels
   // with both ends included would repeat an angle (limits of +-360 deg):
   // its levels then cover one turn from the lower limit, upper end left out
-  // (min + 2 pi k / levels), every one a different pose.
+  // (min + 2 pi k / levels), every one a different pose. Also true for a
+  // continuous joint (from -pi).
   bool one_turn(int joint) const { return one_turn_[joint] != 0; }
+  // What a user is told about each one-turn joint of a lattice over `model`,
+  // one line each (no prefix), e.g. "joint 4 (j3) has no limits: its 2
+  // levels cover one turn from -180 deg (a continuous joint)".
+  std::vector<std::string> OneTurnNotes(const RobotModel& model) const;
 
  private:
   std::vector<int> levels_;

@@ -13,9 +13,10 @@
 // it is then run directly (posix_spawnp, PATH searched), never by a shell:
 // pipes, redirections and ';' are refused with a hint to ask for a shell
 // ("sh -c '...'") explicitly. The child inherits stderr, so what the driver
-// prints there reaches the user. Writing to a driver that has exited must
-// not kill activecal: opening a connection sets SIGPIPE to be ignored in
-// the process when it was at its default.
+// prints there reaches the user. Writing to a driver that has exited is an
+// error ("Broken pipe"), never a SIGPIPE: the signal is blocked for each
+// write and one it raised is consumed, so the process's own disposition of
+// SIGPIPE is left alone (a program piped into `head` still ends with it).
 
 #ifndef ACTIVECAL_DRIVER_CONNECTION_H_
 #define ACTIVECAL_DRIVER_CONNECTION_H_
@@ -51,11 +52,15 @@ class LineChannel {
   bool WriteLine(const std::string& line, std::string* error);
   // Closes the write side (the other side then reads end of file).
   void CloseWrite();
+  // Closes the read side (the other side's writes then fail: a driver
+  // flooding its stdout ends); ReadLine then returns kClosed.
+  void CloseRead();
 
  private:
   int read_fd_;
   int write_fd_;
   std::string buffer_;
+  size_t scanned_ = 0;  // bytes of buffer_ known to hold no newline
 };
 
 // A running driver: a child process or a TCP connection.
@@ -69,9 +74,9 @@ class DriverConnection {
   // signal 9", "closed the connection"), waiting up to wait_s seconds for
   // a child to finish exiting.
   virtual std::string WhyClosed(double wait_s) = 0;
-  // Ends the connection: closes activecal's side, waits up to wait_s
-  // seconds for a child to exit, then terminates it (SIGTERM, then
-  // SIGKILL). Returns a note when it had to, else "".
+  // Ends the connection: closes activecal's side (both pipes of a child),
+  // waits up to wait_s seconds for a child to exit, then terminates it
+  // (SIGTERM, then SIGKILL). Returns a note when it had to, else "".
   virtual std::string Shutdown(double wait_s) = 0;
 };
 

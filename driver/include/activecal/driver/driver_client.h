@@ -34,7 +34,8 @@ struct DriverClientOptions {
   // or tcp://HOST:PORT.
   std::string driver;
   // The longest wait for any reply (s), > 0: the hello and every
-  // measurement (a move, the settling and the tracker's reading).
+  // measurement (a move, the settling and the tracker's reading). Blank
+  // lines the driver writes meanwhile do not restart it.
   double timeout_s = 60.0;
 
   bool IsValid(std::string* error) const;

@@ -80,10 +80,11 @@ struct ControllerProgramOptions {
   std::string name = "activecal_poses";
   // The wait at each pose for the measurement (s), >= 0.
   double wait_s = 2.0;
-  // Joint speed and acceleration, as a fraction of the controller's
-  // maximum (URScript movej: a and v of 1.4 rad/s^2 and 1.05 rad/s scaled;
-  // KRL $VEL_AXIS / $ACC_AXIS in percent; RAPID a speeddata of v100 x 10
-  // x fraction), in (0, 1].
+  // Joint speed and acceleration as a fraction, in [0.01, 1]: of movej's
+  // defaults for URScript (a = 1.4 rad/s^2, v = 1.05 rad/s, themselves
+  // below a UR's maximum), of every axis's maximum for KRL (BAS(#VEL_PTP),
+  // BAS(#ACC_PTP) and, for joints 7 to 12, $VEL_EXTAX, $ACC_EXTAX, in
+  // whole percent), of v1000 for RAPID (VelSet).
   double speed_fraction = 0.1;
   std::string comment;  // one line, written as a comment at the top
 
@@ -92,8 +93,9 @@ struct ControllerProgramOptions {
 
 // The program: a move to each pose of `poses` in order (its pose_indices in
 // a comment), each followed by the wait. Values are written to 1e-9 (rad,
-// m) or 1e-6 (deg, mm). False with *error for bad options, a convention
-// of another joint count, or more joints than the language holds.
+// m) or 1e-6 (deg, mm), a pose at a joint limit at or inside it (rounded
+// toward the range). False with *error for bad options, a convention of
+// another joint count, or more joints than the language holds.
 bool ControllerProgramText(const RobotModel& model,
                            const ControllerConvention& convention,
                            const PoseList& poses,

@@ -56,9 +56,22 @@ struct PoseList {
   std::vector<int64_t> pose_indices;  // from pose_index, or 0, 1, 2, ...
 };
 
+// The largest pose label the readers take (labels are integers in
+// [0, kMaxPoseIndex], written in full).
+inline constexpr int64_t kMaxPoseIndex = 9000000000000000;
+
+// Labels a file can hold: each in [0, kMaxPoseIndex] and, with `unique`
+// (the labels of a pool, which name its poses), no two the same. False
+// with one line naming the first bad entry: "pose_indices[2] = -1: ...".
+// Check labels with it before PosesCsvText (and TargetsCsvText) writes
+// them: every reader refuses a file with others.
+bool CheckPoseIndices(const std::vector<int64_t>& labels, bool unique,
+                      std::string* error);
+
 std::string PosesCsvText(const RobotModel& model, const PoseList& poses);
-// Checks each pose against the joint limits; with reject_duplicates, two
-// identical poses are an error naming both lines.
+// Checks each pose against the joint limits; with reject_duplicates (a
+// pool), two identical poses or two rows of the same pose_index are an
+// error naming both lines.
 bool ParsePosesCsv(const std::string& text, const std::string& source,
                    const RobotModel& model, bool reject_duplicates,
                    PoseList* poses, std::string* error);

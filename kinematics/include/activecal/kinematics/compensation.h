@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "activecal/core/robot_model.h"
-#include "activecal/io/targets_csv.h"
 #include "activecal/core/types.h"
+#include "activecal/io/targets_csv.h"
 #include "activecal/kinematics/inverse_kinematics.h"
 
 namespace activecal {
@@ -77,6 +77,7 @@ struct CompensationSummary {
   int num_limit = 0;
   int num_unreachable = 0;
   int num_invalid = 0;
+  int num_iteration_cap = 0;
   // Over the targets: largest position error (m) and rotation error (rad)
   // left, largest change of any joint (rad or m), RMS of the per-target
   // Euclidean joint change.
@@ -116,7 +117,9 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
                        CompensationSummary* summary);
 
 // The targets of a targets CSV: points, and rotations from the rotation
-// vectors (identity when the file has none).
+// vectors (identity when the file has none). A non-finite rotation vector
+// gives a non-finite rotation, which the solver reports invalid ("the
+// target is not finite").
 std::vector<IkTarget> IkTargetsFromList(const TargetList& list);
 
 // The poses CSV (csv_files.h: pose_index, q<j>_rad or _m, q<j>_deg or _mm)

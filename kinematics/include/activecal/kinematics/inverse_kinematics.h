@@ -19,14 +19,34 @@
 // (kinematics.h). The step is the damped minimum-norm step towards the
 // target plus, in the null space, a pull back to the start:
 //
-//   dq = J^T (J J^T + lambda I)^-1 (r + J z) - z,   z = q - q_start,
+//   dq = W^-1 J^T (J W^-1 J^T + lambda I)^-1 (r + J z) - z,
+//   z = q - q_start,  W = diag(joint_weights),
 //
 // which, as lambda -> 0, converges to the solution closest to the start
-// (min |q - q_start| subject to reaching the target). A redundant arm
+// (min |q - q_start|_W subject to reaching the target, |x|_W^2 =
+// sum_j w_j x_j^2). A chain without spare joints has no null space and
+// takes no pull (in a damped step the pull leaks into directions the
+// Jacobian barely moves and holds the iterate short of the target). A
+// redundant arm
 // (7 axes, or a 6-axis arm matched on position only) therefore stays on the
-// start's branch instead of jumping to another. Joints at a limit whose
-// step points outward are held; every iterate is clamped to the limits, so
-// the configuration returned is always inside them.
+// start's branch instead of jumping to another. With the joint limits each
+// step is the minimiser of the same damped merit subject to the limits
+// (a box-constrained least squares, solved exactly by an active-set
+// method), so the configuration returned is always inside them.
+//
+// The smallest joint change, with limits: the run inside the limits and,
+// when it does not reach the target or meets a limit on the way, a run
+// without them are the candidates; each revolute joint of each is turned
+// by whole periods (2 pi / |gain|) to the equivalent value inside its
+// limits nearest the start (a UR's +-2 pi joints, a joint of range exactly
+// 2 pi, a continuous joint), and of the candidates that reach the target
+// the one of smallest weighted change |q - q_start|_W is returned. When
+// that best candidate still turns a joint by more than half a turn,
+// `restarts` more runs inside the limits from points spread around the
+// start look for other solutions (another branch of the arm, close to the
+// start near a singularity) of smaller change. A joint is therefore turned
+// a whole turn only when no solution inside the limits of smaller change
+// was found.
 //
 // Units: metres and radians; joint values in SI (rad, or m for prismatic
 // joints). Rotation residual: the rotation vector of R_target R(q)^T (rad),
@@ -35,13 +55,19 @@
 // Status of each solve:
 //   converged    position (and rotation) error within tolerance at a
 //                well-conditioned configuration
-//   singular     the target is reached (or the iteration cap was hit) at a
-//                configuration whose Jacobian is rank-deficient
+//   singular     the target is reached at a configuration whose Jacobian
+//                is rank-deficient
 //                (sigma_min / sigma_max < singular_threshold): nearby
 //                targets may need large joint motions
 //   limit        not reached inside the joint limits, but reached when the
 //                limits are lifted: the solution near the start lies beyond
 //                a limit (message names the joint and value)
+//   iteration_cap
+//                not reached when max_iterations Jacobian evaluations were
+//                used up (the error was still falling, or the solver was
+//                crawling along a near-singular direction); the
+//                configuration reached is returned, and a larger
+//                max_iterations may reach the target
 //   unreachable  the error stays above tolerance: the target is out of
 //                the robot's reach (outside the workspace, or an
 //                orientation it cannot take); the closest configuration
@@ -53,6 +79,7 @@
 #define ACTIVECAL_KINEMATICS_INVERSE_KINEMATICS_H_
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -71,9 +98,17 @@ const char* IkMatchName(IkMatch match);
 // Parses "position" or "pose"; false otherwise.
 bool ParseIkMatch(const std::string& text, IkMatch* match);
 
-enum class IkStatus { kConverged, kSingular, kLimit, kUnreachable, kInvalid };
+enum class IkStatus {
+  kConverged,
+  kSingular,
+  kLimit,
+  kUnreachable,
+  kInvalid,
+  kIterationCap,
+};
 
-// "converged", "singular", "limit", "unreachable", "invalid".
+// "converged", "singular", "limit", "unreachable", "invalid",
+// "iteration_cap".
 const char* IkStatusName(IkStatus status);
 
 // A target for the marker, in the device's frame (the base frame's parent).
@@ -94,8 +129,22 @@ struct InverseKinematicsOptions {
   double rotation_tolerance_rad = 1e-9;
   // Metres per radian of orientation error in the merit (kPose).
   double rotation_weight_m = 1.0;
-  // Iterations of Levenberg-Marquardt (each one Jacobian evaluation).
+  // Jacobian evaluations per run of Levenberg-Marquardt (a solve makes
+  // one run inside the limits, one without them when the first met a
+  // limit, and the restarts, each of at most min(max_iterations, 30));
+  // InverseKinematicsResult::iterations counts them all.
   int max_iterations = 100;
+  // The weight of each joint in the joint change |q - q_start|_W^2 =
+  // sum_j w_j (q_j - q_start_j)^2 that the solver minimises and the
+  // candidates are ranked by (per rad, or per m for a prismatic joint).
+  // Empty: 1 each (rad and m alike); otherwise num_joints() values > 0.
+  std::vector<double> joint_weights;
+  // When the best solution found turns a revolute joint by more than half
+  // a turn from the start: this many more runs inside the limits, from
+  // starts with each revolute joint moved by up to restart_spread_rad
+  // (a Halton sequence: deterministic), for a solution of smaller change.
+  int restarts = 24;
+  double restart_spread_rad = M_PI;
   // sigma_min / sigma_max of the (weighted) Jacobian below which a
   // configuration counts as singular.
   double singular_threshold = 1e-6;
