@@ -7,17 +7,26 @@
 // --session every answer and the loop's state are kept on disk as they
 // come, and --resume continues after a crash. With --compare (simulation),
 // one-shot designs of the same total size (D-optimal and task-optimal at
-// nominal, random) are measured and identified too.
+// nominal, random) are measured and identified too. With --cell every
+// batch is chosen from the poses the cell can run (joint margins,
+// collisions, the device's range and view of the targets).
 
 #include <gflags/gflags.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "activecal/calibration/active_loop.h"
 #include "activecal/calibration/active_session.h"
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/cell/cell_setup.h"
+#include "activecal/cell/pool_filter.h"
+#include "activecal/cell/tour.h"
 #include "activecal/core/random.h"
 #include "activecal/driver/driver_client.h"
 #include "activecal/io/robot_file.h"
@@ -65,6 +74,20 @@ DEFINE_bool(resume, false,
             "Continue the session in --session after a crash (of activecal "
             "or of the driver), without measuring again what it holds.");
 DEFINE_bool(verbose, false, "One line per measurement.");
+DEFINE_string(cell, "",
+              "Cell file (YAML, docs/formats.md): joint margins, clearance, "
+              "obstacles, the device and the targets. Every batch is chosen "
+              "from the pool poses the cell can run; without --frames the "
+              "cell's targets are the markers.");
+DEFINE_string(order, "none",
+              "none: each batch's poses in the design's order; shortest: "
+              "a short tour in joint space (time at the URDF's velocity "
+              "limits, nearest neighbour + 2-opt, as activecal_select), "
+              "run from the end nearer the last pose measured; with --cell "
+              "every move of the tour checked for collisions.");
+DEFINE_double(order_resolution_deg, 1.0,
+              "--order=shortest with --cell: a move is checked at joint "
+              "steps of at most this (deg; mm for prismatic joints).");
 DEFINE_string(program_out, "",
               "Also write the measured poses, in measuring order, as a "
               "program for the controller (docs/driver_protocol.md).");
@@ -200,7 +223,21 @@ void PrintRound(int r, const ActiveRound& a, double seconds) {
 
 int Main() {
   const int64_t start_ns = app::NowNs();
-  const RobotDescription robot = app::LoadRobotOrDie();
+  RobotDescription robot = app::LoadRobotOrDie();
+  // The cell: its checks, and its targets as the markers unless --frames
+  // gives them (before the truth is read: the markers' true values come
+  // with them).
+  const bool with_cell = !FLAGS_cell.empty();
+  const CellSetup cell =
+      with_cell ? app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot)
+                : CellSetup();
+  std::string cell_text;
+  if (with_cell) {
+    std::ifstream in(FLAGS_cell, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    cell_text = text.str();
+  }
   const bool simulate = FLAGS_driver.empty();
   const bool truth_known =
       robot.true_parameters.size() == robot.model.num_parameters();
@@ -221,6 +258,12 @@ int Main() {
         "--compare simulates one-shot designs from the true values: not "
         "with --driver");
   }
+  if (FLAGS_order != "none" && FLAGS_order != "shortest") {
+    app::Fail("--order must be none or shortest, got '" + FLAGS_order + "'");
+  }
+  if (!(FLAGS_order_resolution_deg > 0)) {
+    app::Fail("--order_resolution_deg must be > 0");
+  }
   if (FLAGS_resume && FLAGS_session.empty()) {
     app::Fail("--resume continues a --session: name its directory");
   }
@@ -232,10 +275,38 @@ int Main() {
   }
   const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
   const Eigen::MatrixXd joints = lattice.AllJointValues();
+  // The preprocess: the cell's checks of every pool pose, once; the loop
+  // designs every batch (and every repair) from the feasible ones.
+  PoolFilterSummary feasibility;
+  if (with_cell) {
+    PoolFilterOptions o;
+    o.num_threads = FLAGS_threads;
+    {
+      app::ProgressLine line("cell checks");
+      o.progress = line.callback();
+      if (!FilterPool(*cell.checker, joints, o, &feasibility)) {
+        app::Fail("--cell: " + feasibility.message);
+      }
+    }
+    // As activecal_select: one line with the counts per reason.
+    if (feasibility.num_feasible() == 0) {
+      app::Fail("--cell: no pose of the pool is left: " +
+                FeasibleNote(*cell.checker, feasibility));
+    }
+    if (feasibility.num_feasible() < FLAGS_first_batch) {
+      app::Fail("--first_batch=" + std::to_string(FLAGS_first_batch) +
+                ": the feasible pool has only " +
+                FeasibleNote(*cell.checker, feasibility));
+    }
+    std::printf("  %s", feasibility.BriefReport(*cell.checker).c_str());
+  }
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
-    model =
-        WithFreeSet(model, app::ReducedParameterSetOrDie(model, urdf, joints));
+    // Reduced to what the poses the loop may design separate.
+    model = WithFreeSet(
+        model, app::ReducedParameterSetOrDie(
+                   model, urdf,
+                   with_cell ? feasibility.FeasibleJoints(joints) : joints));
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
       model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
@@ -249,6 +320,11 @@ int Main() {
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
   options.true_parameters = truth;
+  if (with_cell) {
+    options.pool_filter = [&feasibility](int64_t i) {
+      return feasibility.verdicts[i].feasible();
+    };
+  }
   std::string error;
   if (!options.IsValid(&error)) {
     // The options' names are the flags' but for sigma_m (--noise_m).
@@ -261,7 +337,7 @@ int Main() {
   if (!FLAGS_session.empty()) {
     RobotFileOptions robot_text;
     robot_text.true_parameters = truth;
-    const SessionIdentity identity = {
+    SessionIdentity identity = {
         {"robot", model.name},
         {"robot_hash", std::to_string(Fnv1a(
                            RobotFileText(model, model.nominal, robot_text)))},
@@ -275,6 +351,12 @@ int Main() {
         {"seed", std::to_string(FLAGS_seed)},
         {"nominal_error_scale", Text(FLAGS_nominal_error_scale)},
     };
+    // The cell decides which poses may be designed: "none", or its
+    // file's content.
+    identity.push_back({"order", FLAGS_order});
+    identity.push_back({"cell", with_cell ? "with content hash " +
+                                                std::to_string(Fnv1a(cell_text))
+                                          : "none"});
     if (!ActiveSession::Open(FLAGS_session, FLAGS_resume, model, identity,
                              &session, &error)) {
       app::Fail(error);
@@ -317,6 +399,62 @@ int Main() {
     *out = s.design;
     return true;
   };
+  // --order=shortest: the new poses of each batch as a tour, run from the
+  // end nearer the last pose measured (the fixed poses of a repair are
+  // measured already).
+  const bool ordered = FLAGS_order == "shortest";
+  TourOptions tour_options;
+  if (ordered) {
+    UrdfChainOptions chain;
+    chain.base_link = FLAGS_base_link;
+    chain.tip_link = FLAGS_tip_link;
+    tour_options.velocity_limits =
+        RobotVelocityLimits(FLAGS_robot, chain, model);
+    tour_options.resolution_rad = FLAGS_order_resolution_deg * M_PI / 180.0;
+    tour_options.resolution_m = FLAGS_order_resolution_deg * 1e-3;
+    tour_options.check_moves = with_cell;
+  }
+  double tour_before_s = 0.0, tour_after_s = 0.0;
+  int tours = 0, blocked_moves = 0;
+  auto order_batch = [&](const BatchRequest& request,
+                         std::vector<int64_t>* batch, std::string* why) {
+    std::vector<int64_t> fixed, fresh;
+    for (int64_t i : *batch) {
+      const bool is_fixed =
+          std::find(request.fixed.begin(), request.fixed.end(), i) !=
+          request.fixed.end();
+      (is_fixed ? fixed : fresh).push_back(i);
+    }
+    if (fresh.size() < 2) return true;
+    Eigen::MatrixXd q(fresh.size(), joints.cols());
+    for (size_t k = 0; k < fresh.size(); ++k) q.row(k) = joints.row(fresh[k]);
+    TourSummary tour;
+    if (!OrderTour(with_cell ? cell.checker.get() : nullptr, q, tour_options,
+                   &tour)) {
+      *why = "--order=shortest: " + tour.message;
+      return false;
+    }
+    std::vector<int64_t> run;
+    for (int k : tour.order) run.push_back(fresh[k]);
+    const int64_t last = !request.fixed.empty()      ? request.fixed.back()
+                         : !request.measured.empty() ? request.measured.back()
+                                                     : -1;
+    if (last >= 0) {
+      const Eigen::VectorXd from = joints.row(last).transpose();
+      if (MoveTime(from, joints.row(run.back()).transpose(), tour.velocities) <
+          MoveTime(from, joints.row(run.front()).transpose(),
+                   tour.velocities)) {
+        std::reverse(run.begin(), run.end());
+      }
+    }
+    tour_before_s += tour.time_before_s;
+    tour_after_s += tour.time_after_s;
+    blocked_moves += static_cast<int>(tour.blocked_moves.size());
+    ++tours;
+    *batch = fixed;
+    batch->insert(batch->end(), run.begin(), run.end());
+    return true;
+  };
   BatchSelector select = [&](const CandidatePool& pool,
                              const Eigen::MatrixXd& W, const RowMatrixXd& prior,
                              const BatchRequest& request,
@@ -324,10 +462,11 @@ int Main() {
     DesignConstraints c;
     c.fixed = request.fixed;
     c.excluded = request.excluded;
-    if (request.round == 0) {
-      return d_optimal(pool, request.num_poses, c, batch, why);
-    }
-    return task_optimal(pool, W, prior, c, request.num_poses, batch, why);
+    const bool chosen =
+        request.round == 0
+            ? d_optimal(pool, request.num_poses, c, batch, why)
+            : task_optimal(pool, W, prior, c, request.num_poses, batch, why);
+    return chosen && (!ordered || order_batch(request, batch, why));
   };
 
   // The measurers: the cell (or the simulation), the session's log around
@@ -426,6 +565,37 @@ int Main() {
   for (const ActiveRound& a : summary.rounds)
     j["rounds"].push_back(RoundJson(a));
   j["measured_pose_indices"] = summary.measured;
+  if (ordered) {
+    // Summed over the batches' tours (the moves between batches not
+    // counted).
+    const std::string checked =
+        with_cell ? ", " + std::to_string(blocked_moves) + " blocked moves left"
+                  : " (moves not checked for collisions: no --cell)";
+    std::printf(
+        "  --order=shortest: %d batch tours, estimated motion time %.4g s "
+        "-> %.4g s%s\n",
+        tours, tour_before_s, tour_after_s, checked.c_str());
+    j["order"] = "shortest";
+    j["tour"] = {{"batches", tours},
+                 {"motion_time_before_s", tour_before_s},
+                 {"motion_time_after_s", tour_after_s},
+                 {"moves_checked", with_cell},
+                 {"resolution_deg", FLAGS_order_resolution_deg},
+                 {"blocked_moves", blocked_moves}};
+  }
+  if (with_cell) {
+    // The preprocess, and the targets each measured pose sees.
+    j["cell"] = FLAGS_cell;
+    j.update(CellPoolJson(cell.cell, feasibility));
+    if (!cell.cell.targets.empty()) {
+      nlohmann::json seen = nlohmann::json::array();
+      for (int64_t i : summary.measured) {
+        seen.push_back(
+            TargetsSeenJson(cell.cell, feasibility.verdicts[i].targets_seen));
+      }
+      j["targets_seen"] = seen;
+    }
+  }
   j["excluded_poses"] = nlohmann::json::array();
   for (const ExcludedPose& e : summary.excluded) {
     j["excluded_poses"].push_back({{"pose_index", e.pose},

@@ -1,6 +1,8 @@
 // activecal_compensate: rewrites a robot program so that the real robot,
 // described by a calibrated model, reaches where the program meant
-// ("filtering"). See residuals/.../compensation.h for what a program means.
+// ("filtering"). See kinematics/.../compensation.h for what a program
+// means. With --cell a compensated configuration the robot cannot run in
+// the cell (a collision, a joint margin left) gets status collision.
 
 #include <gflags/gflags.h>
 
@@ -10,6 +12,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/cell/cell_setup.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/targets_csv.h"
@@ -60,6 +64,12 @@ DEFINE_double(singular_threshold, 1e-6,
               "sigma_min / sigma_max of the Jacobian below which a "
               "configuration is reported singular.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
+DEFINE_string(cell, "",
+              "Cell file (YAML, docs/formats.md): a compensated "
+              "configuration that leaves a joint margin or collides (with "
+              "itself or an obstacle, closer than the clearances) gets "
+              "status collision, the first reason in its message. Checked "
+              "on the calibrated model (--robot).");
 
 namespace activecal {
 namespace {
@@ -126,8 +136,16 @@ int Main() {
                  FLAGS_robot.c_str(), tip.c_str());
   }
 
-  const RobotDescription robot = app::LoadRobotOrDie();
+  RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
+  // The cell, on the calibrated robot with its own markers (the program
+  // places them; the cell's targets are for measuring).
+  const CellSetup cell =
+      FLAGS_cell.empty()
+          ? CellSetup()
+          : app::SetUpCellOrDie(FLAGS_cell, /*targets_as_markers=*/false,
+                                &robot);
+  if (cell.checker) options.check = CellCompensationCheck(*cell.checker);
   options.ik.marker = model.MarkerIndex(FLAGS_marker);
   if (options.ik.marker < 0) {
     app::Fail("--marker: '" + FLAGS_marker + "' is not a marker of robot '" +
@@ -215,6 +233,8 @@ int Main() {
     j["num_unreachable"] = summary.num_unreachable;
     j["num_invalid"] = summary.num_invalid;
     j["num_iteration_cap"] = summary.num_iteration_cap;
+    j["num_collision"] = summary.num_collision;
+    if (!FLAGS_cell.empty()) j["cell"] = FLAGS_cell;
     j["max_position_error_m"] = summary.max_position_error_m;
     j["max_rotation_error_rad"] = summary.max_rotation_error_rad;
     j["max_joint_change"] = summary.max_joint_change;

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <string>
 
+#include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
@@ -142,15 +143,6 @@ std::string Number(double x, int digits) {
   return buffer;
 }
 
-// The targets seen per pose as names.
-nlohmann::json TargetsSeen(const Cell& cell, uint32_t seen) {
-  nlohmann::json names = nlohmann::json::array();
-  for (size_t t = 0; t < cell.targets.size(); ++t) {
-    if (seen & (1u << t)) names.push_back(cell.targets[t].name);
-  }
-  return names;
-}
-
 int Main() {
   const int64_t start = app::NowNs();
   RobotDescription robot = app::LoadRobotOrDie();
@@ -171,22 +163,10 @@ int Main() {
   chain.tip_link = FLAGS_tip_link;
   // The cell: its checks, and its targets as the markers unless --frames
   // gives them.
-  CellSetup cell;
   const bool with_cell = !FLAGS_cell.empty();
-  if (with_cell) {
-    CellSetupOptions cell_options;
-    cell_options.cell_path = FLAGS_cell;
-    cell_options.robot_path = FLAGS_robot;
-    cell_options.chain = chain;
-    cell_options.targets_as_markers = FLAGS_frames.empty();
-    std::string error;
-    if (!SetUpCell(cell_options, &robot, &cell, &error)) {
-      app::Fail("--cell: " + error);
-    }
-    for (const std::string& note : cell.notes) {
-      std::printf("  --cell: note: %s\n", note.c_str());
-    }
-  }
+  const CellSetup cell =
+      with_cell ? app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot)
+                : CellSetup();
   RobotModel model = robot.model;
   MeasurementType type;
   if (!ParseMeasurementType(FLAGS_measurement, &type) ||
@@ -214,6 +194,16 @@ int Main() {
   }
   MeasurablePoolSummary measurable_summary;
   const bool from_lattice = FLAGS_pool_csv.empty() && !sampled && !measurable;
+  // --pool_size sizes a drawn pool only: with the lattice (or a CSV) it was
+  // silently ignored, so --pool_size=100000000000 exited 0 (issue 26).
+  if (!sampled && !measurable &&
+      !gflags::GetCommandLineFlagInfoOrDie("pool_size").is_default) {
+    app::Fail("--pool_size sizes a --pool=sobol, random or measurable pool; " +
+              std::string(from_lattice ? "the lattice has --levels poses per "
+                                         "joint"
+                                       : "--pool_csv has its rows") +
+              ": give --pool or drop --pool_size");
+  }
   // A pool too large for memory is refused before it is listed (it was a
   // std::bad_alloc), by the check the Python module uses (for a lattice in
   // MakeLatticeOrDie).
@@ -305,16 +295,7 @@ int Main() {
       o.num_threads = FLAGS_threads;
       app::ProgressLine line("cell checks");
       o.progress = line.callback();
-      if (!FilterPool(*cell.checker, joints, o, &feasibility)) {
-        *note = feasibility.message;
-        return false;
-      }
-      *kept = feasibility.feasible;
-      *note =
-          std::to_string(feasibility.num_feasible()) + " of " +
-          std::to_string(feasibility.num_poses) +
-          " poses feasible; rejected: " + feasibility.CountsText(*cell.checker);
-      return true;
+      return CellPoolFilter(*cell.checker, o, &feasibility)(joints, kept, note);
     };
   }
   CandidatePool pool;
@@ -619,26 +600,12 @@ int Main() {
       // The preprocess: what the cell kept and why the rest went.
       j["cell"] = FLAGS_cell;
       j["drawn_pool_size"] = drawn_pool_size;
-      j["feasible_poses"] = feasibility.num_feasible();
-      nlohmann::json rejected;
-      for (int r = 1; r < kNumRejectionReasons; ++r) {
-        const RejectionReason reason = static_cast<RejectionReason>(r);
-        if (reason == RejectionReason::kObstacle) {
-          nlohmann::json by_obstacle = nlohmann::json::object();
-          for (size_t o = 0; o < cell.cell.obstacles.size(); ++o) {
-            by_obstacle[cell.cell.obstacles[o].name] =
-                feasibility.rejected_by_obstacle[o];
-          }
-          rejected["obstacle"] = by_obstacle;
-        } else {
-          rejected[RejectionReasonToString(reason)] = feasibility.rejected[r];
-        }
-      }
-      j["rejected"] = rejected;
+      j.update(CellPoolJson(cell.cell, feasibility));
       if (!cell.cell.targets.empty()) {
         nlohmann::json seen = nlohmann::json::array();
         for (int64_t i : summary.design) {
-          seen.push_back(TargetsSeen(cell.cell, feasibility.targets_seen[i]));
+          seen.push_back(
+              TargetsSeenJson(cell.cell, feasibility.targets_seen[i]));
         }
         j["targets_seen"] = seen;
       }

@@ -103,6 +103,23 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels,
   return lattice;
 }
 
+CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
+                         RobotDescription* robot) {
+  CellSetupOptions options;
+  options.cell_path = cell_path;
+  options.robot_path = FLAGS_robot;
+  options.chain.base_link = FLAGS_base_link;
+  options.chain.tip_link = FLAGS_tip_link;
+  options.targets_as_markers = targets_as_markers;
+  CellSetup cell;
+  std::string error;
+  if (!SetUpCell(options, robot, &cell, &error)) Fail("--cell: " + error);
+  for (const std::string& note : cell.notes) {
+    std::printf("  --cell: note: %s\n", note.c_str());
+  }
+  return cell;
+}
+
 RobotDescription LoadRobotOrDie() {
   RobotDescription robot;
   if (FLAGS_robot.empty()) {

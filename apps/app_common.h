@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "activecal/calibration/pool_builder.h"
+#include "activecal/cell/cell_setup.h"
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
@@ -49,6 +50,14 @@ namespace app {
 // paper (with its true values) when --robot is empty. Dies with
 // file:line:field on errors.
 RobotDescription LoadRobotOrDie();
+
+// The cell file `cell_path` (a program's --cell) on *robot, with --robot's
+// collision geometry (--base_link, --tip_link); the cell's targets become
+// the markers when targets_as_markers. Prints the setup's notes
+// ("  --cell: note: ..."); dies with "--cell: <file>:<line>:<col>: <field>:
+// ..." on errors.
+CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
+                         RobotDescription* robot);
 
 // The parameter set of --parameter_set (default: full for a URDF robot,
 // file otherwise). Dies on an unknown name. (app_parameter_set.cc)

@@ -34,9 +34,11 @@
 
 #include "activecal/calibration/calibrate.h"
 #include "activecal/calibration/calibration_report.h"
+#include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
+#include "activecal/cell/cell_setup.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
@@ -245,6 +247,13 @@ struct Robot {
   const RobotModel& model() const { return description.model; }
 };
 using RobotPtr = std::shared_ptr<Robot>;
+
+// design.cc: the cell of the kwarg cell= (a path; None or absent: null),
+// set up by the library (SetUpCell) on the robot as loaded, its markers
+// kept; the notes of the setup appended to *notes. A ValueError
+// "cell: <file>:<line>:<col>: <field>: ..." for a bad cell file.
+std::unique_ptr<CellSetup> CellArg(const Robot& robot, const py::kwargs& kwargs,
+                                   std::vector<std::string>* notes);
 
 inline Eigen::VectorXd ParametersArg(const Robot& robot,
                                      const py::object& obj) {

@@ -1,4 +1,6 @@
-// The Python module `activecal`: compensate.
+// The Python module `activecal`: compensate; with cell= a configuration the
+// cell refuses is a collision (cell_planning.h), as activecal_compensate
+// --cell.
 
 #include "common.h"
 
@@ -44,8 +46,10 @@ std::shared_ptr<CompensationResult> CompensatePy(
     const std::string& match, int marker, double position_tolerance_m,
     double rotation_tolerance_rad, double rotation_weight_m, int max_iterations,
     double singular_threshold, int num_threads, const py::kwargs& kwargs) {
-  NoUnknownOptions("compensate", kwargs);
+  NoUnknownOptions("compensate", kwargs, {"cell"});
   const RobotModel& model = robot->model();
+  std::vector<std::string> cell_notes;
+  const std::unique_ptr<CellSetup> cell = CellArg(*robot, kwargs, &cell_notes);
   if (program.is_none() == targets.is_none()) {
     Fail(
         "give exactly one of program (joint targets, with nominal) and "
@@ -68,6 +72,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
   options.ik.marker = marker;
   std::string error;
   if (!options.ik.IsValid(&error)) Fail(error);
+  if (cell) options.check = CellCompensationCheck(*cell->checker);
   auto result = std::make_shared<CompensationResult>();
   result->robot = robot;
   int64_t n = 0;

@@ -1,10 +1,31 @@
 // The Python module `activecal`: select: the pool, the task and the design, by
-// the library (selection_pool.h, select_design.h).
+// the library (selection_pool.h, select_design.h); with cell= the pool is
+// the feasible one (cell_planning.h), as activecal_select --cell.
 
 #include "common.h"
 
 namespace activecal {
 namespace python {
+
+std::unique_ptr<CellSetup> CellArg(const Robot& robot, const py::kwargs& kwargs,
+                                   std::vector<std::string>* notes) {
+  if (!kwargs.contains("cell") || kwargs["cell"].is_none()) return nullptr;
+  CellSetupOptions options;
+  options.cell_path = PathArg(kwargs["cell"]);
+  options.robot_path = robot.path;
+  options.chain = robot.chain;
+  options.targets_as_markers = false;
+  auto setup = std::make_unique<CellSetup>();
+  RobotDescription description = robot.description;
+  std::string error;
+  if (!SetUpCell(options, &description, setup.get(), &error)) {
+    Fail("cell: " + error);
+  }
+  for (const std::string& note : setup->notes) {
+    notes->push_back("cell: note: " + note);
+  }
+  return setup;
+}
 
 // --------------------------------------------------------------- select
 
@@ -20,10 +41,14 @@ std::shared_ptr<DesignResult> SelectPy(
     double noise_m, const py::object& task_poses, const py::object& measured,
     const py::object& target_rms_m, int num_threads, const py::object& progress,
     const py::kwargs& kwargs) {
-  NoUnknownOptions("select", kwargs);
+  NoUnknownOptions("select", kwargs, {"cell"});
   Progress bridge(progress);
   auto result = std::make_shared<DesignResult>();
   RobotModel model = robot.model();
+  // The cell (kwarg cell=path): its checks on this robot, its markers as
+  // loaded (load_robot's frames=); the cell's targets decide what is seen.
+  const std::unique_ptr<CellSetup> cell =
+      CellArg(robot, kwargs, &result->notes);
   const MeasurementType type =
       MeasurementTypeArg(measurement, false, "measurement");
 
@@ -155,6 +180,12 @@ std::shared_ptr<DesignResult> SelectPy(
     std::string error;
     if (!pool_options.IsValid(&error)) Fail(error);
   }
+  PoolFilterSummary feasibility;
+  if (cell) {
+    PoolFilterOptions o;
+    o.num_threads = num_threads;
+    pool_options.filter = CellPoolFilter(*cell->checker, o, &feasibility);
+  }
   pool_options.progress = bridge.Callback("jacobians");
   options.approximate_progress = bridge.Callback("approximate");
   options.restarts_progress = bridge.Callback("restarts");
@@ -170,6 +201,10 @@ std::shared_ptr<DesignResult> SelectPy(
       const bool pool_built = BuildSelectionPool(
           &model, pool_joints, pool_options, &pool, &pool_summary);
       result->single_precision = pool_summary.single_precision;
+      if (pool_summary.filtered && pool_summary.kept.empty()) {
+        failure = "cell: " + pool_summary.message;
+        return;
+      }
       for (const HeldParameter& d : pool_summary.dropped) {
         result->notes.push_back(
             "parameter_set=" +
@@ -180,7 +215,11 @@ std::shared_ptr<DesignResult> SelectPy(
         const IdentifiabilityReport& report = pool_summary.pool.identifiability;
         if (!pool_summary.reduction_failed && !report.identifiable() &&
             report.num_free > 0) {
-          failure = "the pool: " + report.Message();
+          failure =
+              (pool_summary.filtered
+                   ? "the feasible pool (" + pool_summary.filter_note + "): "
+                   : "the pool: ") +
+              report.Message();
           if (!auto_fix && report.num_equations >= report.num_free) {
             failure +=
                 ". Fix them in the robot file (remove them from 'free') or "
@@ -190,6 +229,24 @@ std::shared_ptr<DesignResult> SelectPy(
           failure = pool_summary.message;
         }
         return;
+      }
+      if (pool_summary.filtered) {
+        // From here on the pool is the feasible one, its rows labelled by
+        // their place in the pool given (or their pool_indices).
+        std::string line = feasibility.BriefReport(*cell->checker);
+        if (!line.empty() && line.back() == '\n') line.pop_back();
+        result->notes.push_back(line);
+        std::vector<int64_t> kept_labels;
+        for (int64_t row : pool_summary.kept) {
+          kept_labels.push_back(labels.empty() ? row : labels[row]);
+        }
+        pool_joints = feasibility.FeasibleJoints(pool_joints);
+        labels = std::move(kept_labels);
+        if (!with_target && num_poses > pool_joints.rows()) {
+          failure = "num_poses=" + std::to_string(num_poses) +
+                    ": the feasible pool has only " + pool_summary.filter_note;
+          return;
+        }
       }
       result->auto_fixed = pool_summary.HeldFixed();
       for (const std::string& f : HeldNames(pool_summary.pool.held)) {
@@ -243,6 +300,10 @@ std::shared_ptr<DesignResult> SelectPy(
     const int64_t i = summary.design[k];
     result->joint_angles.row(k) = pool_joints.row(i);
     result->pose_indices.push_back(labels.empty() ? i : labels[i]);
+  }
+  if (cell) {
+    // pool_rows: rows of the pool given, not of the feasible one.
+    for (int64_t& i : summary.design) i = feasibility.feasible[i];
   }
   return result;
 }

@@ -447,6 +447,8 @@ PYBIND11_MODULE(_activecal, m) {
         "criterion: d (det), svd (eae), task_rms (task_poses: where the "
         "robot will work, default the pool; measured: Measurements already "
         "made, counted; target_rms_m: the fewest poses meeting it). "
+        "cell: a cell file (docs/formats.md): the pool keeps the poses the "
+        "cell can run, as activecal_select --cell (the counts in notes). "
         "progress: a callable "
         "progress(stage, done, total). The GIL is released while it runs.");
 
@@ -600,7 +602,8 @@ PYBIND11_MODULE(_activecal, m) {
             }
             return s;
           },
-          "Per target: converged, singular, limit, unreachable, invalid")
+          "Per target: converged, singular, limit, unreachable, invalid, "
+          "iteration_cap, collision (cell=)")
       .def_property_readonly("messages",
                              [](const CompensationResult& c) {
                                std::vector<std::string> s;
@@ -702,7 +705,9 @@ PYBIND11_MODULE(_activecal, m) {
         "Robot `nominal` -> the joints at which the calibrated robot "
         "reaches what each pose meant; or targets (n, 3) points in the "
         "device frame (rotations (n, 3) rotation vectors for match='pose'; "
-        "starts (n, num_joints)). Targets that do not converge keep their "
+        "starts (n, num_joints)). cell: a cell file: a configuration that "
+        "collides or leaves a joint margin is status 'collision'. Targets "
+        "that do not converge keep their "
         "status (all_converged False); bad input is a ValueError. The GIL "
         "is released while it runs.");
 

@@ -176,8 +176,10 @@ fi
 # Issue 26: a robot with a continuous joint (the rail arm's j3) got no
 # pool of any kind ("no finite range"); it is sampled over one turn.
 for pool in lattice sobol random; do
+  size=(--pool_size=500)
+  [ $pool = lattice ] && size=()
   if "$apps/activecal_select" --robot="$here/data/arm7_rail.urdf" --tip_link=tcp \
-    --pool=$pool --levels=2 --pool_size=500 --parameter_set=offsets \
+    --pool=$pool --levels=2 "${size[@]}" --parameter_set=offsets \
     --num_poses=20 --poses_csv=rail_$pool.csv >rail.txt 2>rail.err &&
     [ "$(($(wc -l <rail_$pool.csv) - 1))" -eq 20 ] &&
     { [ $pool != lattice ] ||
@@ -195,6 +197,10 @@ expect_fail "a sobol pool too large for memory" \
 expect_fail "a random pool too large for memory" \
   "--pool_size: a pool of 2000000000 poses needs at least" \
   activecal_select --pool=random --pool_size=2000000000
+# Issue 26: --pool_size with the lattice was ignored (exit 0).
+expect_fail "--pool_size with the lattice" \
+  "--pool_size sizes a --pool=sobol, random or measurable pool; the lattice has --levels poses per joint" \
+  activecal_select --pool_size=100000000000
 expect_fail "a lattice too large for memory" \
   "--levels=31: a pool of 887503681 poses needs at least" \
   activecal_select --levels=31

@@ -992,6 +992,53 @@ TEST(CompensationTest, FailedTargetsAreCountedAndReported) {
   EXPECT_FALSE(summary.AllConverged());
 }
 
+// The cell's check (CompensationOptions::check): a converged solution it
+// refuses becomes kCollision with the check's reason, counted apart from
+// the converged ones; a target that did not converge is not checked and
+// keeps its status.
+TEST(CompensationTest, ConfigurationsTheCheckRefusesAreCollisions) {
+  const RobotModel puma = Puma560PaperModel();
+  const Eigen::VectorXd truth = Puma560TrueParameters();
+  std::vector<IkTarget> targets(3);
+  Eigen::MatrixXd starts(3, 6);
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::VectorXd q = Eigen::VectorXd::Constant(6, 0.3 * (i + 1));
+    targets[i] = TargetAt(puma, truth, q);
+    starts.row(i) = q.transpose();
+  }
+  targets[2].point.x() += 10.0;  // outside the workspace
+  CompensationOptions options;
+  int calls = 0;
+  // Refuses a first joint above 0.45 rad: the second target (0.6).
+  options.check = [&calls](const Eigen::VectorXd& q, std::string* reason) {
+    ++calls;
+    if (q[0] <= 0.45) return true;
+    *reason = "obstacle table (L6)";
+    return false;
+  };
+  CompensationSummary summary;
+  CompensateTargets(puma, truth, targets, starts, Eigen::VectorXd(), options,
+                    &summary);
+  ASSERT_EQ(summary.results.size(), 3u);
+  EXPECT_EQ(calls, 2);  // the converged ones only
+  EXPECT_EQ(summary.results[0].status, IkStatus::kConverged);
+  EXPECT_EQ(summary.results[1].status, IkStatus::kCollision);
+  EXPECT_EQ(summary.results[1].message, "obstacle table (L6)");
+  EXPECT_NEAR(summary.results[1].joints[0], 0.6, 1e-6);
+  EXPECT_EQ(summary.results[2].status, IkStatus::kUnreachable);
+  EXPECT_EQ(summary.num_converged, 1);
+  EXPECT_EQ(summary.num_collision, 1);
+  EXPECT_EQ(summary.num_unreachable, 1);
+  EXPECT_EQ(summary.termination_type, TerminationType::kFailure);
+  EXPECT_NE(summary.message.find("2 of 3 targets did not converge; the first, "
+                                 "target 1, is collision: obstacle table (L6)"),
+            std::string::npos)
+      << summary.message;
+  EXPECT_NE(summary.BriefReport().find("1 collision"), std::string::npos)
+      << summary.BriefReport();
+  EXPECT_STREQ(IkStatusName(IkStatus::kCollision), "collision");
+}
+
 // Issue 26, item 5: a NaN rotation vector was read as the identity ("angle
 // > 0" is false for NaN) and the target reported converged; an infinite one
 // was refused. Both are invalid now, for either match.

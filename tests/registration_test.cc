@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <string>
 
 #include "activecal/core/kinematics.h"
@@ -242,6 +243,40 @@ TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
   EXPECT_EQ(dropped[1].name, "B.ry");
   EXPECT_EQ(dropped[1].reason.rfind("a combination of B.z", 0), 0u)
       << dropped[1].reason;
+}
+
+// The parameter sets' tolerance, crossed: a column whose part outside the
+// kept span is 0.9 kRedundancyTolerance of its length is held, 1.1 kept.
+TEST(ParameterReductionTest, RedundancyToleranceIsCrossedExactly) {
+  RobotModel m = testing::UrdfStyleModel();
+  for (Link& l : m.links) l.free.fill(false);
+  m.markers[0].free.fill(false);
+  m.markers[1].free.fill(false);
+  m.base.free = {true, true, true, false, false, false};
+  for (double factor : {0.9, 1.1}) {
+    // Columns a, b and sqrt(1 - e^2) a + e c, a, b, c orthonormal: the
+    // third is a unit column whose part outside span(a, b) is e.
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, 3);
+    J(0, 0) = 1.0;
+    J(1, 1) = 1.0;
+    const double e = factor * kRedundancyTolerance;
+    J(0, 2) = std::sqrt(1 - e * e);
+    J(2, 2) = e;
+    std::vector<HeldParameter> dropped;
+    const int kept = WithFreeSet(m, ReduceToIdentifiable(
+                                        m, J, kRedundancyTolerance, &dropped))
+                         .num_free();
+    if (factor < 1) {
+      EXPECT_EQ(kept, 2);
+      ASSERT_EQ(dropped.size(), 1u);
+      EXPECT_EQ(dropped[0].name, "B.z");
+      EXPECT_EQ(dropped[0].reason.rfind("a combination of B.x", 0), 0u)
+          << dropped[0].reason;
+    } else {
+      EXPECT_EQ(kept, 3);
+      EXPECT_TRUE(dropped.empty());
+    }
+  }
 }
 
 TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {

@@ -154,7 +154,7 @@ bool ReduceParameterSet(const RobotModel& model, ParameterSet set,
                        error)) {
     return false;
   }
-  *free = ReduceToIdentifiable(named, J, 1e-7, held);
+  *free = ReduceToIdentifiable(named, J, kRedundancyTolerance, held);
   // What is held keeps exactly the value it was given; only parameters the
   // fit will estimate start from the generic point.
   for (int i = 0; i < named.num_parameters(); ++i) {

@@ -19,11 +19,24 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// Counts, maxima and the termination of a finished run.
-void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
+// The cell's check of the converged results (options.check), then the
+// counts, maxima and the termination of a finished run.
+void Summarize(const Eigen::MatrixXd& starts,
+               const CompensationOptions& options,
+               CompensationSummary* summary) {
+  if (options.check) {
+    for (InverseKinematicsResult& r : summary->results) {
+      std::string reason;
+      if (r.status == IkStatus::kConverged &&
+          !options.check(r.joints, &reason)) {
+        r.status = IkStatus::kCollision;
+        r.message = reason;
+      }
+    }
+  }
   summary->num_converged = summary->num_singular = summary->num_limit = 0;
   summary->num_unreachable = summary->num_invalid = 0;
-  summary->num_iteration_cap = 0;
+  summary->num_iteration_cap = summary->num_collision = 0;
   double sum_change2 = 0.0;
   int first_failure = -1;
   const int n = static_cast<int>(summary->results.size());
@@ -47,6 +60,9 @@ void Summarize(const Eigen::MatrixXd& starts, CompensationSummary* summary) {
         break;
       case IkStatus::kIterationCap:
         ++summary->num_iteration_cap;
+        break;
+      case IkStatus::kCollision:
+        ++summary->num_collision;
         break;
     }
     if (r.status != IkStatus::kConverged && first_failure < 0)
@@ -161,6 +177,7 @@ std::string CompensationSummary::BriefReport() const {
   if (num_unreachable) out << ", " << num_unreachable << " unreachable";
   if (num_invalid) out << ", " << num_invalid << " invalid";
   if (num_iteration_cap) out << ", " << num_iteration_cap << " iteration_cap";
+  if (num_collision) out << ", " << num_collision << " collision";
   out << "\n  largest error left " << max_position_error_m << " m";
   if (max_rotation_error_rad > 0)
     out << ", " << max_rotation_error_rad << " rad";
@@ -227,7 +244,7 @@ void CompensateProgram(const RobotModel& calibrated,
                               program, options.ik, options.num_threads,
                               &summary->results);
   summary->seconds = SecondsSince(start);
-  Summarize(program, summary);
+  Summarize(program, options, summary);
 }
 
 void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
@@ -260,7 +277,7 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
     SolveInverseKinematicsBatch(model, values, targets, starts, options.ik,
                                 options.num_threads, &summary->results);
     summary->seconds = SecondsSince(start);
-    Summarize(starts, summary);
+    Summarize(starts, options, summary);
     return;
   }
   Eigen::VectorXd q = first_start;
@@ -288,7 +305,7 @@ void CompensateTargets(const RobotModel& model, const Eigen::VectorXd& values,
     }
   }
   summary->seconds = SecondsSince(start);
-  Summarize(used, summary);
+  Summarize(used, options, summary);
 }
 
 std::vector<IkTarget> IkTargetsFromList(const TargetList& list) {

@@ -747,8 +747,8 @@ class IkSolver {
                                 iterations < max_iterations;
                ++correct) {
             bool ignored = false;
-            const Joints dc = Step(candidate, 1e-12, /*pull=*/false, limits,
-                                   &ignored);
+            const Joints dc =
+                Step(candidate, 1e-12, /*pull=*/false, limits, &ignored);
             Evaluate(Clamp(candidate.q + dc, limits), &corrected);
             ++iterations;
             if (!(corrected.cost < candidate.cost)) break;
@@ -856,6 +856,8 @@ const char* IkStatusName(IkStatus status) {
       return "invalid";
     case IkStatus::kIterationCap:
       return "iteration_cap";
+    case IkStatus::kCollision:
+      return "collision";
   }
   return "unknown";
 }

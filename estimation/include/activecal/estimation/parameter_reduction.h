@@ -14,12 +14,12 @@
 // columns at ~1e-10 instead of 0). The others are scaled to unit norm (the
 // rule does not depend on units); a column is dropped when the part of it
 // outside the span of the kept columns is shorter than `tolerance`
-// (default 1e-7: structural redundancies, which are ~1e-15 at a generic
-// point, not weak parameters). Ties cannot occur: the order is total. The
-// result is the same on every platform up to rounding of that test.
+// (kRedundancyTolerance below for the parameter sets). Ties cannot occur:
+// the order is total. The result is the same on every platform up to
+// rounding of that test.
 //
 //   std::vector<HeldParameter> held;
-//   const FreeSet kept = ReduceToIdentifiable(model, J, 1e-7, &held);
+//   const FreeSet kept = ReduceToIdentifiable(model, J, kRedundancyTolerance, &held);
 //   // held[k].name = "shoulder_pan_joint.rx",
 //   // held[k].reason = "a combination of B.rx, B.ry (residual 2e-16)"
 //   // held[k].stage = HoldStage::kParameterSet
@@ -37,6 +37,19 @@
 #include "activecal/core/robot_model.h"
 
 namespace activecal {
+
+// The tolerance of ApplyAndReduceParameterSet: a structural redundancy is
+// ~1e-15 at a generic point with exact angles, and of the order of the
+// angles' rounding when a robot file writes pi/2 with few decimals
+// (1.570796, 3.3e-7 off: the UR10e's B.z and shoulder_lift_joint.y are then
+// 3.3e-7 apart, and a tolerance of 1e-7 kept both for a fit whose
+// Jacobian was rank deficient). A direction of relative size r is
+// estimated with its noise amplified ~1/r: below 1e-5 (a 10 um tracker
+// giving a 1 m standard deviation) it is no parameter a calibration can
+// use. Files rounded to 6 or more decimals of a radian are reduced as
+// their exact copies are; to 4, to as many parameters (a ballbar may keep
+// the other one of a pair 3.7e-6 apart).
+constexpr double kRedundancyTolerance = 1e-5;
 
 // Free parameters of `model` in the priority order above (indices into the
 // full parameter vector).

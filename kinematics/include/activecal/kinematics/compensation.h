@@ -33,6 +33,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,13 @@ struct CompensationOptions {
   InverseKinematicsOptions ik;
   // Threads (<= 0: all hardware threads); the results do not depend on it.
   int num_threads = 1;
+  // The cell's check of a solution (e.g. CellCompensationCheck,
+  // calibration/cell_planning.h): false, with the first reason in
+  // *reason, for a configuration the robot cannot run (it collides, or
+  // leaves a joint margin). Called for every converged result, in target
+  // order, on the calling thread; a configuration it refuses gets status
+  // kCollision and the reason as its message. Null: no check.
+  std::function<bool(const Eigen::VectorXd& joints, std::string* reason)> check;
 };
 
 struct CompensationSummary {
@@ -78,6 +86,7 @@ struct CompensationSummary {
   int num_unreachable = 0;
   int num_invalid = 0;
   int num_iteration_cap = 0;
+  int num_collision = 0;  // converged, refused by options.check
   // Over the targets: largest position error (m) and rotation error (rad)
   // left, largest change of any joint (rad or m), RMS of the per-target
   // Euclidean joint change.

@@ -105,10 +105,14 @@ enum class IkStatus {
   kUnreachable,
   kInvalid,
   kIterationCap,
+  // Converged, but the configuration fails a check of the cell it runs in
+  // (collision, joint margin): set by the compensation
+  // (CompensationOptions::check), never by the solver.
+  kCollision,
 };
 
 // "converged", "singular", "limit", "unreachable", "invalid",
-// "iteration_cap".
+// "iteration_cap", "collision".
 const char* IkStatusName(IkStatus status);
 
 // A target for the marker, in the device's frame (the base frame's parent).

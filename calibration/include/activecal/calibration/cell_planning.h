@@ -1,0 +1,67 @@
+// The cell wherever a pose is planned (activecal_select, activecal_active,
+// activecal_compensate, the Python module): the pool filter that runs the
+// cell's checks (cell/pool_filter.h) and keeps their verdicts, the one line
+// that says what they removed, the counts as the programs' JSON, and the
+// check of a compensated configuration.
+//
+//   PoolFilterSummary feasibility;
+//   SelectionPoolOptions pool_options;
+//   pool_options.filter = CellPoolFilter(checker, filter_options,
+//                                        &feasibility);
+//   BuildSelectionPool(&model, joints, pool_options, &pool, &summary);
+//   j.update(CellPoolJson(checker.cell(), feasibility));
+//   // {"feasible_poses": 210, "rejected": {"joint_margin": 12, ...,
+//   //  "obstacle": {"table": 40, "wall": 2}, ...}}
+
+#ifndef ACTIVECAL_CALIBRATION_CELL_PLANNING_H_
+#define ACTIVECAL_CALIBRATION_CELL_PLANNING_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "activecal/calibration/selection_pool.h"
+#include "activecal/cell/cell_checker.h"
+#include "activecal/cell/cell_file.h"
+#include "activecal/cell/pool_filter.h"
+
+namespace activecal {
+
+// "210 of 1000 poses feasible; rejected: joint margin 12, ..." (the
+// counts of PoolFilterSummary::CountsText).
+std::string FeasibleNote(const CellChecker& checker,
+                         const PoolFilterSummary& summary);
+
+// A SelectionPoolOptions::filter: FilterPool(checker, joints, options)
+// into *summary (which must outlive the filter), keeping the feasible rows,
+// its note FeasibleNote. `checker` must outlive the filter too.
+PoolFilter CellPoolFilter(const CellChecker& checker,
+                          const PoolFilterOptions& options,
+                          PoolFilterSummary* summary);
+
+// What the programs write: {"feasible_poses": N, "rejected": {reason:
+// count for every RejectionReason but none, "obstacle": {obstacle name:
+// count}}} (reason spelled by RejectionReasonToString).
+nlohmann::json CellPoolJson(const Cell& cell, const PoolFilterSummary& summary);
+
+// The names of the cell's targets whose bits are set in `seen`
+// (PoseVerdict::targets_seen), in the cell's order.
+nlohmann::json TargetsSeenJson(const Cell& cell, uint32_t seen);
+
+// A CompensationOptions::check (kinematics/compensation.h): what a robot
+// running a configuration must pass, of the cell's checks: the joint
+// margins and the collisions (self, obstacles, with the clearances); not
+// the measurement's (range, view, facing, line of sight: a compensated
+// program is run, not measured). False with the first failure described
+// ("joint margin (elbow_joint)", "obstacle table (wrist_3_link)",
+// "self-collision (upper_arm_link, wrist_3_link)"). The checker, set to the
+// parameters the program runs on (CellChecker::SetParameters), must
+// outlive the check; the check is for one thread at a time.
+std::function<bool(const Eigen::VectorXd& joints, std::string* reason)>
+CellCompensationCheck(const CellChecker& checker);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CALIBRATION_CELL_PLANNING_H_

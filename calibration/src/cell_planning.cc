@@ -1,0 +1,86 @@
+#include "activecal/calibration/cell_planning.h"
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace activecal {
+
+std::string FeasibleNote(const CellChecker& checker,
+                         const PoolFilterSummary& summary) {
+  return std::to_string(summary.num_feasible()) + " of " +
+         std::to_string(summary.num_poses) +
+         " poses feasible; rejected: " + summary.CountsText(checker);
+}
+
+PoolFilter CellPoolFilter(const CellChecker& checker,
+                          const PoolFilterOptions& options,
+                          PoolFilterSummary* summary) {
+  return [&checker, options, summary](const Eigen::MatrixXd& joints,
+                                      std::vector<int64_t>* kept,
+                                      std::string* note) {
+    if (!FilterPool(checker, joints, options, summary)) {
+      *note = summary->message;
+      return false;
+    }
+    *kept = summary->feasible;
+    *note = FeasibleNote(checker, *summary);
+    return true;
+  };
+}
+
+nlohmann::json CellPoolJson(const Cell& cell,
+                            const PoolFilterSummary& summary) {
+  nlohmann::json rejected = nlohmann::json::object();
+  for (int r = 1; r < kNumRejectionReasons; ++r) {
+    const RejectionReason reason = static_cast<RejectionReason>(r);
+    if (reason == RejectionReason::kObstacle) {
+      nlohmann::json by_obstacle = nlohmann::json::object();
+      for (size_t o = 0; o < cell.obstacles.size(); ++o) {
+        by_obstacle[cell.obstacles[o].name] =
+            o < summary.rejected_by_obstacle.size()
+                ? summary.rejected_by_obstacle[o]
+                : 0;
+      }
+      rejected["obstacle"] = std::move(by_obstacle);
+    } else {
+      rejected[RejectionReasonToString(reason)] = summary.rejected[r];
+    }
+  }
+  return {{"feasible_poses", summary.num_feasible()},
+          {"rejected", std::move(rejected)}};
+}
+
+nlohmann::json TargetsSeenJson(const Cell& cell, uint32_t seen) {
+  nlohmann::json names = nlohmann::json::array();
+  for (size_t t = 0; t < cell.targets.size() && t < 32; ++t) {
+    if (seen & (1u << t)) names.push_back(cell.targets[t].name);
+  }
+  return names;
+}
+
+std::function<bool(const Eigen::VectorXd& joints, std::string* reason)>
+CellCompensationCheck(const CellChecker& checker) {
+  std::shared_ptr<CellChecker::Workspace> workspace = checker.NewWorkspace();
+  return [&checker, workspace](const Eigen::VectorXd& joints,
+                               std::string* reason) {
+    // Check() tests the joint margins first; a pose it rejects for a
+    // measurement reason is then checked for collisions alone.
+    PoseVerdict v = checker.Check(joints.data(), workspace.get());
+    switch (v.reason) {
+      case RejectionReason::kOutOfRange:
+      case RejectionReason::kOutOfView:
+      case RejectionReason::kFacingAway:
+      case RejectionReason::kLineOfSight:
+        v = checker.CheckCollisions(joints.data(), workspace.get());
+        break;
+      default:
+        break;
+    }
+    if (v.feasible()) return true;
+    if (reason) *reason = checker.Describe(v);
+    return false;
+  };
+}
+
+}  // namespace activecal
