@@ -303,8 +303,10 @@ int Main() {
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
     // Reduced to what the poses the loop may design separate.
-    app::ApplyParameterSetOrDie(
-        &model, urdf, with_cell ? feasibility.FeasibleJoints(joints) : joints);
+    model = WithFreeSet(
+        model, app::ReducedParameterSetOrDie(
+                   model, urdf,
+                   with_cell ? feasibility.FeasibleJoints(joints) : joints));
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
       model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
@@ -606,11 +608,10 @@ int Main() {
     const int n = static_cast<int>(summary.measured.size());
     CandidatePoolOptions pool_options;
     pool_options.num_threads = FLAGS_threads;
-    RobotModel pool_model = model;
     CandidatePool pool;
     CandidatePoolSummary pool_summary;
-    if (!BuildCandidatePool(&pool_model, model.nominal, joints, pool_options,
-                            &pool, &pool_summary)) {
+    if (!BuildCandidatePool(model, model.nominal, joints, pool_options, &pool,
+                            &pool_summary)) {
       app::Fail("pool at nominal: " + pool_summary.message);
     }
     const Eigen::MatrixXd W = TaskMatrix(pool);

@@ -9,9 +9,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "activecal/io/csv_files.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/monte_carlo.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "app_common.h"
 
@@ -44,9 +44,8 @@ Eigen::MatrixXd DesignJoints(const RobotModel& model) {
   const Eigen::MatrixXd joints = lattice.AllJointValues();
   CandidatePoolOptions pool_options;
   pool_options.num_threads = FLAGS_threads;
-  RobotModel pool_model = model;
-  const CandidatePool pool = app::BuildPoolOrDie(
-      &pool_model, joints, pool_options, "the pool", nullptr, nullptr);
+  const CandidatePool pool = app::BuildPoolOrDie(model, joints, pool_options,
+                                                 "the pool", nullptr, nullptr);
   ExchangeAddExchangeOptions options;
   options.seed = Random::StreamSeed(FLAGS_seed, 2);
   options.num_threads = FLAGS_threads;

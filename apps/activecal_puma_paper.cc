@@ -150,10 +150,8 @@ int Main() {
   double jacobian_seconds = 0;
   CandidatePoolOptions pool_options;
   pool_options.num_threads = FLAGS_threads;
-  RobotModel pool_model = model;
-  const CandidatePool pool =
-      app::BuildPoolOrDie(&pool_model, pool_joints, pool_options, "the pool",
-                          &jacobian_seconds, nullptr);
+  const CandidatePool pool = app::BuildPoolOrDie(
+      model, pool_joints, pool_options, "the pool", &jacobian_seconds, nullptr);
 
   // V-C: random designs.
   RandomDesignOptions random_options;

@@ -318,10 +318,10 @@ int Main() {
   if (pool_summary.termination_type == TerminationType::kUserFailure) {
     app::Fail(pool_summary.message);
   }
-  for (const DroppedParameter& d : pool_summary.dropped) {
+  for (const HeldParameter& d : pool_summary.dropped) {
     std::printf("  --parameter_set=%s: %s held fixed: %s\n",
-                ParameterSetName(pool_options.parameter_set), d.name.c_str(),
-                d.reason.c_str());
+                ParameterSetToString(pool_options.parameter_set),
+                d.name.c_str(), d.reason.c_str());
   }
   if (pool_summary.single_precision) {
     std::printf(
@@ -341,7 +341,7 @@ int Main() {
     }
     app::Fail(pool_summary.message);
   }
-  app::NoteAutoFixed(pool_summary.pool.fixed_names,
+  app::NoteAutoFixed(HeldNames(pool_summary.pool.held),
                      pool_summary.pool.num_free_before, "the pool",
                      "--auto_fix");
   const double jacobian_seconds = pool_summary.pool.jacobian_seconds;

@@ -327,7 +327,8 @@ int Main() {
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
     const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
-    app::ApplyParameterSetOrDie(&model, urdf, lattice.AllJointValues());
+    model = WithFreeSet(model, app::ReducedParameterSetOrDie(
+                                   model, urdf, lattice.AllJointValues()));
   }
   Eigen::VectorXd truth = robot.true_parameters.size() == model.num_parameters()
                               ? robot.true_parameters

@@ -14,6 +14,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/io/frames_file.h"
+#include "activecal/io/output_files.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/selection/criteria.h"
 
@@ -71,31 +72,6 @@ void Init(int* argc, char*** argv, const char* usage) {
   }
 }
 
-bool WriteFileAtomically(const std::string& path, const std::string& text,
-                         std::string* error) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      *error = "cannot open '" + tmp + "' for writing";
-      return false;
-    }
-    out << text;
-    out.flush();
-    if (!out) {
-      *error = "failed writing '" + tmp + "'";
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    *error = "cannot rename '" + tmp + "' to '" + path + "'";
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
-}
-
 void WriteTextOrDie(const std::string& path, const std::string& text) {
   std::string error;
   if (!WriteFileAtomically(path, text, &error)) Fail(error);
@@ -103,12 +79,8 @@ void WriteTextOrDie(const std::string& path, const std::string& text) {
 
 void CheckWritableOrDie(const std::string& path, const std::string& flag) {
   if (path.empty()) return;
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::app);
-    if (!out) Fail("--" + flag + ": cannot write '" + path + "'");
-  }
-  std::remove(tmp.c_str());
+  std::string error;
+  if (!CheckWritable(path, &error)) Fail("--" + flag + ": " + error);
 }
 
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json) {
@@ -184,7 +156,8 @@ RobotDescription LoadRobotOrDie() {
   return robot;
 }
 
-CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
+CandidatePool BuildPoolOrDie(const RobotModel& model,
+                             const Eigen::MatrixXd& joints,
                              CandidatePoolOptions options,
                              const std::string& what, double* seconds,
                              std::vector<std::string>* fixed) {
@@ -192,7 +165,7 @@ CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
   options.progress = line.callback();
   CandidatePool pool;
   CandidatePoolSummary summary;
-  if (!BuildCandidatePool(model, model->nominal, joints, options, &pool,
+  if (!BuildCandidatePool(model, model.nominal, joints, options, &pool,
                           &summary)) {
     if (options.check_identifiability &&
         !summary.identifiability.identifiable() &&
@@ -201,10 +174,10 @@ CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
     }
     Fail(summary.message);
   }
-  NoteAutoFixed(summary.fixed_names, summary.num_free_before, what,
+  NoteAutoFixed(HeldNames(summary.held), summary.num_free_before, what,
                 "--auto_fix");
   if (seconds) *seconds = summary.jacobian_seconds;
-  if (fixed) *fixed = summary.fixed_names;
+  if (fixed) *fixed = HeldNames(summary.held);
   return pool;
 }
 

@@ -82,13 +82,22 @@ const std::string& ProgramName();
 // Prints "<program>: error: <message>" on stderr and exits with status 1.
 [[noreturn]] void Fail(const std::string& message);
 
+// The enum value of --<flag>=<text> (a StringToX of the library), or dies
+// with "--<flag> must be <choices>, got '<text>'".
+template <typename Enum>
+void EnumFlagOrDie(bool (*string_to)(const std::string&, Enum*),
+                   const std::string& flag, const std::string& text,
+                   const std::string& choices, Enum* value) {
+  if (!string_to(text, value)) {
+    Fail("--" + flag + " must be " + choices + ", got '" + text + "'");
+  }
+}
+
 // Parses gflags and sets up glog; logs go to stderr, warnings and above.
 void Init(int* argc, char*** argv, const char* usage);
 
-// Writes text to path atomically: to a temporary file beside it, then
-// renamed over it, so a failure never leaves a half-written file.
-bool WriteFileAtomically(const std::string& path, const std::string& text,
-                         std::string* error);
+// The writers below go through io/output_files.h (a temporary file beside
+// the path, renamed over it: a failure never leaves a half-written file).
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 // Dies with "--<flag>: cannot write '<path>' ..." unless a file can be
 // created beside `path` (empty: nothing to check): checked before the work,
@@ -108,7 +117,8 @@ JointLattice MakeLatticeOrDie(
 // (options->check_identifiability) and auto_fix as given; fails naming the
 // unidentifiable combinations ("<what>: ...") and prints the --auto_fix
 // note on stderr. *fixed (may be null): the parameters held fixed.
-CandidatePool BuildPoolOrDie(RobotModel* model, const Eigen::MatrixXd& joints,
+CandidatePool BuildPoolOrDie(const RobotModel& model,
+                             const Eigen::MatrixXd& joints,
                              CandidatePoolOptions options,
                              const std::string& what, double* seconds,
                              std::vector<std::string>* fixed);
@@ -173,13 +183,12 @@ ProgramRequest ProgramRequestOrDie(const RobotModel& model,
 void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
                        const PoseList& poses, const std::string& comment);
 
-// Applies --parameter_set (ParameterSetOrDie) to the free flags of *model,
-// reduced to what position measurements at the rows of `joints` separate
-// (at most 2,000 of them, evenly spaced); the nominal values stay. Prints
-// the parameters held fixed; dies when nothing is left to identify.
-// (app_parameter_set.cc)
-void ApplyParameterSetOrDie(RobotModel* model, bool urdf_robot,
-                            const Eigen::MatrixXd& joints);
+// The free set of --parameter_set (ParameterSetOrDie) on `model`, reduced
+// to what position measurements at the rows of `joints` separate (at most
+// 2,000 of them, evenly spaced). Prints the parameters held fixed; dies
+// when nothing is left to identify. (app_parameter_set.cc)
+FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
+                                 const Eigen::MatrixXd& joints);
 
 }  // namespace app
 }  // namespace activecal

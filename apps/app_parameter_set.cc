@@ -1,6 +1,6 @@
 // --parameter_set and the function that reads it. A file of its own: the
 // programs link activecal_app_common as a static library, so only those
-// that call ParameterSetOrDie or ApplyParameterSetOrDie have (and list in
+// that call ParameterSetOrDie or ReducedParameterSetOrDie have (and list in
 // --help) the flag.
 
 #include <gflags/gflags.h>
@@ -26,37 +26,35 @@ namespace app {
 ParameterSet ParameterSetOrDie(bool urdf_robot) {
   ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
   if (!FLAGS_parameter_set.empty() &&
-      !ParseParameterSet(FLAGS_parameter_set, &set)) {
+      !StringToParameterSet(FLAGS_parameter_set, &set)) {
     Fail("--parameter_set must be registration, offsets, full or file, got '" +
          FLAGS_parameter_set + "'");
   }
   return set;
 }
 
-void ApplyParameterSetOrDie(RobotModel* model, bool urdf_robot,
-                            const Eigen::MatrixXd& joints) {
+FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
+                                 const Eigen::MatrixXd& joints) {
   const ParameterSet set = ParameterSetOrDie(urdf_robot);
   const Eigen::Index n = std::min<Eigen::Index>(joints.rows(), 2000);
   Eigen::MatrixXd sample(n, joints.cols());
   for (Eigen::Index i = 0; i < n; ++i) {
     sample.row(i) = joints.row(i * joints.rows() / n);
   }
-  RobotModel reduced = *model;
-  Eigen::VectorXd point = model->nominal;
-  std::vector<DroppedParameter> dropped;
+  Eigen::VectorXd point = model.nominal;
+  FreeSet free;
+  std::vector<HeldParameter> dropped;
   std::string error;
-  if (!ApplyAndReduceParameterSet(set, MeasurementPlan(sample), 1.0, &reduced,
-                                  &point, &dropped, &error)) {
-    Fail("--parameter_set=" + std::string(ParameterSetName(set)) + ": " +
+  if (!ReduceParameterSet(model, set, MeasurementPlan(sample), 1.0, &point,
+                          &free, &dropped, &error)) {
+    Fail("--parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
          error);
   }
-  for (const DroppedParameter& d : dropped) {
+  for (const HeldParameter& d : dropped) {
     std::printf("  --parameter_set=%s: %s held fixed: %s\n",
-                ParameterSetName(set), d.name.c_str(), d.reason.c_str());
+                ParameterSetToString(set), d.name.c_str(), d.reason.c_str());
   }
-  for (int i = 0; i < model->num_parameters(); ++i) {
-    model->SetFree(i, reduced.IsFree(i));
-  }
+  return free;
 }
 
 }  // namespace app

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "app_common.h"
+
 namespace activecal {
 namespace app {
 
@@ -77,6 +79,17 @@ bool RunGnuplot(const std::string& script, const std::string& png_path,
     return false;
   }
   return true;
+}
+
+void PlotOrNote(const std::string& script, const std::string& png_path,
+                const std::string& flag) {
+  if (!GnuplotAvailable()) {
+    std::printf("  --%s: gnuplot is not installed; no plot\n", flag.c_str());
+    return;
+  }
+  std::string error;
+  if (!RunGnuplot(script, png_path, &error)) Fail("--" + flag + ": " + error);
+  std::printf("  --%s: wrote %s\n", flag.c_str(), png_path.c_str());
 }
 
 }  // namespace app

@@ -26,6 +26,12 @@ std::string GnuplotData(const std::string& name,
 bool RunGnuplot(const std::string& script, const std::string& png_path,
                 std::string* error);
 
+// Draws `script` to --<flag>=png_path and prints "  --<flag>: wrote
+// <path>", or "  --<flag>: gnuplot is not installed; no plot"; dies with
+// "--<flag>: <gnuplot's error>".
+void PlotOrNote(const std::string& script, const std::string& png_path,
+                const std::string& flag);
+
 }  // namespace app
 }  // namespace activecal
 

@@ -68,13 +68,14 @@ double Run(const RobotModel& robot, const Data& data, const Method& method,
     RegistrationSummary reg;
     if (!RegisterBaseFrame(model, data.training, &start, &reg)) return NAN;
   }
-  std::vector<DroppedParameter> dropped;
+  std::vector<HeldParameter> dropped;
+  FreeSet free;
   std::string error;
-  if (!ApplyAndReduceParameterSet(ParameterSet::kFull, data.training,
-                                  rotation_weight, &model, &start, &dropped,
-                                  &error)) {
+  if (!ReduceParameterSet(model, ParameterSet::kFull, data.training,
+                          rotation_weight, &start, &free, &dropped, &error)) {
     return NAN;
   }
+  model = WithFreeSet(model, free);
   IdentificationOptions options;
   options.rotation_weight_m_per_rad = rotation_weight;
   ModelSelectionOptions selection;
@@ -84,9 +85,10 @@ double Run(const RobotModel& robot, const Data& data, const Method& method,
   selection.identification = options;
   selection.num_threads = 2;
   ModelSelectionSummary summary;
-  SelectModel(&model, start, data.training, data.validation, selection,
+  SelectModel(model, start, data.training, data.validation, selection,
               &summary);
   if (summary.termination_type != TerminationType::kConvergence) return NAN;
+  model = WithFreeSet(model, summary.free);
   if (method.prior_m > 0) {
     IdentificationSummary plain;
     Identify(model, data.training, start, options, &plain);

@@ -9,12 +9,12 @@
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
 
@@ -31,7 +31,7 @@ const CandidatePool& Pool(int levels) {
   JointLattice::Create(model, levels, &lattice, &error);
   CandidatePool pool;
   CandidatePoolSummary summary;
-  BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(),
+  BuildCandidatePool(model, model.nominal, lattice.AllJointValues(),
                      CandidatePoolOptions(), &pool, &summary);
   return pools.emplace(levels, std::move(pool)).first->second;
 }
@@ -147,7 +147,7 @@ void BM_VarianceSweep(benchmark::State& state) {
     CandidatePoolOptions options;
     options.single_precision = true;
     CandidatePoolSummary summary;
-    BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(), options,
+    BuildCandidatePool(model, model.nominal, lattice.AllJointValues(), options,
                        &single, &summary);
   }
   const CandidatePool& swept = state.range(1) != 0 ? single : pool;

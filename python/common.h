@@ -32,8 +32,13 @@
 #include <string>
 #include <vector>
 
-#include "activecal/io/csv_files.h"
-#include "activecal/estimation/evaluation.h"
+#include "activecal/calibration/calibrate.h"
+#include "activecal/calibration/calibration_report.h"
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/select_design.h"
+#include "activecal/calibration/selection_pool.h"
+#include "activecal/cell/cell_setup.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
@@ -41,30 +46,27 @@
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
+#include "activecal/core/simulation.h"
+#include "activecal/estimation/estimate_warnings.h"
+#include "activecal/estimation/evaluation.h"
+#include "activecal/estimation/identification.h"
+#include "activecal/estimation/model_selection.h"
+#include "activecal/estimation/parameter_reduction.h"
 #include "activecal/estimation/registration.h"
+#include "activecal/estimation/registration_fit.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/io/robot_file.h"
 #include "activecal/io/robot_loader.h"
-#include "activecal/core/simulation.h"
 #include "activecal/io/targets_csv.h"
 #include "activecal/io/urdf_robot.h"
 #include "activecal/kinematics/compensation.h"
-#include "activecal/estimation/estimate_warnings.h"
-#include "activecal/estimation/identification.h"
 #include "activecal/kinematics/inverse_kinematics.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/estimation/model_selection.h"
-#include "activecal/estimation/parameter_reduction.h"
-#include "activecal/calibration/pool_builder.h"
-#include "activecal/estimation/registration_fit.h"
-#include "activecal/calibration/selection_pool.h"
-#include "activecal/calibration/cell_planning.h"
-#include "activecal/cell/cell_setup.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
-#include "activecal/calibration/select_design.h"
 #include "activecal/selection/target_size.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_criterion.h"
@@ -278,7 +280,7 @@ inline ParameterSet ParameterSetArg(const Robot& robot, const py::object& obj) {
   ParameterSet set = robot.urdf ? ParameterSet::kFull : ParameterSet::kFile;
   if (obj.is_none()) return set;
   const std::string name = py::str(obj);
-  if (!ParseParameterSet(name, &set)) {
+  if (!StringToParameterSet(name, &set)) {
     Fail("parameter_set must be registration, offsets, full or file, got '" +
          name + "'");
   }
@@ -345,20 +347,16 @@ struct DesignResult {
 };
 
 struct EstimateResult {
-  RobotPtr robot;    // the robot identified (its file's units)
-  RobotModel model;  // the model fitted (free flags as reduced)
-  IdentificationSummary summary;
-  std::vector<std::string> held_fixed;  // reduced, auto-fixed, dropped
-  std::vector<std::string> warnings;
-  bool registered_base = false;
-  bool have_baseline = false;
-  double registration_only_rms_m = 0;
-  std::string parameter_set;
-  ModelSelectionSummary selection;
-  std::string model_selection;
-  // The rows identified from, then the validation rows (as the program's
-  // input): write_urdf checks the written URDF against them.
+  RobotPtr robot;  // the robot identified (its file's units)
+  CalibrationSummary calibration;
+  // The rows identified from and validated on, then the selection's
+  // validation rows: write_urdf checks the written URDF against them.
   std::vector<Measurement> measurements;
+
+  const IdentificationSummary& fit() const {
+    return calibration.identification;
+  }
+  const RobotModel& model() const { return calibration.model; }
 };
 
 // A column of the measurements as an array; rows without it are NaN.

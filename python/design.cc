@@ -205,11 +205,11 @@ std::shared_ptr<DesignResult> SelectPy(
         failure = "cell: " + pool_summary.message;
         return;
       }
-      for (const DroppedParameter& d : pool_summary.dropped) {
+      for (const HeldParameter& d : pool_summary.dropped) {
         result->notes.push_back(
             "parameter_set=" +
-            std::string(ParameterSetName(pool_options.parameter_set)) + ": " +
-            d.name + " held fixed: " + d.reason);
+            std::string(ParameterSetToString(pool_options.parameter_set)) +
+            ": " + d.name + " held fixed: " + d.reason);
       }
       if (!pool_built) {
         const IdentifiabilityReport& report = pool_summary.pool.identifiability;
@@ -249,7 +249,7 @@ std::shared_ptr<DesignResult> SelectPy(
         }
       }
       result->auto_fixed = pool_summary.HeldFixed();
-      for (const std::string& f : pool_summary.pool.fixed_names) {
+      for (const std::string& f : HeldNames(pool_summary.pool.held)) {
         result->notes.push_back("auto_fix: " + f + " held fixed");
       }
       result->num_task_poses =

@@ -2,14 +2,13 @@
 // (the calibrated URDF, the frames file, the frames for ROS 2) and the ROS
 // frames reader, through the same io functions the programs call.
 //
-// Estimate.write_urdf composes CalibratedUrdfText / UrdfFromModel and
-// CheckUrdfAgainstModel the way activecal_identify --urdf_out does (the same
-// choice of writer and the same 1e-9 m reload check). That composition
-// lives in apps/activecal_identify.cc today; when it moves into io/ (a
-// single WriteCalibratedUrdf), this file should call it instead.
+// Estimate.write_urdf is activecal_identify --urdf_out's library call
+// (calibration_export.h: MakeCalibratedUrdf, the same choice of writer and
+// the same 1e-9 m reload check).
 
 #include <fstream>
 
+#include "activecal/calibration/calibration_export.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/ros_frames.h"
 #include "activecal/io/urdf_export.h"
@@ -19,14 +18,9 @@ namespace activecal {
 namespace python {
 namespace {
 
-// The largest distance allowed between the reloaded URDF's and the
-// calibrated model's measured points (as --urdf_out).
-constexpr double kUrdfReloadToleranceM = 1e-9;
-
 std::string SourceNote(const EstimateResult& e) {
-  return std::to_string(e.summary.num_measurements) +
-         " measurements, RMS residual " + std::to_string(e.summary.rms_m) +
-         " m";
+  return std::to_string(e.fit().num_measurements) +
+         " measurements, RMS residual " + std::to_string(e.fit().rms_m) + " m";
 }
 
 // The chain the URDF robot was loaded with, its ends resolved from the
@@ -57,40 +51,23 @@ double WriteUrdfPy(const EstimateResult& e, const py::object& path_obj,
   std::vector<Measurement> check = e.measurements;
   if (!measurements_obj.is_none()) {
     check = MeasurementsArg(measurements_obj, "measurements").items;
-    CheckMarkers(e.model, check, "measurements");
+    CheckMarkers(e.model(), check, "measurements");
   }
-  std::vector<std::string> warnings;
-  std::string text, error;
-  UrdfChainOptions chain = robot.chain;
-  if (robot.urdf) {
-    std::string xml;
-    if (!ReadTextFile(robot.path, &xml, &error) ||
-        !CalibratedUrdfText(xml, robot.path, chain, e.model,
-                            e.summary.parameters, &text, &warnings, &error)) {
-      Fail("write_urdf: " + error);
-    }
-  } else {
-    text = UrdfFromModel(e.model, e.summary.parameters, &warnings);
-    chain.base_link = "base_link";
-    chain.tip_link = "tip";
-  }
-  double worst = 0.0;
+  CalibratedUrdfOptions options;
+  if (robot.urdf) options.source_path = robot.path;
+  options.chain = robot.chain;
+  options.output_path = path;
+  CalibratedUrdf urdf;
+  std::string error;
+  bool ok;
   {
     py::gil_scoped_release release;
-    if (!CheckUrdfAgainstModel(text, path, chain, e.model, e.summary.parameters,
-                               check, &worst, &error)) {
-      error = "write_urdf: the written URDF does not reload: " + error;
-    }
+    ok = MakeCalibratedUrdf(e.model(), e.fit().parameters, check, options,
+                            &urdf, &error);
   }
-  if (!error.empty()) Fail(error);
-  if (!(worst <= kUrdfReloadToleranceM)) {
-    Fail("write_urdf: the written URDF predicts the measurements up to " +
-         std::to_string(worst) +
-         " m away from the calibrated model (more than 1e-9 m)" +
-         (warnings.empty() ? "" : ": " + warnings[0]));
-  }
-  WriteText(path, text);
-  return worst;
+  if (!ok) Fail("write_urdf: " + error);
+  WriteText(path, urdf.text);
+  return urdf.worst_m;
 }
 
 std::vector<RosTransform> Transforms(const EstimateResult& e,
@@ -105,7 +82,7 @@ std::vector<RosTransform> Transforms(const EstimateResult& e,
   if (!tip_frame.is_none()) options.tip_frame = py::str(tip_frame);
   std::vector<RosTransform> transforms;
   std::string error;
-  if (!MetrologyRosTransforms(e.model, e.summary.parameters, options,
+  if (!MetrologyRosTransforms(e.model(), e.fit().parameters, options,
                               &transforms, &error)) {
     Fail("write_ros_frames: " + error);
   }
@@ -197,7 +174,7 @@ void BindExport(py::module_& m) {
       estimate, "write_frames",
       [](const EstimateResult& e, const py::object& path) {
         WriteText(PathArg(path),
-                  FramesFileText(e.model, e.summary.parameters,
+                  FramesFileText(e.model(), e.fit().parameters,
                                  "Metrology frames identified by activecal "
                                  "(Python) from " +
                                      SourceNote(e)));

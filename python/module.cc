@@ -105,7 +105,7 @@ PYBIND11_MODULE(_activecal, m) {
       .def("with_parameter_set", &WithParameterSet, py::arg("name"),
            py::arg("measurement") = "position",
            "A copy whose free parameters are the named set (registration, "
-           "offsets, full; file: unchanged), as ApplyParameterSet; select "
+           "offsets, full; file: unchanged), as ParameterSetFreeSet; select "
            "and identify further reduce it to what the data separate.")
       .def(py::pickle(&RobotState, &RobotFromState))
       .def("__copy__", [](const RobotPtr& r) { return r; })
@@ -457,73 +457,82 @@ PYBIND11_MODULE(_activecal, m) {
       m, "Estimate", "An identification result (identify).")
       .def_property_readonly(
           "parameter_names",
-          [](const EstimateResult& e) { return e.summary.names; },
+          [](const EstimateResult& e) { return e.fit().names; },
           "The identified (free) parameters, in order")
       .def_property_readonly(
           "estimates",
-          [](const EstimateResult& e) { return e.summary.estimates; })
+          [](const EstimateResult& e) { return e.fit().estimates; })
       .def_property_readonly(
           "std",
-          [](const EstimateResult& e) { return e.summary.standard_deviations; },
+          [](const EstimateResult& e) { return e.fit().standard_deviations; },
           "Standard deviations of the estimates")
       .def_property_readonly(
           "covariance",
-          [](const EstimateResult& e) { return e.summary.covariance; })
+          [](const EstimateResult& e) { return e.fit().covariance; })
       .def_property_readonly(
           "correlation",
-          [](const EstimateResult& e) { return e.summary.correlation; })
+          [](const EstimateResult& e) { return e.fit().correlation; })
       .def_property_readonly(
           "nominal",
           [](const EstimateResult& e) {
-            return ExtractFree(e.model, e.robot->model().nominal);
+            return ExtractFree(e.model(), e.robot->model().nominal);
           },
           "The nominal values of the identified parameters")
       .def_property_readonly(
           "parameters",
-          [](const EstimateResult& e) { return e.summary.parameters; },
+          [](const EstimateResult& e) { return e.fit().parameters; },
           "The full parameter vector identified")
       .def_property_readonly(
           "rms_before_m",
-          [](const EstimateResult& e) { return e.summary.initial_rms_m; },
+          [](const EstimateResult& e) { return e.fit().initial_rms_m; },
           "RMS residual norm at the start (nominal, base registered)")
       .def_property_readonly(
-          "rms_after_m",
-          [](const EstimateResult& e) { return e.summary.rms_m; })
+          "rms_after_m", [](const EstimateResult& e) { return e.fit().rms_m; })
       .def_property_readonly(
           "registration_only_rms_m",
           [](const EstimateResult& e) -> py::object {
-            if (!e.have_baseline) return py::none();
-            return py::float_(e.registration_only_rms_m);
+            if (!e.calibration.have_baseline) return py::none();
+            return py::float_(e.calibration.baseline.rms_m);
           },
           "RMS residual with only the base and markers fitted, or None")
       .def_property_readonly(
-          "sigma_m", [](const EstimateResult& e) { return e.summary.sigma_m; })
+          "sigma_m", [](const EstimateResult& e) { return e.fit().sigma_m; })
       .def_property_readonly(
           "iterations",
-          [](const EstimateResult& e) { return e.summary.iterations; })
+          [](const EstimateResult& e) { return e.fit().iterations; })
       .def_property_readonly(
           "residual_norms",
-          [](const EstimateResult& e) { return e.summary.residual_norms; })
+          [](const EstimateResult& e) { return e.fit().residual_norms; })
       .def_property_readonly("outliers",
                              [](const EstimateResult& e) {
-                               return py::array(py::cast(e.summary.outliers));
+                               return py::array(py::cast(e.fit().outliers));
                              })
       .def_property_readonly(
           "termination_type",
           [](const EstimateResult& e) {
-            return TerminationTypeToString(e.summary.termination_type);
+            return TerminationTypeToString(e.fit().termination_type);
           })
-      .def_readonly("held_fixed", &EstimateResult::held_fixed,
-                    "Parameters held at nominal: the parameter set's "
-                    "reduction, auto_fix, model selection")
-      .def_readonly("warnings", &EstimateResult::warnings)
-      .def_readonly("registered_base", &EstimateResult::registered_base)
-      .def_readonly("parameter_set", &EstimateResult::parameter_set)
+      .def_property_readonly(
+          "held_fixed",
+          [](const EstimateResult& e) { return HeldNames(e.calibration.held); },
+          "Parameters held at nominal: the parameter set's reduction, "
+          "auto_fix, model selection")
+      .def_property_readonly(
+          "warnings",
+          [](const EstimateResult& e) { return e.calibration.warnings; })
+      .def_property_readonly(
+          "registered_base",
+          [](const EstimateResult& e) { return e.calibration.registered_base; })
+      .def_property_readonly(
+          "parameter_set",
+          [](const EstimateResult& e) {
+            return ParameterSetToString(e.calibration.options.parameter_set);
+          })
       .def_property_readonly(
           "model_selection_curve",
           [](const EstimateResult& e) {
             py::list curve;
-            for (const ModelSelectionPoint& p : e.selection.curve) {
+            for (const ModelSelectionPoint& p : e.calibration.selection.curve) {
               py::dict d;
               d["num_kept"] = p.num_kept;
               d["added"] = p.added;
@@ -546,12 +555,11 @@ PYBIND11_MODULE(_activecal, m) {
           "Writes the calibrated robot YAML (as activecal_identify "
           "--model_out); load_robot(path) reads it back.")
       .def("report",
-           [](const EstimateResult& e) { return e.summary.BriefReport(); })
+           [](const EstimateResult& e) { return e.fit().BriefReport(); })
       .def("__repr__", [](const EstimateResult& e) {
         std::ostringstream s;
-        s << "<activecal.Estimate: " << e.summary.num_free
-          << " parameters, RMS " << e.summary.initial_rms_m << " -> "
-          << e.summary.rms_m << " m>";
+        s << "<activecal.Estimate: " << e.fit().num_free << " parameters, RMS "
+          << e.fit().initial_rms_m << " -> " << e.fit().rms_m << " m>";
         return s.str();
       });
 
@@ -562,6 +570,7 @@ PYBIND11_MODULE(_activecal, m) {
         "robot file's free set, 'cv' for a named set; 'cv', 'validation', "
         "'none'), folds, selection_ranking, selection_rule ('1se_most', "
         "'min', '1se', 'ftest'), validation (Measurements), "
+        "validation_fraction (held out at random, seeded), "
         "robust_loss, robust_scale_m, outlier_threshold, rotation_weight, "
         "default_sigma_m, default_sigma_rad, prior_std_m, prior_std_rad, "
         "seed, num_threads. The GIL is released while it runs.");

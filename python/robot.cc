@@ -149,7 +149,7 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
 RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
                           const std::string& measurement) {
   ParameterSet set;
-  if (!ParseParameterSet(name, &set)) {
+  if (!StringToParameterSet(name, &set)) {
     Fail("parameter_set must be registration, offsets, full or file, got '" +
          name + "'");
   }
@@ -157,8 +157,9 @@ RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
       MeasurementTypeArg(measurement, true, "measurement");
   auto out = std::make_shared<Robot>(robot);
   if (set != ParameterSet::kFile) {
-    ApplyParameterSet(set, type == MeasurementType::kPose,
-                      &out->description.model);
+    RobotModel& model = out->description.model;
+    model = WithFreeSet(
+        model, ParameterSetFreeSet(model, set, type == MeasurementType::kPose));
   }
   return out;
 }

@@ -236,10 +236,10 @@ TEST(RegistrationFitTest, EqualsADirectRegistrationIdentification) {
   Eigen::VectorXd start = m.nominal;
   RegistrationSummary closed_form;
   ASSERT_TRUE(RegisterBaseFrame(direct, data, &start, &closed_form));
-  std::vector<DroppedParameter> dropped;
+  std::vector<HeldParameter> dropped;
   std::string error;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kRegistration, data, 1.0,
-                                         &direct, &start, &dropped, &error));
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kRegistration, data, 1.0,
+                                   &direct, &start, &dropped, &error));
   const IdentificationSummary id = Fit(direct, data, {});
   (void)id;
   IdentificationSummary by_hand;
@@ -293,10 +293,10 @@ TEST(RegistrationFitTest, BaselineOfTheFreeSetIsASubsetOfIt) {
   const std::vector<Measurement> points =
       Simulate(reduced, Ur10eInDeviceFrame(reduced),
                UrPlan(reduced, 25, MeasurementType::kPosition, 5), 0.0005, 6);
-  std::vector<DroppedParameter> dropped;
+  std::vector<HeldParameter> dropped;
   std::string error;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, points, 1.0,
-                                         &reduced, &start, &dropped, &error));
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, points, 1.0, &reduced,
+                                   &start, &dropped, &error));
   FitRegistrationOfFreeSet(reduced, reduced.nominal, points, {}, &of_free);
   ASSERT_EQ(of_free.termination_type, TerminationType::kConvergence);
   const std::vector<std::string> ur_free = reduced.FreeParameterNames();
@@ -410,10 +410,10 @@ TEST(ModelSelectionTest, RankingPutsRegistrationFirstAndEachPrefixHasFullRank) {
   const std::vector<Measurement> data =
       UrPlan(m, 20, MeasurementType::kPose, 8);
   Eigen::VectorXd point = m.nominal;
-  std::vector<DroppedParameter> dropped;
+  std::vector<HeldParameter> dropped;
   std::string error;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, data, 0.1, &m,
-                                         &point, &dropped, &error));
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, data, 0.1, &m, &point,
+                                   &dropped, &error));
   Eigen::MatrixXd J;
   ASSERT_TRUE(StackedJacobian(m, point, data, 0.1, &J, &error));
   int num_registration = 0;
@@ -498,11 +498,10 @@ SparseErrors MakeSparseErrors(uint64_t seed) {
   out.start = out.model.nominal;
   RegistrationSummary reg;
   EXPECT_TRUE(RegisterBaseFrame(out.model, out.training, &out.start, &reg));
-  std::vector<DroppedParameter> dropped;
+  std::vector<HeldParameter> dropped;
   std::string error;
-  EXPECT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, out.training, 1.0,
-                                         &out.model, &out.start, &dropped,
-                                         &error))
+  EXPECT_TRUE(testing::ReduceModel(ParameterSet::kFull, out.training, 1.0,
+                                   &out.model, &out.start, &dropped, &error))
       << error;
   return out;
 }
@@ -516,7 +515,7 @@ TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
   options.num_folds = 4;
   RobotModel chosen = problem.model;
   ModelSelectionSummary summary;
-  SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);
+  SelectModel(chosen, problem.start, problem.training, {}, options, &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
   ASSERT_EQ(static_cast<int>(summary.curve.size()),
@@ -538,7 +537,7 @@ TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
     }
   }
   EXPECT_EQ(summary.best_num_kept, argmin);
-  EXPECT_EQ(chosen.num_free(), argmin);
+  EXPECT_EQ(summary.free.size(), argmin);
   EXPECT_EQ(static_cast<int>(summary.dropped.size()), p - argmin);
   // Three real errors among ~20 link parameters: the rest is noise, and
   // cross-validation drops some of it.
@@ -548,7 +547,7 @@ TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
   RobotModel again = problem.model;
   ModelSelectionSummary summary2;
   options.num_threads = 2;  // the same result on two threads
-  SelectModel(&again, problem.start, problem.training, {}, options, &summary2);
+  SelectModel(again, problem.start, problem.training, {}, options, &summary2);
   ASSERT_EQ(summary2.curve.size(), summary.curve.size());
   for (size_t k = 0; k < summary.curve.size(); ++k) {
     EXPECT_EQ(summary2.curve[k].ok, summary.curve[k].ok);
@@ -558,6 +557,7 @@ TEST(ModelSelectionTest, CrossValidationKeepsTheMinimumOfItsCurve) {
     }
   }
   // The chosen model predicts new poses no worse than the full one.
+  chosen = WithFreeSet(problem.model, summary.free);
   IdentificationSummary full, kept;
   Identify(problem.model, problem.training, problem.start, {}, &full);
   Identify(chosen, problem.training, problem.start, {}, &kept);
@@ -577,7 +577,7 @@ TEST(ModelSelectionTest, ValidationFileAndNoneAndTooFewPoses) {
   options.method = ModelSelectionMethod::kValidation;
   RobotModel chosen = problem.model;
   ModelSelectionSummary summary;
-  SelectModel(&chosen, problem.start, problem.training, problem.validation,
+  SelectModel(chosen, problem.start, problem.training, problem.validation,
               options, &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
@@ -595,15 +595,15 @@ TEST(ModelSelectionTest, ValidationFileAndNoneAndTooFewPoses) {
   // none keeps every parameter and fits nothing.
   options.method = ModelSelectionMethod::kNone;
   chosen = problem.model;
-  SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);
+  SelectModel(chosen, problem.start, problem.training, {}, options, &summary);
   EXPECT_EQ(summary.termination_type, TerminationType::kConvergence);
   EXPECT_EQ(summary.best_num_kept, p);
   EXPECT_TRUE(summary.curve.empty());
-  EXPECT_EQ(chosen.num_free(), p);
+  EXPECT_EQ(summary.free.size(), p);
   // More folds than poses: refused, saying so.
   options.method = ModelSelectionMethod::kCrossValidation;
   options.num_folds = 31;
-  SelectModel(&chosen, problem.start, problem.training, {}, options, &summary);
+  SelectModel(chosen, problem.start, problem.training, {}, options, &summary);
   EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
   EXPECT_NE(summary.message.find("31 folds need at least 31 distinct poses"),
             std::string::npos)
@@ -621,7 +621,7 @@ TEST(ModelSelectionTest, CountsThatCouldNotBeTestedAreNamed) {
   const int p = chosen.num_free();
   ModelSelectionOptions options;
   ModelSelectionSummary summary;
-  SelectModel(&chosen, chosen.nominal, data, {}, options, &summary);
+  SelectModel(chosen, chosen.nominal, data, {}, options, &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
   ASSERT_FALSE(summary.curve.back().ok);
@@ -632,7 +632,7 @@ TEST(ModelSelectionTest, CountsThatCouldNotBeTestedAreNamed) {
       << summary.message;
   // Enough poses: every count tested, no such note.
   chosen = Puma560PaperModel();
-  SelectModel(&chosen, chosen.nominal, PumaMeasurements(40, 5e-4, 7), {},
+  SelectModel(chosen, chosen.nominal, PumaMeasurements(40, 5e-4, 7), {},
               options, &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence);
   EXPECT_EQ(summary.message.find("not tested"), std::string::npos)
@@ -655,13 +655,13 @@ TEST(ModelSelectionTest, EachRuleChoosesByItsThreshold) {
     options.rule = rule;
     options.num_threads = 2;
     ModelSelectionSummary& summary = by_rule[rule];
-    SelectModel(&chosen, chosen.nominal, data, {}, options, &summary);
+    SelectModel(chosen, chosen.nominal, data, {}, options, &summary);
     ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
         << summary.message;
-    EXPECT_EQ(chosen.num_free(), summary.best_num_kept);
-    EXPECT_NE(
-        summary.message.find(std::string("rule ") + SelectionRuleName(rule)),
-        std::string::npos)
+    EXPECT_EQ(summary.free.size(), summary.best_num_kept);
+    EXPECT_NE(summary.message.find(std::string("rule ") +
+                                   SelectionRuleToString(rule)),
+              std::string::npos)
         << summary.message;
   }
   const ModelSelectionSummary& min = by_rule[SelectionRule::kMinimum];

@@ -369,9 +369,9 @@ TEST(IdentifiabilityTest, RoundedRobotFilesKeepTheSameParametersAndConverge) {
           ASSERT_TRUE(RegisterBaseFrame(m, data, &start, &registration))
               << what;
         }
-        std::vector<DroppedParameter> dropped;
-        ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, data, 1.0,
-                                               &m, &start, &dropped, &error))
+        std::vector<HeldParameter> dropped;
+        ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, data, 1.0, &m,
+                                         &start, &dropped, &error))
             << what << ": " << error;
         IdentificationSummary fit;
         Identify(m, data, start, IdentificationOptions(), &fit);

@@ -1132,9 +1132,9 @@ TEST(CompensationTest, SixDofLoopOnUr10eBringsTheTrueErrorToCalibrationLevel) {
   RegistrationSummary registration;
   ASSERT_TRUE(RegisterBaseFrame(model, measurements, &initial, &registration))
       << registration.message;
-  std::vector<DroppedParameter> dropped;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, measurements, 1.0,
-                                         &model, &initial, &dropped, &error))
+  std::vector<HeldParameter> dropped;
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, measurements, 1.0,
+                                   &model, &initial, &dropped, &error))
       << error;
   IdentificationSummary identified;
   Identify(model, measurements, initial, IdentificationOptions(), &identified);

@@ -205,13 +205,13 @@ TEST(MeasurementTypesTest, RobustLossResistsTenPercentGrossOutliers) {
     ASSERT_EQ(robust.termination_type, TerminationType::kConvergence)
         << robust.message;
     EXPECT_EQ(CountOutside(robust, m, truth, 4.0), 0)
-        << RobustLossName(loss) << "\n"
+        << RobustLossToString(loss) << "\n"
         << robust.BriefReport();
     // Exactly the corrupted measurements are flagged.
     EXPECT_EQ(std::set<int>(robust.outliers.begin(), robust.outliers.end()),
               corrupted)
-        << RobustLossName(loss);
-    EXPECT_NEAR(robust.sigma_m, 1e-3, 2e-4) << RobustLossName(loss);
+        << RobustLossToString(loss);
+    EXPECT_NEAR(robust.sigma_m, 1e-3, 2e-4) << RobustLossToString(loss);
   }
 }
 
@@ -226,9 +226,9 @@ TEST(MeasurementTypesTest, RobustOptionsAreChecked) {
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("rotation_weight"), std::string::npos) << error;
   RobustLoss loss;
-  EXPECT_TRUE(ParseRobustLoss("cauchy", &loss));
+  EXPECT_TRUE(StringToRobustLoss("cauchy", &loss));
   EXPECT_EQ(loss, RobustLoss::kCauchy);
-  EXPECT_FALSE(ParseRobustLoss("tukey", &loss));
+  EXPECT_FALSE(StringToRobustLoss("tukey", &loss));
 }
 
 TEST(MeasurementTypesTest, BadMeasurementsAreNamed) {

@@ -78,7 +78,8 @@ TEST(RegistrationTest, UnknownFrameConvergesFromTwentyRandomFrames) {
   RobotDescription robot;
   ASSERT_TRUE(LoadShippedUr("ur10", &robot, &error)) << error;
   RobotModel model = robot.model;
-  ApplyParameterSet(ParameterSet::kRegistration, false, &model);
+  model = WithFreeSet(
+      model, ParameterSetFreeSet(model, ParameterSet::kRegistration, false));
   ASSERT_EQ(model.num_free(), 9);
   // UR10 joint ranges are +-2 pi; plan poses in a sensible part of them.
   for (Link& l : model.links) {
@@ -149,32 +150,35 @@ TEST(ParameterSetTest, SetsFreeWhatTheyName) {
   RobotDescription robot;
   ASSERT_TRUE(LoadShippedUr("ur10", &robot, &error)) << error;
   RobotModel m = robot.model;
-  ApplyParameterSet(ParameterSet::kRegistration, false, &m);
+  m = WithFreeSet(m,
+                  ParameterSetFreeSet(m, ParameterSet::kRegistration, false));
   EXPECT_EQ(m.num_free(), 6 + 3);
-  ApplyParameterSet(ParameterSet::kRegistration, true, &m);
+  m = WithFreeSet(m, ParameterSetFreeSet(m, ParameterSet::kRegistration, true));
   EXPECT_EQ(m.num_free(), 6 + 6);
-  ApplyParameterSet(ParameterSet::kOffsets, false, &m);
+  m = WithFreeSet(m, ParameterSetFreeSet(m, ParameterSet::kOffsets, false));
   EXPECT_EQ(m.num_free(), 6 + 6 + 3);
   EXPECT_TRUE(m.IsFree(m.ParameterIndex("wrist_3_joint.offset")));
   EXPECT_FALSE(m.IsFree(m.ParameterIndex("wrist_3_joint.gain")));
-  ApplyParameterSet(ParameterSet::kFull, false, &m);
+  m = WithFreeSet(m, ParameterSetFreeSet(m, ParameterSet::kFull, false));
   EXPECT_EQ(m.num_free(), 6 + 6 * 7 + 3);
   // 'file' keeps the flags; a DH model gets the DH parameters.
   const RobotModel before = m;
-  ApplyParameterSet(ParameterSet::kFile, false, &m);
+  m = WithFreeSet(m, ParameterSetFreeSet(m, ParameterSet::kFile, false));
   EXPECT_EQ(m.FreeParameterIndices(), before.FreeParameterIndices());
   RobotModel puma = Puma560PaperModel();
-  ApplyParameterSet(ParameterSet::kOffsets, false, &puma);
+  puma = WithFreeSet(puma,
+                     ParameterSetFreeSet(puma, ParameterSet::kOffsets, false));
   // The Hayati base keeps its flags; offsets are the six gammas.
   EXPECT_EQ(puma.num_free(), 4 + 6 + 3);
-  ApplyParameterSet(ParameterSet::kFull, false, &puma);
+  puma =
+      WithFreeSet(puma, ParameterSetFreeSet(puma, ParameterSet::kFull, false));
   EXPECT_TRUE(puma.IsFree(puma.ParameterIndex("L2.beta")));
   EXPECT_FALSE(puma.IsFree(puma.ParameterIndex("L3.beta")));
   EXPECT_FALSE(puma.IsFree(puma.ParameterIndex("L3.gain")));
   ParameterSet set;
-  EXPECT_TRUE(ParseParameterSet("offsets", &set));
+  EXPECT_TRUE(StringToParameterSet("offsets", &set));
   EXPECT_EQ(set, ParameterSet::kOffsets);
-  EXPECT_FALSE(ParseParameterSet("all", &set));
+  EXPECT_FALSE(StringToParameterSet("all", &set));
 }
 
 TEST(ParameterSetTest, GenericPointMovesOnlyFreeMarkerParameters) {
@@ -215,9 +219,10 @@ TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
   }
   J.col(2) = 2 * J.col(0) - J.col(1);
   J.col(3).setZero();
-  std::vector<DroppedParameter> dropped;
-  RobotModel reduced = m;
-  EXPECT_EQ(ReduceToIdentifiable(&reduced, J, 1e-7, &dropped), 3);
+  std::vector<HeldParameter> dropped;
+  RobotModel reduced =
+      WithFreeSet(m, ReduceToIdentifiable(m, J, 1e-7, &dropped));
+  EXPECT_EQ(reduced.num_free(), 3);
   ASSERT_EQ(dropped.size(), 2u);
   EXPECT_EQ(dropped[0].name, "B.z");
   EXPECT_NE(dropped[0].reason.find("a combination of B.x, B.y"),
@@ -230,8 +235,8 @@ TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
   // A weak but real direction stays: B.z is kept, and then B.ry, which
   // now closes the combination, is the one held.
   J.col(2) += 1e-4 * J.col(4);
-  reduced = m;
-  EXPECT_EQ(ReduceToIdentifiable(&reduced, J, 1e-7, &dropped), 3);
+  reduced = WithFreeSet(m, ReduceToIdentifiable(m, J, 1e-7, &dropped));
+  EXPECT_EQ(reduced.num_free(), 3);
   EXPECT_EQ(reduced.FreeParameterNames(),
             (std::vector<std::string>{"B.x", "B.y", "B.z"}));
   ASSERT_EQ(dropped.size(), 2u);
@@ -257,10 +262,10 @@ TEST(ParameterReductionTest, RedundancyToleranceIsCrossedExactly) {
     const double e = factor * kRedundancyTolerance;
     J(0, 2) = std::sqrt(1 - e * e);
     J(2, 2) = e;
-    RobotModel reduced = m;
-    std::vector<DroppedParameter> dropped;
-    const int kept =
-        ReduceToIdentifiable(&reduced, J, kRedundancyTolerance, &dropped);
+    std::vector<HeldParameter> dropped;
+    const int kept = WithFreeSet(m, ReduceToIdentifiable(
+                                        m, J, kRedundancyTolerance, &dropped))
+                         .num_free();
     if (factor < 1) {
       EXPECT_EQ(kept, 2);
       ASSERT_EQ(dropped.size(), 1u);
@@ -287,9 +292,9 @@ TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {
     for (int j = 0; j < 6; ++j) m.joints[j] = 2.5 * (2 * random.Uniform() - 1);
   }
   Eigen::VectorXd point = model.nominal;
-  std::vector<DroppedParameter> dropped;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, plan, 1.0, &model,
-                                         &point, &dropped, &error))
+  std::vector<HeldParameter> dropped;
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, plan, 1.0, &model,
+                                   &point, &dropped, &error))
       << error;
   // Position measurements of one point on a 6R arm: base (6) and marker
   // point (3) stay; the first joint's origin and offset go to the base; the
@@ -305,7 +310,7 @@ TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {
         "shoulder_pan_joint.rz", "wrist_3_joint.offset", "tool.rx"}) {
     EXPECT_FALSE(model.IsFree(model.ParameterIndex(name))) << name;
   }
-  for (const DroppedParameter& d : dropped) {
+  for (const HeldParameter& d : dropped) {
     if (d.name == "wrist_3_joint.offset") {
       EXPECT_NE(d.reason.find("tool.x"), std::string::npos) << d.reason;
     }
@@ -363,9 +368,9 @@ TEST(ParameterReductionTest, ReflectorOnTheFlangeAxisIsReducedWhereTheFitIs) {
   Eigen::VectorXd start = model.nominal;
   RegistrationSummary registration;
   ASSERT_TRUE(RegisterBaseFrame(model, data, &start, &registration));
-  std::vector<DroppedParameter> dropped;
-  ASSERT_TRUE(ApplyAndReduceParameterSet(ParameterSet::kFull, data, 1.0, &model,
-                                         &start, &dropped, &error))
+  std::vector<HeldParameter> dropped;
+  ASSERT_TRUE(testing::ReduceModel(ParameterSet::kFull, data, 1.0, &model,
+                                   &start, &dropped, &error))
       << error;
   // The stated reflector is where the fit starts: not moved off the axis.
   EXPECT_EQ(start.segment(tool, 3), model.nominal.segment(tool, 3));

@@ -5,13 +5,13 @@
 #include <memory>
 #include <string>
 
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
-#include "activecal/calibration/pool_builder.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -302,13 +302,13 @@ TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
   options.max_analysis_rows = 300;
   CandidatePool pool;
   CandidatePoolSummary summary;
-  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+  ASSERT_TRUE(BuildCandidatePool(m, m.nominal, lattice.AllJointValues(),
                                  options, &pool, &summary))
       << summary.message;
   EXPECT_EQ(summary.identifiability.num_equations, 300);
   EXPECT_EQ(summary.identifiability.rank, 27);
   EXPECT_EQ(pool.size(), 4096);
-  EXPECT_TRUE(summary.fixed_names.empty());
+  EXPECT_TRUE(summary.held.empty());
 }
 
 TEST(BuildCandidatePoolTest, SampleDoesNotAliasWithTheLattice) {
@@ -325,7 +325,7 @@ TEST(BuildCandidatePoolTest, SampleDoesNotAliasWithTheLattice) {
   options.max_analysis_rows = 3 * 1024;
   CandidatePool pool;
   CandidatePoolSummary summary;
-  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+  ASSERT_TRUE(BuildCandidatePool(m, m.nominal, lattice.AllJointValues(),
                                  options, &pool, &summary))
       << summary.message;
   EXPECT_EQ(summary.identifiability.rank, 27);
@@ -342,18 +342,19 @@ TEST(BuildCandidatePoolTest, AutoFixHoldsTheRedundantParameterFixed) {
   options.check_identifiability = true;
   CandidatePool pool;
   CandidatePoolSummary summary;
-  RobotModel refused = m;
-  EXPECT_FALSE(BuildCandidatePool(&refused, m.nominal, lattice.AllJointValues(),
+  EXPECT_FALSE(BuildCandidatePool(m, m.nominal, lattice.AllJointValues(),
                                   options, &pool, &summary));
   EXPECT_NE(summary.message.find("not identifiable"), std::string::npos)
       << summary.message;
-  EXPECT_EQ(refused.num_free(), 28);
+  EXPECT_EQ(summary.free.size(), 28);  // refused: nothing held
   options.auto_fix = true;
-  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, lattice.AllJointValues(),
+  ASSERT_TRUE(BuildCandidatePool(m, m.nominal, lattice.AllJointValues(),
                                  options, &pool, &summary))
       << summary.message;
-  EXPECT_EQ(summary.fixed_names.size(), 1u);
-  EXPECT_EQ(m.num_free(), 27);
+  EXPECT_EQ(summary.held.size(), 1u);
+  EXPECT_EQ(summary.held[0].stage, HoldStage::kAutoFix);
+  EXPECT_EQ(summary.free.size(), 27);
+  EXPECT_EQ(m.num_free(), 28);  // the model is not changed
   EXPECT_EQ(pool.num_parameters(), 27);
 }
 

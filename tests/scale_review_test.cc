@@ -7,10 +7,10 @@
 #include <sstream>
 #include <string>
 
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
-#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/fedorov.h"
 #include "test_util.h"
@@ -38,7 +38,7 @@ TEST(ScaleReviewTest, SinglePrecisionWithCheckNamesTheBadPoseInTheWholePool) {
       RobotModel model = m;
       CandidatePool pool;
       CandidatePoolSummary summary;
-      EXPECT_FALSE(BuildCandidatePool(&model, model.nominal, j, options, &pool,
+      EXPECT_FALSE(BuildCandidatePool(model, model.nominal, j, options, &pool,
                                       &summary));
       EXPECT_EQ(
           summary.message.rfind("pool pose " + std::to_string(bad) + ":", 0),
@@ -82,7 +82,7 @@ TEST(ScaleReviewTest, RoundingOnlyOnAFloatPoolDoesNotHoldItInDouble) {
   pool_options.num_threads = 2;
   CandidatePool pool;
   CandidatePoolSummary pool_summary;
-  ASSERT_TRUE(BuildCandidatePool(&m, m.nominal, joints, pool_options, &pool,
+  ASSERT_TRUE(BuildCandidatePool(m, m.nominal, joints, pool_options, &pool,
                                  &pool_summary))
       << pool_summary.message;
   const int64_t double_bytes = pool.storage_bytes() * 2;  // 170 MB

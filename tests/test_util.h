@@ -9,17 +9,35 @@
 #include <Eigen/Geometry>
 #include <string>
 
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/free_set.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_model.h"
+#include "activecal/estimation/parameter_reduction.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/calibration/pool_builder.h"
 
 namespace activecal {
 namespace testing {
+
+// ReduceParameterSet, its free set applied to *model: the model a fit of
+// the reduced set runs on (the tests' shorthand).
+inline bool ReduceModel(ParameterSet set,
+                        const std::vector<Measurement>& measurements,
+                        double rotation_weight, RobotModel* model,
+                        Eigen::VectorXd* point,
+                        std::vector<HeldParameter>* held, std::string* error) {
+  FreeSet free;
+  if (!ReduceParameterSet(*model, set, measurements, rotation_weight, point,
+                          &free, held, error)) {
+    return false;
+  }
+  *model = WithFreeSet(*model, free);
+  return true;
+}
 
 // The PUMA lattice pool with `levels` values per joint, Jacobians at the
 // nominal values.
@@ -30,8 +48,7 @@ inline CandidatePool PumaPool(int levels, JointLattice* lattice_out = nullptr) {
   EXPECT_TRUE(JointLattice::Create(model, levels, &lattice, &error)) << error;
   CandidatePool pool;
   CandidatePoolSummary summary;
-  EXPECT_TRUE(BuildCandidatePool(&model, model.nominal,
-                                 lattice.AllJointValues(),
+  EXPECT_TRUE(BuildCandidatePool(model, model.nominal, lattice.AllJointValues(),
                                  CandidatePoolOptions(), &pool, &summary))
       << summary.message;
   if (lattice_out) *lattice_out = lattice;

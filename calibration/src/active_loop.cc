@@ -342,13 +342,12 @@ bool RunActiveLoop(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
     const Eigen::VectorXd& estimate = state.estimate;
     CandidatePoolOptions pool_options;
     pool_options.num_threads = options.num_threads;
-    RobotModel pool_model = model;
     CandidatePool pool;
     CandidatePoolSummary pool_summary;
     Eigen::MatrixXd W;
     RowMatrixXd prior(0, model.num_free());
-    if (!BuildCandidatePool(&pool_model, estimate, pool_joints, pool_options,
-                            &pool, &pool_summary)) {
+    if (!BuildCandidatePool(model, estimate, pool_joints, pool_options, &pool,
+                            &pool_summary)) {
       return finish(
           TerminationType::kFailure,
           "round " + std::to_string(r) + ": pool: " + pool_summary.message);

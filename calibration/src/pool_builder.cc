@@ -111,20 +111,21 @@ namespace {
 
 // The identifiability check (and auto-fix) of BuildCandidatePool on the
 // Jacobian rows `sample`; fixed_columns: the columns to drop, in order.
+// *model: the model of the pool's columns (auto_fix may hold some of its
+// parameters: summary->free, summary->held).
 bool CheckPoolIdentifiability(const Eigen::MatrixXd& sample,
                               const CandidatePoolOptions& options,
                               RobotModel* model,
                               std::vector<int>* fixed_columns,
                               CandidatePoolSummary* summary) {
   if (options.auto_fix) {
-    RobotModel fixed_model = *model;
-    if (!FixUnidentifiableParameters(
-            &fixed_model, sample, options.rank_tolerance,
-            &summary->identifiability, fixed_columns, &summary->fixed_names)) {
+    if (!FixUnidentifiableParameters(*model, sample, options.rank_tolerance,
+                                     &summary->identifiability, &summary->free,
+                                     &summary->held, fixed_columns)) {
       summary->message = summary->identifiability.Message();
       return false;
     }
-    *model = std::move(fixed_model);
+    *model = WithFreeSet(*model, summary->free);
     return true;
   }
   summary->identifiability =
@@ -220,15 +221,18 @@ bool BuildSinglePrecisionPool(RobotModel* model,
 
 }  // namespace
 
-bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
+bool BuildCandidatePool(const RobotModel& input,
+                        const Eigen::VectorXd& parameters,
                         const Eigen::MatrixXd& joints,
                         const CandidatePoolOptions& options,
                         CandidatePool* pool, CandidatePoolSummary* summary) {
-  CHECK(model != nullptr);
   CHECK(pool != nullptr);
   CHECK(summary != nullptr);
   *summary = CandidatePoolSummary();
-  summary->num_free_before = model->num_free();
+  summary->num_free_before = input.num_free();
+  summary->free = FreeSet(input);
+  RobotModel model_copy = input;
+  RobotModel* model = &model_copy;
   const auto start = std::chrono::steady_clock::now();
   PoolJacobianOptions jacobian_options;
   jacobian_options.type = options.type;

@@ -43,8 +43,8 @@ bool SelectionPoolOptions::IsValid(std::string* error) const {
 
 std::vector<std::string> SelectionPoolSummary::HeldFixed() const {
   std::vector<std::string> names;
-  for (const DroppedParameter& d : dropped) names.push_back(d.name);
-  names.insert(names.end(), pool.fixed_names.begin(), pool.fixed_names.end());
+  for (const HeldParameter& d : dropped) names.push_back(d.name);
+  for (const HeldParameter& h : pool.held) names.push_back(h.name);
   return names;
 }
 
@@ -146,16 +146,19 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
     const Eigen::MatrixXd sample =
         SubsampleRows(pool_joints, options.reduction_sample_size);
     Eigen::VectorXd point = model->nominal;
-    if (!ApplyAndReduceParameterSet(options.parameter_set,
-                                    MeasurementPlan(sample, options.type),
-                                    options.rotation_weight_m_per_rad, model,
-                                    &point, &summary->dropped, &error)) {
+    FreeSet free;
+    if (!ReduceParameterSet(*model, options.parameter_set,
+                            MeasurementPlan(sample, options.type),
+                            options.rotation_weight_m_per_rad, &point, &free,
+                            &summary->dropped, &error)) {
       summary->reduction_failed = true;
-      summary->message = "parameter_set=" +
-                         std::string(ParameterSetName(options.parameter_set)) +
-                         ": " + error;
+      summary->message =
+          "parameter_set=" +
+          std::string(ParameterSetToString(options.parameter_set)) + ": " +
+          error;
       return false;
     }
+    *model = WithFreeSet(*model, free);
     model->nominal = point;
   }
   summary->double_mib = 8.0 * pool_joints.rows() *
@@ -190,13 +193,14 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
   pool_options.check_identifiability = true;
   pool_options.auto_fix = options.auto_fix;
   pool_options.progress = options.progress;
-  if (!BuildCandidatePool(model, model->nominal, pool_joints, pool_options,
+  if (!BuildCandidatePool(*model, model->nominal, pool_joints, pool_options,
                           pool, &summary->pool)) {
     summary->message = summary->pool.message;
     if (summary->filtered)
       summary->message += " (" + summary->filter_note + ")";
     return false;
   }
+  *model = WithFreeSet(*model, summary->pool.free);
   summary->termination_type = TerminationType::kConvergence;
   return true;
 }
@@ -212,9 +216,8 @@ bool BuildTaskPool(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
   CandidatePoolOptions task_options;
   task_options.type = MeasurementType::kPosition;
   task_options.num_threads = options.num_threads;
-  RobotModel task_model = model;
   CandidatePoolSummary task_summary;
-  if (!BuildCandidatePool(&task_model, model.nominal,
+  if (!BuildCandidatePool(model, model.nominal,
                           task_joints.rows() ? task_joints : pool_joints,
                           task_options, task_pool, &task_summary)) {
     if (error) *error = task_summary.message;

@@ -4,7 +4,7 @@
 
 namespace activecal {
 
-const char* ParameterSetName(ParameterSet set) {
+const char* ParameterSetToString(ParameterSet set) {
   switch (set) {
     case ParameterSet::kRegistration:
       return "registration";
@@ -18,10 +18,10 @@ const char* ParameterSetName(ParameterSet set) {
   return "unknown";
 }
 
-bool ParseParameterSet(const std::string& name, ParameterSet* set) {
+bool StringToParameterSet(const std::string& text, ParameterSet* set) {
   for (ParameterSet s : {ParameterSet::kRegistration, ParameterSet::kOffsets,
                          ParameterSet::kFull, ParameterSet::kFile}) {
-    if (name == ParameterSetName(s)) {
+    if (text == ParameterSetToString(s)) {
       *set = s;
       return true;
     }
@@ -29,33 +29,45 @@ bool ParseParameterSet(const std::string& name, ParameterSet* set) {
   return false;
 }
 
-void ApplyParameterSet(ParameterSet set, bool with_orientation,
-                       RobotModel* model) {
-  if (set == ParameterSet::kFile) return;
+FreeSet ParameterSetFreeSet(const RobotModel& model, ParameterSet set,
+                            bool with_orientation) {
+  if (set == ParameterSet::kFile) return FreeSet(model);
   const bool offsets = set != ParameterSet::kRegistration;
   const bool full = set == ParameterSet::kFull;
-  if (model->base.convention == LinkConvention::kFrame) {
-    model->base.free.fill(false);
-    for (int j = 0; j < 6; ++j) model->base.free[j] = true;
-  }
-  for (Link& l : model->links) {
-    l.free.fill(false);
-    if (l.convention == LinkConvention::kUrdf) {
-      l.free[kUrdfOffset] = offsets;
-      for (int j = kUrdfX; j <= kUrdfRz; ++j) l.free[j] = full;
-    } else {
-      const bool revolute = l.joint_type == JointType::kRevolute;
-      l.free[kGamma] = full || (offsets && revolute);
-      l.free[kD] = full || (offsets && !revolute);
-      l.free[kAlpha] = l.free[kA] = full;
-      l.free[kBeta] = full && l.convention == LinkConvention::kHayati;
+  FreeSet free = FreeSet::None(model.num_parameters());
+  auto set_block = [&](int block, int within, bool value) {
+    free.Set(model.block_offset(block) + within, value);
+  };
+  if (model.base.convention == LinkConvention::kFrame) {
+    for (int j = 0; j < 6; ++j) set_block(0, j, true);
+  } else {
+    // Another base keeps its flags as the file has them.
+    for (int j = 0; j < model.block_size(0); ++j) {
+      set_block(0, j, model.IsFree(model.block_offset(0) + j));
     }
   }
-  for (Marker& m : model->markers) {
-    m.free.fill(false);
-    for (int j = 0; j < 3; ++j) m.free[j] = true;
-    for (int j = 3; j < 6; ++j) m.free[j] = with_orientation;
+  for (int b = 1; b <= model.num_joints(); ++b) {
+    const Link& l = model.link(b);
+    if (l.convention == LinkConvention::kUrdf) {
+      set_block(b, kUrdfOffset, offsets);
+      for (int j = kUrdfX; j <= kUrdfRz; ++j) set_block(b, j, full);
+    } else {
+      const bool revolute = l.joint_type == JointType::kRevolute;
+      set_block(b, kGamma, full || (offsets && revolute));
+      set_block(b, kD, full || (offsets && !revolute));
+      set_block(b, kAlpha, full);
+      set_block(b, kA, full);
+      if (l.convention == LinkConvention::kHayati) set_block(b, kBeta, full);
+    }
   }
+  for (int k = 0; k < model.num_markers(); ++k) {
+    const int b = model.marker_block(k);
+    for (int j = 0; j < 3; ++j) set_block(b, j, true);
+    for (int j = 3; j < model.block_size(b); ++j) {
+      set_block(b, j, with_orientation);
+    }
+  }
+  return free;
 }
 
 Eigen::VectorXd GenericPoint(const RobotModel& model,

@@ -95,4 +95,28 @@ bool SimulateMeasurements(const RobotModel& model,
   return true;
 }
 
+bool SimulateAtRandomLatticePoses(const RobotModel& model,
+                                  const Eigen::VectorXd& true_parameters,
+                                  const JointLattice& lattice, int num_poses,
+                                  double noise_m, uint64_t seed,
+                                  std::vector<int64_t>* poses,
+                                  std::vector<Measurement>* out,
+                                  std::string* error) {
+  if (num_poses <= 0 || num_poses > lattice.size()) {
+    *error = "num_poses must be in [1, " + std::to_string(lattice.size()) +
+             "], got " + std::to_string(num_poses);
+    return false;
+  }
+  Random random(Random::StreamSeed(seed, 0));
+  *poses = random.SampleWithoutReplacement(lattice.size(), num_poses);
+  std::vector<Measurement> plan(poses->size());
+  for (size_t i = 0; i < poses->size(); ++i) {
+    plan[i].joints = lattice.JointValues((*poses)[i]);
+  }
+  SimulationNoise noise;
+  noise.position_m = noise_m;
+  return SimulateMeasurements(model, true_parameters, plan, noise,
+                              Random::StreamSeed(seed, 1), out, error);
+}
+
 }  // namespace activecal

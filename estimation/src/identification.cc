@@ -25,7 +25,7 @@ constexpr double kNoEffectTolerance = kNoEffectRelativeNorm;
 constexpr double kChiSquareTail = 0.0005;
 }  // namespace
 
-const char* RobustLossName(RobustLoss loss) {
+const char* RobustLossToString(RobustLoss loss) {
   switch (loss) {
     case RobustLoss::kNone:
       return "none";
@@ -37,10 +37,10 @@ const char* RobustLossName(RobustLoss loss) {
   return "unknown";
 }
 
-bool ParseRobustLoss(const std::string& name, RobustLoss* loss) {
+bool StringToRobustLoss(const std::string& text, RobustLoss* loss) {
   for (RobustLoss l :
        {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
-    if (name == RobustLossName(l)) {
+    if (text == RobustLossToString(l)) {
       *loss = l;
       return true;
     }
@@ -52,7 +52,7 @@ bool IdentificationOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
   if (robust_loss != RobustLoss::kNone &&
       !(robust_scale_m > 0 && std::isfinite(robust_scale_m))) {
-    msg << "robust loss '" << RobustLossName(robust_loss)
+    msg << "robust loss '" << RobustLossToString(robust_loss)
         << "' needs robust_scale_m > 0 (m), got " << robust_scale_m;
   } else if (!(outlier_threshold > 0)) {
     msg << "outlier_threshold must be > 0, got " << outlier_threshold;
@@ -197,28 +197,34 @@ std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
   return to_fix;
 }
 
-bool FixUnidentifiableParameters(RobotModel* model,
+bool FixUnidentifiableParameters(const RobotModel& model,
                                  const Eigen::MatrixXd& jacobian,
                                  double rank_tolerance,
-                                 IdentifiabilityReport* report,
-                                 std::vector<int>* fixed_columns,
-                                 std::vector<std::string>* fixed_names) {
-  CHECK(model != nullptr);
+                                 IdentifiabilityReport* report, FreeSet* free,
+                                 std::vector<HeldParameter>* held,
+                                 std::vector<int>* fixed_columns) {
   CHECK(report != nullptr);
-  CHECK(fixed_columns != nullptr);
-  CHECK_EQ(jacobian.cols(), model->num_free());
-  fixed_columns->clear();
-  if (fixed_names) fixed_names->clear();
-  *report = AnalyzeIdentifiability(*model, jacobian, rank_tolerance);
+  CHECK(free != nullptr);
+  CHECK(held != nullptr);
+  CHECK_EQ(jacobian.cols(), model.num_free());
+  *free = FreeSet(model);
+  held->clear();
+  if (fixed_columns) fixed_columns->clear();
+  *report = AnalyzeIdentifiability(model, jacobian, rank_tolerance);
   if (report->identifiable()) return true;
   if (report->num_equations < report->num_free) return false;
-  *fixed_columns = SuggestParametersToFix(jacobian, rank_tolerance);
-  const std::vector<std::string> names = model->FreeParameterNames();
-  const std::vector<int> free = model->FreeParameterIndices();
-  for (int c : *fixed_columns) {
-    model->SetFree(free[c], false);
-    if (fixed_names) fixed_names->push_back(names[c]);
+  const std::vector<int> columns =
+      SuggestParametersToFix(jacobian, rank_tolerance);
+  const std::vector<std::string> names = model.FreeParameterNames();
+  const std::vector<int> indices = model.FreeParameterIndices();
+  for (int c : columns) {
+    free->Set(indices[c], false);
+    held->push_back({names[c],
+                     "not identifiable from these measurements (a "
+                     "combination of the kept parameters, or no effect)",
+                     HoldStage::kAutoFix});
   }
+  if (fixed_columns) *fixed_columns = columns;
   return true;
 }
 

@@ -18,7 +18,7 @@
 
 namespace activecal {
 
-const char* ModelSelectionMethodName(ModelSelectionMethod method) {
+const char* ModelSelectionMethodToString(ModelSelectionMethod method) {
   switch (method) {
     case ModelSelectionMethod::kNone:
       return "none";
@@ -26,16 +26,18 @@ const char* ModelSelectionMethodName(ModelSelectionMethod method) {
       return "validation";
     case ModelSelectionMethod::kCrossValidation:
       return "cv";
+    case ModelSelectionMethod::kAuto:
+      return "auto";
   }
   return "unknown";
 }
 
-bool ParseModelSelectionMethod(const std::string& name,
-                               ModelSelectionMethod* method) {
+bool StringToModelSelectionMethod(const std::string& text,
+                                  ModelSelectionMethod* method) {
   for (ModelSelectionMethod m :
        {ModelSelectionMethod::kNone, ModelSelectionMethod::kValidation,
-        ModelSelectionMethod::kCrossValidation}) {
-    if (name == ModelSelectionMethodName(m)) {
+        ModelSelectionMethod::kCrossValidation, ModelSelectionMethod::kAuto}) {
+    if (text == ModelSelectionMethodToString(m)) {
       *method = m;
       return true;
     }
@@ -43,15 +45,16 @@ bool ParseModelSelectionMethod(const std::string& name,
   return false;
 }
 
-const char* ParameterRankingName(ParameterRanking ranking) {
+const char* ParameterRankingToString(ParameterRanking ranking) {
   return ranking == ParameterRanking::kSignificance ? "significance"
                                                     : "jacobian";
 }
 
-bool ParseParameterRanking(const std::string& name, ParameterRanking* ranking) {
+bool StringToParameterRanking(const std::string& text,
+                              ParameterRanking* ranking) {
   for (ParameterRanking r :
        {ParameterRanking::kSignificance, ParameterRanking::kJacobian}) {
-    if (name == ParameterRankingName(r)) {
+    if (text == ParameterRankingToString(r)) {
       *ranking = r;
       return true;
     }
@@ -59,7 +62,7 @@ bool ParseParameterRanking(const std::string& name, ParameterRanking* ranking) {
   return false;
 }
 
-const char* SelectionRuleName(SelectionRule rule) {
+const char* SelectionRuleToString(SelectionRule rule) {
   switch (rule) {
     case SelectionRule::kMinimum:
       return "min";
@@ -73,11 +76,11 @@ const char* SelectionRuleName(SelectionRule rule) {
   return "unknown";
 }
 
-bool ParseSelectionRule(const std::string& name, SelectionRule* rule) {
+bool StringToSelectionRule(const std::string& text, SelectionRule* rule) {
   for (SelectionRule r :
        {SelectionRule::kMinimum, SelectionRule::kFewestWithinOneSe,
         SelectionRule::kMostWithinOneSe, SelectionRule::kFTest}) {
-    if (name == SelectionRuleName(r)) {
+    if (text == SelectionRuleToString(r)) {
       *rule = r;
       return true;
     }
@@ -87,7 +90,10 @@ bool ParseSelectionRule(const std::string& name, SelectionRule* rule) {
 
 bool ModelSelectionOptions::IsValid(std::string* error) const {
   std::string why;
-  if (method == ModelSelectionMethod::kCrossValidation && num_folds < 2) {
+  if (method == ModelSelectionMethod::kAuto) {
+    why = "model selection 'auto' is resolved by the caller (Calibrate)";
+  } else if (method == ModelSelectionMethod::kCrossValidation &&
+             num_folds < 2) {
     why = "cross-validation needs at least 2 folds, got " +
           std::to_string(num_folds);
   } else if (!identification.IsValid(&why)) {
@@ -262,12 +268,11 @@ double StandardErrorOfSum(const std::vector<double>& v, double divisor) {
 
 }  // namespace
 
-void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
+void SelectModel(const RobotModel& model, const Eigen::VectorXd& start,
                  const std::vector<Measurement>& training,
                  const std::vector<Measurement>& validation,
                  const ModelSelectionOptions& options,
                  ModelSelectionSummary* summary) {
-  CHECK(model != nullptr);
   CHECK(summary != nullptr);
   *summary = ModelSelectionSummary();
   std::string error;
@@ -280,17 +285,18 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
   }
   const double w = options.identification.rotation_weight_m_per_rad;
   Eigen::MatrixXd J;
-  if (!StackedJacobian(*model, start, training, w, &J, &error)) {
+  if (!StackedJacobian(model, start, training, w, &J, &error)) {
     return fail(TerminationType::kUserFailure, error);
   }
-  const std::vector<int> free = model->FreeParameterIndices();
-  const std::vector<std::string> names = model->FreeParameterNames();
+  const std::vector<int> free = model.FreeParameterIndices();
+  const std::vector<std::string> names = model.FreeParameterNames();
   const int p = static_cast<int>(free.size());
   const std::vector<int> jacobian_ranking =
-      RankFreeParameters(*model, J, &summary->num_registration);
+      RankFreeParameters(model, J, &summary->num_registration);
   if (options.method == ModelSelectionMethod::kNone) {
     for (int k : jacobian_ranking) summary->ranking.push_back(names[k]);
     summary->best_num_kept = p;
+    summary->free = FreeSet(model);
     summary->termination_type = TerminationType::kConvergence;
     summary->message = "no model selection: every free parameter kept";
     return;
@@ -327,7 +333,7 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
                   "measurements");
     }
     for (size_t i = 0; i < validation.size(); ++i) {
-      if (!CheckMeasurement(*model, validation[i], &error)) {
+      if (!CheckMeasurement(model, validation[i], &error)) {
         return fail(
             TerminationType::kUserFailure,
             "validation measurement " + std::to_string(i) + ": " + error);
@@ -354,17 +360,16 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
         IdentificationSummary all;
         IdentificationOptions ranked = fast;
         ranked.compute_covariance = true;
-        Identify(*model, split_train[sp], start, ranked, &all);
+        Identify(model, split_train[sp], start, ranked, &all);
         if (all.termination_type != TerminationType::kConvergence) {
           // A fold too weak for every parameter keeps the Jacobian order;
           // the whole training set must rank.
           if (sp == 0) rank_errors[sp] = all.message;
           continue;
         }
-        const Eigen::VectorXd moved =
-            all.estimates - ExtractFree(*model, start);
+        const Eigen::VectorXd moved = all.estimates - ExtractFree(model, start);
         rankings[sp] =
-            RankBySignificance(*model, moved, all.standard_deviations, nullptr);
+            RankBySignificance(model, moved, all.standard_deviations, nullptr);
       }
     });
     for (int sp = 0; sp < num_splits; ++sp) {
@@ -396,7 +401,7 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
       Eigen::VectorXd from = start;
       for (int point = 0; point < num_points; ++point) {
         const int task = point * num_splits + static_cast<int>(sp);
-        const RobotModel m = Keep(*model, free, rankings[sp], first + point);
+        const RobotModel m = Keep(model, free, rankings[sp], first + point);
         IdentificationSummary fit;
         Identify(m, split_train[sp], from, fast, &fit);
         if (fit.termination_type != TerminationType::kConvergence) {
@@ -561,14 +566,15 @@ void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
   for (int k = summary->best_num_kept; k < p; ++k) {
     summary->dropped.push_back(names[rankings[0][k]]);
   }
-  *model = Keep(*model, free, rankings[0], summary->best_num_kept);
+  summary->free =
+      FreeSet(Keep(model, free, rankings[0], summary->best_num_kept));
   summary->termination_type = TerminationType::kConvergence;
   std::ostringstream msg;
-  msg << "model selection (" << ModelSelectionMethodName(options.method)
-      << ", ranked by " << ParameterRankingName(options.ranking) << ", rule "
-      << SelectionRuleName(options.rule) << "): " << summary->best_num_kept
-      << " of " << p << " free parameters kept, held-out RMS " << chosen_rms
-      << " m";
+  msg << "model selection (" << ModelSelectionMethodToString(options.method)
+      << ", ranked by " << ParameterRankingToString(options.ranking)
+      << ", rule " << SelectionRuleToString(options.rule)
+      << "): " << summary->best_num_kept << " of " << p
+      << " free parameters kept, held-out RMS " << chosen_rms << " m";
   if (summary->best_num_kept != summary->minimum_num_kept) {
     msg << " (the minimum, " << best << " m, at " << summary->minimum_num_kept
         << ")";

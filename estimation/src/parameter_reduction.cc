@@ -43,28 +43,27 @@ std::vector<int> ReductionPriority(const RobotModel& model) {
   return order;
 }
 
-int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
-                         double tolerance,
-                         std::vector<DroppedParameter>* dropped) {
-  CHECK(model != nullptr);
-  CHECK(dropped != nullptr);
-  const std::vector<int> free = model->FreeParameterIndices();
+FreeSet ReduceToIdentifiable(const RobotModel& model,
+                             const Eigen::MatrixXd& jacobian, double tolerance,
+                             std::vector<HeldParameter>* held) {
+  CHECK(held != nullptr);
+  const std::vector<int> free = model.FreeParameterIndices();
   CHECK_EQ(jacobian.cols(), static_cast<int>(free.size()));
-  const std::vector<std::string> names = model->ParameterNames();
-  dropped->clear();
+  const std::vector<std::string> names = model.ParameterNames();
+  held->clear();
   const double longest =
       jacobian.cols() ? jacobian.colwise().norm().maxCoeff() : 0.0;
   std::vector<int> kept_columns;  // into jacobian
   Eigen::MatrixXd basis(jacobian.rows(), 0);
-  std::vector<int> drop;
-  for (int parameter : ReductionPriority(*model)) {
+  FreeSet kept(model);
+  for (int parameter : ReductionPriority(model)) {
     const int c = static_cast<int>(
         std::find(free.begin(), free.end(), parameter) - free.begin());
     const double norm = jacobian.col(c).norm();
     if (!(norm > kNoEffectRelativeNorm * longest)) {
-      dropped->push_back(
-          {names[parameter], "has no effect on these measurements"});
-      drop.push_back(parameter);
+      held->push_back({names[parameter], "has no effect on these measurements",
+                       HoldStage::kParameterSet});
+      kept.Set(parameter, false);
       continue;
     }
     Eigen::VectorXd r = jacobian.col(c) / norm;
@@ -102,29 +101,27 @@ int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
     }
     reason.precision(1);
     reason << " (residual " << std::scientific << rest << ")";
-    dropped->push_back({names[parameter], reason.str()});
-    drop.push_back(parameter);
+    held->push_back({names[parameter], reason.str(), HoldStage::kParameterSet});
+    kept.Set(parameter, false);
   }
-  for (int parameter : drop) model->SetFree(parameter, false);
-  return static_cast<int>(kept_columns.size());
+  return kept;
 }
 
-bool ApplyAndReduceParameterSet(ParameterSet set,
-                                const std::vector<Measurement>& measurements,
-                                double rotation_weight_m_per_rad,
-                                RobotModel* model, Eigen::VectorXd* point,
-                                std::vector<DroppedParameter>* dropped,
-                                std::string* error) {
-  CHECK(model != nullptr);
+bool ReduceParameterSet(const RobotModel& model, ParameterSet set,
+                        const std::vector<Measurement>& measurements,
+                        double rotation_weight_m_per_rad,
+                        Eigen::VectorXd* point, FreeSet* free,
+                        std::vector<HeldParameter>* held, std::string* error) {
   CHECK(point != nullptr);
-  CHECK(dropped != nullptr);
-  dropped->clear();
+  CHECK(free != nullptr);
+  CHECK(held != nullptr);
+  held->clear();
   bool with_orientation = false;
   for (const Measurement& m : measurements) {
     with_orientation |= m.type == MeasurementType::kPose;
   }
-  ApplyParameterSet(set, with_orientation, model);
-  if (model->num_free() == 0) {
+  *free = ParameterSetFreeSet(model, set, with_orientation);
+  if (free->empty()) {
     if (error) {
       *error =
           "nothing to identify: no parameter is free (choose a parameter set "
@@ -134,6 +131,7 @@ bool ApplyAndReduceParameterSet(ParameterSet set,
     return false;
   }
   if (set == ParameterSet::kFile) return true;
+  const RobotModel named = WithFreeSet(model, *free);
   const Eigen::VectorXd given = *point;
   // The reduction is done where the fit will be. Only a marker guessed at
   // the tip frame's origin (the default, which says nothing about the end
@@ -143,26 +141,26 @@ bool ApplyAndReduceParameterSet(ParameterSet set,
   // starts and where its truth is: reduced there, a marker on the flange
   // axis drops the combinations that are degenerate on the axis instead of
   // keeping them for a fit that cannot separate them.
-  *point = GenericPoint(*model, given);
-  for (int k = 0; k < model->num_markers(); ++k) {
-    const int offset = model->block_offset(model->marker_block(k));
+  Eigen::VectorXd at = GenericPoint(named, given);
+  for (int k = 0; k < named.num_markers(); ++k) {
+    const int offset = named.block_offset(named.marker_block(k));
     if (!given.segment(offset, 3).isZero(0)) {
-      point->segment(offset, kMarkerBlockSize) =
+      at.segment(offset, kMarkerBlockSize) =
           given.segment(offset, kMarkerBlockSize);
     }
   }
   Eigen::MatrixXd J;
-  if (!StackedJacobian(*model, *point, measurements, rotation_weight_m_per_rad,
-                       &J, error)) {
-    *point = given;
+  if (!StackedJacobian(named, at, measurements, rotation_weight_m_per_rad, &J,
+                       error)) {
     return false;
   }
-  ReduceToIdentifiable(model, J, kRedundancyTolerance, dropped);
+  *free = ReduceToIdentifiable(named, J, kRedundancyTolerance, held);
   // What is held keeps exactly the value it was given; only parameters the
   // fit will estimate start from the generic point.
-  for (int i = 0; i < model->num_parameters(); ++i) {
-    if (!model->IsFree(i)) (*point)[i] = given[i];
+  for (int i = 0; i < named.num_parameters(); ++i) {
+    if (!free->Contains(i)) at[i] = given[i];
   }
+  *point = at;
   return true;
 }
 

@@ -38,10 +38,11 @@ void Fit(const RobotModel& model, const Eigen::VectorXd& geometry,
       return;
     }
   }
-  std::vector<DroppedParameter> dropped;
-  if (!ApplyAndReduceParameterSet(ParameterSet::kRegistration, measurements,
-                                  options.rotation_weight_m_per_rad, &m, &start,
-                                  &dropped, &error)) {
+  std::vector<HeldParameter> dropped;
+  FreeSet free;
+  if (!ReduceParameterSet(m, ParameterSet::kRegistration, measurements,
+                          options.rotation_weight_m_per_rad, &start, &free,
+                          &dropped, &error)) {
     summary->message = "registration fit: " + error;
     return;
   }
@@ -50,18 +51,19 @@ void Fit(const RobotModel& model, const Eigen::VectorXd& geometry,
     // given values (the reduction moved free marker points to a generic
     // point).
     for (int i = 0; i < m.num_parameters(); ++i) {
-      if (m.IsFree(i) && !model.IsFree(i)) {
-        m.SetFree(i, false);
+      if (free.Contains(i) && !model.IsFree(i)) {
+        free.Set(i, false);
         start[i] = geometry[i];
       }
     }
-    if (m.num_free() == 0) {
+    if (free.empty()) {
       summary->message =
           "registration fit: no base or marker parameter is free in the "
           "calibrated model";
       return;
     }
   }
+  m = WithFreeSet(m, free);
   summary->names = m.FreeParameterNames();
   Identify(m, measurements, start, options, &summary->identification);
   const IdentificationSummary& id = summary->identification;

@@ -4,12 +4,12 @@
 //
 //   calibrate_my_arm <robot.yaml> <calibrated.yaml>
 
+#include <activecal/calibration/pool_builder.h>
 #include <activecal/core/candidate_pool.h>
 #include <activecal/core/lattice.h>
-#include <activecal/io/robot_file.h>
 #include <activecal/core/simulation.h>
 #include <activecal/estimation/identification.h>
-#include <activecal/calibration/pool_builder.h>
+#include <activecal/io/robot_file.h>
 #include <activecal/selection/approximate_design.h>
 #include <activecal/selection/fedorov.h>
 
@@ -41,8 +41,8 @@ int main(int argc, char** argv) {
   pool_options.check_identifiability = true;
   activecal::CandidatePool pool;
   activecal::CandidatePoolSummary pool_summary;
-  if (!activecal::BuildCandidatePool(&model, model.nominal, joints,
-                                     pool_options, &pool, &pool_summary)) {
+  if (!activecal::BuildCandidatePool(model, model.nominal, joints, pool_options,
+                                     &pool, &pool_summary)) {
     std::cerr << pool_summary.message << "\n";
     return 1;
   }

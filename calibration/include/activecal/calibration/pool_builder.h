@@ -9,11 +9,13 @@
 //   options.auto_fix = true;
 //   CandidatePool pool;
 //   CandidatePoolSummary summary;
-//   if (!BuildCandidatePool(&model, model.nominal, lattice.AllJointValues(),
+//   if (!BuildCandidatePool(model, model.nominal, lattice.AllJointValues(),
 //                           options, &pool, &summary)) {
 //     LOG(ERROR) << summary.message;
 //   }
-//   // summary.fixed_names: the parameters now held fixed in model.
+//   // summary.free: the pool's parameters (free_set.h), summary.held the
+//   // parameters auto_fix held; WithFreeSet(model, summary.free) is the
+//   // model the pool's columns belong to.
 
 #ifndef ACTIVECAL_CALIBRATION_POOL_BUILDER_H_
 #define ACTIVECAL_CALIBRATION_POOL_BUILDER_H_
@@ -24,6 +26,7 @@
 #include <vector>
 
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/free_set.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/types.h"
@@ -63,16 +66,19 @@ struct CandidatePoolOptions {
 struct CandidatePoolSummary {
   std::string message;                    // why it failed
   IdentifiabilityReport identifiability;  // of the pool, before any fixing
-  std::vector<std::string> fixed_names;   // held fixed by auto_fix
+  FreeSet free;                           // the pool's columns' parameters
+  std::vector<HeldParameter> held;        // held fixed by auto_fix
   int num_free_before = 0;                // free parameters before fixing
   double jacobian_seconds = 0.0;
 };
 
-// Builds the pool of the poses `joints` (one per row) at `parameters`.
-// With options.auto_fix, *model may lose free parameters (named in
-// summary->fixed_names). Returns false with summary->message on bad input
-// or when the pool cannot identify the free parameters.
-bool BuildCandidatePool(RobotModel* model, const Eigen::VectorXd& parameters,
+// Builds the pool of the poses `joints` (one per row) at `parameters`, for
+// the free parameters of `model`. With options.auto_fix, summary->free may
+// hold fewer (summary->held names those held fixed). Returns false with
+// summary->message on bad input or when the pool cannot identify the free
+// parameters.
+bool BuildCandidatePool(const RobotModel& model,
+                        const Eigen::VectorXd& parameters,
                         const Eigen::MatrixXd& joints,
                         const CandidatePoolOptions& options,
                         CandidatePool* pool, CandidatePoolSummary* summary);

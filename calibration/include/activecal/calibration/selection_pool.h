@@ -82,18 +82,18 @@ struct SelectionPoolSummary {
   // identifiability report in pool.identifiability).
   TerminationType termination_type = TerminationType::kFailure;
   std::string message;
-  bool reduction_failed = false;  // message is "parameter_set=<name>: ..."
-  std::vector<DroppedParameter> dropped;  // by the reduction
-  bool single_precision = false;          // the storage chosen
-  double double_mib = 0;                  // the blocks' size in double
-  CandidatePoolSummary pool;  // auto_fix's fixed_names, jacobian_seconds
+  bool reduction_failed = false;       // message is "parameter_set=<name>: ..."
+  std::vector<HeldParameter> dropped;  // by the reduction
+  bool single_precision = false;       // the storage chosen
+  double double_mib = 0;               // the blocks' size in double
+  CandidatePoolSummary pool;           // auto_fix's held, jacobian_seconds
   // With options.filter: the rows of pool_joints the pool was built from
   // (pool pose k is row kept[k]) and the filter's note.
   bool filtered = false;
   std::vector<int64_t> kept;
   std::string filter_note;
 
-  // dropped, then the pool's fixed_names.
+  // dropped, then the pool's held.
   std::vector<std::string> HeldFixed() const;
 };
 

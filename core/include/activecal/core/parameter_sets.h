@@ -13,9 +13,10 @@
 //                 robots; 'full' is the default for URDF robots)
 //
 // A set usually holds parameters the data cannot separate (the first
-// joint's origin and the base frame); the identification reduces it to an
-// identifiable set and names what it dropped
-// (residuals/identification.h).
+// joint's origin and the base frame); the reduction
+// (estimation/parameter_reduction.h) keeps what the data separate and
+// names what it held. Sets are free sets (free_set.h): values, the model
+// is not changed.
 
 #ifndef ACTIVECAL_CORE_PARAMETER_SETS_H_
 #define ACTIVECAL_CORE_PARAMETER_SETS_H_
@@ -23,20 +24,22 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "activecal/core/free_set.h"
 #include "activecal/core/robot_model.h"
 
 namespace activecal {
 
 enum class ParameterSet { kRegistration, kOffsets, kFull, kFile };
 
-const char* ParameterSetName(ParameterSet set);
-// "registration", "offsets", "full" or "file"; false if none of them.
-bool ParseParameterSet(const std::string& name, ParameterSet* set);
+// "registration", "offsets", "full" or "file".
+const char* ParameterSetToString(ParameterSet set);
+// False if `text` is none of them.
+bool StringToParameterSet(const std::string& text, ParameterSet* set);
 
-// Sets the free flags of *model for `set` (kFile leaves them).
+// The free set `set` names on `model` (kFile: the model's own flags).
 // `with_orientation`: the measurements see the markers' orientation (6D).
-void ApplyParameterSet(ParameterSet set, bool with_orientation,
-                       RobotModel* model);
+FreeSet ParameterSetFreeSet(const RobotModel& model, ParameterSet set,
+                            bool with_orientation);
 
 // A generic point near `parameters` for identifiability analysis: every
 // free marker parameter moved by a fixed pseudo-random amount (seeded, the

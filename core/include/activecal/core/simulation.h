@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 
@@ -33,6 +34,20 @@ bool SimulateMeasurements(const RobotModel& model,
                           const std::vector<Measurement>& plan,
                           const SimulationNoise& noise, uint64_t seed,
                           std::vector<Measurement>* out, std::string* error);
+
+// A simulated session at random lattice poses (what activecal_identify
+// simulates without --measurements): num_poses distinct poses of `lattice`
+// drawn without replacement (Random stream (seed, 0); their indices in
+// *poses), each measured in position with noise_m per axis (stream
+// (seed, 1)). False with *error "num_poses must be in [1, N], got k" or
+// SimulateMeasurements' message.
+bool SimulateAtRandomLatticePoses(const RobotModel& model,
+                                  const Eigen::VectorXd& true_parameters,
+                                  const JointLattice& lattice, int num_poses,
+                                  double noise_m, uint64_t seed,
+                                  std::vector<int64_t>* poses,
+                                  std::vector<Measurement>* out,
+                                  std::string* error);
 
 }  // namespace activecal
 

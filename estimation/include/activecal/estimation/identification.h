@@ -54,6 +54,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/free_set.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/simulation.h"
@@ -66,8 +67,9 @@ enum class RobustLoss {
   kHuber,   // quadratic up to the scale, linear beyond
   kCauchy,  // log(1 + (r/scale)^2): strong down-weighting of gross errors
 };
-const char* RobustLossName(RobustLoss loss);
-bool ParseRobustLoss(const std::string& name, RobustLoss* loss);
+// "none", "huber", "cauchy".
+const char* RobustLossToString(RobustLoss loss);
+bool StringToRobustLoss(const std::string& text, RobustLoss* loss);
 
 struct IdentificationOptions {
   // A robust loss on each measurement's residual norm, with its scale (m):
@@ -147,25 +149,25 @@ std::vector<int> SuggestParametersToFix(const Eigen::MatrixXd& jacobian,
                                         double rank_tolerance = 1e-10);
 
 // The auto-fix policy: analyses `jacobian` (m x num_free, columns in
-// model->FreeParameterNames() order) into *report and, when it does not
+// model.FreeParameterNames() order) into *report and, when it does not
 // identify every free parameter but has at least as many rows as columns,
-// holds fixed in *model (SetFree(i, false)) the parameters
-// SuggestParametersToFix names. The rule is deterministic: columns with no
-// effect first, then QR with column pivoting on the unit-norm columns keeps
-// the rank-many columns it pivots first (the largest remaining norm; on a
-// tie the earlier parameter in free-parameter order) and fixes the rest.
-// *fixed_columns gets their positions among the free parameters before
-// fixing (ascending), *fixed_names their names (may be null). Returns true
-// when every free parameter was identifiable (nothing fixed) or the
-// parameters were fixed (the rest then have a full-rank Jacobian by
-// construction of the rank-revealing QR); false, with *model unchanged,
-// when there are fewer rows than free parameters.
-bool FixUnidentifiableParameters(RobotModel* model,
+// holds fixed the parameters SuggestParametersToFix names: *free is the
+// model's free set without them, *held names them (stage kAutoFix). The
+// rule is deterministic: columns with no effect first, then QR with column
+// pivoting on the unit-norm columns keeps the rank-many columns it pivots
+// first (the largest remaining norm; on a tie the earlier parameter in
+// free-parameter order) and fixes the rest. *fixed_columns (may be null)
+// gets their positions among the free parameters (ascending). Returns true
+// when every free parameter was identifiable (nothing held) or the
+// parameters were held (the rest then have a full-rank Jacobian by
+// construction of the rank-revealing QR); false, with *free the model's
+// set, when there are fewer rows than free parameters.
+bool FixUnidentifiableParameters(const RobotModel& model,
                                  const Eigen::MatrixXd& jacobian,
                                  double rank_tolerance,
-                                 IdentifiabilityReport* report,
-                                 std::vector<int>* fixed_columns,
-                                 std::vector<std::string>* fixed_names);
+                                 IdentifiabilityReport* report, FreeSet* free,
+                                 std::vector<HeldParameter>* held,
+                                 std::vector<int>* fixed_columns = nullptr);
 
 struct IdentificationSummary {
   // kConvergence when the problem was identifiable, the solver converged

@@ -54,8 +54,8 @@
 //   ModelSelectionOptions options;
 //   options.method = ModelSelectionMethod::kCrossValidation;
 //   ModelSelectionSummary summary;
-//   SelectModel(&model, start, training, {}, options, &summary);
-//   // model's free flags now hold the chosen set; summary.curve the curve.
+//   SelectModel(model, start, training, {}, options, &summary);
+//   // summary.free: the chosen set (free_set.h); summary.curve the curve.
 
 #ifndef ACTIVECAL_ESTIMATION_MODEL_SELECTION_H_
 #define ACTIVECAL_ESTIMATION_MODEL_SELECTION_H_
@@ -65,6 +65,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/free_set.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/types.h"
@@ -72,7 +73,10 @@
 
 namespace activecal {
 
-enum class ModelSelectionMethod { kNone, kValidation, kCrossValidation };
+// kAuto is a request resolved by the caller (calibration/calibrate.h:
+// kNone for the robot file's free set or a MAP fit, kCrossValidation
+// otherwise); SelectModel refuses it.
+enum class ModelSelectionMethod { kNone, kValidation, kCrossValidation, kAuto };
 enum class ParameterRanking { kSignificance, kJacobian };
 enum class SelectionRule {
   kMinimum,
@@ -81,15 +85,16 @@ enum class SelectionRule {
   kFTest
 };
 // "min", "1se", "1se_most", "ftest".
-const char* SelectionRuleName(SelectionRule rule);
-bool ParseSelectionRule(const std::string& name, SelectionRule* rule);
-const char* ParameterRankingName(ParameterRanking ranking);
-// "significance" or "jacobian"; false if neither.
-bool ParseParameterRanking(const std::string& name, ParameterRanking* ranking);
-const char* ModelSelectionMethodName(ModelSelectionMethod method);
-// "none", "validation" or "cv"; false if none of them.
-bool ParseModelSelectionMethod(const std::string& name,
-                               ModelSelectionMethod* method);
+const char* SelectionRuleToString(SelectionRule rule);
+bool StringToSelectionRule(const std::string& text, SelectionRule* rule);
+// "significance" or "jacobian".
+const char* ParameterRankingToString(ParameterRanking ranking);
+bool StringToParameterRanking(const std::string& text,
+                              ParameterRanking* ranking);
+// "none", "validation", "cv" or "auto".
+const char* ModelSelectionMethodToString(ModelSelectionMethod method);
+bool StringToModelSelectionMethod(const std::string& text,
+                                  ModelSelectionMethod* method);
 
 struct ModelSelectionOptions {
   ModelSelectionMethod method = ModelSelectionMethod::kCrossValidation;
@@ -142,6 +147,7 @@ struct ModelSelectionSummary {
   int best_num_kept = 0;             // chosen by `rule`
   int minimum_num_kept = 0;          // the smallest held-out RMS
   std::vector<std::string> dropped;  // held at `start`, ranking order
+  FreeSet free;                      // the chosen set (kConvergence)
   int num_poses = 0;                 // distinct training poses
   int num_held_out = 0;              // held-out measurements (all folds)
 
@@ -170,11 +176,11 @@ bool AssignPoseFolds(const std::vector<Measurement>& measurements,
                      int num_folds, uint64_t seed, std::vector<int>* fold,
                      int* num_poses, std::string* error);
 
-// Runs the selection on the free parameters of *model, fits started at the
-// full vector `start`; `validation` is used with kValidation only. On
-// kConvergence, *model's free flags hold the chosen set. With kNone,
-// nothing is fitted and every free parameter is kept.
-void SelectModel(RobotModel* model, const Eigen::VectorXd& start,
+// Runs the selection on the free parameters of `model`, fits started at
+// the full vector `start`; `validation` is used with kValidation only. On
+// kConvergence, summary->free holds the chosen set. With kNone, nothing is
+// fitted and every free parameter is kept.
+void SelectModel(const RobotModel& model, const Eigen::VectorXd& start,
                  const std::vector<Measurement>& training,
                  const std::vector<Measurement>& validation,
                  const ModelSelectionOptions& options,

@@ -18,10 +18,11 @@
 // the order is total. The result is the same on every platform up to
 // rounding of that test.
 //
-//   std::vector<DroppedParameter> dropped;
-//   ReduceToIdentifiable(&model, J, kRedundancyTolerance, &dropped);
-//   // dropped[k].name = "shoulder_pan_joint.rx",
-//   // dropped[k].reason = "a combination of B.rx, B.ry (residual 2e-16)"
+//   std::vector<HeldParameter> held;
+//   const FreeSet kept = ReduceToIdentifiable(model, J, kRedundancyTolerance, &held);
+//   // held[k].name = "shoulder_pan_joint.rx",
+//   // held[k].reason = "a combination of B.rx, B.ry (residual 2e-16)"
+//   // held[k].stage = HoldStage::kParameterSet
 
 #ifndef ACTIVECAL_ESTIMATION_PARAMETER_REDUCTION_H_
 #define ACTIVECAL_ESTIMATION_PARAMETER_REDUCTION_H_
@@ -30,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/free_set.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/robot_model.h"
@@ -49,43 +51,39 @@ namespace activecal {
 // the other one of a pair 3.7e-6 apart).
 constexpr double kRedundancyTolerance = 1e-5;
 
-struct DroppedParameter {
-  std::string name;
-  // "has no effect on these measurements" or "a combination of A, B, ...
-  // (residual r)" naming the kept parameters that explain it, largest
-  // coefficients first.
-  std::string reason;
-};
-
 // Free parameters of `model` in the priority order above (indices into the
 // full parameter vector).
 std::vector<int> ReductionPriority(const RobotModel& model);
 
-// `jacobian`: m x num_free, columns in model->FreeParameterNames() order.
-// Marks the dropped parameters not free in *model and describes them in
-// *dropped (priority order). Returns the number kept.
-int ReduceToIdentifiable(RobotModel* model, const Eigen::MatrixXd& jacobian,
-                         double tolerance,
-                         std::vector<DroppedParameter>* dropped);
+// `jacobian`: m x num_free, columns in model.FreeParameterNames() order.
+// Returns the free set of `model` without the dropped parameters, and
+// describes those in *held (priority order; stage kParameterSet; reason
+// "has no effect on these measurements" or "a combination of A, B, ...
+// (residual r)" naming the kept parameters that explain it, largest
+// coefficients first).
+FreeSet ReduceToIdentifiable(const RobotModel& model,
+                             const Eigen::MatrixXd& jacobian, double tolerance,
+                             std::vector<HeldParameter>* held);
 
 // The whole step from a named parameter set to the parameters to identify:
-// applies `set` to *model (with marker angles free when `measurements` hold
-// 6D poses) and, unless it is kFile, reduces the set to what the Jacobian
-// of `measurements` separates where the fit will be: at *point (a full
-// parameter vector, e.g. the nominal or registered start), except that a
-// marker whose point is at the tip frame's origin (the default guess, on
-// the last joint's axis) has its free parameters moved to
-// GenericPoint(*point) (about 1 mm), the start the fit needs to see every
-// kept direction. A marker given elsewhere (e.g. a reflector on the flange
-// axis) stays where it was given. Every held parameter keeps its value.
-// Returns false with *error when a Jacobian cannot be evaluated or nothing
-// is left free.
-bool ApplyAndReduceParameterSet(ParameterSet set,
-                                const std::vector<Measurement>& measurements,
-                                double rotation_weight_m_per_rad,
-                                RobotModel* model, Eigen::VectorXd* point,
-                                std::vector<DroppedParameter>* dropped,
-                                std::string* error);
+// the free set `set` names on `model` (ParameterSetFreeSet, with marker
+// angles free when `measurements` hold 6D poses), unless it is kFile
+// reduced to what the Jacobian of `measurements` separates where the fit
+// will be: at *point (a full parameter vector, e.g. the nominal or
+// registered start), except that a marker whose point is at the tip
+// frame's origin (the default guess, on the last joint's axis) has its
+// free parameters moved to GenericPoint(*point) (about 1 mm), the start the
+// fit needs to see every kept direction. A marker given elsewhere (e.g. a
+// reflector on the flange axis) stays where it was given. Every held
+// parameter keeps its value in *point. *free: the set to identify; *held:
+// what the reduction dropped (empty for kFile). Returns false with *error
+// when a Jacobian cannot be evaluated or nothing is free; *point is then
+// unchanged.
+bool ReduceParameterSet(const RobotModel& model, ParameterSet set,
+                        const std::vector<Measurement>& measurements,
+                        double rotation_weight_m_per_rad,
+                        Eigen::VectorXd* point, FreeSet* free,
+                        std::vector<HeldParameter>* held, std::string* error);
 
 }  // namespace activecal
 

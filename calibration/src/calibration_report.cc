@@ -1,0 +1,369 @@
+#include "activecal/calibration/calibration_report.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace activecal {
+namespace {
+
+std::string Format(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  char line[1024];
+  std::vsnprintf(line, sizeof(line), format, args);
+  va_end(args);
+  return line;
+}
+
+// An option as the caller spells it.
+std::string Option(const CalibrationTextOptions& o, const std::string& name) {
+  return (o.option_spelling == OptionSpelling::kFlags ? "--" : "") + name;
+}
+
+// A boolean option set to `value`.
+std::string Option(const CalibrationTextOptions& o, const std::string& name,
+                   bool value) {
+  if (o.option_spelling == OptionSpelling::kKeywords) {
+    return name + (value ? "=True" : "=False");
+  }
+  return "--" + name + (value ? "" : "=false");
+}
+
+bool Reduced(const CalibrationSummary& s) {
+  return s.options.parameter_set != ParameterSet::kFile;
+}
+
+std::string SetLabel(const CalibrationSummary& s,
+                     const CalibrationTextOptions& o) {
+  return Option(o, "parameter_set=") +
+         ParameterSetToString(s.options.parameter_set);
+}
+
+// "<program>: <label>: the N measurements cannot identify K of M free
+// parameters; holding them at their nominal values: a, b".
+std::string FixedNote(const CalibrationSummary& s,
+                      const CalibrationTextOptions& o,
+                      const std::vector<std::string>& fixed,
+                      const std::string& label) {
+  if (fixed.empty()) return "";
+  std::string list;
+  for (const std::string& f : fixed) list += (list.empty() ? "" : ", ") + f;
+  return o.program + ": " + label + ": the " +
+         std::to_string(s.training.size()) + " measurements cannot identify " +
+         std::to_string(fixed.size()) + " of " +
+         std::to_string(s.num_free_in_set) +
+         " free parameters; holding them at their nominal values: " + list +
+         "\n";
+}
+
+// A matrix as a JSON array of its rows (element by element: Eigen matrices
+// are column-major, so a row is not contiguous in memory).
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < m.rows(); ++r) {
+    std::vector<double> row(m.cols());
+    for (int c = 0; c < m.cols(); ++c) row[c] = m(r, c);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+bool HasTruth(const CalibrationSummary& s, const Eigen::VectorXd& truth) {
+  return truth.size() == s.model.num_parameters();
+}
+
+// Inserts `prefix` before every whole-word occurrence of `name` in `text`.
+void PrefixWord(const std::string& name, const std::string& prefix,
+                std::string* text) {
+  auto word = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  };
+  for (size_t at = text->find(name); at != std::string::npos;
+       at = text->find(name, at + 1)) {
+    const size_t end = at + name.size();
+    if ((at > 0 && word((*text)[at - 1])) ||
+        (end < text->size() && word((*text)[end]))) {
+      continue;
+    }
+    text->insert(at, prefix);
+    at += prefix.size();
+  }
+}
+
+}  // namespace
+
+std::string CalibrationStagesText(const CalibrationSummary& s,
+                                  const CalibrationTextOptions& o) {
+  std::string text;
+  if (s.registered_base) text += "  " + s.registration_message + "\n";
+  if (Reduced(s)) {
+    const std::string label = SetLabel(s, o);
+    const std::vector<std::string> held = s.HeldAt(HoldStage::kParameterSet);
+    if (s.Passed(CalibrationStage::kParameterSet)) {
+      for (const HeldParameter& h : s.held) {
+        if (h.stage != HoldStage::kParameterSet) continue;
+        text +=
+            "  " + label + ": " + h.name + " held fixed: " + h.reason + "\n";
+      }
+    }
+    if (s.Passed(CalibrationStage::kIdentifiability)) {
+      text += FixedNote(s, o, held, label);
+    }
+  } else if (s.options.auto_fix &&
+             s.Passed(CalibrationStage::kIdentifiability)) {
+    text +=
+        FixedNote(s, o, s.HeldAt(HoldStage::kAutoFix), Option(o, "auto_fix"));
+  }
+  if (s.Passed(CalibrationStage::kModelSelection) &&
+      s.model_selection != ModelSelectionMethod::kNone) {
+    text += s.selection.BriefReport();
+  }
+  return text;
+}
+
+std::string HeldFixedNote(const CalibrationSummary& s,
+                          const CalibrationTextOptions& o) {
+  if (s.held.empty()) return "";
+  std::string label = Reduced(s) ? SetLabel(s, o) : Option(o, "auto_fix");
+  const std::vector<std::string> dropped = s.HeldAt(HoldStage::kModelSelection);
+  if (!dropped.empty()) {
+    const std::string selection =
+        Option(o, "model_selection=") +
+        ModelSelectionMethodToString(s.model_selection);
+    label = s.held.size() > dropped.size() ? label + " and " + selection
+                                           : selection;
+  }
+  std::string note =
+      label + ": held fixed at their nominal values (not in 'free'";
+  if (o.model_out) note += " of " + Option(o, "model_out");
+  note += "):";
+  for (const HeldParameter& h : s.held) note += " " + h.name;
+  return note;
+}
+
+std::string CalibrationResultText(const CalibrationSummary& s,
+                                  const CalibrationTextOptions& o) {
+  const IdentificationSummary& id = s.identification;
+  const RobotModel& model = s.model;
+  const bool has_truth = HasTruth(s, o.true_parameters);
+  const std::vector<int> free = model.FreeParameterIndices();
+  // Stated sigmas the residuals contradict: the std the implied noise
+  // gives, beside the stated ones (identification.h).
+  const bool scaled = !id.chi_square_plausible;
+  std::string text = Format("%-10s %-4s %12s %12s %12s", "parameter", "unit",
+                            "nominal", "estimate", "std");
+  if (scaled) text += Format(" %12s", "std_scaled");
+  if (has_truth) text += Format(" %12s %12s %8s", "true", "error", "err/std");
+  text += "\n";
+  int outside = 0;
+  for (size_t k = 0; k < free.size(); ++k) {
+    const int i = free[k];
+    const double sd = id.standard_deviations[k];
+    const bool degrees = std::string(model.ParameterUnit(i)) == "rad" &&
+                         o.angle_unit == AngleUnit::kDegree;
+    const double u = degrees ? 180.0 / M_PI : 1.0;
+    text += Format("%-10s %-4s %12.6f %12.6f %12.6f", id.names[k].c_str(),
+                   degrees ? "deg" : model.ParameterUnit(i),
+                   u * model.nominal[i], u * id.estimates[k], u * sd);
+    if (scaled) text += Format(" %12.6f", u * id.scaled_standard_deviations[k]);
+    if (has_truth) {
+      const double truth = o.true_parameters[i];
+      const double err = id.estimates[k] - truth;
+      if (std::abs(err) > 4 * sd) ++outside;
+      text += Format(" %12.6f %12.6f %8.2f", u * truth, u * err, err / sd);
+    }
+    text += "\n";
+  }
+  const std::string fit = id.BriefReport();
+  text += "\n" + fit;
+  if (has_truth) {
+    text += Format("  %d of %zu estimates lie more than 4 std from the truth\n",
+                   outside, free.size());
+    if (!s.held.empty()) {
+      text +=
+          "  (parameters held fixed keep their nominal values, so the kept "
+          "ones that explain them also take up their true errors: compare "
+          "those with care)\n";
+    }
+  }
+  // The baseline, validation and warning lines of the brief report.
+  text += s.BriefReport().substr(fit.size());
+  const std::string note = HeldFixedNote(s, o);
+  if (!note.empty()) text += "  " + note + "\n";
+  if (!id.outliers.empty()) {
+    text += "  outliers (measurement index in the input):";
+    for (int k : id.outliers) text += Format(" %d", s.training_index[k]);
+    text += "\n";
+  }
+  return text;
+}
+
+std::string CalibrationFailureText(const CalibrationSummary& s,
+                                   const CalibrationTextOptions& o) {
+  const std::string prefix = Option(o, "");
+  std::string text = s.message;
+  switch (s.stage) {
+    case CalibrationStage::kOptions:
+      for (const char* name : {"validation_fraction", "prior_std_m",
+                               "prior_std_rad", "model_selection", "folds"}) {
+        PrefixWord(name, prefix, &text);
+      }
+      return text;
+    case CalibrationStage::kRegistration:
+      return text + " (or give the base in a " + prefix +
+             "frames file and pass " + Option(o, "register_base", false) + ")";
+    case CalibrationStage::kParameterSet:
+    case CalibrationStage::kBaseline:
+    case CalibrationStage::kModelSelection:
+      return prefix + text;
+    case CalibrationStage::kIdentifiability:
+      if (text.rfind("measurements: ", 0) == 0) return prefix + text;
+      if (s.auto_fix_would_help) {
+        text +=
+            ". Fix them in the robot file (remove them from 'free') or "
+            "pass " +
+            Option(o, "auto_fix", true);
+      }
+      return text;
+    default:
+      return text;
+  }
+}
+
+std::string CalibrationJson(const CalibrationSummary& s,
+                            const CalibrationJsonOptions& o) {
+  const CalibrationOptions& options = s.options;
+  const IdentificationSummary& id = s.identification;
+  const RobotModel& model = s.model;
+  const bool has_truth = HasTruth(s, o.true_parameters);
+  nlohmann::json j;
+  j["parameter_set"] = ParameterSetToString(options.parameter_set);
+  nlohmann::json held = nlohmann::json::array();
+  for (const HeldParameter& h : s.held) {
+    if (h.stage != HoldStage::kParameterSet || !Reduced(s)) continue;
+    held.push_back({{"name", h.name}, {"reason", h.reason}});
+  }
+  j["held_fixed"] = held;
+  j["registered_base"] = s.registered_base;
+  j["robot"] = model.name;
+  j["measurements"] = o.simulated ? "simulated" : o.measurements;
+  nlohmann::json params = nlohmann::json::array();
+  const std::vector<int> free = model.FreeParameterIndices();
+  for (size_t k = 0; k < free.size(); ++k) {
+    const int i = free[k];
+    nlohmann::json entry = {{"name", id.names[k]},
+                            {"nominal", model.nominal[i]},
+                            {"estimate", id.estimates[k]},
+                            {"std", id.standard_deviations[k]}};
+    if (!id.chi_square_plausible) {
+      entry["std_scaled"] = id.scaled_standard_deviations[k];
+    }
+    if (has_truth) entry["true"] = o.true_parameters[i];
+    params.push_back(entry);
+  }
+  j["parameters"] = params;
+  j["correlation"] = MatrixJson(id.correlation);
+  j["covariance"] = MatrixJson(id.covariance);
+  nlohmann::json residuals = nlohmann::json::array();
+  std::vector<int> outlier_inputs;
+  for (int k : id.outliers) outlier_inputs.push_back(s.training_index[k]);
+  for (size_t k = 0; k < s.training.size(); ++k) {
+    residuals.push_back(
+        {{"index", s.training_index[k]},
+         {"type", MeasurementTypeName(s.training[k].type)},
+         {"initial_norm_m", id.initial_residual_norms[k]},
+         {"norm_m", id.residual_norms[k]},
+         {"outlier", std::binary_search(id.outliers.begin(), id.outliers.end(),
+                                        static_cast<int>(k))}});
+  }
+  j["residuals"] = residuals;
+  j["outliers"] = outlier_inputs;
+  j["initial_rms_residual_m"] = id.initial_rms_m;
+  j["rms_residual_m"] = id.rms_m;
+  j["sigma_m"] = id.sigma_m;
+  j["iterations"] = id.iterations;
+  j["converged"] = id.termination_type == TerminationType::kConvergence;
+  j["termination_type"] = TerminationTypeToString(id.termination_type);
+  j["num_measurements"] = id.num_measurements;
+  j["auto_fixed"] = HeldNames(s.held);
+  j["robust_loss"] = RobustLossToString(options.identification.robust_loss);
+  const ValidationErrors& v = s.validation_errors;
+  j["validation"] = {{"count", v.count},
+                     {"fraction", options.validation_fraction},
+                     {"rms_error_nominal_m", v.rms_nominal_m},
+                     {"rms_error_calibrated_m", v.rms_calibrated_m},
+                     {"max_error_nominal_m", v.max_nominal_m},
+                     {"max_error_calibrated_m", v.max_calibrated_m}};
+  if (s.have_baseline) {
+    j["validation"]["rms_error_registration_only_m"] =
+        s.validation_baseline.rms_nominal_m;
+    j["validation"]["max_error_registration_only_m"] =
+        s.validation_baseline.max_nominal_m;
+    j["registration_only"] = {{"rms_residual_m", s.baseline.rms_m},
+                              {"parameters", s.baseline.names},
+                              {"improvement_percent", s.ImprovementPercent()}};
+  } else {
+    j["registration_only"] = nullptr;
+  }
+  j["weighted"] = id.weighted;
+  j["degrees_of_freedom"] = id.degrees_of_freedom;
+  j["chi_square"] = id.chi_square;
+  j["chi_square_per_dof"] = id.chi_square_per_dof;
+  j["implied_sigma_m"] = id.implied_sigma_m;
+  if (id.weighted) {
+    j["chi_square_per_dof_interval"] = {id.chi_square_per_dof_low,
+                                        id.chi_square_per_dof_high};
+  }
+  j["chi_square_plausible"] = id.chi_square_plausible;
+  j["prior"] = {{"std_m", options.identification.prior_std_m},
+                {"std_rad", options.identification.prior_std_rad},
+                {"reference_sigma_m", s.prior_reference_sigma_m}};
+  j["warnings"] = s.warnings;
+  const ModelSelectionSummary& selection = s.selection;
+  nlohmann::json ms;
+  ms["method"] = ModelSelectionMethodToString(s.model_selection);
+  ms["requested"] = ModelSelectionMethodToString(options.model_selection);
+  ms["rule"] = SelectionRuleToString(options.selection_rule);
+  ms["minimum_kept"] = selection.minimum_num_kept;
+  ms["ranking"] = selection.ranking;
+  ms["ranked_by"] = ParameterRankingToString(options.selection_ranking);
+  ms["num_registration"] = selection.num_registration;
+  ms["kept"] = selection.best_num_kept;
+  ms["dropped"] = selection.dropped;
+  if (s.model_selection == ModelSelectionMethod::kCrossValidation) {
+    ms["folds"] = options.num_folds;
+    ms["num_poses"] = selection.num_poses;
+  }
+  if (!o.validation.empty()) ms["validation"] = o.validation;
+  nlohmann::json curve = nlohmann::json::array();
+  for (const ModelSelectionPoint& pt : selection.curve) {
+    nlohmann::json c = {{"num_kept", pt.num_kept},
+                        {"added", pt.added},
+                        {"ok", pt.ok},
+                        {"training_rms_m", pt.training_rms_m},
+                        {"f_test_p_value", pt.f_test_p_value}};
+    // NaN is not JSON: a failed point has null.
+    if (pt.ok) {
+      c["held_out_rms_m"] = pt.held_out_rms_m;
+      c["held_out_se_m"] = pt.held_out_se_m;
+      c["within_one_se"] = pt.within_one_se;
+    } else {
+      c["held_out_rms_m"] = nullptr;
+    }
+    curve.push_back(c);
+  }
+  ms["curve"] = curve;
+  j["model_selection"] = ms;
+  j["seed"] = options.seed;
+  if (o.simulated) {
+    j["pose_indices"] = o.simulated_poses;
+    j["noise_m"] = o.noise_m;
+  }
+  return j.dump(2) + "\n";
+}
+
+}  // namespace activecal

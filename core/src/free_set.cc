@@ -1,0 +1,66 @@
+#include "activecal/core/free_set.h"
+
+#include <algorithm>
+
+namespace activecal {
+
+FreeSet::FreeSet(const RobotModel& model) : free_(model.num_parameters()) {
+  for (int i = 0; i < model.num_parameters(); ++i) free_[i] = model.IsFree(i);
+}
+
+FreeSet FreeSet::None(int num_parameters) {
+  FreeSet set;
+  set.free_.assign(num_parameters, false);
+  return set;
+}
+
+int FreeSet::size() const {
+  return static_cast<int>(std::count(free_.begin(), free_.end(), true));
+}
+
+std::vector<int> FreeSet::Indices() const {
+  std::vector<int> indices;
+  for (int i = 0; i < num_parameters(); ++i) {
+    if (free_[i]) indices.push_back(i);
+  }
+  return indices;
+}
+
+RobotModel WithFreeSet(const RobotModel& model, const FreeSet& free) {
+  RobotModel out = model;
+  for (int i = 0; i < model.num_parameters(); ++i) {
+    out.SetFree(i, free.Contains(i));
+  }
+  return out;
+}
+
+const char* HoldStageToString(HoldStage stage) {
+  switch (stage) {
+    case HoldStage::kParameterSet:
+      return "parameter_set";
+    case HoldStage::kAutoFix:
+      return "auto_fix";
+    case HoldStage::kModelSelection:
+      return "model_selection";
+  }
+  return "unknown";
+}
+
+bool StringToHoldStage(const std::string& text, HoldStage* stage) {
+  for (HoldStage s : {HoldStage::kParameterSet, HoldStage::kAutoFix,
+                      HoldStage::kModelSelection}) {
+    if (text == HoldStageToString(s)) {
+      *stage = s;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<std::string> HeldNames(const std::vector<HeldParameter>& held) {
+  std::vector<std::string> names;
+  for (const HeldParameter& h : held) names.push_back(h.name);
+  return names;
+}
+
+}  // namespace activecal
