@@ -181,8 +181,9 @@ std::string CompensationSummary::BriefReport() const {
   out << "\n  largest error left " << max_position_error_m << " m";
   if (max_rotation_error_rad > 0)
     out << ", " << max_rotation_error_rad << " rad";
-  out << "; joint change: largest " << max_joint_change << ", RMS "
-      << rms_joint_change << " (rad or m)\n  " << seconds << " s";
+  out << "; joint change: largest of one joint " << max_joint_change
+      << ", RMS per target (all joints) " << rms_joint_change
+      << " (rad or m)\n  " << seconds << " s";
   if (seconds > 0) out << " (" << results.size() / seconds << " targets/s)";
   out << "\n";
   if (!message.empty()) out << "  " << message << "\n";
