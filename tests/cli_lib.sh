@@ -1,6 +1,10 @@
 # Shared by the command-line tests: expects `apps` (the programs' folder)
 # and `failures` (a counter) in the caller.
 
+# ok <name>, fail <name>: one line each; fail counts in $failures.
+ok() { echo "ok   [$1]"; }
+fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
+
 # expect_fail <name> <text expected on stderr> <program> [flags...]
 expect_fail() {
   local name="$1" want="$2"

@@ -13,8 +13,6 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 failures=0
-ok() { echo "ok   [$1]"; }
-fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
 
 source "$here/cli_lib.sh"
 

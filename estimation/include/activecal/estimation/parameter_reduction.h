@@ -19,7 +19,8 @@
 // rounding of that test.
 //
 //   std::vector<HeldParameter> held;
-//   const FreeSet kept = ReduceToIdentifiable(model, J, kRedundancyTolerance, &held);
+//   const FreeSet kept =
+//       ReduceToIdentifiable(model, J, kRedundancyTolerance, &held);
 //   // held[k].name = "shoulder_pan_joint.rx",
 //   // held[k].reason = "a combination of B.rx, B.ry (residual 2e-16)"
 //   // held[k].stage = HoldStage::kParameterSet
