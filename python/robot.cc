@@ -126,20 +126,22 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
   double* o = out.mutable_data();
   std::string error;
   {
-    // `out` is not shared yet: filled without the GIL.
+    // `out` is not shared yet: filled without the GIL. The pool path: the
+    // analytic point kernel for position rows (the program's), the
+    // auto-diff residual for pose rows; one thread (the caller may run
+    // several).
     py::gil_scoped_release release;
-    for (int r = 0; r < q.rows() && error.empty(); ++r) {
-      Measurement m;
-      m.type = type;
-      m.marker = marker;
-      m.joints = q.row(r).transpose();
-      Eigen::MatrixXd J;
-      if (!MeasurementJacobian(model, p, m, rotation_weight, &J, &error)) {
-        break;
-      }
-      for (int i = 0; i < rows; ++i) {
-        for (int c = 0; c < cols; ++c) o[(r * rows + i) * cols + c] = J(i, c);
-      }
+    PoolJacobianOptions options;
+    options.num_threads = 1;
+    options.type = type;
+    options.rotation_weight_m_per_rad = rotation_weight;
+    options.marker = marker;
+    RowMatrixXd stacked;
+    if (PoolJacobians(model, p, q, options, &stacked, &error)) {
+      std::copy(stacked.data(), stacked.data() + stacked.size(), o);
+      error.clear();
+    } else if (error.empty()) {
+      error = "Jacobian evaluation failed";
     }
   }
   if (!error.empty()) Fail(error);

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -239,6 +241,139 @@ TEST(PointJacobianTest, PoolJacobiansAnalyticEqualsAutoDiff) {
   ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &autodiff, &error));
   EXPECT_EQ(analytic, analytic2);
   EXPECT_LE((analytic - autodiff).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// The kernel's batches: poses given column-major (a pool's layout) or one
+// after another, in one call or split, give the per-pose bits; a pose's
+// Jacobian does not depend on its neighbours. On every convention (DH,
+// Hayati, modified DH, prismatic joints, gains; URDF joints, frame base,
+// tip, two markers).
+TEST(PointJacobianTest, KernelBatchesGiveThePerPoseBits) {
+  for (const RobotModel& model :
+       {testing::MixedModel(), testing::UrdfStyleModel()}) {
+    Random random(11);
+    const RobotModel m = AllFree(model, &random);
+    const int p = m.num_free();
+    const int n = m.num_joints();
+    constexpr int kPoses = 37;
+    Eigen::MatrixXd joints(kPoses, n);  // column-major, as PoolJacobians
+    for (int i = 0; i < kPoses; ++i) {
+      joints.row(i) = testing::RandomJoints(m, &random).transpose();
+    }
+    const Eigen::MatrixXd by_pose = joints.transpose();  // pose after pose
+    const std::vector<const double*> blocks =
+        BlockPointers(m, m.nominal.data());
+    for (int marker = 0; marker < m.num_markers(); ++marker) {
+      const PointJacobianKernel kernel(m, blocks.data(), marker);
+      ASSERT_EQ(kernel.num_columns(), p);
+      std::vector<double> whole(3 * p * kPoses), split(3 * p * kPoses),
+          rows(3 * p * kPoses), single(3 * p);
+      kernel.Evaluate(kPoses, joints.data(), 1, kPoses, whole.data());
+      kernel.Evaluate(5, joints.data(), 1, kPoses, split.data());
+      kernel.Evaluate(kPoses - 5, joints.data() + 5, 1, kPoses,
+                      split.data() + 3 * p * 5);
+      kernel.Evaluate(kPoses, by_pose.data(), n, 1, rows.data());
+      EXPECT_EQ(0, std::memcmp(whole.data(), split.data(),
+                               sizeof(double) * whole.size()));
+      EXPECT_EQ(0, std::memcmp(whole.data(), rows.data(),
+                               sizeof(double) * whole.size()));
+      PointJacobianWorkspace workspace(m);
+      for (int i = 0; i < kPoses; ++i) {
+        const Eigen::VectorXd q = joints.row(i).transpose();
+        MeasuredPointJacobian(m, blocks.data(), q.data(), marker, &workspace,
+                              single.data());
+        EXPECT_EQ(0, std::memcmp(single.data(), whole.data() + 3 * p * i,
+                                 sizeof(double) * 3 * p))
+            << m.name << " marker " << marker << " pose " << i;
+      }
+    }
+  }
+}
+
+// Free entries that do not move the measured point (another marker's
+// block, the measured marker's angles) are zero columns, and the others
+// are the auto-diff ones: a model with both markers' blocks all free.
+TEST(PointJacobianTest, OtherMarkersAndMarkerAnglesAreZeroColumns) {
+  Random random(12);
+  const RobotModel m = AllFree(testing::UrdfStyleModel(), &random);
+  ASSERT_GE(m.num_markers(), 2);
+  const std::vector<const double*> blocks = BlockPointers(m, m.nominal.data());
+  const std::vector<int> free = m.FreeParameterIndices();
+  const Eigen::VectorXd q = testing::RandomJoints(m, &random);
+  for (int marker = 0; marker < 2; ++marker) {
+    const PointJacobianKernel kernel(m, blocks.data(), marker);
+    Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor> J(3,
+                                                                m.num_free());
+    kernel.Evaluate(1, q.data(), 1, 1, J.data());
+    int zero = 0;
+    for (int j = 0; j < m.num_free(); ++j) {
+      int within = 0;
+      const int block = m.BlockOf(free[j], &within);
+      if (!m.is_marker_block(block)) continue;
+      if (block != m.marker_block(marker) || within >= 3) {
+        EXPECT_EQ(J.col(j).cwiseAbs().maxCoeff(), 0.0) << "column " << j;
+        ++zero;
+      } else {
+        EXPECT_GT(J.col(j).norm(), 0.5) << "column " << j;  // a rotation's
+      }
+    }
+    EXPECT_GE(zero, 3);
+  }
+}
+
+// The pool's marker option: PoolJacobians for marker 1 is the auto-diff
+// pool Jacobian of marker 1 (and not marker 0's); a marker out of range is
+// an error naming it.
+TEST(PointJacobianTest, PoolJacobiansOfTheSecondMarker) {
+  const RobotModel m = testing::UrdfStyleModel();
+  ASSERT_GE(m.num_markers(), 2);
+  Random random(13);
+  Eigen::MatrixXd joints(40, m.num_joints());
+  for (int i = 0; i < joints.rows(); ++i) {
+    joints.row(i) = testing::RandomJoints(m, &random).transpose();
+  }
+  PoolJacobianOptions options;
+  options.num_threads = 1;
+  options.marker = 1;
+  RowMatrixXd analytic, autodiff, first;
+  std::string error;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &analytic, &error));
+  options.analytic = false;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &autodiff, &error));
+  options.marker = 0;
+  ASSERT_TRUE(PoolJacobians(m, m.nominal, joints, options, &first, &error));
+  EXPECT_LE((analytic - autodiff).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT((analytic - first).cwiseAbs().maxCoeff(), 1e-6);
+  options.marker = m.num_markers();
+  EXPECT_FALSE(PoolJacobians(m, m.nominal, joints, options, &analytic, &error));
+  EXPECT_NE(error.find("marker must be in [0, 1], got 2"), std::string::npos)
+      << error;
+}
+
+// The pool's range check (done without building messages for valid poses)
+// still rejects what CheckJointValues rejects, naming the pose: a value past
+// a joint's range, NaN, and infinity; a value at a range end passes.
+TEST(PointJacobianTest, PoolJacobiansRangeCheck) {
+  const RobotModel m = Puma560PaperModel();
+  ASSERT_TRUE(std::isfinite(m.links[1].joint_max));
+  Eigen::MatrixXd joints = Eigen::MatrixXd::Zero(3, m.num_joints());
+  joints(0, 1) = m.links[1].joint_max;
+  joints(2, 4) = m.links[4].joint_min;
+  RowMatrixXd out;
+  std::string error;
+  EXPECT_TRUE(
+      PoolJacobians(m, m.nominal, joints, PoolJacobianOptions(), &out, &error))
+      << error;
+  for (const double bad :
+       {m.links[1].joint_max + 1e-3, std::numeric_limits<double>::quiet_NaN(),
+        -std::numeric_limits<double>::infinity()}) {
+    Eigen::MatrixXd j = joints;
+    j(1, 1) = bad;
+    error.clear();
+    EXPECT_FALSE(
+        PoolJacobians(m, m.nominal, j, PoolJacobianOptions(), &out, &error));
+    EXPECT_NE(error.find("pool pose 1: joint 2"), std::string::npos) << error;
+  }
 }
 
 }  // namespace

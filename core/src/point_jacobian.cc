@@ -237,9 +237,9 @@ class BlockColumns {
           case kBeta:
             return Vector3d::Zero();
           default:
-            return revolute ? Vector3d(q_ * about_)
-                            : (prismatic ? Vector3d(q_ * uz_)
-                                         : Vector3d::Zero());
+            return revolute
+                       ? Vector3d(q_ * about_)
+                       : (prismatic ? Vector3d(q_ * uz_) : Vector3d::Zero());
         }
       default:
         switch (k) {
@@ -284,7 +284,8 @@ PointJacobianKernel::PointJacobianKernel(const RobotModel& model,
   // The output column of every free parameter.
   std::vector<int> column_of(model.num_parameters(), -1);
   const std::vector<int> free = model.FreeParameterIndices();
-  for (int j = 0; j < static_cast<int>(free.size()); ++j) column_of[free[j]] = j;
+  for (int j = 0; j < static_cast<int>(free.size()); ++j)
+    column_of[free[j]] = j;
   plan->num_columns = static_cast<int>(free.size());
   for (int b = 0; b <= n; ++b) {
     BlockPlan& bp = plan->links[b];
