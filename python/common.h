@@ -267,6 +267,14 @@ inline Eigen::VectorXd ParametersArg(const Robot& robot,
 
 inline void CheckQ(const RobotModel& model, const Eigen::VectorXd& q, int row,
                    bool batch) {
+  // Inside every range and finite: valid without building a message.
+  bool inside = q.size() == model.num_joints();
+  for (int j = 0; inside && j < q.size(); ++j) {
+    const Link& link = model.links[j];
+    inside =
+        std::isfinite(q[j]) && q[j] >= link.joint_min && q[j] <= link.joint_max;
+  }
+  if (inside) return;
   std::string error;
   if (!model.CheckJointValues(q, &error, kMeasuredJointToleranceRad,
                               kMeasuredJointToleranceM)) {

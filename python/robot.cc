@@ -136,9 +136,9 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
     options.type = type;
     options.rotation_weight_m_per_rad = rotation_weight;
     options.marker = marker;
-    RowMatrixXd stacked;
-    if (PoolJacobians(model, p, q, options, &stacked, &error)) {
-      std::copy(stacked.data(), stacked.data() + stacked.size(), o);
+    options.joint_tolerance_rad = kMeasuredJointToleranceRad;
+    options.joint_tolerance_m = kMeasuredJointToleranceM;
+    if (PoolJacobians(model, p, q, options, o, &error)) {
       error.clear();
     } else if (error.empty()) {
       error = "Jacobian evaluation failed";

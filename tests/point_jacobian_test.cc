@@ -374,6 +374,17 @@ TEST(PointJacobianTest, PoolJacobiansRangeCheck) {
         PoolJacobians(m, m.nominal, j, PoolJacobianOptions(), &out, &error));
     EXPECT_NE(error.find("pool pose 1: joint 2"), std::string::npos) << error;
   }
+  // Measured readings: a tolerance beyond the range (what the Python
+  // module's jacobian passes, as forward accepts such readings).
+  Eigen::MatrixXd beyond = joints;
+  beyond(1, 1) = m.links[1].joint_max + 1e-3;
+  PoolJacobianOptions options;
+  options.joint_tolerance_rad = 2e-3;
+  EXPECT_TRUE(PoolJacobians(m, m.nominal, beyond, options, &out, &error))
+      << error;
+  beyond(1, 1) = m.links[1].joint_max + 3e-3;
+  EXPECT_FALSE(PoolJacobians(m, m.nominal, beyond, options, &out, &error));
+  EXPECT_NE(error.find("by more than"), std::string::npos) << error;
 }
 
 }  // namespace

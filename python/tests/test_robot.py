@@ -115,6 +115,12 @@ def test_bad_input_raises_value_error_with_the_message(puma, tmp_path):
         puma.forward([0, 0, np.nan, 0, 0, 0])
     with pytest.raises(ValueError, match="outside its range"):
         puma.forward([0, 0, 0, 0, 0, 100.0])
+    # A measured reading may lie a few degrees beyond its range, for the
+    # Jacobian as for forward (joint 2's range ends at 170 deg).
+    beyond = np.radians([0, 172, 0, 0, 0, 0])
+    assert puma.jacobian(beyond).shape == (3, puma.num_free)
+    with pytest.raises(ValueError, match="q row 1: .*outside its range"):
+        puma.jacobian(np.vstack([beyond, np.radians([0, 180, 0, 0, 0, 0])]))
     with pytest.raises(ValueError, match=r"parameters: expected an array of shape \(48,\)"):
         puma.forward(np.zeros(6), parameters=np.zeros(3))
     with pytest.raises(ValueError, match="marker must be in"):

@@ -187,6 +187,20 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
                    error)) {
     return false;
   }
+  stacked->resize(MeasurementDimension(options.type) * joints.rows(),
+                  model.num_free());
+  return PoolJacobians(model, parameters, joints, options, stacked->data(),
+                       error);
+}
+
+bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
+                   const Eigen::MatrixXd& joints,
+                   const PoolJacobianOptions& options, double* out,
+                   std::string* error) {
+  if (!CheckInputs(model, parameters, options.rotation_weight_m_per_rad,
+                   error)) {
+    return false;
+  }
   if (options.type == MeasurementType::kDistance) {
     if (error) {
       *error =
@@ -223,14 +237,15 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
     }
     if (inside) continue;
     std::string why;
-    if (!model.CheckJointValues(joints.row(i).transpose(), &why)) {
+    if (!model.CheckJointValues(joints.row(i).transpose(), &why,
+                                options.joint_tolerance_rad,
+                                options.joint_tolerance_m)) {
       if (error) *error = "pool pose " + std::to_string(i) + ": " + why;
       return false;
     }
   }
   const int p = model.num_free();
   const int t = MeasurementDimension(options.type);
-  stacked->resize(t * n, p);
   auto shared = std::make_shared<const RobotModel>(model);
   std::atomic<int64_t> failed{-1};
   std::atomic<int64_t> done{0};
@@ -256,8 +271,7 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
       // the run).
       for (int64_t i = begin; i < end; i += kReportEvery) {
         const int64_t count = std::min(kReportEvery, end - i);
-        kernel->Evaluate(count, joints.data() + i, 1, n,
-                         stacked->data() + t * i * p);
+        kernel->Evaluate(count, joints.data() + i, 1, n, out + t * i * p);
         report(i + count - 1);
       }
       return;
@@ -269,7 +283,7 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
     m.marker = options.marker;
     for (int64_t i = begin; i < end; ++i) {
       m.joints = joints.row(i).transpose();
-      if (!evaluator.Evaluate(m, stacked->data() + t * i * p)) {
+      if (!evaluator.Evaluate(m, out + t * i * p)) {
         failed = i;
         return;
       }

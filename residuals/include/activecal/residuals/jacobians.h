@@ -66,6 +66,11 @@ struct PoolJacobianOptions {
   double rotation_weight_m_per_rad = 1.0;
   // The measured marker (0-based).
   int marker = 0;
+  // How far a pose's joint value may lie beyond its range (rad for a
+  // revolute joint, m for a prismatic one): 0 for planned poses; measured
+  // readings may use RobotModel::CheckJointValues' tolerances.
+  double joint_tolerance_rad = 0.0;
+  double joint_tolerance_m = 0.0;
   // Position pools use the analytic point Jacobian (core/point_jacobian.h,
   // equal to the auto-diff one to rounding, ~100x faster); false forces the
   // Ceres auto-diff residual (for comparison and benchmarks). Pose pools
@@ -82,6 +87,12 @@ struct PoolJacobianOptions {
 bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
                    const Eigen::MatrixXd& joints,
                    const PoolJacobianOptions& options, RowMatrixXd* stacked,
+                   std::string* error);
+// The same, written to `out` (t * joints.rows() * num_free values, the
+// layout of `stacked`'s data): for a caller that owns the buffer.
+bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
+                   const Eigen::MatrixXd& joints,
+                   const PoolJacobianOptions& options, double* out,
                    std::string* error);
 
 }  // namespace activecal
