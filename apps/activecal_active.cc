@@ -132,7 +132,12 @@ class DriverMeasurer : public Measurer {
   bool Measure(const MeasureBatch& batch, int k, PoseAnswer* answer,
                std::string* error) override {
     MeasurementReply reply;
-    if (!client_->Measure(batch.joints.row(k).transpose(), &reply, error)) {
+    std::vector<int> markers;  // the markers to measure (empty: all)
+    for (int m = 0; !batch.markers.empty() && m < 32; ++m) {
+      if (batch.markers[k] & (1u << m)) markers.push_back(m);
+    }
+    if (!client_->Measure(batch.joints.row(k).transpose(), &reply, error,
+                          markers)) {
       return false;
     }
     *answer = PoseAnswer();
@@ -324,6 +329,13 @@ int Main() {
     options.pool_filter = [&feasibility](int64_t i) {
       return feasibility.verdicts[i].feasible();
     };
+    // Several targets as the markers: each pose plans and measures those
+    // it sees.
+    if (CellTargetsAreMarkers(*cell.checker, model)) {
+      for (const PoseVerdict& v : feasibility.verdicts) {
+        options.marker_masks.push_back(v.targets_seen);
+      }
+    }
   }
   std::string error;
   if (!options.IsValid(&error)) {

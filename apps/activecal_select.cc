@@ -591,7 +591,16 @@ int Main() {
       chosen.pose_indices.push_back(labels.empty() ? i : labels[i]);
     }
     if (!FLAGS_poses_csv.empty()) {
-      app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+      std::string text = PosesCsvText(model, chosen);
+      if (with_cell && !cell.cell.targets.empty()) {
+        // Which targets to measure at each pose: those the cell sees.
+        std::vector<uint32_t> seen;
+        for (int64_t i : summary.design) {
+          seen.push_back(feasibility.targets_seen[i]);
+        }
+        text = PosesCsvWithTargets(text, cell.cell, seen);
+      }
+      app::WriteTextOrDie(FLAGS_poses_csv, text);
     }
     app::WriteProgramOrDie(model, program, chosen, "activecal_select's design");
   }
