@@ -278,7 +278,10 @@ int Main() {
   if (truth_known) {
     model.nominal = truth + FLAGS_nominal_error_scale * (model.nominal - truth);
   }
-  const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
+  // With a cell the lattice spans the ranges inside the joint margins.
+  const JointLattice lattice = app::MakeLatticeOrDie(
+      with_cell ? WithinJointMargins(*cell.checker, model) : model,
+      FLAGS_levels);
   const Eigen::MatrixXd joints = lattice.AllJointValues();
   // The preprocess: the cell's checks of every pool pose, once; the loop
   // designs every batch (and every repair) from the feasible ones.

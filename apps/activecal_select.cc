@@ -231,12 +231,16 @@ int Main() {
     }
     pool_joints = measurable_summary.joints;
   } else if (from_lattice) {
-    lattice = app::MakeLatticeOrDie(model, FLAGS_levels, type);
+    // With a cell the lattice spans the ranges inside the joint margins.
+    lattice = app::MakeLatticeOrDie(
+        with_cell ? WithinJointMargins(*cell.checker, model) : model,
+        FLAGS_levels, type);
     pool_joints = lattice.AllJointValues();
   } else if (sampled) {
     std::string error;
-    if (!SampleJointValues(model, sampling, FLAGS_pool_size, FLAGS_seed,
-                           &pool_joints, &error)) {
+    if (!SampleJointValues(
+            with_cell ? WithinJointMargins(*cell.checker, model) : model,
+            sampling, FLAGS_pool_size, FLAGS_seed, &pool_joints, &error)) {
       app::Fail("--pool=" + FLAGS_pool + ": " + error);
     }
   } else {
