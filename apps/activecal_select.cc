@@ -449,7 +449,10 @@ int Main() {
   if (!FLAGS_measured_csv.empty()) {
     std::vector<Measurement> measured;
     std::string error;
-    if (!ReadMeasurementsCsv(FLAGS_measured_csv, model, &measured, &error)) {
+    MeasurementsCsvOptions options;
+    options.column_map = app::ColumnMapOrDie();
+    if (!ReadMeasurementsCsv(FLAGS_measured_csv, model, options, &measured,
+                             nullptr, &error)) {
       app::Fail("--measured_csv: " + error);
     }
     if (!MeasuredInformationRows(model, model.nominal, measured,
