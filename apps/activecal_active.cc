@@ -132,7 +132,12 @@ class DriverMeasurer : public Measurer {
   bool Measure(const MeasureBatch& batch, int k, PoseAnswer* answer,
                std::string* error) override {
     MeasurementReply reply;
-    if (!client_->Measure(batch.joints.row(k).transpose(), &reply, error)) {
+    std::vector<int> markers;  // the markers to measure (empty: all)
+    for (int m = 0; !batch.markers.empty() && m < 32; ++m) {
+      if (batch.markers[k] & (1u << m)) markers.push_back(m);
+    }
+    if (!client_->Measure(batch.joints.row(k).transpose(), &reply, error,
+                          markers)) {
       return false;
     }
     *answer = PoseAnswer();
@@ -273,7 +278,10 @@ int Main() {
   if (truth_known) {
     model.nominal = truth + FLAGS_nominal_error_scale * (model.nominal - truth);
   }
-  const JointLattice lattice = app::MakeLatticeOrDie(model, FLAGS_levels);
+  // With a cell the lattice spans the ranges inside the joint margins.
+  const JointLattice lattice = app::MakeLatticeOrDie(
+      with_cell ? WithinJointMargins(*cell.checker, model) : model,
+      FLAGS_levels);
   const Eigen::MatrixXd joints = lattice.AllJointValues();
   // The preprocess: the cell's checks of every pool pose, once; the loop
   // designs every batch (and every repair) from the feasible ones.
@@ -324,6 +332,13 @@ int Main() {
     options.pool_filter = [&feasibility](int64_t i) {
       return feasibility.verdicts[i].feasible();
     };
+    // Several targets as the markers: each pose plans and measures those
+    // it sees.
+    if (CellTargetsAreMarkers(*cell.checker, model)) {
+      for (const PoseVerdict& v : feasibility.verdicts) {
+        options.marker_masks.push_back(v.targets_seen);
+      }
+    }
   }
   std::string error;
   if (!options.IsValid(&error)) {

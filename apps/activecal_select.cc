@@ -231,12 +231,16 @@ int Main() {
     }
     pool_joints = measurable_summary.joints;
   } else if (from_lattice) {
-    lattice = app::MakeLatticeOrDie(model, FLAGS_levels, type);
+    // With a cell the lattice spans the ranges inside the joint margins.
+    lattice = app::MakeLatticeOrDie(
+        with_cell ? WithinJointMargins(*cell.checker, model) : model,
+        FLAGS_levels, type);
     pool_joints = lattice.AllJointValues();
   } else if (sampled) {
     std::string error;
-    if (!SampleJointValues(model, sampling, FLAGS_pool_size, FLAGS_seed,
-                           &pool_joints, &error)) {
+    if (!SampleJointValues(
+            with_cell ? WithinJointMargins(*cell.checker, model) : model,
+            sampling, FLAGS_pool_size, FLAGS_seed, &pool_joints, &error)) {
       app::Fail("--pool=" + FLAGS_pool + ": " + error);
     }
   } else {
@@ -594,7 +598,16 @@ int Main() {
       chosen.pose_indices.push_back(labels.empty() ? i : labels[i]);
     }
     if (!FLAGS_poses_csv.empty()) {
-      app::WriteTextOrDie(FLAGS_poses_csv, PosesCsvText(model, chosen));
+      std::string text = PosesCsvText(model, chosen);
+      if (with_cell && !cell.cell.targets.empty()) {
+        // Which targets to measure at each pose: those the cell sees.
+        std::vector<uint32_t> seen;
+        for (int64_t i : summary.design) {
+          seen.push_back(feasibility.targets_seen[i]);
+        }
+        text = PosesCsvWithTargets(text, cell.cell, seen);
+      }
+      app::WriteTextOrDie(FLAGS_poses_csv, text);
     }
     app::WriteProgramOrDie(model, program, chosen, "activecal_select's design");
   }

@@ -15,6 +15,7 @@
 #include <gflags/gflags.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,6 +25,7 @@
 #include <string>
 #include <thread>
 
+#include "activecal/cell/cell_setup.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
 #include "activecal/driver/connection.h"
@@ -101,10 +103,21 @@ uint64_t PoseHash(const Eigen::VectorXd& q) {
   return h;
 }
 
+DEFINE_string(cell, "",
+              "A cell file (docs/formats.md): its targets are the robot's "
+              "markers (unless --frames gives them), and a marker is "
+              "reported only where the cell's checks see it (a pose where "
+              "none is seen is answered not_visible), as activecal_active "
+              "--cell plans.");
+
 class Cell {
  public:
-  Cell(RobotModel model, Eigen::VectorXd truth)
-      : model_(std::move(model)), truth_(std::move(truth)) {}
+  Cell(RobotModel model, Eigen::VectorXd truth,
+       const CellChecker* checker = nullptr)
+      : model_(std::move(model)),
+        truth_(std::move(truth)),
+        checker_(checker),
+        workspace_(checker ? checker->NewWorkspace() : nullptr) {}
 
   // Serves one conversation; false when the program must exit (with
   // *status).
@@ -183,7 +196,7 @@ class Cell {
     }
     MeasurementReply reply;
     reply.id = request.id;
-    Answer(request.joints, &reply);
+    Answer(request.joints, request.markers, &reply);
     std::string text = MeasurementReplyMessage(reply);
     if (!FLAGS_garbage.empty() && requests_ == FLAGS_garbage_at) {
       const std::string& g = FLAGS_garbage;
@@ -238,7 +251,10 @@ class Cell {
     return "garbage kind '" + kind + "' unknown";
   }
 
-  void Answer(const Eigen::VectorXd& commanded, MeasurementReply* reply) {
+  // markers: those asked for (empty: every marker); the others are
+  // answered null, as a tracker that was not pointed at them.
+  void Answer(const Eigen::VectorXd& commanded, const std::vector<int>& markers,
+              MeasurementReply* reply) {
     if (commanded.size() != model_.num_joints()) {
       reply->status = MeasureStatus::kError;
       reply->message = "expected " + std::to_string(model_.num_joints()) +
@@ -263,6 +279,39 @@ class Cell {
     Eigen::VectorXd actual = commanded;
     for (Eigen::Index j = 0; j < actual.size(); ++j) {
       actual[j] += FLAGS_joint_noise_rad * random.Gaussian();
+    }
+    for (int k : markers) {
+      if (k >= model_.num_markers()) {
+        reply->status = MeasureStatus::kError;
+        reply->message = "marker " + std::to_string(k) + " asked for, the " +
+                         "robot has " + std::to_string(model_.num_markers());
+        return;
+      }
+    }
+    // The cell's verdict at the commanded pose: the targets it sees.
+    uint32_t seen = ~0u;
+    if (checker_) {
+      const PoseVerdict v = checker_->Check(commanded.data(), workspace_.get());
+      if (v.targets_seen == 0) {
+        reply->status = MeasureStatus::kNotVisible;
+        reply->message = "simulated cell: " + checker_->Describe(v);
+        return;
+      }
+      if (checker_->num_targets() == model_.num_markers()) {
+        seen = v.targets_seen;
+      }
+    }
+    auto asked = [&](int k) {
+      return (k >= 32 || (seen & (1u << k))) &&
+             (markers.empty() ||
+              std::find(markers.begin(), markers.end(), k) != markers.end());
+    };
+    bool any = false;
+    for (int k = 0; k < model_.num_markers(); ++k) any = any || asked(k);
+    if (!any) {
+      reply->status = MeasureStatus::kNotVisible;
+      reply->message = "simulated cell: no marker asked for is seen";
+      return;
     }
     std::vector<Measurement> plan;
     for (int k = 0; k < model_.num_markers(); ++k) {
@@ -290,6 +339,13 @@ class Cell {
     const Eigen::Vector3d drift(
         FLAGS_drift_m_per_measurement * static_cast<double>(served_), 0, 0);
     for (const Measurement& m : measured) {
+      // Every marker is simulated (the noise does not depend on which are
+      // asked for); those not asked for, or not seen, are not reported.
+      if (!asked(m.marker)) {
+        reply->points_m.push_back(std::nullopt);
+        if (FLAGS_rotations) reply->rotations.push_back(std::nullopt);
+        continue;
+      }
       reply->points_m.push_back(m.position + drift);
       if (FLAGS_rotations) reply->rotations.push_back(m.rotation);
     }
@@ -298,6 +354,8 @@ class Cell {
 
   RobotModel model_;
   Eigen::VectorXd truth_;
+  const CellChecker* checker_;
+  std::unique_ptr<CellChecker::Workspace> workspace_;
   int64_t requests_ = 0;
   int64_t served_ = 0;
 };
@@ -323,6 +381,25 @@ int Main() {
     }
   }
   RobotDescription robot = app::LoadRobotOrDie();
+  // The cell: its targets as the markers (before the truth is read); its
+  // notes on stderr (stdout may be the protocol's channel).
+  CellSetup cell_setup;
+  if (!FLAGS_cell.empty()) {
+    CellSetupOptions options;
+    options.cell_path = FLAGS_cell;
+    options.robot_path = FLAGS_robot;
+    options.chain.base_link = FLAGS_base_link;
+    options.chain.tip_link = FLAGS_tip_link;
+    options.targets_as_markers = FLAGS_frames.empty();
+    std::string error;
+    if (!SetUpCell(options, &robot, &cell_setup, &error)) {
+      app::Fail("--cell: " + error);
+    }
+    for (const std::string& note : cell_setup.notes) {
+      std::fprintf(stderr, "activecal_sim_cell: --cell: note: %s\n",
+                   note.c_str());
+    }
+  }
   RobotModel& model = robot.model;
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
@@ -357,7 +434,7 @@ int Main() {
     app::WriteTextOrDie(FLAGS_truth_out,
                         RobotFileText(model, model.nominal, options));
   }
-  Cell cell(model, truth);
+  Cell cell(model, truth, cell_setup.checker.get());
   int status = 0;
   if (FLAGS_listen.empty()) {
     LineChannel channel(STDIN_FILENO, g_protocol_out);

@@ -61,10 +61,14 @@ std::shared_ptr<DesignResult> SelectPy(
   } else if (!pool_obj.is_none()) {
     pool_kind = "array";
   }
+  // With a cell the lattice and the draws span the ranges inside the joint
+  // margins, as activecal_select --cell.
+  const RobotModel pool_model =
+      cell ? WithinJointMargins(*cell->checker, model) : model;
   if (pool_kind == "lattice") {
     JointLattice lattice;
     std::string error;
-    if (!JointLattice::Create(model, levels, &lattice, &error)) {
+    if (!JointLattice::Create(pool_model, levels, &lattice, &error)) {
       Fail("levels=" + std::to_string(levels) + ": " + error);
     }
     if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
@@ -102,7 +106,7 @@ std::shared_ptr<DesignResult> SelectPy(
     if (!CheckSelectionPoolSize(pool_size, model, type, &error)) {
       Fail("pool_size: " + error);
     }
-    if (!SampleJointValues(model, sampling, pool_size, seed, &pool_joints,
+    if (!SampleJointValues(pool_model, sampling, pool_size, seed, &pool_joints,
                            &error)) {
       Fail("pool=" + pool_kind + ": " + error);
     }

@@ -96,6 +96,30 @@ assert d["feasible_poses"] == 300 == d["drawn_pool_size"], d["feasible_poses"]
 assert d["measurable_pool"]["draws_per_pose"] < 5, d["measurable_pool"]
 EOF
 
+# The issue's iiwa 40-pose lattice design with a 3 deg margin: the lattice
+# spans the ranges inside the margins, so no pose is rejected for it and no
+# design joint is within 3 deg of a stop (before: 2186 of 2187 rejected).
+printf 'joint_margin_deg: 3\nself_clearance_m: 0.0\n' >iiwa_margin.yaml
+if "$apps/activecal_select" --robot="$data/kuka_iiwa14.urdf" --tip_link=flange \
+  --cell=iiwa_margin.yaml --levels=3 --num_poses=40 --algorithm=fedorov \
+  --restarts=2 --json_out=iiwa.json >iiwa.out 2>iiwa.err; then
+  ok "select --cell on the iiwa lattice"
+else
+  fail "select --cell on the iiwa lattice"; cat iiwa.err
+fi
+python3 - <<'EOF' && ok "the iiwa lattice sits inside the margins" || fail "iiwa lattice margins"
+import json, math
+d = json.load(open("iiwa.json"))
+r = d["rejected"]
+assert d["drawn_pool_size"] == 2187 and r["joint_margin"] == 0, r
+assert d["feasible_poses"] + r["self_collision"] == 2187, (d["feasible_poses"], r)
+limits = [170, 120, 170, 120, 170, 120, 175]
+least = min(math.radians(l) - abs(v) for q in d["joint_angles_rad"]
+            for v, l in zip(q, limits))
+assert least >= math.radians(3) - 1e-9, math.degrees(least)
+assert len(d["joint_angles_rad"]) == 40
+EOF
+
 # The task criterion goes through the same (feasible) pool.
 if "$apps/activecal_select" "${ur[@]}" --cell="$cell" --pool=sobol \
   --pool_size=3000 --num_poses=12 --criterion=task_rms --json_out=t.json \
@@ -131,14 +155,36 @@ expect_fail "rejected_csv without a cell" "--rejected_csv needs --cell" \
   activecal_select "${ur[@]}" --rejected_csv=r.csv
 expect_fail "bad --order" "--order must be none or shortest, got 'fast'" \
   activecal_select --order=fast
-# Every pose of a 2-level lattice sits on a joint limit: none is left.
-printf 'joint_margin_deg: 1\n' >margin.yaml
-expect_fail "empty feasible pool" "--cell: no pose of the pool is left: 0 of 64 poses feasible; rejected: joint margin 64" \
-  activecal_select --cell=margin.yaml --levels=2
-# The middle level of joints 1-3 only: 27 poses cannot identify the PUMA.
+# A solid below z = 10 m takes every pose of a 2-level lattice (the PUMA of
+# data/puma560.yaml, with its collision capsules): none is left.
+printf 'obstacles:\n  - {name: floor, type: plane, normal: [0, 0, 1], offset_m: 10}\n' >floor.yaml
+expect_fail "empty feasible pool" "--cell: no pose of the pool is left: 0 of 64 poses feasible; rejected: joint margin 0, self-collision 16, obstacle floor 48" \
+  activecal_select --robot="$data/puma560.yaml" --cell=floor.yaml --levels=2
+# A pool CSV is checked as given (not narrowed to the margins): the PUMA's
+# 3-level lattice, the middle level of joints 1-3 only feasible: 27 poses
+# cannot identify the PUMA, and the message names what removed the others.
+python3 - "$data/puma560.yaml" <<'EOF'
+import itertools, sys, yaml
+links = yaml.safe_load(open(sys.argv[1]))["links"]
+levels = [[l["limits"][0], (l["limits"][0] + l["limits"][1]) / 2, l["limits"][1]]
+          for l in links]
+with open("lattice.csv", "w") as f:
+    f.write("pose_index," + ",".join("q%d_rad" % (j + 1) for j in range(6)) + "\n")
+    for i, q in enumerate(itertools.product(*levels)):
+        f.write("%d,%s\n" % (i, ",".join(repr(v) for v in q)))
+EOF
 printf 'joint_margin_override_deg: {L1: 1, L2: 1, L3: 1}\n' >middle.yaml
 expect_fail "unidentifiable feasible pool" "the feasible pool (27 of 729 poses feasible; rejected: joint margin 702" \
-  activecal_select --cell=middle.yaml --levels=3
+  activecal_select --cell=middle.yaml --pool_csv=lattice.csv
+# With the lattice itself the ranges are narrowed to the margins: every
+# pose is feasible.
+activecal_select_ok() { "$apps/activecal_select" "$@" >ok.out 2>ok.err; }
+if activecal_select_ok --cell=middle.yaml --levels=3 --num_poses=30 &&
+  grep -q "cell: 729 of 729 poses feasible" ok.out; then
+  ok "the lattice inside the margins is all feasible"
+else
+  fail "lattice inside the margins"; cat ok.out ok.err
+fi
 expect_fail "feasible pool smaller than the design" "--num_poses=200: the feasible pool has only" \
   activecal_select "${ur[@]}" --cell="$cell" --pool=sobol --pool_size=2000 --num_poses=200 --json_out=x.json
 [ ! -e x.json ] && ok "a failed run writes nothing" || fail "a failed run wrote its JSON"

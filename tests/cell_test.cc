@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -25,6 +26,7 @@
 #include "activecal/cell/robot_collision.h"
 #include "activecal/cell/tour.h"
 #include "activecal/core/joint_sampling.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/random.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
@@ -1304,6 +1306,59 @@ TEST(CellPoolTest, MeasurablePoolIsFeasibleDeterministicAndCheaper) {
   ASSERT_TRUE(LoadUr10e(DeviceFreeUrCell(), &bare, &error));
   EXPECT_FALSE(SampleMeasurablePool(*bare.setup.checker, o, &other));
   EXPECT_EQ(other.termination_type, TerminationType::kUserFailure);
+}
+
+TEST(CellPoolTest, WithACellTheLatticeSitsAtTheMarginsNotOnTheStops) {
+  // The iiwa: a 3-level lattice puts a joint on a stop in every
+  // pose but one, which a 3 deg margin rejects. Inside the margins the
+  // lattice's end levels sit exactly at them, which the check passes.
+  RobotDescription robot;
+  RobotLoadOptions o;
+  o.chain.tip_link = "flange";
+  std::string error;
+  ASSERT_TRUE(LoadRobot(kData + "/kuka_iiwa14.urdf", o, &robot, &error))
+      << error;
+  const std::string path = TempPath("iiwa_margin.yaml");
+  WriteText(path, "joint_margin_deg: 3\nself_clearance_m: 0.0\n");
+  CellSetupOptions c;
+  c.cell_path = path;
+  c.robot_path = kData + "/kuka_iiwa14.urdf";
+  c.chain = o.chain;
+  CellSetup setup;
+  ASSERT_TRUE(SetUpCell(c, &robot, &setup, &error)) << error;
+  const RobotModel& model = robot.model;
+  const RobotModel inside = WithinJointMargins(*setup.checker, model);
+  const double m = 3 * kDeg;
+  for (int j = 0; j < model.num_joints(); ++j) {
+    EXPECT_DOUBLE_EQ(inside.links[j].joint_min, model.links[j].joint_min + m);
+    EXPECT_DOUBLE_EQ(inside.links[j].joint_max, model.links[j].joint_max - m);
+  }
+  JointLattice on_stops, at_margins;
+  ASSERT_TRUE(JointLattice::Create(model, 3, &on_stops, &error)) << error;
+  ASSERT_TRUE(JointLattice::Create(inside, 3, &at_margins, &error)) << error;
+  PoolFilterSummary before, after;
+  ASSERT_TRUE(
+      FilterPool(*setup.checker, on_stops.AllJointValues(), {}, &before));
+  ASSERT_TRUE(
+      FilterPool(*setup.checker, at_margins.AllJointValues(), {}, &after));
+  EXPECT_EQ(before.num_poses, 2187);
+  EXPECT_EQ(before.rejected[static_cast<int>(RejectionReason::kJointMargin)],
+            2186);
+  EXPECT_EQ(after.rejected[static_cast<int>(RejectionReason::kJointMargin)], 0);
+  // Nothing else rejects here but self-collisions of folded poses.
+  EXPECT_EQ(
+      after.num_feasible() +
+          after.rejected[static_cast<int>(RejectionReason::kSelfCollision)],
+      2187);
+  const Eigen::MatrixXd q = at_margins.AllJointValues();
+  double least = std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < q.rows(); ++i) {
+    for (int j = 0; j < model.num_joints(); ++j) {
+      least = std::min({least, q(i, j) - model.links[j].joint_min,
+                        model.links[j].joint_max - q(i, j)});
+    }
+  }
+  EXPECT_NEAR(least, m, 1e-12);
 }
 
 TEST(CellTourTest, PermutationNoLongerThanTheInputAndEveryMoveFree) {

@@ -79,7 +79,8 @@ double PredictedRms(const Eigen::MatrixXd& W, const RowMatrixXd& rows,
 
 MeasureBatch MakeBatch(int round, int attempt,
                        const Eigen::MatrixXd& pool_joints,
-                       const std::vector<int64_t>& poses) {
+                       const std::vector<int64_t>& poses,
+                       const std::vector<uint32_t>& marker_masks = {}) {
   MeasureBatch batch;
   batch.round = round;
   batch.attempt = attempt;
@@ -87,6 +88,7 @@ MeasureBatch MakeBatch(int round, int attempt,
   batch.joints.resize(poses.size(), pool_joints.cols());
   for (size_t k = 0; k < poses.size(); ++k) {
     batch.joints.row(k) = pool_joints.row(poses[k]);
+    if (!marker_masks.empty()) batch.markers.push_back(marker_masks[poses[k]]);
   }
   return batch;
 }
@@ -246,15 +248,36 @@ bool SimulatedMeasurer::Measure(const MeasureBatch& batch, int k,
                                 PoseAnswer* answer, std::string* error) {
   CHECK(k >= 0 && k < static_cast<int>(batch.poses.size()));
   if (batch.round != cached_round_ || batch.attempt != cached_attempt_ ||
-      cached_.size() != batch.poses.size()) {
+      cached_first_.size() != batch.poses.size() + 1) {
     SimulationNoise noise;
     noise.position_m = sigma_m_;
     const uint64_t round_seed = Random::StreamSeed(seed_, batch.round);
     const uint64_t seed = batch.attempt == 0
                               ? round_seed
                               : Random::StreamSeed(round_seed, batch.attempt);
-    if (!SimulateMeasurements(model_, truth_, MeasurementPlan(batch.joints),
-                              noise, seed, &cached_, error)) {
+    // One measurement per pose (marker 0), or per marker named.
+    std::vector<Measurement> plan;
+    cached_first_.assign(1, 0);
+    if (batch.markers.empty()) {
+      plan = MeasurementPlan(batch.joints);
+      for (size_t k = 0; k < batch.poses.size(); ++k) {
+        cached_first_.push_back(k + 1);
+      }
+    } else {
+      for (size_t k = 0; k < batch.poses.size(); ++k) {
+        for (int marker = 0; marker < model_.num_markers() && marker < 32;
+             ++marker) {
+          if (!(batch.markers[k] & (1u << marker))) continue;
+          Measurement m;
+          m.joints = batch.joints.row(k).transpose();
+          m.marker = marker;
+          plan.push_back(std::move(m));
+        }
+        cached_first_.push_back(plan.size());
+      }
+    }
+    if (!SimulateMeasurements(model_, truth_, plan, noise, seed, &cached_,
+                              error)) {
       cached_round_ = cached_attempt_ = -1;
       return false;
     }
@@ -267,7 +290,13 @@ bool SimulatedMeasurer::Measure(const MeasureBatch& batch, int k,
     answer->message = "simulated occlusion";
     return true;
   }
-  answer->measurements.push_back(cached_[k]);
+  for (size_t m = cached_first_[k]; m < cached_first_[k + 1]; ++m) {
+    answer->measurements.push_back(cached_[m]);
+  }
+  if (!answer->measured()) {
+    answer->status = "not_visible";
+    answer->message = "no marker named";
+  }
   return true;
 }
 
@@ -337,11 +366,31 @@ bool RunActiveLoop(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
   auto barred = [&](int64_t i) {
     return taken[i] != 0 || (options.pool_filter && !options.pool_filter(i));
   };
+  // The pool's marker masks: a pose the filter bars (which may see no
+  // marker) gets marker 0's rows, never designed.
+  std::vector<uint32_t> pool_masks = options.marker_masks;
+  if (!pool_masks.empty()) {
+    if (static_cast<int64_t>(pool_masks.size()) != pool_size) {
+      return finish(TerminationType::kUserFailure,
+                    std::to_string(pool_masks.size()) + " marker masks for " +
+                        std::to_string(pool_size) + " pool poses");
+    }
+    for (int64_t i = 0; i < pool_size; ++i) {
+      if (pool_masks[i] != 0) continue;
+      if (!options.pool_filter || options.pool_filter(i)) {
+        return finish(TerminationType::kUserFailure,
+                      "pool pose " + std::to_string(i) +
+                          " sees no marker and is not filtered out");
+      }
+      pool_masks[i] = 1u;
+    }
+  }
   for (int r = state.round; r < options.max_rounds; ++r) {
     // Linearise at the current estimate.
     const Eigen::VectorXd& estimate = state.estimate;
     CandidatePoolOptions pool_options;
     pool_options.num_threads = options.num_threads;
+    pool_options.marker_masks = pool_masks;
     CandidatePool pool;
     CandidatePoolSummary pool_summary;
     Eigen::MatrixXd W;
@@ -408,7 +457,8 @@ bool RunActiveLoop(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
       for (int64_t f : round.batch) {
         CHECK(in_batch[f]) << "the selector dropped the fixed pose " << f;
       }
-      const MeasureBatch to_measure = MakeBatch(r, attempt, pool_joints, fresh);
+      const MeasureBatch to_measure =
+          MakeBatch(r, attempt, pool_joints, fresh, options.marker_masks);
       int newly_excluded = 0;
       for (size_t k = 0; k < fresh.size(); ++k) {
         PoseAnswer answer;

@@ -74,6 +74,42 @@ nlohmann::json TargetsSeenJson(const Cell& cell, uint32_t seen) {
   return names;
 }
 
+std::string TargetsSeenField(const Cell& cell, uint32_t seen) {
+  std::string field;
+  for (size_t t = 0; t < cell.targets.size() && t < 32; ++t) {
+    if (!(seen & (1u << t))) continue;
+    if (!field.empty()) field += ';';
+    field += cell.targets[t].name;
+  }
+  if (field.find_first_of(",\"") == std::string::npos) return field;
+  std::string quoted = "\"";
+  for (char c : field) {
+    quoted += c;
+    if (c == '"') quoted += '"';
+  }
+  return quoted + "\"";
+}
+
+std::string PosesCsvWithTargets(const std::string& poses_csv, const Cell& cell,
+                                const std::vector<uint32_t>& seen) {
+  std::string out;
+  size_t line = 0, begin = 0;
+  while (begin < poses_csv.size()) {
+    size_t end = poses_csv.find('\n', begin);
+    if (end == std::string::npos) end = poses_csv.size();
+    out.append(poses_csv, begin, end - begin);
+    if (line == 0) {
+      out += ",targets";
+    } else if (line - 1 < seen.size()) {
+      out += "," + TargetsSeenField(cell, seen[line - 1]);
+    }
+    out += '\n';
+    ++line;
+    begin = end + 1;
+  }
+  return out;
+}
+
 std::function<bool(const Eigen::VectorXd& joints, std::string* reason)>
 CellCompensationCheck(const CellChecker& checker) {
   std::shared_ptr<CellChecker::Workspace> workspace = checker.NewWorkspace();

@@ -47,6 +47,18 @@ bool UseTargetsAsMarkers(const Cell& cell, RobotDescription* robot,
                          error);
 }
 
+RobotModel WithinJointMargins(const CellChecker& checker,
+                              const RobotModel& model) {
+  RobotModel narrowed = model;
+  for (int j = 0; j < narrowed.num_joints(); ++j) {
+    Link& l = narrowed.links[j];
+    const double m = checker.joint_margin(j);
+    if (std::isfinite(l.joint_min)) l.joint_min += m;
+    if (std::isfinite(l.joint_max)) l.joint_max -= m;
+  }
+  return narrowed;
+}
+
 std::vector<double> RobotVelocityLimits(const std::string& robot_path,
                                         const UrdfChainOptions& chain,
                                         const RobotModel& model) {

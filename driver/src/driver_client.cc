@@ -109,7 +109,8 @@ bool DriverClient::Read(const std::string& waiting_for, std::string* line,
 }
 
 bool DriverClient::Measure(const Eigen::VectorXd& joints,
-                           MeasurementReply* reply, std::string* error) {
+                           MeasurementReply* reply, std::string* error,
+                           const std::vector<int>& markers) {
   if (broken_ || closed_) {
     *error = name_ + ": the conversation ended after an earlier failure";
     return false;
@@ -117,7 +118,8 @@ bool DriverClient::Measure(const Eigen::VectorXd& joints,
   const int64_t id = next_id_++;
   const std::string what = "the reply to measure " + std::to_string(id);
   std::string why;
-  if (!connection_->channel().WriteLine(MeasureMessage(id, joints), &why)) {
+  if (!connection_->channel().WriteLine(MeasureMessage(id, joints, markers),
+                                        &why)) {
     *error = name_ + ": cannot send measure " + std::to_string(id) + ": " +
              why + " (the driver " + connection_->WhyClosed(1.0) + ")";
     broken_ = true;

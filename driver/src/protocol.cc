@@ -168,8 +168,10 @@ std::string HelloMessage(const DriverHello& hello) {
   return j.dump();
 }
 
-std::string MeasureMessage(int64_t id, const Eigen::VectorXd& joints) {
+std::string MeasureMessage(int64_t id, const Eigen::VectorXd& joints,
+                           const std::vector<int>& markers) {
   ordered j = {{"type", "measure"}, {"id", id}, {"joints_rad", Vector(joints)}};
+  if (!markers.empty()) j["markers"] = markers;
   return j.dump();
 }
 
@@ -347,8 +349,28 @@ bool ParseActivecalMessage(const std::string& line, ActivecalMessage* message,
       *error = "measure without joints_rad";
       return false;
     }
-    return NumberArray(*joints, "joints_rad", static_cast<int>(joints->size()),
-                       "", &message->joints, error);
+    if (!NumberArray(*joints, "joints_rad", static_cast<int>(joints->size()),
+                     "", &message->joints, error)) {
+      return false;
+    }
+    message->markers.clear();
+    const auto markers = j.find("markers");
+    if (markers != j.end()) {
+      if (!markers->is_array()) {
+        *error = "measure: markers: expected an array of marker indices";
+        return false;
+      }
+      for (const auto& k : *markers) {
+        if (!k.is_number_integer() || k.get<int64_t>() < 0 ||
+            k.get<int64_t>() > 1 << 20) {
+          *error =
+              "measure: markers: expected marker indices >= 0, got " + k.dump();
+          return false;
+        }
+        message->markers.push_back(static_cast<int>(k.get<int64_t>()));
+      }
+    }
+    return true;
   }
   *error = "unknown message type '" + type + "'";
   return false;

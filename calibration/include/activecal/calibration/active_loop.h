@@ -82,6 +82,13 @@ struct ActiveLoopOptions {
   // a cell's reachability and visibility test passes. Applied to every
   // batch and every repair.
   std::function<bool(int64_t pool_index)> pool_filter;
+  // The markers each pool pose measures (one mask per pool pose, bit k:
+  // marker k), e.g. the cell's targets seen (PoseVerdict::targets_seen):
+  // the pool's blocks then hold only those markers' rows
+  // (CandidatePoolOptions::marker_masks) and each MeasureBatch names them.
+  // A zero mask only for a pose pool_filter bars. Empty: every pose's
+  // design rows are marker 0's, and the measurer is not told.
+  std::vector<uint32_t> marker_masks;
   // Called after every round with the loop's state (also after a resumed
   // round); false ends the loop FAILURE with *error (a session that cannot
   // write its state stops the loop instead of measuring on unrecorded).
@@ -122,6 +129,9 @@ struct MeasureBatch {
   int attempt = 0;             // as BatchRequest::attempt
   std::vector<int64_t> poses;  // pool indices
   Eigen::MatrixXd joints;      // one row per pose, commanded (rad, m)
+  // The markers to measure at each pose (bit k: marker k), from
+  // ActiveLoopOptions::marker_masks; empty: not said.
+  std::vector<uint32_t> markers;
 };
 
 // The answer for one pose.
@@ -150,7 +160,8 @@ class Measurer {
 };
 
 // The simulated robot: the measured point from the true parameters plus
-// Gaussian noise of sigma_m per axis, the joints exactly as commanded. The
+// Gaussian noise of sigma_m per axis, the joints exactly as commanded: of
+// marker 0, or of each marker the batch names (MeasureBatch::markers). The
 // noise of a batch is drawn for the whole batch from the stream
 // StreamSeed(seed, round) (a repair's from StreamSeed of that and its
 // attempt), so a pose's noise does not depend on which others are asked.
@@ -173,6 +184,7 @@ class SimulatedMeasurer : public Measurer {
   std::function<bool(int64_t)> not_visible_;
   int cached_round_ = -1, cached_attempt_ = -1;
   std::vector<Measurement> cached_;
+  std::vector<size_t> cached_first_;  // pose k's: [first[k], first[k + 1])
 };
 
 struct ActiveRound {

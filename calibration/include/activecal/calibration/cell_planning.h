@@ -21,6 +21,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/cell_checker.h"
@@ -64,6 +65,16 @@ nlohmann::json CellPoolJson(const Cell& cell, const PoolFilterSummary& summary);
 // The names of the cell's targets whose bits are set in `seen`
 // (PoseVerdict::targets_seen), in the cell's order.
 nlohmann::json TargetsSeenJson(const Cell& cell, uint32_t seen);
+
+// The targets seen as a CSV field: their names in the cell's order, joined
+// by ';' ("front;side"), quoted as CSV when a name holds ',' or '"'.
+std::string TargetsSeenField(const Cell& cell, uint32_t seen);
+
+// A poses CSV (PosesCsvText: a header line, then one line per pose) with
+// one more column, `targets`: TargetsSeenField of seen[k] on pose k's line
+// (the poses CSV readers ignore the column). seen: one mask per pose.
+std::string PosesCsvWithTargets(const std::string& poses_csv, const Cell& cell,
+                                const std::vector<uint32_t>& seen);
 
 // A CompensationOptions::check (kinematics/compensation.h): what a robot
 // running a configuration must pass, of the cell's checks: the joint

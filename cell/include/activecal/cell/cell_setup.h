@@ -68,6 +68,15 @@ std::vector<PairDistance> SelfPairsAlwaysTooClose(const CellChecker& checker,
 bool UseTargetsAsMarkers(const Cell& cell, RobotDescription* robot,
                          std::string* error);
 
+// `model` with every finite joint range narrowed by the checker's joint
+// margin at both ends ([min + m, max - m]): the ranges a pool (a lattice,
+// Sobol or random draws) is built in with a cell, so that its end levels
+// sit at the margins (which the check passes: exactly at a margin is
+// inside) rather than on the stops the margin rejects. An infinite end is
+// kept. The checker must be for `model`'s joints.
+RobotModel WithinJointMargins(const CellChecker& checker,
+                              const RobotModel& model);
+
 // The velocity limits of the robot's joints (rad/s, m/s) from its URDF's
 // <limit velocity>; zeros when the file gives none (robot files, a
 // built-in robot).

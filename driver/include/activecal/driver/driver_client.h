@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "activecal/driver/connection.h"
 #include "activecal/driver/protocol.h"
@@ -54,8 +55,9 @@ class DriverClient {
 
   // Asks for a measurement at `joints` (rad, m) and checks the reply
   // (ParseMeasurementReply). Ids count from 1 per client.
+  // `markers`: the markers to measure (MeasureMessage; empty: all).
   bool Measure(const Eigen::VectorXd& joints, MeasurementReply* reply,
-               std::string* error);
+               std::string* error, const std::vector<int>& markers = {});
 
   // Says bye and ends the connection (a child that does not exit within
   // the timeout is terminated). Idempotent. Returns a note if the driver

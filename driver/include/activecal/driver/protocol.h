@@ -5,7 +5,9 @@
 //   activecal -> driver  {"type":"hello","protocol":1,"joint_names":[...],
 //                         "markers":K,"robot":"..."}
 //   driver -> activecal  {"type":"hello","protocol":1, ...anything}
-//   activecal -> driver  {"type":"measure","id":N,"joints_rad":[...]}
+//   activecal -> driver  {"type":"measure","id":N,"joints_rad":[...],
+//                         optional "markers":[k, ...] (0-based: which to
+//                         measure; absent: every marker)}
 //   driver -> activecal  {"type":"measurement","id":N,"status":"ok",
 //                         "joints_rad":[...encoder readings...],
 //                         "points_m":[[x,y,z] or null per marker],
@@ -72,7 +74,11 @@ struct MeasurementReply {
 
 // activecal's messages, one line each without the newline.
 std::string HelloMessage(const DriverHello& hello);
-std::string MeasureMessage(int64_t id, const Eigen::VectorXd& joints);
+// `markers` (0-based, ascending; empty: not sent, every marker) names the
+// markers to measure, e.g. the cell's targets seen at the pose:
+// "markers":[0,2].
+std::string MeasureMessage(int64_t id, const Eigen::VectorXd& joints,
+                           const std::vector<int>& markers = {});
 std::string ByeMessage();
 
 // Checks the driver's hello line: a JSON object of type "hello" and
@@ -98,9 +104,10 @@ std::vector<Measurement> ReplyMeasurements(const MeasurementReply& reply);
 enum class ActivecalMessageType { kHello, kMeasure, kBye };
 struct ActivecalMessage {
   ActivecalMessageType type = ActivecalMessageType::kHello;
-  DriverHello hello;       // kHello
-  int64_t id = 0;          // kMeasure
-  Eigen::VectorXd joints;  // kMeasure (rad, m)
+  DriverHello hello;         // kHello
+  int64_t id = 0;            // kMeasure
+  Eigen::VectorXd joints;    // kMeasure (rad, m)
+  std::vector<int> markers;  // kMeasure: the markers asked for (empty: all)
 };
 bool ParseActivecalMessage(const std::string& line, ActivecalMessage* message,
                            std::string* error);
