@@ -149,6 +149,7 @@ int Run(int num_seeds, int num_poses, double num_se) {
     std::printf("| %s | %d | %d | %d | %d / %d | %.4f / %.4f |\n", sc.name,
                 num_seeds, kept_c, kept_p, within, total,
                 1e3 * rms_geo / num_seeds, 1e3 * rms_chosen / num_seeds);
+    std::fflush(stdout);
   }
   std::printf(
       "\nfalse terms kept: %d; effects missed: %d (%d poses, rule: "
