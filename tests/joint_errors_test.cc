@@ -194,6 +194,21 @@ std::vector<Measurement> Plan(const RobotModel& m, int n, uint64_t seed) {
   return MeasurementPlan(joints, MeasurementType::kPosition);
 }
 
+// Free: the base frame, the marker's position, the offsets of joints 2-5
+// (joint 1's is the base's rz, joint 6's the marker's).
+RobotModel OffsetsModel(const RobotModel& m) {
+  RobotModel fitted = m;
+  for (int i = 0; i < m.num_parameters(); ++i) fitted.SetFree(i, false);
+  for (int j = 0; j < 6; ++j) fitted.SetFree(j, true);
+  for (int b = 2; b <= 5; ++b) {
+    fitted.SetFree(m.block_offset(b) + kUrdfOffset, true);
+  }
+  for (int j = 0; j < 3; ++j) {
+    fitted.SetFree(m.block_offset(m.marker_block(0)) + j, true);
+  }
+  return fitted;
+}
+
 TEST(JointErrorFit, RecoversComplianceWithinThreeStd) {
   const Ur10 ur = LoadUr10();
   const RobotModel& m = ur.model;
@@ -209,17 +224,7 @@ TEST(JointErrorFit, RecoversComplianceWithinThreeStd) {
                                       Plan(m, 60, 11), {2e-5, 0}, 7, &data,
                                       &error))
       << error;
-  // Free: the base frame, the marker's position, the offsets of joints 2-5
-  // (joint 1's is the base's rz, joint 6's the marker's).
-  RobotModel fitted = m;
-  for (int i = 0; i < m.num_parameters(); ++i) fitted.SetFree(i, false);
-  for (int j = 0; j < 6; ++j) fitted.SetFree(j, true);
-  for (int b = 2; b <= 5; ++b) {
-    fitted.SetFree(m.block_offset(b) + kUrdfOffset, true);
-  }
-  for (int j = 0; j < 3; ++j) {
-    fitted.SetFree(m.block_offset(m.marker_block(0)) + j, true);
-  }
+  const RobotModel fitted = OffsetsModel(m);
   IdentificationOptions options;
   JointErrorModel guess = truth;
   guess.values.setZero();
@@ -261,21 +266,6 @@ TEST(JointErrorFit, RecoversComplianceWithinThreeStd) {
   EXPECT_EQ(summary.term_names[1], "elbow_joint.compliance");
   EXPECT_LT(summary.term_standard_deviations[1], 0.2 * 4e-6);
   EXPECT_NEAR(summary.sigma_m, 2e-5, 0.3e-5);
-}
-
-// The small free set of the fit test: base, marker position, offsets of
-// joints 2-5.
-RobotModel OffsetsModel(const RobotModel& m) {
-  RobotModel fitted = m;
-  for (int i = 0; i < m.num_parameters(); ++i) fitted.SetFree(i, false);
-  for (int j = 0; j < 6; ++j) fitted.SetFree(j, true);
-  for (int b = 2; b <= 5; ++b) {
-    fitted.SetFree(m.block_offset(b) + kUrdfOffset, true);
-  }
-  for (int j = 0; j < 3; ++j) {
-    fitted.SetFree(m.block_offset(m.marker_block(0)) + j, true);
-  }
-  return fitted;
 }
 
 // The rule keeps compliance when the data have it and neither family when
