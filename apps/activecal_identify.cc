@@ -6,7 +6,9 @@
 
 #include <gflags/gflags.h>
 
+#include <cmath>
 #include <cstdio>
+#include <sstream>
 
 #include "activecal/calibration/calibrate.h"
 #include "activecal/calibration/calibration_export.h"
@@ -16,6 +18,7 @@
 #include "activecal/io/output_files.h"
 #include "activecal/io/robot_file.h"
 #include "activecal/io/robot_loader.h"
+#include "activecal/io/urdf_inertials.h"
 #include "app_common.h"
 #include "gnuplot.h"
 
@@ -122,9 +125,88 @@ DEFINE_double(default_sigma_m, 0.0,
 DEFINE_double(default_sigma_rad, 0.0,
               "Standard deviation (rad) of pose rotation rows whose "
               "measurement states none (0: none).");
+DEFINE_bool(compliance, false,
+            "Offer joint compliance under gravity (one compliance per joint, "
+            "rad/(N m)), kept only when it predicts held-out poses better; "
+            "needs the URDF's <inertial> masses or --payload_kg");
+DEFINE_int32(harmonics, 0,
+             "Offer joint-periodic errors: sin/cos k q, k = 1..N, of every "
+             "revolute joint, kept only when they predict better (0: none)");
+DEFINE_double(payload_kg, 0.0,
+              "Payload mass at the tip (kg), for the compliance terms");
+DEFINE_string(payload_com_m, "",
+              "Payload centre of mass in the tip frame, 'x,y,z' (m)");
+DEFINE_string(gravity, "0,0,-9.80665",
+              "Gravity in the robot's base frame, 'x,y,z' (m/s^2)");
+DEFINE_double(term_standard_errors, 2.0,
+              "A joint error family is kept when its paired held-out gain "
+              "exceeds this many standard errors");
 
 namespace activecal {
 namespace {
+
+// "x,y,z" into *v; false when the text is not three finite numbers.
+bool ParseVector3(const std::string& text, Eigen::Vector3d* v) {
+  std::istringstream in(text);
+  char c1 = 0, c2 = 0;
+  double x, y, z;
+  if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',') return false;
+  std::string rest;
+  if (in >> rest) return false;
+  *v = Eigen::Vector3d(x, y, z);
+  return v->allFinite();
+}
+
+// The joint error families the flags offer (term_selection.h).
+std::vector<TermFamily> TermFamiliesOrDie(const RobotModel& model,
+                                          bool urdf_robot) {
+  std::vector<TermFamily> families;
+  if (!FLAGS_payload_com_m.empty() && !(FLAGS_payload_kg > 0)) {
+    app::Fail(
+        "--payload_com_m needs --payload_kg > 0 (a payload without "
+        "mass)");
+  }
+  if (!(FLAGS_payload_kg >= 0) || !std::isfinite(FLAGS_payload_kg)) {
+    app::Fail("--payload_kg must be finite and >= 0");
+  }
+  if (FLAGS_harmonics < 0 || FLAGS_harmonics > 8) {
+    app::Fail("--harmonics must be in [0, 8], got " +
+              std::to_string(FLAGS_harmonics));
+  }
+  if (FLAGS_compliance) {
+    GravityModel gravity;
+    if (!ParseVector3(FLAGS_gravity, &gravity.gravity)) {
+      app::Fail("--gravity: expected 'x,y,z' in m/s^2, got '" + FLAGS_gravity +
+                "'");
+    }
+    gravity.payload_kg = FLAGS_payload_kg;
+    if (!FLAGS_payload_com_m.empty() &&
+        !ParseVector3(FLAGS_payload_com_m, &gravity.payload_com_m)) {
+      app::Fail("--payload_com_m: expected 'x,y,z' in m, got '" +
+                FLAGS_payload_com_m + "'");
+    }
+    std::string error;
+    if (urdf_robot) {
+      UrdfChainOptions chain;
+      chain.base_link = FLAGS_base_link;
+      chain.tip_link = FLAGS_tip_link;
+      if (!LoadUrdfInertials(FLAGS_robot, chain, &gravity, &error)) {
+        app::Fail("--compliance: " + error);
+      }
+    } else if (!(FLAGS_payload_kg > 0)) {
+      app::Fail("--compliance needs link masses: --robot " + FLAGS_robot +
+                " is not a URDF with <inertial> elements; give a URDF or "
+                "--payload_kg");
+    }
+    families.push_back({"compliance", ComplianceTerms(model, gravity)});
+  } else if (FLAGS_payload_kg > 0) {
+    app::Fail("--payload_kg is used by --compliance only");
+  }
+  if (FLAGS_harmonics > 0) {
+    families.push_back({"periodic", HarmonicTerms(model, FLAGS_harmonics)});
+  }
+  return families;
+}
 
 std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
                                        std::vector<int64_t>* poses) {
@@ -194,6 +276,8 @@ int Main() {
                      &options.selection_ranking);
   options.num_folds = FLAGS_folds;
   options.num_threads = FLAGS_threads;
+  options.term_families = TermFamiliesOrDie(model, urdf_robot);
+  options.term_standard_errors = FLAGS_term_standard_errors;
   IdentificationOptions& fit = options.identification;
   app::EnumFlagOrDie(StringToRobustLoss, "robust_loss", FLAGS_robust_loss,
                      "none, huber or cauchy", &fit.robust_loss);

@@ -12,21 +12,30 @@
 #include "activecal/estimation/registration.h"
 #include "activecal/estimation/residual_scale.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/joint_error_jacobian.h"
 
 namespace activecal {
 namespace {
 
-constexpr CalibrationStage kStages[] = {
-    CalibrationStage::kOptions,         CalibrationStage::kSplit,
-    CalibrationStage::kRegistration,    CalibrationStage::kParameterSet,
-    CalibrationStage::kIdentifiability, CalibrationStage::kBaseline,
-    CalibrationStage::kModelSelection,  CalibrationStage::kFit,
-    CalibrationStage::kValidation,      CalibrationStage::kDone};
+constexpr CalibrationStage kStages[] = {CalibrationStage::kOptions,
+                                        CalibrationStage::kSplit,
+                                        CalibrationStage::kRegistration,
+                                        CalibrationStage::kParameterSet,
+                                        CalibrationStage::kIdentifiability,
+                                        CalibrationStage::kBaseline,
+                                        CalibrationStage::kModelSelection,
+                                        CalibrationStage::kTermSelection,
+                                        CalibrationStage::kFit,
+                                        CalibrationStage::kValidation,
+                                        CalibrationStage::kDone};
 
 // The held-out errors of `nominal` and `calibrated`; false with *error
 // when a measurement cannot be evaluated.
+// The calibrated errors with the joint error terms `terms` (features at
+// `feature_parameters`).
 bool Validate(const RobotModel& model, const Eigen::VectorXd& nominal,
-              const Eigen::VectorXd& calibrated,
+              const Eigen::VectorXd& calibrated, const JointErrorModel& terms,
+              const Eigen::VectorXd& feature_parameters,
               const std::vector<Measurement>& held_out, double rotation_weight,
               ValidationErrors* v, std::string* error) {
   *v = ValidationErrors();
@@ -35,8 +44,13 @@ bool Validate(const RobotModel& model, const Eigen::VectorXd& nominal,
   Eigen::VectorXd before, after;
   if (!MeasurementErrors(model, nominal, held_out, rotation_weight, &before,
                          error) ||
-      !MeasurementErrors(model, calibrated, held_out, rotation_weight, &after,
-                         error)) {
+      !(terms.empty() ? MeasurementErrors(model, calibrated, held_out,
+                                          rotation_weight, &after, error)
+                      : JointErrorResidualNorms(
+                            model, calibrated, terms, held_out,
+                            MeasurementTermFeatures(model, feature_parameters,
+                                                    terms, held_out),
+                            rotation_weight, &after, error))) {
     return false;
   }
   v->rms_nominal_m = std::sqrt(before.squaredNorm() / before.size());
@@ -64,6 +78,8 @@ const char* CalibrationStageToString(CalibrationStage stage) {
       return "baseline";
     case CalibrationStage::kModelSelection:
       return "model_selection";
+    case CalibrationStage::kTermSelection:
+      return "term_selection";
     case CalibrationStage::kFit:
       return "fit";
     case CalibrationStage::kValidation:
@@ -119,6 +135,12 @@ bool CalibrationOptions::IsValid(std::string* error) const {
   } else if (map_fit() && method != ModelSelectionMethod::kNone) {
     e = "prior_std_m/prior_std_rad (a MAP fit) and model_selection are two "
         "answers to the same question: choose one";
+  } else if (map_fit() && !term_families.empty()) {
+    e = "joint error terms (compliance, harmonics) are chosen by held-out "
+        "error, not with a MAP fit (prior_std_m/prior_std_rad): choose one";
+  } else if (!(term_standard_errors >= 0) ||
+             !std::isfinite(term_standard_errors)) {
+    e = "term_standard_errors must be finite and >= 0";
   } else {
     IdentificationOptions plain = id;
     plain.prior_std_m = plain.prior_std_rad = 0.0;
@@ -150,6 +172,18 @@ std::string CalibrationSummary::BriefReport() const {
   }
   std::string report = identification.BriefReport();
   char line[512];
+  if (!options.term_families.empty()) {
+    const IdentificationSummary& id = identification;
+    for (int t = 0; t < id.joint_errors.size(); ++t) {
+      std::snprintf(line, sizeof(line), "    %s = %.6g +- %.2g %s\n",
+                    id.term_names[t].c_str(), id.joint_errors.values[t],
+                    id.term_standard_deviations.size() > t
+                        ? id.term_standard_deviations[t]
+                        : 0.0,
+                    id.joint_errors.Unit(model, t));
+      report += line;
+    }
+  }
   if (have_baseline) {
     std::snprintf(line, sizeof(line),
                   "  registration only (nominal geometry, the %zu base and "
@@ -350,8 +384,26 @@ void Calibrate(const RobotModel& input,
     }
   }
 
-  s.stage = CalibrationStage::kFit;
+  // Joint error terms by held-out error (term_selection.h).
+  s.stage = CalibrationStage::kTermSelection;
   IdentificationOptions final_options = fit_options;
+  if (!options.term_families.empty()) {
+    TermSelectionOptions term_options;
+    term_options.num_folds = options.num_folds;
+    term_options.seed = Random::StreamSeed(options.seed, 4);
+    term_options.num_standard_errors = options.term_standard_errors;
+    term_options.num_threads = options.num_threads;
+    term_options.identification = fit_options;
+    SelectTerms(s.model, start, training, options.term_families, term_options,
+                &s.term_selection);
+    if (s.term_selection.termination_type != TerminationType::kConvergence) {
+      return fail(CalibrationStage::kTermSelection,
+                  s.term_selection.termination_type, s.term_selection.message);
+    }
+    final_options.joint_errors = s.term_selection.terms;
+  }
+
+  s.stage = CalibrationStage::kFit;
   if (options.map_fit()) {
     // The prior rows need the noise of one row: from the fit without a
     // prior when the measurements state no sigma.
@@ -378,11 +430,12 @@ void Calibrate(const RobotModel& input,
   // device when the base was registered.
   s.stage = CalibrationStage::kValidation;
   const Eigen::VectorXd& calibrated = s.identification.parameters;
-  if (!Validate(s.model, s.registered_start, calibrated, s.validation, w,
-                &s.validation_errors, &error) ||
+  const JointErrorModel& terms = s.identification.joint_errors;
+  if (!Validate(s.model, s.registered_start, calibrated, terms, start,
+                s.validation, w, &s.validation_errors, &error) ||
       (s.have_baseline &&
-       !Validate(s.model, s.baseline.parameters, calibrated, s.validation, w,
-                 &s.validation_baseline, &error))) {
+       !Validate(s.model, s.baseline.parameters, calibrated, terms, start,
+                 s.validation, w, &s.validation_baseline, &error))) {
     return fail(CalibrationStage::kValidation, TerminationType::kUserFailure,
                 "validation: " + error);
   }

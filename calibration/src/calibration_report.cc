@@ -122,6 +122,10 @@ std::string CalibrationStagesText(const CalibrationSummary& s,
       s.model_selection != ModelSelectionMethod::kNone) {
     text += s.selection.BriefReport();
   }
+  if (s.Passed(CalibrationStage::kTermSelection) &&
+      !s.options.term_families.empty()) {
+    text += s.term_selection.BriefReport();
+  }
   return text;
 }
 
@@ -358,6 +362,43 @@ std::string CalibrationJson(const CalibrationSummary& s,
   }
   ms["curve"] = curve;
   j["model_selection"] = ms;
+  if (!options.term_families.empty()) {
+    // The joint error terms (term_selection.h): each candidate's held-out
+    // error, the families kept, the identified terms.
+    const TermSelectionSummary& ts = s.term_selection;
+    nlohmann::json terms;
+    terms["rule_standard_errors"] = options.term_standard_errors;
+    terms["kept"] = ts.kept;
+    terms["not_identifiable"] = ts.dropped_terms;
+    nlohmann::json candidates = nlohmann::json::array();
+    for (const TermCandidate& c : ts.candidates) {
+      nlohmann::json cj = {{"name", c.name},
+                           {"num_terms", c.num_terms},
+                           {"ok", c.ok},
+                           {"chosen", c.chosen}};
+      if (c.ok) {
+        cj["held_out_rms_m"] = c.held_out_rms_m;
+        cj["held_out_se_m"] = c.held_out_se_m;
+        cj["training_rms_m"] = c.training_rms_m;
+        cj["gain_m2"] = c.gain_m2;
+        cj["gain_se_m2"] = c.gain_se_m2;
+      }
+      candidates.push_back(cj);
+    }
+    terms["candidates"] = candidates;
+    nlohmann::json values = nlohmann::json::array();
+    const JointErrorModel& je = id.joint_errors;
+    for (int t = 0; t < je.size(); ++t) {
+      values.push_back({{"name", id.term_names[t]},
+                        {"value", je.values[t]},
+                        {"std", id.term_standard_deviations.size() > t
+                                    ? id.term_standard_deviations[t]
+                                    : 0.0},
+                        {"unit", je.Unit(s.model, t)}});
+    }
+    terms["terms"] = values;
+    j["joint_error_terms"] = terms;
+  }
   j["seed"] = options.seed;
   if (o.simulated) {
     j["pose_indices"] = o.simulated_poses;

@@ -14,6 +14,8 @@
 #include <sstream>
 
 #include "activecal/residuals/jacobians.h"
+#include "activecal/residuals/joint_error_jacobian.h"
+#include "activecal/residuals/joint_error_residual.h"
 #include "activecal/residuals/measurement_residual.h"
 
 namespace activecal {
@@ -455,7 +457,18 @@ void Identify(const RobotModel& model,
   if (summary->num_free == 0) {
     return user_failure("no free parameters to identify");
   }
-  const int p = summary->num_free;
+  const JointErrorModel& terms = options.joint_errors;
+  const int num_terms = terms.size();
+  if (!CheckJointErrorInputs(model, terms, measurements, &error)) {
+    return user_failure(error);
+  }
+  summary->joint_errors = terms;
+  summary->term_names = terms.Names(model);
+  std::vector<Eigen::VectorXd> features;
+  if (num_terms > 0) {
+    features = MeasurementTermFeatures(model, initial, terms, measurements);
+  }
+  const int p = summary->num_free + num_terms;
   // Identifiability at the starting point, before any solving (this also
   // checks every measurement).
   Eigen::MatrixXd stacked;
@@ -467,6 +480,21 @@ void Identify(const RobotModel& model,
       AnalyzeIdentifiability(model, stacked, options.rank_tolerance);
   if (!summary->identifiability.identifiable()) {
     return fail(summary->identifiability.Message());
+  }
+  if (num_terms > 0) {
+    Eigen::MatrixXd with_terms;
+    if (!JointErrorJacobian(model, initial, terms, measurements, features,
+                            options.rotation_weight_m_per_rad, &with_terms,
+                            nullptr, &error)) {
+      return user_failure(error);
+    }
+    std::vector<std::string> dropped;
+    IdentifiableTerms(model, terms, with_terms, options.rank_tolerance,
+                      &dropped);
+    if (!dropped.empty()) {
+      return fail("joint error term not identifiable from these poses: " +
+                  dropped.front());
+    }
   }
   if (summary->num_residuals <= p) {
     std::ostringstream msg;
@@ -507,6 +535,9 @@ void Identify(const RobotModel& model,
   }
   ceres::Problem problem;
   auto shared = std::make_shared<const RobotModel>(model);
+  auto shared_terms = std::make_shared<const JointErrorModel>(terms);
+  Eigen::VectorXd theta = terms.values;
+  if (num_terms > 0) blocks.push_back(theta.data());
   std::vector<ceres::CostFunction*> costs;  // unweighted; owned by problem
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
@@ -516,8 +547,14 @@ void Identify(const RobotModel& model,
     } else if (options.robust_loss == RobustLoss::kCauchy) {
       loss = new ceres::CauchyLoss(options.robust_scale_m);
     }
-    costs.push_back(MeasurementResidual::Create(
-        shared, m, options.rotation_weight_m_per_rad));
+    if (num_terms > 0) {
+      costs.push_back(JointErrorResidual::Create(
+          shared, m, options.rotation_weight_m_per_rad, shared_terms,
+          features[i]));
+    } else {
+      costs.push_back(MeasurementResidual::Create(
+          shared, m, options.rotation_weight_m_per_rad));
+    }
     ceres::CostFunction* cost = costs.back();
     if (summary->weighted) cost = new WeightedCost(cost, row_weights[i]);
     problem.AddResidualBlock(cost, loss, blocks);
@@ -542,6 +579,7 @@ void Identify(const RobotModel& model,
   }
   std::vector<const double*> free_blocks;
   for (int b = 0; b < model.num_blocks(); ++b) {
+    // The geometric blocks (the terms' block, last, is wholly free).
     std::vector<int> constant;
     for (int j = 0; j < model.block_size(b); ++j) {
       if (!model.IsFree(model.block_offset(b) + j)) constant.push_back(j);
@@ -556,6 +594,7 @@ void Identify(const RobotModel& model,
       free_blocks.push_back(blocks[b]);
     }
   }
+  if (num_terms > 0) free_blocks.push_back(blocks.back());
   const Eigen::VectorXd r0 = RawResiduals(costs, blocks);
   summary->initial_residual_norms = BlockNorms(measurements, r0);
   summary->initial_rms_m = Rms(summary->initial_residual_norms);
@@ -577,6 +616,7 @@ void Identify(const RobotModel& model,
   summary->iterations = ss.num_successful_steps + ss.num_unsuccessful_steps;
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
+  summary->joint_errors.values = theta;
   summary->residuals = RawResiduals(costs, blocks);
   summary->residual_norms = BlockNorms(measurements, summary->residuals);
   summary->rms_m = Rms(summary->residual_norms);
@@ -649,7 +689,7 @@ void Identify(const RobotModel& model,
   if (ss.termination_type != ceres::CONVERGENCE) {
     return fail("the solver failed: " + ss.message);
   }
-  if (!summary->parameters.allFinite()) {
+  if (!summary->parameters.allFinite() || !theta.allFinite()) {
     return fail("the solver produced non-finite estimates");
   }
 
@@ -680,18 +720,25 @@ void Identify(const RobotModel& model,
         "is rank deficient (parameters not identifiable from these poses)");
   }
   // Weighted rows have unit variance by statement: (J^T W J)^-1 as is.
-  summary->covariance =
+  const Eigen::MatrixXd full_covariance =
       summary->weighted
           ? Eigen::MatrixXd(cov)
           : Eigen::MatrixXd(cov * (summary->sigma_m * summary->sigma_m));
+  const int g = summary->num_free;
+  summary->covariance = full_covariance.topLeftCorner(g, g);
+  if (num_terms > 0) {
+    summary->term_covariance = full_covariance;
+    summary->term_standard_deviations =
+        full_covariance.diagonal().tail(num_terms).cwiseSqrt();
+  }
   summary->standard_deviations = summary->covariance.diagonal().cwiseSqrt();
   if (summary->weighted) {
     summary->scaled_standard_deviations =
         summary->standard_deviations * std::sqrt(summary->chi_square_per_dof);
   }
   summary->correlation = summary->covariance;
-  for (int i = 0; i < p; ++i) {
-    for (int j = 0; j < p; ++j) {
+  for (int i = 0; i < g; ++i) {
+    for (int j = 0; j < g; ++j) {
       const double denom =
           summary->standard_deviations[i] * summary->standard_deviations[j];
       summary->correlation(i, j) =

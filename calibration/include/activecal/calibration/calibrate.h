@@ -34,6 +34,12 @@
 //   kModelSelection    model_selection (model_selection.h); kAuto is kNone
 //                      for a kFile set or a MAP fit, kCrossValidation
 //                      otherwise; folds seeded by Random stream (seed, 3)
+//   kTermSelection     with term_families: the joint error terms
+//                      (compliance, periodic; joint_errors.h) chosen by
+//                      held-out error on the chosen geometric free set
+//                      (term_selection.h), folds seeded by Random stream
+//                      (seed, 4); the chosen terms are identified with the
+//                      geometry
 //   kFit               Identify; with a prior (identification.prior_std_m
 //                      or _rad > 0) first the plain fit, whose sigma
 //                      (unless the rows are weighted) scales the prior rows
@@ -63,6 +69,7 @@
 #include "activecal/estimation/identification.h"
 #include "activecal/estimation/model_selection.h"
 #include "activecal/estimation/registration_fit.h"
+#include "activecal/estimation/term_selection.h"
 
 namespace activecal {
 
@@ -90,6 +97,14 @@ struct CalibrationOptions {
   // method.
   std::vector<Measurement> selection_validation;
 
+  // Joint error terms offered on top of the geometry (term_selection.h),
+  // each family kept only when the cross-validated held-out error shows it
+  // predicts better by more than term_standard_errors standard errors
+  // (paired by pose). Empty: the geometric model only. Not with a MAP fit
+  // or distance measurements.
+  std::vector<TermFamily> term_families;
+  double term_standard_errors = 2.0;
+
   // Of every fit: robust loss, outliers, rotation weight, default sigmas,
   // the MAP prior (prior_std_m, prior_std_rad; prior_reference_sigma_m is
   // set by Calibrate). A prior and model selection exclude each other.
@@ -111,12 +126,14 @@ enum class CalibrationStage {
   kIdentifiability,
   kBaseline,
   kModelSelection,
+  kTermSelection,
   kFit,
   kValidation,
   kDone,
 };
 // "options", "split", "registration", "parameter_set", "identifiability",
-// "baseline", "model_selection", "fit", "validation", "done".
+// "baseline", "model_selection", "term_selection", "fit", "validation",
+// "done".
 const char* CalibrationStageToString(CalibrationStage stage);
 bool StringToCalibrationStage(const std::string& text, CalibrationStage* stage);
 
@@ -175,6 +192,9 @@ struct CalibrationSummary {
   RegistrationFitSummary baseline;
 
   ModelSelectionSummary selection;  // also for kNone (nothing fitted)
+  // With term_families: the choice of joint error terms (the chosen terms,
+  // identified, are identification.joint_errors).
+  TermSelectionSummary term_selection;
 
   IdentificationSummary identification;
   double prior_reference_sigma_m = 0;  // of the MAP fit's prior rows

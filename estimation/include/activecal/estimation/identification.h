@@ -55,6 +55,7 @@
 #include <vector>
 
 #include "activecal/core/free_set.h"
+#include "activecal/core/joint_errors.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/core/simulation.h"
@@ -98,6 +99,13 @@ struct IdentificationOptions {
   double prior_std_m = 0.0;
   double prior_std_rad = 0.0;
   double prior_reference_sigma_m = 0.0;
+
+  // Joint error terms (joint_errors.h: compliance under gravity,
+  // joint-periodic errors) identified with the geometry, started at
+  // joint_errors.values; their features are taken at `initial` (the nominal
+  // geometry). Empty: the geometric model alone. Distances between two
+  // poses are refused with terms.
+  JointErrorModel joint_errors;
 
   // False: skip the covariance (standard_deviations, covariance and
   // correlation stay empty), e.g. for the many fits of a model selection.
@@ -184,6 +192,14 @@ struct IdentificationSummary {
   Eigen::MatrixXd correlation;          // free x free
   // Residual rows of every measurement, in order (dimension() each).
   Eigen::VectorXd residuals;
+  // With joint error terms (options.joint_errors): the terms with their
+  // identified values, their names and standard deviations (the rows of
+  // `covariance` hold the geometric parameters only; term_covariance is
+  // the joint covariance of geometric parameters then terms).
+  JointErrorModel joint_errors;
+  std::vector<std::string> term_names;
+  Eigen::VectorXd term_standard_deviations;
+  Eigen::MatrixXd term_covariance;
   // Per measurement: the norm of its residual rows at start and at the
   // estimate (m; a 6D pose's rotation rows weighted).
   Eigen::VectorXd initial_residual_norms;
