@@ -297,6 +297,10 @@ int Main() {
       o.progress = line.callback();
       return CellPoolFilter(*cell.checker, o, &feasibility)(joints, kept, note);
     };
+    // Several targets as the markers: each pose's rows are those seen.
+    if (CellTargetsAreMarkers(*cell.checker, model)) {
+      pool_options.kept_marker_masks = &feasibility.targets_seen;
+    }
   }
   CandidatePool pool;
   SelectionPoolSummary pool_summary;
@@ -441,7 +445,10 @@ int Main() {
   if (!FLAGS_measured_csv.empty()) {
     std::vector<Measurement> measured;
     std::string error;
-    if (!ReadMeasurementsCsv(FLAGS_measured_csv, model, &measured, &error)) {
+    MeasurementsCsvOptions options;
+    options.column_map = app::ColumnMapOrDie();
+    if (!ReadMeasurementsCsv(FLAGS_measured_csv, model, options, &measured,
+                             nullptr, &error)) {
       app::Fail("--measured_csv: " + error);
     }
     if (!MeasuredInformationRows(model, model.nominal, measured,

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,14 +64,18 @@ CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
 // file otherwise). Dies on an unknown name. (app_parameter_set.cc)
 ParameterSet ParameterSetOrDie(bool urdf_robot);
 
-// The measurements file `path` read with --strict_limits and
-// --columns_strict. Prints the reader's warning ("<program>: warning: ...",
-// joint readings beyond the limits) and notes (ignored columns, markers not
-// seen) on stdout; dies with "--<flag>: file:line: ..." on errors.
+// The measurements file `path` read with --strict_limits,
+// --columns_strict and --column_map. Prints the reader's warning ("<program>:
+// warning: ...", joint readings beyond the limits) and notes (ignored columns,
+// markers not seen) on stdout; dies with "--<flag>: file:line: ..." on errors.
 // (app_measurements.cc)
 std::vector<Measurement> ReadMeasurementsOrDie(
     const std::string& path, const RobotModel& model,
     const std::string& flag = "measurements");
+
+// The map of --column_map (none without the flag); dies on a bad map.
+// (app_column_map.cc)
+const std::optional<ColumnMap>& ColumnMapOrDie();
 
 // --columns_strict: refuse columns activecal does not read.
 // (app_columns_strict.cc)

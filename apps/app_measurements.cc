@@ -22,6 +22,7 @@ std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
   MeasurementsCsvOptions options;
   options.strict_limits = FLAGS_strict_limits;
   options.columns_strict = ColumnsStrict();
+  options.column_map = ColumnMapOrDie();
   std::vector<Measurement> measurements;
   MeasurementsCsvReport report;
   std::string error;

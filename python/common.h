@@ -447,7 +447,8 @@ Measurements MeasurementsFromState(const py::tuple& state);
 void WriteText(const std::string& path, const std::string& text);
 
 Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path,
-                                bool strict_limits, bool columns_strict);
+                                bool strict_limits, bool columns_strict,
+                                const py::object& column_map);
 
 void WriteMeasurementsPy(const Robot& robot, const py::object& path,
                          const Measurements& m, bool millimetres,

@@ -16,11 +16,18 @@ void WriteText(const std::string& path, const std::string& text) {
 }
 
 Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path_obj,
-                                bool strict_limits, bool columns_strict) {
+                                bool strict_limits, bool columns_strict,
+                                const py::object& column_map) {
   const std::string path = PathArg(path_obj);
   MeasurementsCsvOptions options;
   options.strict_limits = strict_limits;
   options.columns_strict = columns_strict;
+  if (!column_map.is_none()) {
+    ColumnMap map;
+    std::string error;
+    if (!ReadColumnMap(PathArg(column_map), &map, &error)) Fail(error);
+    options.column_map = map;
+  }
   Measurements m;
   MeasurementsCsvReport report;
   std::string error;

@@ -250,8 +250,9 @@ PYBIND11_MODULE(_activecal, m) {
 
   m.def("read_measurements", &ReadMeasurementsPy, py::arg("robot"),
         py::arg("path"), py::arg("strict_limits") = false,
-        py::arg("columns_strict") = false,
-        "Reads a measurements CSV (docs/formats.md).");
+        py::arg("columns_strict") = false, py::arg("column_map") = py::none(),
+        "Reads a measurements CSV (docs/formats.md); column_map: the path "
+        "of a YAML column map to read a device's export as it comes.");
   m.def("write_measurements", &WriteMeasurementsPy, py::arg("robot"),
         py::arg("path"), py::arg("measurements"),
         py::arg("millimetres") = false, py::arg("joint_degrees") = false,

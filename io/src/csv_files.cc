@@ -1621,17 +1621,44 @@ std::string MeasurementsCsvText(const RobotModel& model,
   return out.str();
 }
 
+namespace {
+
+// The column map hook: with options.column_map, the text in activecal's
+// own form (column_map.h) into *mapped.
+bool ApplyColumnMapOption(const MeasurementsCsvOptions& options,
+                          const RobotModel& model, const std::string& text,
+                          const std::string& source, std::string* mapped,
+                          std::vector<std::string>* notes, std::string* error) {
+  return !options.column_map || ApplyColumnMap(*options.column_map, model, text,
+                                               source, mapped, notes, error);
+}
+
+}  // namespace
+
 bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
                           const RobotModel& model,
                           const MeasurementsCsvOptions& options,
                           std::vector<Measurement>* measurements,
                           MeasurementsCsvReport* report, std::string* error) {
   if (!options.IsValid(error)) return false;
+  std::string mapped;
+  std::vector<std::string> map_notes;
+  if (!ApplyColumnMapOption(options, model, text, source, &mapped, &map_notes,
+                            error)) {
+    return false;
+  }
   Table table;
-  if (!table.Parse(text, source, error)) return false;
+  if (!table.Parse(options.column_map ? mapped : text, source, error)) {
+    return false;
+  }
   if (!CheckNoExtraJoints(table, model, error)) return false;
   MeasurementsReader reader(table, source, model, options);
-  return reader.Read(measurements, report, error);
+  if (!reader.Read(measurements, report, error)) return false;
+  if (report) {
+    report->notes.insert(report->notes.begin(), map_notes.begin(),
+                         map_notes.end());
+  }
+  return true;
 }
 
 bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,

@@ -40,11 +40,13 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
+#include "activecal/io/column_map.h"
 
 namespace activecal {
 
@@ -118,6 +120,10 @@ struct MeasurementsCsvOptions {
   double limit_tolerance_m = kMeasuredJointToleranceM;      // prismatic
   // Columns activecal does not know: listed in a note (false) or an error.
   bool columns_strict = false;
+  // A device's export read as it comes (column_map.h): the file's text is
+  // rewritten through the map before it is read. Without one, the file is
+  // in activecal's own form.
+  std::optional<ColumnMap> column_map;
 
   // Tolerances in [0, kMeasuredJointToleranceRad] and
   // [0, kMeasuredJointToleranceM].
