@@ -217,5 +217,22 @@ else
   fail "UR10 URDF on UR10e data: the moved-from-nominal warning"; grep warning ur10.txt; cat ur10.err
 fi
 
+# Bad input: one line each, status 1, nothing written.
+expect_fail "did you mean" "unknown flag --num_pose (did you mean --num_poses?)" \
+  activecal_identify --num_pose=3
+expect_fail "did you mean (evaluate)" "unknown flag --measurement (did you mean --measurements?)" \
+  activecal_evaluate --measurement=m.csv
+expect_fail "nothing close" "unknown flag --frobnicate (see --help)" \
+  activecal_select --frobnicate
+expect_fail "outlier probability" "outlier_probability must be in (0, 1), got 2" \
+  activecal_identify --num_poses=40 --outlier_probability=2
+expect_fail "report not writable" "--report_html: " \
+  activecal_identify --num_poses=40 --report_html=/nonexistent/dir/r.html
+if "$apps/activecal_identify" -h >help.txt 2>&1 || true; grep -q "report_html" help.txt; then
+  ok "-h is --help"
+else
+  fail "-h is --help"; head help.txt
+fi
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]
