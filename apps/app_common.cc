@@ -68,8 +68,9 @@ int EditDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-// "unknown flag --x (did you mean --y?)" for an argument naming no declared
-// flag; empty for a known flag or an argument that is not a flag.
+// "unknown command line flag 'x' (did you mean --y?)" (gflags' words) for an
+// argument naming no declared flag; empty for a known flag or an argument that
+// is not a flag.
 std::string UnknownFlagMessage(const std::string& arg) {
   if (arg.size() < 2 || arg[0] != '-') return "";
   const size_t start = arg[1] == '-' ? 2 : 1;
@@ -103,7 +104,7 @@ std::string UnknownFlagMessage(const std::string& arg) {
   }
   const int tolerance =
       std::max(2, static_cast<int>(name.size()) / 3);  // --num_pose: 1
-  std::string message = "unknown flag --" + name;
+  std::string message = "unknown command line flag '" + name + "'";
   if (!best.empty() && best_distance <= tolerance) {
     message += " (did you mean --" + best + "?)";
   } else {

@@ -790,9 +790,10 @@ TEST(EstimateWarningsTest, EachThresholdIsCrossed) {
   EXPECT_NE(w[2].find("are correlated -0.991"), std::string::npos) << w[2];
   EXPECT_NE(w[2].find(s.names[length]), std::string::npos);
   EXPECT_NE(w[2].find(s.names[angle]), std::string::npos);
-  EXPECT_EQ(w[3].find("1 link parameter moved more than 5 std from nominal "
-                      "(is the nominal model the right one?): " +
-                      s.names[angle] + " 0.515 rad (5.1 std)"),
+  EXPECT_EQ(w[3].find("1 link parameter moved from nominal by more than 5 mm "
+                      "/ 10 mrad and 5 std (is the nominal model the right "
+                      "one?): " +
+                      s.names[angle] + " 0.515 rad (515 mrad, 5.1 std)"),
             0u)
       << w[3];
 }

@@ -218,11 +218,11 @@ else
 fi
 
 # Bad input: one line each, status 1, nothing written.
-expect_fail "did you mean" "unknown flag --num_pose (did you mean --num_poses?)" \
+expect_fail "did you mean" "unknown command line flag 'num_pose' (did you mean --num_poses?)" \
   activecal_identify --num_pose=3
-expect_fail "did you mean (evaluate)" "unknown flag --measurement (did you mean --measurements?)" \
+expect_fail "did you mean (evaluate)" "unknown command line flag 'measurement' (did you mean --measurements?)" \
   activecal_evaluate --measurement=m.csv
-expect_fail "nothing close" "unknown flag --frobnicate (see --help)" \
+expect_fail "nothing close" "unknown command line flag 'frobnicate' (see --help)" \
   activecal_select --frobnicate
 expect_fail "outlier probability" "outlier_probability must be in (0, 1), got 2" \
   activecal_identify --num_poses=40 --outlier_probability=2

@@ -15,6 +15,7 @@
 #include "activecal/core/free_set.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/parameter_sets.h"
+#include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
 #include "activecal/estimation/estimate_warnings.h"
@@ -80,6 +81,36 @@ TEST(OutlierRuleTest, RowClassesHaveTheirOwnScale) {
   r[6 * 4 + 1] = 0.02;
   OutlierStatistics(plan, r, 0.01, 1e-9, &d2, &threshold);
   for (int i = 0; i < n; ++i) EXPECT_EQ(d2[i] > threshold[i], i == 4) << i;
+}
+
+// "Moved from nominal" needs both: more than 5 std and more than 5 mm (a
+// length) / 10 mrad (an angle); each side of each threshold.
+TEST(MovedWarningTest, LargeAndSignificant) {
+  const RobotModel m = Puma560PaperModel();
+  const std::vector<int> free = m.FreeParameterIndices();
+  const int p = static_cast<int>(free.size());
+  int length = -1;
+  for (int k = 0; k < p && length < 0; ++k) {
+    const int block = m.BlockOf(free[k]);
+    if (block != 0 && !m.is_marker_block(block) &&
+        std::string(m.ParameterUnit(free[k])) == "m") {
+      length = k;
+    }
+  }
+  ASSERT_GE(length, 0);
+  auto warned = [&](double moved, double sd) {
+    IdentificationSummary s;
+    s.names = m.FreeParameterNames();
+    s.estimates = ExtractFree(m, m.nominal);
+    s.standard_deviations = Eigen::VectorXd::Constant(p, 1e-5);
+    s.correlation = Eigen::MatrixXd::Identity(p, p);
+    s.estimates[length] += moved;
+    s.standard_deviations[length] = sd;
+    return !EstimateWarnings(m, s, {}).empty();
+  };
+  EXPECT_TRUE(warned(0.0051, 0.001));     // 5.1 mm, 5.1 std
+  EXPECT_FALSE(warned(0.0049, 0.0001));   // 4.9 mm, 49 std
+  EXPECT_FALSE(warned(0.0051, 0.00103));  // 5.1 mm, 4.95 std
 }
 
 struct RobotCase {
