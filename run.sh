@@ -15,6 +15,7 @@
 #   ./run.sh python          build the Python module only, into build/python/
 #                            (PYTHONPATH=build/python python3 -c "import activecal")
 #   ./run.sh <program> [flags]  build, then run build/apps/<program>
+#   ./run.sh --help, -h      this text (a program's flags: ./run.sh <program> --help)
 #
 # Environment: BUILD_DIR (default build), JOBS (default nproc).
 set -euo pipefail
@@ -29,7 +30,7 @@ packages=(build-essential cmake libceres-dev libeigen3-dev libgoogle-glog-dev
           libboost-dev gnuplot-nox clang libclang-rt-dev
           pybind11-dev python3-dev python3-numpy python3-pytest
           libfcl-dev libassimp-dev libtinyxml2-dev
-          python3-venv python3-build python3-pandas python3-yaml)
+          python3-venv python3-build python3-pandas python3-yaml chromium)
 
 install_missing() {
   local missing=()
@@ -55,9 +56,12 @@ configure() {
   cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${python_flags[@]}" >/dev/null
 }
 
+# The build's output without the lines of targets already up to date: a run
+# with nothing to rebuild prints nothing about the build.
 build() {
   configure
-  cmake --build "$build_dir" -j "$jobs" >&2
+  cmake --build "$build_dir" -j "$jobs" 2>&1 |
+    { grep -vE '^\[ *[0-9]+%\] Built target |^gmake(\[[0-9]+\])?: (Entering|Leaving) directory' || true; } >&2
 }
 
 # The test suite built with AddressSanitizer + UndefinedBehaviorSanitizer
@@ -75,9 +79,15 @@ sanitize() {
     ctest --test-dir "$dir" --output-on-failure -j "$jobs" -E "plots_test"
 }
 
+usage() {
+  # The header comment above: the commands.
+  sed -n '2,/^set -euo/p' "$here/run.sh" | sed '$d' | sed 's/^# \{0,1\}//'
+}
+
 cmd="${1:-paper}"
 [ $# -gt 0 ] && shift
 case "$cmd" in
+  -h|--help|help) usage ;;
   build) build ;;
   python)
     configure

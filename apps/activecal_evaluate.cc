@@ -11,6 +11,7 @@
 #include "activecal/estimation/registration_fit.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
+#include "activecal/report/html_report.h"
 #include "app_common.h"
 #include "gnuplot.h"
 
@@ -46,6 +47,10 @@ DEFINE_string(plot, "",
               "If set, draw histograms of the position errors before "
               "(registration only) and after here (PNG, gnuplot; skipped "
               "with a note when gnuplot is missing).");
+DEFINE_string(report_html, "",
+              "Write the evaluation as a report a person reads: one "
+              "self-contained HTML file (before and after errors in mm and "
+              "deg, histograms on log bins, posture groups).");
 DEFINE_double(rotation_weight, 1.0,
               "Weight of 6D pose orientation rows (m per rad) in the "
               "registration-only fit of the 'before' report.");
@@ -363,6 +368,48 @@ int Main() {
       }
     }
     app::WriteJsonOrDie(FLAGS_json_out, j);
+  }
+  if (!FLAGS_report_html.empty()) {
+    HtmlReport report;
+    report.title = "activecal evaluation report";
+    report.setup = {
+        {"robot", model.name + " (" + std::to_string(model.num_joints()) +
+                      " joints), " + FLAGS_robot},
+        {"measurements",
+         FLAGS_measurements + " (" + std::to_string(measurements.size()) + ")"},
+        {"after", "--robot as given (no fitting)"},
+        {"before", have_before ? before_text : "none"},
+        {"program", "activecal_evaluate"}};
+    if (!training.empty()) report.setup.push_back({"training", FLAGS_training});
+    std::string error;
+    ReportErrors e;
+    if (have_before) {
+      if (!ComputeReportErrors(nominal.model, baseline.parameters, measurements,
+                               "before.evaluated", "before, evaluated poses",
+                               &e, &error)) {
+        app::Fail("--measurements: " + error);
+      }
+      report.errors.push_back(e);
+    }
+    if (!ComputeReportErrors(model, model.nominal, measurements,
+                             "after.evaluated", "after, evaluated poses", &e,
+                             &error)) {
+      app::Fail("--measurements: " + error);
+    }
+    report.errors.push_back(e);
+    for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
+                           PostureGroup::kOutOfRange}) {
+      if (groups.empty()) break;
+      const std::vector<Measurement> subset = Subset(measurements, groups, g);
+      if (subset.empty()) continue;
+      const std::string name = PostureGroupName(g);
+      if (!ComputeReportErrors(model, model.nominal, subset, "group." + name,
+                               "after, " + name + " postures", &e, &error)) {
+        app::Fail("--measurements: " + error);
+      }
+      report.groups.push_back(e);
+    }
+    app::WriteTextOrDie(FLAGS_report_html, RenderHtml(report));
   }
   return 0;
 }

@@ -19,6 +19,7 @@
 #include "activecal/io/robot_file.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/urdf_inertials.h"
+#include "activecal/report/html_report.h"
 #include "app_common.h"
 #include "gnuplot.h"
 
@@ -45,9 +46,16 @@ DEFINE_double(robust_scale_m, 0.0,
               "Scale of the robust loss (m): residual norms below it count "
               "as in least squares. Required with --robust_loss; about 3 "
               "times the device's noise is a good start.");
-DEFINE_double(outlier_threshold, 4.0,
-              "Flag a measurement as an outlier when a residual row exceeds "
-              "this many robust standard deviations.");
+DEFINE_string(report_html, "",
+              "Write the calibration report a person reads: one "
+              "self-contained HTML file (set-up, errors before and after in "
+              "mm and deg, histograms, parameters, correlations, model "
+              "selection, warnings), printable to PDF by a browser.");
+DEFINE_double(outlier_probability,
+              activecal::IdentificationOptions().outlier_probability,
+              "Flag a measurement as an outlier when its residual is this "
+              "improbable under the fitted (robust) noise, Bonferroni over "
+              "the measurements: clean data flag any with this probability.");
 DEFINE_double(rotation_weight, 1.0,
               "Weight of 6D pose orientation rows, m per rad (set it to "
               "sigma_position / sigma_rotation of the device).");
@@ -282,7 +290,7 @@ int Main() {
   app::EnumFlagOrDie(StringToRobustLoss, "robust_loss", FLAGS_robust_loss,
                      "none, huber or cauchy", &fit.robust_loss);
   fit.robust_scale_m = FLAGS_robust_scale_m;
-  fit.outlier_threshold = FLAGS_outlier_threshold;
+  fit.outlier_probability = FLAGS_outlier_probability;
   fit.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   fit.default_sigma_m = FLAGS_default_sigma_m;
   fit.default_sigma_rad = FLAGS_default_sigma_rad;
@@ -305,7 +313,8 @@ int Main() {
        {std::pair<std::string, std::string>{FLAGS_model_out, "model_out"},
         {FLAGS_urdf_out, "urdf_out"},
         {FLAGS_frames_out, "frames_out"},
-        {FLAGS_json_out, "json_out"}}) {
+        {FLAGS_json_out, "json_out"},
+        {FLAGS_report_html, "report_html"}}) {
     app::CheckWritableOrDie(path, flag);
   }
 
@@ -388,6 +397,16 @@ int Main() {
     json.simulated_poses = simulated_poses;
     json.noise_m = FLAGS_noise_m;
     outputs.push_back({FLAGS_json_out, CalibrationJson(summary, json)});
+  }
+  if (!FLAGS_report_html.empty()) {
+    CalibrationHtmlOptions html;
+    html.robot_file = FLAGS_robot.empty() ? "built-in PUMA 560" : FLAGS_robot;
+    html.measurements_file = source;
+    HtmlReport report;
+    if (!CalibrationHtmlReport(summary, html, &report, &error)) {
+      app::Fail("--report_html: " + error);
+    }
+    outputs.push_back({FLAGS_report_html, RenderHtml(report)});
   }
   if (!WriteFilesAtomically(outputs, &error)) app::Fail(error);
   std::printf("%s", urdf_note.c_str());

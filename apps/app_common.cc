@@ -4,11 +4,14 @@
 #include <glog/logging.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <vector>
 
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/core/puma560.h"
@@ -46,6 +49,72 @@ void Fail(const std::string& message) {
   std::exit(1);
 }
 
+namespace {
+
+// Levenshtein distance.
+int EditDistance(const std::string& a, const std::string& b) {
+  std::vector<int> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    int diagonal = row[0];
+    row[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1,
+                         diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "unknown command line flag 'x' (did you mean --y?)" (gflags' words) for an
+// argument naming no declared flag; empty for a known flag or an argument that
+// is not a flag.
+std::string UnknownFlagMessage(const std::string& arg) {
+  if (arg.size() < 2 || arg[0] != '-') return "";
+  const size_t start = arg[1] == '-' ? 2 : 1;
+  const std::string name = arg.substr(start, arg.find('=') - start);
+  if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) {
+    return "";  // a negative number, "--"
+  }
+  gflags::CommandLineFlagInfo info;
+  if (gflags::GetCommandLineFlagInfo(name.c_str(), &info)) return "";
+  // --noflag for a bool flag.
+  if (name.rfind("no", 0) == 0 &&
+      gflags::GetCommandLineFlagInfo(name.substr(2).c_str(), &info) &&
+      info.type == "bool") {
+    return "";
+  }
+  std::vector<gflags::CommandLineFlagInfo> flags;
+  gflags::GetAllFlags(&flags);
+  std::string best;
+  int best_distance = std::numeric_limits<int>::max();
+  for (const gflags::CommandLineFlagInfo& f : flags) {
+    // The program's own flags (apps/) and gflags' help flags.
+    if (f.filename.find("/apps/") == std::string::npos &&
+        f.filename.find("gflags") == std::string::npos) {
+      continue;
+    }
+    const int d = EditDistance(name, f.name);
+    if (d < best_distance) {
+      best_distance = d;
+      best = f.name;
+    }
+  }
+  const int tolerance =
+      std::max(2, static_cast<int>(name.size()) / 3);  // --num_pose: 1
+  std::string message = "unknown command line flag '" + name + "'";
+  if (!best.empty() && best_distance <= tolerance) {
+    message += " (did you mean --" + best + "?)";
+  } else {
+    message += " (see --help)";
+  }
+  return message;
+}
+
+}  // namespace
+
 void Init(int* argc, char*** argv, const char* usage) {
   g_program = (*argv)[0];
   const size_t slash = g_program.rfind('/');
@@ -57,7 +126,15 @@ void Init(int* argc, char*** argv, const char* usage) {
   static char help_flag[] = "--helpmatch=/apps/";
   for (int i = 1; i < *argc; ++i) {
     const std::string arg = (*argv)[i];
-    if (arg == "--help" || arg == "-help") (*argv)[i] = help_flag;
+    if (arg == "--") break;  // the end of the flags
+    if (arg == "--help" || arg == "-help" || arg == "-h") {
+      (*argv)[i] = help_flag;
+      continue;
+    }
+    // A mistyped flag: one line naming it and the closest declared one,
+    // before gflags' own message (which names no alternative).
+    const std::string unknown = UnknownFlagMessage(arg);
+    if (!unknown.empty()) Fail(unknown);
   }
   gflags::ParseCommandLineFlags(argc, argv, true);
   FLAGS_logtostderr = true;

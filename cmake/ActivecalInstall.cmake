@@ -5,13 +5,13 @@ include(CMakePackageConfigHelpers)
 
 install(TARGETS activecal_core activecal_io activecal_residuals
   activecal_selection activecal_kinematics activecal_cell activecal_estimation
-  activecal_calibration activecal_driver activecal
+  activecal_calibration activecal_report activecal_driver activecal
   EXPORT activecalTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-foreach(layer core io residuals selection kinematics cell estimation calibration
+foreach(layer core io residuals selection kinematics cell estimation calibration report
     driver)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${layer}/include/activecal
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}

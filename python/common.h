@@ -533,6 +533,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
 // export.cc: Estimate.write_urdf, write_frames, write_ros_frames and
 // read_ros_frames, added to the module's classes.
 void BindExport(py::module_& m);
+void BindReport(py::module_& m);  // report.cc: Estimate.write_report
 
 }  // namespace python
 }  // namespace activecal

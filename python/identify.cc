@@ -49,7 +49,8 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   fit.robust_loss = EnumOption(kwargs, "robust_loss", "none",
                                StringToRobustLoss, "none, huber or cauchy");
   fit.robust_scale_m = Option(kwargs, "robust_scale_m", 0.0);
-  fit.outlier_threshold = Option(kwargs, "outlier_threshold", 4.0);
+  fit.outlier_probability =
+      Option(kwargs, "outlier_probability", fit.outlier_probability);
   fit.rotation_weight_m_per_rad = Option(kwargs, "rotation_weight", 1.0);
   fit.default_sigma_m = Option(kwargs, "default_sigma_m", 0.0);
   fit.default_sigma_rad = Option(kwargs, "default_sigma_rad", 0.0);
@@ -66,7 +67,7 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
                    {"parameter_set", "register_base", "auto_fix",
                     "model_selection", "folds", "selection_ranking",
                     "selection_rule", "validation", "validation_fraction",
-                    "robust_loss", "robust_scale_m", "outlier_threshold",
+                    "robust_loss", "robust_scale_m", "outlier_probability",
                     "rotation_weight", "default_sigma_m", "default_sigma_rad",
                     "prior_std_m", "prior_std_rad", "seed", "num_threads"});
   if (!validation.is_none()) {

@@ -572,7 +572,7 @@ PYBIND11_MODULE(_activecal, m) {
         "'none'), folds, selection_ranking, selection_rule ('1se_most', "
         "'min', '1se', 'ftest'), validation (Measurements), "
         "validation_fraction (held out at random, seeded), "
-        "robust_loss, robust_scale_m, outlier_threshold, rotation_weight, "
+        "robust_loss, robust_scale_m, outlier_probability, rotation_weight, "
         "default_sigma_m, default_sigma_rad, prior_std_m, prior_std_rad, "
         "seed, num_threads. The GIL is released while it runs.");
   // ---- Compensation
@@ -718,4 +718,5 @@ PYBIND11_MODULE(_activecal, m) {
         "measurements, no fitting: a dict of statistics (m, rad).");
 
   BindExport(m);
+  BindReport(m);
 }

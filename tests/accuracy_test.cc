@@ -347,8 +347,10 @@ TEST(WeightedIdentificationTest, ChiSquareOutsideItsIntervalScalesTheStd) {
                     .cwiseAbs()
                     .maxCoeff(),
                 1e-9 * s.standard_deviations.maxCoeff());
-      const bool says = s.BriefReport().find("outside the 99.9 % interval") !=
-                        std::string::npos;
+      std::string warned;
+      for (const std::string& w : EstimateWarnings(m, s, {})) warned += w;
+      const bool says =
+          warned.find("outside the 99.9 % interval") != std::string::npos;
       EXPECT_EQ(says, !inside);
     }
   }
@@ -360,7 +362,8 @@ TEST(WeightedIdentificationTest, ChiSquareOutsideItsIntervalScalesTheStd) {
   EXPECT_GT(s.chi_square_per_dof, 1000);
   std::string all;
   for (const std::string& w : EstimateWarnings(m, s, {})) all += w + "\n";
-  EXPECT_NE(all.find("std (scaled by sqrt(chi^2 / dof))"), std::string::npos)
+  EXPECT_NE(all.find("the std below are scaled by sqrt(chi^2 / dof)"),
+            std::string::npos)
       << all;
   // Without sigmas nothing is scaled.
   for (Measurement& d : data) d.sigma_m.setZero();
@@ -787,9 +790,10 @@ TEST(EstimateWarningsTest, EachThresholdIsCrossed) {
   EXPECT_NE(w[2].find("are correlated -0.991"), std::string::npos) << w[2];
   EXPECT_NE(w[2].find(s.names[length]), std::string::npos);
   EXPECT_NE(w[2].find(s.names[angle]), std::string::npos);
-  EXPECT_EQ(w[3].find("1 link parameter moved more than 5 std from nominal "
-                      "(is the nominal model the right one?): " +
-                      s.names[angle] + " 0.515 rad (5.1 std)"),
+  EXPECT_EQ(w[3].find("1 link parameter moved from nominal by more than 5 mm "
+                      "/ 10 mrad and 5 std (is the nominal model the right "
+                      "one?): " +
+                      s.names[angle] + " 0.515 rad (515 mrad, 5.1 std)"),
             0u)
       << w[3];
 }

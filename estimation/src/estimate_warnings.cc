@@ -25,8 +25,23 @@ std::vector<std::string> EstimateWarnings(
                       summary.scaled_standard_deviations.size() == p;
   const Eigen::VectorXd& std_used =
       scaled ? summary.scaled_standard_deviations : summary.standard_deviations;
-  const std::string std_label =
-      scaled ? " std (scaled by sqrt(chi^2 / dof))" : " std";
+  const std::string std_label = scaled ? " scaled std" : " std";
+  if (summary.weighted && !summary.chi_square_plausible &&
+      summary.degrees_of_freedom > 0) {
+    std::ostringstream line;
+    line.precision(4);
+    line << "chi^2 / dof = " << summary.chi_square_per_dof
+         << " is outside the 99.9 % interval of chi-square for "
+         << summary.degrees_of_freedom << " dof ["
+         << summary.chi_square_per_dof_low << ", "
+         << summary.chi_square_per_dof_high
+         << "]: the stated sigmas do not describe the residuals, which imply "
+         << summary.implied_sigma_m * 1e3
+         << " mm per position row; the std below are scaled by sqrt(chi^2 / "
+            "dof) = "
+         << std::sqrt(summary.chi_square_per_dof) << " (scaled std)";
+    lines.push_back(line.str());
+  }
   for (int k = 0; k < p; ++k) {
     const double sd = std_used[k];
     const double limit = is_length(k) ? options.max_std_m : options.max_std_rad;
@@ -101,18 +116,27 @@ std::vector<std::string> EstimateWarnings(
     if (block == 0 || model.is_marker_block(block)) continue;
     const double sd = std_used[k];
     const double moved = summary.estimates[k] - model.nominal[i];
-    if (sd > 0 && std::abs(moved) > options.max_moved_std * sd) {
+    const bool length = is_length(k);
+    const double large = length ? options.max_moved_m : options.max_moved_rad;
+    if (sd > 0 && std::abs(moved) > options.max_moved_std * sd &&
+        std::abs(moved) > large) {
+      // mm / mrad beside SI (a gain: per mille).
+      const std::string unit = model.ParameterUnit(i);
       moved_line << (num_moved++ ? ", " : " ") << summary.names[k] << " "
-                 << moved << " " << model.ParameterUnit(i) << " ("
-                 << std::abs(moved) / sd << " std)";
+                 << moved << " " << unit << " (" << 1e3 * moved << " "
+                 << (length          ? "mm"
+                     : unit == "rad" ? "mrad"
+                                     : "per mille")
+                 << ", " << std::abs(moved) / sd << std_label << ")";
     }
   }
   if (num_moved > 0) {
     std::ostringstream line;
     line << num_moved << " link parameter" << (num_moved > 1 ? "s" : "")
-         << " moved more than " << options.max_moved_std << std_label
-         << " from nominal (is the nominal model the right one?):"
-         << moved_line.str();
+         << " moved from nominal by more than " << 1e3 * options.max_moved_m
+         << " mm / " << 1e3 * options.max_moved_rad << " mrad and "
+         << options.max_moved_std << std_label
+         << " (is the nominal model the right one?):" << moved_line.str();
     lines.push_back(line.str());
   }
   return lines;

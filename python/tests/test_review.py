@@ -264,9 +264,9 @@ def test_identify_option_messages_name_what_they_take(puma, measured):
     with pytest.raises(ValueError, match="identify: option robust_loss: "
                        "expected a string, got 3$"):
         activecal.identify(puma, measured, robust_loss=3)
-    with pytest.raises(ValueError, match="option outlier_threshold: "
-                       "expected a number, got '4'$"):
-        activecal.identify(puma, measured, outlier_threshold="4")
+    with pytest.raises(ValueError, match="option outlier_probability: "
+                       "expected a number, got '0.01'$"):
+        activecal.identify(puma, measured, outlier_probability="0.01")
     # None is the default, as select's parameter_set=None.
     a = activecal.identify(puma, measured, model_selection="none")
     b = activecal.identify(puma, measured, model_selection="none",

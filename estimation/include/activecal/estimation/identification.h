@@ -77,10 +77,17 @@ struct IdentificationOptions {
   // residual norms below the scale count as in least squares.
   RobustLoss robust_loss = RobustLoss::kNone;
   double robust_scale_m = 0.0;
-  // A measurement is reported as an outlier when one of its residual rows
-  // exceeds outlier_threshold robust standard deviations (1.4826 times the
-  // median absolute residual row) at the estimate.
-  double outlier_threshold = 4.0;
+  // A measurement is reported as an outlier when its residual is
+  // improbable under the fitted noise: d^2 = sum over its rows of
+  // (r / s_class)^2 beyond the chi-square quantile of its dimension at
+  // 1 - outlier_probability / N (Bonferroni over the N measurements), so
+  // that clean data flag any measurement with probability about
+  // outlier_probability. s_class is a robust scale, 1.4826 times the median
+  // absolute row, taken apart for each row of each measurement type (x, y,
+  // z of a position; of a pose's point and each of its weighted rotation
+  // components; a distance): rows of different units, or of axes with
+  // different noise, are never judged on one scale. In (0, 1).
+  double outlier_probability = 0.01;
   // Floor of that robust standard deviation (m): with exact or nearly
   // exact data the median residual is ~0 and, without a floor, every
   // rounding-level residual would be an outlier. A micrometre is below the
@@ -204,8 +211,10 @@ struct IdentificationSummary {
   // estimate (m; a 6D pose's rotation rows weighted).
   Eigen::VectorXd initial_residual_norms;
   Eigen::VectorXd residual_norms;
-  // Measurements flagged as outliers at the estimate (indices, ascending).
+  // Measurements flagged as outliers at the estimate (indices, ascending):
+  // outlier_d2 > outlier_threshold (OutlierStatistics below).
   std::vector<int> outliers;
+  Eigen::VectorXd outlier_d2, outlier_threshold;  // per measurement
   int num_measurements = 0;
   int num_residuals = 0;
   int num_free = 0;
@@ -245,6 +254,16 @@ void Identify(const RobotModel& model,
               const Eigen::VectorXd& initial,
               const IdentificationOptions& options,
               IdentificationSummary* summary);
+
+// The outlier rule of IdentificationOptions::outlier_probability, per
+// measurement: *d2 its residual rows (`residuals`, stacked in measurement
+// order) over the robust scale of their class, squared and summed, and
+// *threshold the chi-square quantile of its dimension at 1 - probability /
+// N. A measurement is an outlier when d2 > threshold.
+void OutlierStatistics(const std::vector<Measurement>& measurements,
+                       const Eigen::VectorXd& residuals, double probability,
+                       double min_sigma_m, Eigen::VectorXd* d2,
+                       Eigen::VectorXd* threshold);
 
 }  // namespace activecal
 

@@ -1,0 +1,102 @@
+// The report a calibration engineer hands over: one self-contained HTML
+// file (figures inline as SVG, no script, no network) with the set-up, the
+// errors before (registration only) and after, on the training and the
+// held-out measurements, their histograms on log bins, the posture groups,
+// the parameters in mm / mrad with their std and correlation matrix, the
+// model-selection curve and every warning. Printable by a browser
+// (chromium --headless --print-to-pdf).
+//
+//   CalibrationHtmlOptions options;
+//   options.robot_file = "data/ur10e.urdf";
+//   options.measurements_file = "measurements.csv";
+//   const HtmlReport report = CalibrationHtmlReport(summary, options);
+//   WriteFileAtomically(path, RenderHtml(report));
+//
+// Units: the tables print mm (lengths and position errors) and degrees
+// (orientation errors) with 3 decimals; parameters in mm or mrad (a gain
+// in per mille). Every printed number carries data-key (its name) and
+// data-value (the SI value in full precision, m or rad) attributes, so
+// that a test reads the numbers back and compares them with the JSON.
+
+#ifndef ACTIVECAL_REPORT_HTML_REPORT_H_
+#define ACTIVECAL_REPORT_HTML_REPORT_H_
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "activecal/calibration/calibrate.h"
+#include "activecal/core/measurement.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/estimation/evaluation.h"
+#include "activecal/estimation/model_selection.h"
+
+namespace activecal {
+
+// One set of errors: a model's predictions of a set of measurements.
+struct ReportErrors {
+  std::string key;    // data-key prefix, e.g. "after.held_out"
+  std::string label;  // e.g. "after (calibrated), held out"
+  EvaluationSummary errors;
+  // Per measurement: the orientation error's rotation vector components
+  // (rad; rows for poses only), the per-axis orientation statistics.
+  std::vector<Eigen::Vector3d> rotation_vectors;
+};
+
+// Errors of `parameters` on `measurements` with the per-axis orientation
+// errors: the rotation vector of R_measured^T R_predicted (rad), in the
+// target frame. False with *error naming the first bad measurement.
+bool ComputeReportErrors(const RobotModel& model,
+                         const Eigen::VectorXd& parameters,
+                         const std::vector<Measurement>& measurements,
+                         const std::string& key, const std::string& label,
+                         ReportErrors* out, std::string* error);
+
+struct ReportParameter {
+  std::string name;
+  std::string unit;  // "m", "rad" or "" (a gain)
+  double nominal = 0, estimate = 0, std = 0;
+};
+
+struct HtmlReport {
+  std::string title = "activecal calibration report";
+  // The set-up, one row each: (what, value).
+  std::vector<std::pair<std::string, std::string>> setup;
+  // Pairs of (before, after) per data set; drawn as tables and histograms.
+  std::vector<ReportErrors> errors;
+  // The posture groups of the held-out (or evaluated) measurements
+  // relative to the training poses, after: (group name, errors).
+  std::vector<ReportErrors> groups;
+  std::vector<ReportParameter> parameters;
+  Eigen::MatrixXd correlation;  // of `parameters`, in order (may be empty)
+  // Parameters held fixed, grouped by reason: (reason, names).
+  std::vector<std::pair<std::string, std::vector<std::string>>> held;
+  ModelSelectionSummary selection;  // curve empty: no model selection
+  std::string selection_method;
+  std::vector<std::string> warnings;
+  std::vector<std::string> notes;
+};
+
+struct CalibrationHtmlOptions {
+  std::string robot_file;         // as given to the program
+  std::string measurements_file;  // "simulated" when simulated
+  std::string program = "activecal_identify";
+};
+
+// The report of a successful calibration (summary.termination_type
+// kConvergence): before = the registration-only baseline
+// (summary.baseline, when have_baseline), after = the calibrated
+// parameters, on summary.training and (when not empty) summary.validation;
+// the posture groups of the validation measurements. False with *error when
+// a measurement cannot be predicted.
+bool CalibrationHtmlReport(const CalibrationSummary& summary,
+                           const CalibrationHtmlOptions& options,
+                           HtmlReport* report, std::string* error);
+
+// The whole HTML document (UTF-8, ends with a newline).
+std::string RenderHtml(const HtmlReport& report);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_REPORT_HTML_REPORT_H_
