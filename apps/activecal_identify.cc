@@ -61,6 +61,12 @@ DEFINE_string(urdf_out, "",
               "robot's file with only the calibrated joints' origins "
               "changed, or a YAML robot written as URDF. Reloaded and "
               "checked against every measurement (1e-9 m).");
+DEFINE_string(ur_calibration_out, "",
+              "If set, write the calibrated UR's kinematics for the UR ROS "
+              "driver here (ur_description's default_kinematics.yaml form; "
+              "load it with kinematics_params_file:=FILE). Only for a UR "
+              "loaded from its URDF (base_link to tool0); checked by "
+              "rebuilding the chain as ur_description does (1e-9 m, rad).");
 DEFINE_string(frames_out, "",
               "If set, write the identified metrology frames (base "
               "registration, markers) here, for --frames.");
@@ -221,6 +227,7 @@ int Main() {
        {std::pair<std::string, std::string>{FLAGS_model_out, "model_out"},
         {FLAGS_urdf_out, "urdf_out"},
         {FLAGS_frames_out, "frames_out"},
+        {FLAGS_ur_calibration_out, "ur_calibration_out"},
         {FLAGS_json_out, "json_out"}}) {
     app::CheckWritableOrDie(path, flag);
   }
@@ -286,6 +293,22 @@ int Main() {
                   "measured point within %.1e m of the calibrated model\n",
                   FLAGS_urdf_out.c_str(), urdf.worst_m);
     urdf_note = line;
+  }
+  if (!FLAGS_ur_calibration_out.empty()) {
+    UrCalibration ur;
+    if (!MakeUrCalibration(summary.model, calibrated, all,
+                           "Calibrated by activecal_identify from " + source,
+                           &ur, &error)) {
+      app::Fail("--ur_calibration_out: " + error);
+    }
+    outputs.push_back({FLAGS_ur_calibration_out, ur.text});
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "  --ur_calibration_out: wrote %s; rebuilt as "
+                  "ur_description does, tool0 is within %.1e m and %.1e rad "
+                  "of the calibrated model\n",
+                  FLAGS_ur_calibration_out.c_str(), ur.worst_m, ur.worst_rad);
+    urdf_note += line;
   }
   if (!FLAGS_frames_out.empty()) {
     outputs.push_back(
