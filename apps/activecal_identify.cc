@@ -12,6 +12,7 @@
 #include "activecal/calibration/calibration_export.h"
 #include "activecal/calibration/calibration_report.h"
 #include "activecal/core/simulation.h"
+#include "activecal/estimation/orientation_check.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/output_files.h"
 #include "activecal/io/robot_file.h"
@@ -174,6 +175,27 @@ void PlotSelection(const CalibrationSummary& summary) {
       FLAGS_selection_plot, "selection_plot");
 }
 
+// The orientation hint (orientation_check.h) at the fit, or at the
+// registration baseline when the calibration stopped after it.
+void PrintOrientationHint(const CalibrationSummary& summary,
+                          const std::vector<Measurement>& all) {
+  const Eigen::VectorXd& parameters = summary.stage == CalibrationStage::kDone
+                                          ? summary.identification.parameters
+                                          : summary.baseline.parameters;
+  if (parameters.size() != summary.model.num_parameters()) return;
+  const PoseFit fit = PoseFitOf(summary.model, parameters, all);
+  if (!OrientationFitsBadly(fit)) return;
+  const std::optional<ColumnMap>& map = app::ColumnMapOrDie();
+  const std::string what =
+      map && map->has_orientation
+          ? ColumnMapOrientationText(*map)
+          : "the file's rx_rad,ry_rad,rz_rad are a rotation vector, "
+            "roll/pitch/yaw are R = Rz(yaw) Ry(pitch) Rx(roll); a device's "
+            "Euler angles need --column_map";
+  std::printf("%s: warning: %s\n", app::ProgramName().c_str(),
+              OrientationHint(fit, what).c_str());
+}
+
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -245,6 +267,7 @@ int Main() {
       summary.model_selection != ModelSelectionMethod::kNone) {
     PlotSelection(summary);
   }
+  PrintOrientationHint(summary, all);
   if (summary.stage != CalibrationStage::kDone) {
     app::Fail(CalibrationFailureText(summary, text));
   }
