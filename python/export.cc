@@ -34,7 +34,7 @@ void ResolvedChain(const Robot& robot, UrdfChainOptions* chain,
   if (!robot.urdf) return;
   std::string xml, error;
   std::vector<UrdfChainJoint> joints;
-  if (!ReadTextFile(robot.path, &xml, &error) ||
+  if (!ReadUrdfText(robot.path, &xml, &error) ||
       !UrdfChainJoints(xml, robot.path, robot.chain, &joints, &error)) {
     Fail(error);
   }

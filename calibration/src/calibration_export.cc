@@ -8,6 +8,7 @@
 
 #include "activecal/core/kinematics.h"
 #include "activecal/io/csv_files.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/io/ur_kinematics.h"
 #include "activecal/io/urdf_export.h"
 
@@ -24,7 +25,7 @@ bool MakeCalibratedUrdf(const RobotModel& model,
   UrdfChainOptions chain = options.chain;
   if (!options.source_path.empty()) {
     std::string xml;
-    if (!ReadTextFile(options.source_path, &xml, error) ||
+    if (!ReadUrdfText(options.source_path, &xml, error) ||
         !CalibratedUrdfText(xml, options.source_path, chain, model, parameters,
                             &urdf->text, &urdf->warnings, error)) {
       return false;
