@@ -297,6 +297,10 @@ int Main() {
       o.progress = line.callback();
       return CellPoolFilter(*cell.checker, o, &feasibility)(joints, kept, note);
     };
+    // Several targets as the markers: each pose's rows are those seen.
+    if (CellTargetsAreMarkers(*cell.checker, model)) {
+      pool_options.kept_marker_masks = &feasibility.targets_seen;
+    }
   }
   CandidatePool pool;
   SelectionPoolSummary pool_summary;

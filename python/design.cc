@@ -184,7 +184,7 @@ std::shared_ptr<DesignResult> SelectPy(
   if (cell) {
     PoolFilterOptions o;
     o.num_threads = num_threads;
-    pool_options.filter = CellPoolFilter(*cell->checker, o, &feasibility);
+    SetCellPoolFilter(*cell->checker, model, o, &feasibility, &pool_options);
   }
   pool_options.progress = bridge.Callback("jacobians");
   options.approximate_progress = bridge.Callback("approximate");

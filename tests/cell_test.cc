@@ -14,6 +14,8 @@
 #include <set>
 #include <sstream>
 
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/cell_checker.h"
 #include "activecal/cell/cell_file.h"
@@ -27,6 +29,9 @@
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/urdf_robot.h"
+#include "activecal/residuals/jacobians.h"
+#include "activecal/selection/fedorov.h"
+#include "activecal/selection/information_matrix.h"
 
 namespace activecal {
 namespace {
@@ -1530,6 +1535,201 @@ TEST(CellSetupTest, TheTargetsSeenAreRecorded) {
   ASSERT_TRUE(FilterPool(f.checker, joints, {}, &s));
   EXPECT_EQ(s.feasible, (std::vector<int64_t>{0, 1}));
   EXPECT_EQ(s.targets_seen, (std::vector<uint32_t>{1u, 3u}));
+}
+
+// Two reflectors back to back on the UR10e's flange (never both seen) as
+// the markers, and the pool of the poses the tracker sees one of.
+struct BackToBack {
+  Ur10e u;
+  PoolFilterSummary feasibility;
+  Eigen::MatrixXd joints;  // the feasible poses
+};
+
+void LoadBackToBack(BackToBack* b) {
+  const std::string path = TempPath("back_to_back.yaml");
+  WriteText(path,
+            "device: {type: laser_tracker, xyz_m: [2.2, 0.4, 0.9], "
+            "range_m: [0.3, 6.0]}\n"
+            "targets:\n"
+            "  - {name: front, xyz_m: [0.01, 0, 0.06], normal: [0, 0, 1], "
+            "acceptance_deg: 45}\n"
+            "  - {name: back, xyz_m: [0, 0.02, -0.01], normal: [0, 0, -1], "
+            "acceptance_deg: 45}\n");
+  std::string error;
+  ASSERT_TRUE(LoadUr10e(path, &b->u, &error)) << error;
+  ASSERT_EQ(b->u.robot.model.num_markers(), 2);
+  const Eigen::MatrixXd all = UrSobol(b->u.robot.model, 1500);
+  ASSERT_TRUE(FilterPool(*b->u.setup.checker, all, {}, &b->feasibility));
+  b->joints = b->feasibility.FeasibleJoints(all);
+}
+
+// Model `from`'s free columns in model `to`'s (-1: `to` has no such).
+std::vector<int> ColumnsByName(const RobotModel& from, const RobotModel& to) {
+  const std::vector<std::string> a = from.FreeParameterNames();
+  const std::vector<std::string> b = to.FreeParameterNames();
+  std::vector<int> map(a.size(), -1);
+  for (size_t i = 0; i < a.size(); ++i) {
+    const auto it = std::find(b.begin(), b.end(), a[i]);
+    if (it != b.end()) map[i] = static_cast<int>(it - b.begin());
+  }
+  return map;
+}
+
+TEST(CellTargetsTest, ADesignPoseHasTheRowsOfTheMarkersSeenOnly) {
+  BackToBack b;
+  LoadBackToBack(&b);
+  // The parameters the pool identifies (the full set, reduced), as
+  // activecal_select finds them.
+  RobotModel two = b.u.robot.model;
+  {
+    SelectionPoolOptions options;
+    options.parameter_set = ParameterSet::kFull;
+    options.auto_fix = true;
+    PoolFilterSummary again;
+    SetCellPoolFilter(*b.u.setup.checker, two, {}, &again, &options);
+    CandidatePool pool;
+    SelectionPoolSummary summary;
+    ASSERT_TRUE(BuildSelectionPool(&two, b.joints, options, &pool, &summary))
+        << summary.message;
+    ASSERT_GT(two.num_free(), 20);
+  }
+  // The reduction sees the markers seen (with marker 0's rows alone it
+  // would drop the back reflector's offsets, which its poses identify).
+  {
+    const std::vector<std::string> names = two.FreeParameterNames();
+    for (const char* name : {"front.x", "back.x", "back.y", "back.z"}) {
+      EXPECT_NE(std::find(names.begin(), names.end(), name), names.end())
+          << name;
+    }
+  }
+  int front_only = -1, back_only = -1;
+  for (size_t i = 0; i < b.feasibility.targets_seen.size(); ++i) {
+    const uint32_t seen = b.feasibility.targets_seen[i];
+    EXPECT_NE(seen, 3u) << "back to back, both seen at feasible pose " << i;
+    if (seen == 1u && front_only < 0) front_only = static_cast<int>(i);
+    if (seen == 2u && back_only < 0) back_only = static_cast<int>(i);
+  }
+  ASSERT_GE(front_only, 0);
+  ASSERT_GE(back_only, 0);
+
+  CandidatePoolOptions o;
+  o.marker_masks = b.feasibility.targets_seen;
+  CandidatePool pool;
+  CandidatePoolSummary summary;
+  ASSERT_TRUE(
+      BuildCandidatePool(two, two.nominal, b.joints, o, &pool, &summary))
+      << summary.message;
+  ASSERT_EQ(pool.block_rows(), 6);
+  ASSERT_EQ(pool.size(), b.joints.rows());
+
+  // One-marker models: the front reflector alone, the back one alone.
+  RobotModel front = two;
+  front.markers.resize(1);
+  front.nominal = two.nominal.head(front.num_parameters());
+  RobotModel back = front;
+  back.markers[0] = two.markers[1];
+  back.nominal.tail(kMarkerBlockSize) = two.nominal.segment(
+      two.block_offset(two.marker_block(1)), kMarkerBlockSize);
+  for (const auto& [one, pose, marker] :
+       {std::make_tuple(&front, front_only, 0),
+        std::make_tuple(&back, back_only, 1)}) {
+    SCOPED_TRACE(one->markers[0].name);
+    CandidatePool single;
+    CandidatePoolSummary single_summary;
+    ASSERT_TRUE(BuildCandidatePool(*one, one->nominal,
+                                   b.joints.middleRows(pose, 1), {}, &single,
+                                   &single_summary))
+        << single_summary.message;
+    const RowMatrixXd block = pool.CopyBlock(pose);
+    const RowMatrixXd x = single.CopyBlock(0);
+    // The unseen marker's rows are zero; the seen one's are the one-marker
+    // model's, column for column (a marker's own columns by name).
+    EXPECT_EQ(block.middleRows(3 * (1 - marker), 3).norm(), 0.0);
+    const std::vector<int> map = ColumnsByName(*one, two);
+    RowMatrixXd expected = RowMatrixXd::Zero(3, two.num_free());
+    for (size_t c = 0; c < map.size(); ++c) {
+      ASSERT_GE(map[c], 0);
+      expected.col(map[c]) = x.col(c);
+    }
+    EXPECT_LT((block.middleRows(3 * marker, 3) - expected).norm(),
+              1e-12 * expected.norm())
+        << "\n"
+        << block << "\n"
+        << expected;
+    // Its information is exactly the seen marker's.
+    const Eigen::MatrixXd m = block.transpose() * block;
+    const Eigen::MatrixXd m_one = expected.transpose() * expected;
+    EXPECT_LT((m - m_one).norm(), 1e-12 * m_one.norm());
+  }
+
+  // A design's log det over the masked pool is the one recomputed from the
+  // seen markers' measurements alone (and differs from one that measures
+  // both at every pose).
+  GreedyOptions g;
+  g.num_poses = 40;
+  SelectionSummary design;
+  ASSERT_TRUE(GreedyDesign(pool, {}, g, &design)) << design.message;
+  std::vector<Measurement> seen_rows, every_row;
+  for (int64_t i : design.design) {
+    for (int k = 0; k < 2; ++k) {
+      Measurement m;
+      m.joints = b.joints.row(i).transpose();
+      m.marker = k;
+      every_row.push_back(m);
+      if (b.feasibility.targets_seen[i] & (1u << k)) seen_rows.push_back(m);
+    }
+  }
+  Eigen::MatrixXd j_seen, j_every;
+  std::string error;
+  ASSERT_TRUE(
+      StackedJacobian(two, two.nominal, seen_rows, 1.0, &j_seen, &error))
+      << error;
+  ASSERT_TRUE(
+      StackedJacobian(two, two.nominal, every_row, 1.0, &j_every, &error))
+      << error;
+  EXPECT_EQ(j_seen.rows(), 3 * 40);
+  const double recomputed = LogDetSpd(j_seen.transpose() * j_seen);
+  EXPECT_NEAR(design.log_det, recomputed, 1e-8 * std::abs(recomputed));
+  EXPECT_GT(LogDetSpd(j_every.transpose() * j_every), recomputed + 1.0);
+}
+
+TEST(CellTargetsTest, SelectionPoolTakesTheMasksOfTheCellFilter) {
+  BackToBack b;
+  LoadBackToBack(&b);
+  const RobotModel& two = b.u.robot.model;
+  EXPECT_TRUE(CellTargetsAreMarkers(*b.u.setup.checker, two));
+  const Eigen::MatrixXd all = UrSobol(two, 1500);
+  PoolFilterSummary feasibility;
+  SelectionPoolOptions options;
+  options.parameter_set = ParameterSet::kFull;
+  options.auto_fix = true;
+  SetCellPoolFilter(*b.u.setup.checker, two, {}, &feasibility, &options);
+  ASSERT_EQ(options.kept_marker_masks, &feasibility.targets_seen);
+  RobotModel model = two;
+  CandidatePool pool;
+  SelectionPoolSummary summary;
+  ASSERT_TRUE(BuildSelectionPool(&model, all, options, &pool, &summary))
+      << summary.message;
+  ASSERT_EQ(pool.block_rows(), 6);
+  for (int64_t i = 0; i < pool.size(); ++i) {
+    const RowMatrixXd block = pool.CopyBlock(i);
+    for (int k = 0; k < 2; ++k) {
+      const bool seen = feasibility.targets_seen[i] & (1u << k);
+      EXPECT_EQ(block.middleRows(3 * k, 3).norm() > 0, seen) << i << " " << k;
+    }
+  }
+  // A pose that sees no marker is refused.
+  CandidatePoolOptions o;
+  o.marker_masks.assign(b.joints.rows(), 1u);
+  o.marker_masks[3] = 0;
+  CandidatePoolSummary s;
+  EXPECT_FALSE(BuildCandidatePool(two, two.nominal, b.joints, o, &pool, &s));
+  EXPECT_EQ(s.message, "pool pose 3: no marker seen");
+  // One target: the pool stays marker 0's (today's pools).
+  Ur10e one;
+  std::string error;
+  ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &one, &error));
+  EXPECT_FALSE(CellTargetsAreMarkers(*one.setup.checker, one.robot.model));
 }
 
 }  // namespace

@@ -29,6 +29,21 @@ PoolFilter CellPoolFilter(const CellChecker& checker,
   };
 }
 
+bool CellTargetsAreMarkers(const CellChecker& checker,
+                           const RobotModel& model) {
+  return checker.num_targets() > 1 &&
+         checker.num_targets() == model.num_markers();
+}
+
+void SetCellPoolFilter(const CellChecker& checker, const RobotModel& model,
+                       const PoolFilterOptions& filter_options,
+                       PoolFilterSummary* summary,
+                       SelectionPoolOptions* options) {
+  options->filter = CellPoolFilter(checker, filter_options, summary);
+  options->kept_marker_masks =
+      CellTargetsAreMarkers(checker, model) ? &summary->targets_seen : nullptr;
+}
+
 nlohmann::json CellPoolJson(const Cell& cell,
                             const PoolFilterSummary& summary) {
   nlohmann::json rejected = nlohmann::json::object();

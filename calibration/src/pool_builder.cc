@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/residuals/jacobians.h"
 
@@ -52,8 +53,95 @@ struct ExactPoolData {
   RobotModel model;
   Eigen::VectorXd parameters;
   Eigen::MatrixXd joints;
+  std::vector<uint32_t> marker_masks;
   PoolJacobianOptions options;
 };
+
+// The blocks of the poses `joints` (pool poses first .. first + n - 1): with
+// no masks, PoolJacobians (marker 0's t rows per pose); with masks (one per
+// pool pose, CandidatePoolOptions::marker_masks), every marker's t rows per
+// pose, in marker order, those of a marker not seen at the pose zero.
+// Marker 0's rows are PoolJacobians', the others' the measurement
+// Jacobians of those markers (MeasurementJacobian: the identification's
+// residuals).
+bool MaskedPoolJacobians(const RobotModel& model,
+                         const Eigen::VectorXd& parameters,
+                         const Eigen::MatrixXd& joints,
+                         const std::vector<uint32_t>& masks, int64_t first,
+                         const PoolJacobianOptions& options,
+                         RowMatrixXd* stacked, std::string* error) {
+  if (masks.empty()) {
+    return PoolJacobians(model, parameters, joints, options, stacked, error);
+  }
+  RowMatrixXd first_marker;
+  if (!PoolJacobians(model, parameters, joints, options, &first_marker,
+                     error)) {
+    return false;
+  }
+  const int t = MeasurementDimension(options.type);
+  const int num_markers = model.num_markers();
+  const int p = model.num_free();
+  const int64_t n = joints.rows();
+  stacked->setZero(n * t * num_markers, p);
+  std::vector<std::string> errors(n);
+  ParallelFor(n, options.num_threads, [&](int64_t begin, int64_t end, int) {
+    Eigen::MatrixXd jacobian;
+    for (int64_t i = begin; i < end; ++i) {
+      const uint32_t mask = masks[first + i];
+      const int64_t row = i * t * num_markers;
+      if (mask & 1u) {
+        stacked->middleRows(row, t) = first_marker.middleRows(i * t, t);
+      }
+      for (int k = 1; k < num_markers; ++k) {
+        if (!(mask & (1u << k))) continue;
+        Measurement m;
+        m.type = options.type;
+        m.joints = joints.row(i).transpose();
+        m.marker = k;
+        if (!MeasurementJacobian(model, parameters, m,
+                                 options.rotation_weight_m_per_rad, &jacobian,
+                                 &errors[i])) {
+          errors[i] = "pool pose " + std::to_string(i) + ": " + errors[i];
+          break;
+        }
+        stacked->middleRows(row + k * t, t) = jacobian;
+      }
+    }
+  });
+  for (const std::string& e : errors) {
+    if (!e.empty()) {
+      if (error) *error = e;
+      return false;
+    }
+  }
+  return true;
+}
+
+// Checks options.marker_masks against the pool.
+bool CheckMarkerMasks(const RobotModel& model, const Eigen::MatrixXd& joints,
+                      const CandidatePoolOptions& options, std::string* error) {
+  const std::vector<uint32_t>& masks = options.marker_masks;
+  if (masks.empty()) return true;
+  if (static_cast<int64_t>(masks.size()) != joints.rows()) {
+    *error = "pool: " + std::to_string(masks.size()) + " marker masks for " +
+             std::to_string(joints.rows()) + " poses";
+    return false;
+  }
+  if (model.num_markers() > 32) {
+    *error = "pool: marker masks hold 32 markers, the model has " +
+             std::to_string(model.num_markers());
+    return false;
+  }
+  const uint32_t all =
+      model.num_markers() == 32 ? ~0u : (1u << model.num_markers()) - 1u;
+  for (size_t i = 0; i < masks.size(); ++i) {
+    if ((masks[i] & all) == 0) {
+      *error = "pool pose " + std::to_string(i) + ": no marker seen";
+      return false;
+    }
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -148,7 +236,8 @@ bool BuildSinglePrecisionPool(RobotModel* model,
                               const PoolJacobianOptions& jacobian_options,
                               CandidatePool* pool,
                               CandidatePoolSummary* summary) {
-  const int t = MeasurementDimension(options.type);
+  const int t = MeasurementDimension(options.type) *
+                (options.marker_masks.empty() ? 1 : model->num_markers());
   const int64_t n = joints.rows();
   if (options.check_identifiability) {
     Eigen::MatrixXd sample_joints;
@@ -165,8 +254,18 @@ bool BuildSinglePrecisionPool(RobotModel* model,
     PoolJacobianOptions sample_options = jacobian_options;
     sample_options.progress = nullptr;
     RowMatrixXd sample;
-    if (!PoolJacobians(*model, parameters, sample_joints, sample_options,
-                       &sample, &summary->message)) {
+    std::vector<uint32_t> sample_masks;
+    if (!options.marker_masks.empty()) {
+      sample_masks = options.marker_masks;
+      if (!chosen.empty()) {
+        sample_masks.resize(chosen.size());
+        for (size_t k = 0; k < chosen.size(); ++k) {
+          sample_masks[k] = options.marker_masks[chosen[k]];
+        }
+      }
+    }
+    if (!MaskedPoolJacobians(*model, parameters, sample_joints, sample_masks, 0,
+                             sample_options, &sample, &summary->message)) {
       // Name the pose in the whole pool, not in the sample.
       if (!chosen.empty()) {
         RenamePoolPose([&](int64_t i) { return chosen[i]; }, &summary->message);
@@ -191,8 +290,10 @@ bool BuildSinglePrecisionPool(RobotModel* model,
         options.progress(begin + done, n);
       };
     }
-    if (!PoolJacobians(*model, parameters, joints.middleRows(begin, count),
-                       chunk_options, &chunk, &summary->message)) {
+    if (!MaskedPoolJacobians(*model, parameters,
+                             joints.middleRows(begin, count),
+                             options.marker_masks, begin, chunk_options, &chunk,
+                             &summary->message)) {
       // Name the pose in the whole pool, not in the chunk.
       RenamePoolPose([begin](int64_t i) { return begin + i; },
                      &summary->message);
@@ -203,19 +304,20 @@ bool BuildSinglePrecisionPool(RobotModel* model,
   if (!CandidatePool::Create(std::move(stacked), t, pool, &summary->message)) {
     return false;
   }
-  auto data = std::make_shared<const ExactPoolData>(
-      ExactPoolData{*model, parameters, joints, jacobian_options});
-  pool->set_exact_source([data](int64_t begin, int64_t count,
-                                RowMatrixXd* rows) {
-    PoolJacobianOptions o = data->options;
-    o.num_threads = 1;  // called from the sweep's own threads
-    o.progress = nullptr;
-    std::string error;
-    // The poses were checked when the pool was built.
-    CHECK(PoolJacobians(data->model, data->parameters,
-                        data->joints.middleRows(begin, count), o, rows, &error))
-        << error;
-  });
+  auto data = std::make_shared<const ExactPoolData>(ExactPoolData{
+      *model, parameters, joints, options.marker_masks, jacobian_options});
+  pool->set_exact_source(
+      [data](int64_t begin, int64_t count, RowMatrixXd* rows) {
+        PoolJacobianOptions o = data->options;
+        o.num_threads = 1;  // called from the sweep's own threads
+        o.progress = nullptr;
+        std::string error;
+        // The poses were checked when the pool was built.
+        CHECK(MaskedPoolJacobians(data->model, data->parameters,
+                                  data->joints.middleRows(begin, count),
+                                  data->marker_masks, begin, o, rows, &error))
+            << error;
+      });
   return true;
 }
 
@@ -240,6 +342,9 @@ bool BuildCandidatePool(const RobotModel& input,
       options.rotation_weight_m_per_rad;
   jacobian_options.num_threads = options.num_threads;
   jacobian_options.progress = options.progress;
+  if (!CheckMarkerMasks(input, joints, options, &summary->message)) {
+    return false;
+  }
   if (options.single_precision) {
     const bool ok = BuildSinglePrecisionPool(model, parameters, joints, options,
                                              jacobian_options, pool, summary);
@@ -249,14 +354,16 @@ bool BuildCandidatePool(const RobotModel& input,
     return ok;
   }
   RowMatrixXd stacked;
-  if (!PoolJacobians(*model, parameters, joints, jacobian_options, &stacked,
-                     &summary->message)) {
+  if (!MaskedPoolJacobians(*model, parameters, joints, options.marker_masks, 0,
+                           jacobian_options, &stacked, &summary->message)) {
     return false;
   }
   summary->jacobian_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
-  const int block_rows = MeasurementDimension(options.type);
+  const int block_rows =
+      MeasurementDimension(options.type) *
+      (options.marker_masks.empty() ? 1 : model->num_markers());
   if (options.check_identifiability) {
     const Eigen::MatrixXd sample =
         SampleBlocks(stacked, block_rows, options.max_analysis_rows);

@@ -142,13 +142,44 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
   }
   const Eigen::MatrixXd& pool_joints =
       options.filter ? kept_joints : all_joints;
+  const std::vector<uint32_t>* masks =
+      options.filter ? options.kept_marker_masks : nullptr;
   {
-    const Eigen::MatrixXd sample =
-        SubsampleRows(pool_joints, options.reduction_sample_size);
+    std::vector<Measurement> plan;
+    if (masks == nullptr) {
+      plan = MeasurementPlan(
+          SubsampleRows(pool_joints, options.reduction_sample_size),
+          options.type);
+    } else {
+      // The markers seen at each sampled pose: the mask rides along as a
+      // last column through the subsample.
+      if (masks->size() != static_cast<size_t>(pool_joints.rows())) {
+        summary->message = "pool filter: " + std::to_string(masks->size()) +
+                           " marker masks for " +
+                           std::to_string(pool_joints.rows()) + " poses";
+        return false;
+      }
+      const int n = static_cast<int>(pool_joints.cols());
+      Eigen::MatrixXd tagged(pool_joints.rows(), n + 1);
+      tagged.leftCols(n) = pool_joints;
+      for (size_t i = 0; i < masks->size(); ++i) tagged(i, n) = (*masks)[i];
+      const Eigen::MatrixXd sample =
+          SubsampleRows(tagged, options.reduction_sample_size);
+      for (Eigen::Index i = 0; i < sample.rows(); ++i) {
+        const uint32_t mask = static_cast<uint32_t>(sample(i, n));
+        for (int k = 0; k < model->num_markers() && k < 32; ++k) {
+          if (!(mask & (1u << k))) continue;
+          Measurement m;
+          m.type = options.type;
+          m.joints = sample.row(i).head(n).transpose();
+          m.marker = k;
+          plan.push_back(std::move(m));
+        }
+      }
+    }
     Eigen::VectorXd point = model->nominal;
     FreeSet free;
-    if (!ReduceParameterSet(*model, options.parameter_set,
-                            MeasurementPlan(sample, options.type),
+    if (!ReduceParameterSet(*model, options.parameter_set, plan,
                             options.rotation_weight_m_per_rad, &point, &free,
                             &summary->dropped, &error)) {
       summary->reduction_failed = true;
@@ -193,6 +224,7 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
   pool_options.check_identifiability = true;
   pool_options.auto_fix = options.auto_fix;
   pool_options.progress = options.progress;
+  if (masks) pool_options.marker_masks = *masks;
   if (!BuildCandidatePool(*model, model->nominal, pool_joints, pool_options,
                           pool, &summary->pool)) {
     summary->message = summary->pool.message;

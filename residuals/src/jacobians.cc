@@ -1,6 +1,8 @@
 #include "activecal/residuals/jacobians.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -200,8 +202,26 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
     }
     return false;
   }
+  if (options.marker < 0 || options.marker >= model.num_markers()) {
+    if (error) {
+      *error = "pool: marker must be in [0, " +
+               std::to_string(model.num_markers() - 1) + "], got " +
+               std::to_string(options.marker);
+    }
+    return false;
+  }
   const int64_t n = joints.rows();
   for (int64_t i = 0; i < n; ++i) {
+    // Inside every range and finite: valid (CheckJointValues, which builds
+    // its message, only for a pose that is not).
+    bool inside = true;
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const double v = joints(i, j);
+      const Link& link = model.links[j];
+      inside = inside && std::isfinite(v) && v >= link.joint_min &&
+               v <= link.joint_max;
+    }
+    if (inside) continue;
     std::string why;
     if (!model.CheckJointValues(joints.row(i).transpose(), &why)) {
       if (error) *error = "pool pose " + std::to_string(i) + ": " + why;
@@ -219,6 +239,12 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
       options.analytic && options.type == MeasurementType::kPosition;
   const std::vector<const double*> blocks =
       BlockPointers(model, parameters.data());
+  // The pose-independent work once, shared by the threads (immutable).
+  std::unique_ptr<const PointJacobianKernel> kernel;
+  if (analytic) {
+    kernel = std::make_unique<const PointJacobianKernel>(model, blocks.data(),
+                                                         options.marker);
+  }
   ParallelFor(n, options.num_threads, [&](int64_t begin, int64_t end, int) {
     auto report = [&](int64_t i) {
       if (options.progress && (i - begin + 1) % kReportEvery == 0) {
@@ -226,13 +252,13 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
       }
     };
     if (analytic) {
-      PointJacobianWorkspace workspace(model);
-      Eigen::VectorXd q(model.num_joints());
-      for (int64_t i = begin; i < end; ++i) {
-        q = joints.row(i).transpose();
-        MeasuredPointJacobian(model, blocks.data(), q.data(), /*marker=*/0,
-                              &workspace, stacked->data() + t * i * p);
-        report(i);
+      // Poses in runs of kReportEvery (the kernel's bits do not depend on
+      // the run).
+      for (int64_t i = begin; i < end; i += kReportEvery) {
+        const int64_t count = std::min(kReportEvery, end - i);
+        kernel->Evaluate(count, joints.data() + i, 1, n,
+                         stacked->data() + t * i * p);
+        report(i + count - 1);
       }
       return;
     }
@@ -240,6 +266,7 @@ bool PoolJacobians(const RobotModel& model, const Eigen::VectorXd& parameters,
                                 options.rotation_weight_m_per_rad);
     Measurement m;
     m.type = options.type;
+    m.marker = options.marker;
     for (int64_t i = begin; i < end; ++i) {
       m.joints = joints.row(i).transpose();
       if (!evaluator.Evaluate(m, stacked->data() + t * i * p)) {

@@ -26,6 +26,7 @@
 #include "activecal/cell/cell_checker.h"
 #include "activecal/cell/cell_file.h"
 #include "activecal/cell/pool_filter.h"
+#include "activecal/core/robot_model.h"
 
 namespace activecal {
 
@@ -40,6 +41,20 @@ std::string FeasibleNote(const CellChecker& checker,
 PoolFilter CellPoolFilter(const CellChecker& checker,
                           const PoolFilterOptions& options,
                           PoolFilterSummary* summary);
+
+// Whether the cell's targets are the model's markers, one for one (their
+// counts equal, e.g. SetUpCell's targets_as_markers), with more than one:
+// then a pose's design rows are those of the markers seen only.
+bool CellTargetsAreMarkers(const CellChecker& checker, const RobotModel& model);
+
+// options->filter = CellPoolFilter(checker, filter_options, summary), and,
+// when CellTargetsAreMarkers, options->kept_marker_masks =
+// &summary->targets_seen: each feasible pose's block then holds the rows
+// of the targets it sees only (the unseen ones zero).
+void SetCellPoolFilter(const CellChecker& checker, const RobotModel& model,
+                       const PoolFilterOptions& filter_options,
+                       PoolFilterSummary* summary,
+                       SelectionPoolOptions* options);
 
 // What the programs write: {"feasible_poses": N, "rejected": {reason:
 // count for every RejectionReason but none, "obstacle": {obstacle name:

@@ -61,6 +61,15 @@ struct CandidatePoolOptions {
   // recomputes any poses' blocks in double from a copy of the model,
   // parameters and joint values, for the certificate and the final log det.
   bool single_precision = false;
+
+  // The markers seen at each pose (one mask per row of the joints; bit k:
+  // marker k, e.g. PoseVerdict::targets_seen when the cell's targets are
+  // the markers). Empty: each pose's block is marker 0's t rows (today's
+  // pools). Given: each pose's block is t rows per marker of the model, in
+  // marker order, marker k's rows zero where bit k is clear, so that only
+  // the markers seen add information (a zero row adds none); a pose that
+  // sees no marker is refused. At most 32 markers.
+  std::vector<uint32_t> marker_masks;
 };
 
 struct CandidatePoolSummary {

@@ -72,6 +72,11 @@ struct SelectionPoolOptions {
   // If set, applied first: the reduction, the Jacobians and the
   // identifiability check see only the rows it keeps.
   PoolFilter filter;
+  // With a filter: the markers seen at each row it kept, one mask per kept
+  // row (CandidatePoolOptions::marker_masks), read once it has run (e.g.
+  // the targets_seen of CellPoolFilter's summary: cell_planning.h,
+  // SetCellPoolFilter). Null: each pose's rows are marker 0's.
+  const std::vector<uint32_t>* kept_marker_masks = nullptr;
 
   bool IsValid(std::string* error) const;
 };

@@ -64,8 +64,10 @@ struct PoolJacobianOptions {
   // kPose (6 rows). A distance needs two poses, so it has no per-pose pool.
   MeasurementType type = MeasurementType::kPosition;
   double rotation_weight_m_per_rad = 1.0;
+  // The measured marker (0-based).
+  int marker = 0;
   // Position pools use the analytic point Jacobian (core/point_jacobian.h,
-  // equal to the auto-diff one to rounding, ~10x faster); false forces the
+  // equal to the auto-diff one to rounding, ~100x faster); false forces the
   // Ceres auto-diff residual (for comparison and benchmarks). Pose pools
   // always use auto-diff.
   bool analytic = true;
