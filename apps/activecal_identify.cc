@@ -14,6 +14,7 @@
 #include "activecal/calibration/calibration_export.h"
 #include "activecal/calibration/calibration_report.h"
 #include "activecal/core/simulation.h"
+#include "activecal/estimation/orientation_check.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/output_files.h"
 #include "activecal/io/robot_file.h"
@@ -72,6 +73,12 @@ DEFINE_string(urdf_out, "",
               "robot's file with only the calibrated joints' origins "
               "changed, or a YAML robot written as URDF. Reloaded and "
               "checked against every measurement (1e-9 m).");
+DEFINE_string(ur_calibration_out, "",
+              "If set, write the calibrated UR's kinematics for the UR ROS "
+              "driver here (ur_description's default_kinematics.yaml form; "
+              "load it with kinematics_params_file:=FILE). Only for a UR "
+              "loaded from its URDF (base_link to tool0); checked by "
+              "rebuilding the chain as ur_description does (1e-9 m, rad).");
 DEFINE_string(frames_out, "",
               "If set, write the identified metrology frames (base "
               "registration, markers) here, for --frames.");
@@ -258,6 +265,27 @@ void PlotSelection(const CalibrationSummary& summary) {
       FLAGS_selection_plot, "selection_plot");
 }
 
+// The orientation hint (orientation_check.h) at the fit, or at the
+// registration baseline when the calibration stopped after it.
+void PrintOrientationHint(const CalibrationSummary& summary,
+                          const std::vector<Measurement>& all) {
+  const Eigen::VectorXd& parameters = summary.stage == CalibrationStage::kDone
+                                          ? summary.identification.parameters
+                                          : summary.baseline.parameters;
+  if (parameters.size() != summary.model.num_parameters()) return;
+  const PoseFit fit = PoseFitOf(summary.model, parameters, all);
+  if (!OrientationFitsBadly(fit)) return;
+  const std::optional<ColumnMap>& map = app::ColumnMapOrDie();
+  const std::string what =
+      map && map->has_orientation
+          ? ColumnMapOrientationText(*map)
+          : "the file's rx_rad,ry_rad,rz_rad are a rotation vector, "
+            "roll/pitch/yaw are R = Rz(yaw) Ry(pitch) Rx(roll); a device's "
+            "Euler angles need --column_map";
+  std::printf("%s: warning: %s\n", app::ProgramName().c_str(),
+              OrientationHint(fit, what).c_str());
+}
+
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -313,6 +341,7 @@ int Main() {
        {std::pair<std::string, std::string>{FLAGS_model_out, "model_out"},
         {FLAGS_urdf_out, "urdf_out"},
         {FLAGS_frames_out, "frames_out"},
+        {FLAGS_ur_calibration_out, "ur_calibration_out"},
         {FLAGS_json_out, "json_out"},
         {FLAGS_report_html, "report_html"}}) {
     app::CheckWritableOrDie(path, flag);
@@ -331,6 +360,7 @@ int Main() {
       summary.model_selection != ModelSelectionMethod::kNone) {
     PlotSelection(summary);
   }
+  PrintOrientationHint(summary, all);
   if (summary.stage != CalibrationStage::kDone) {
     app::Fail(CalibrationFailureText(summary, text));
   }
@@ -379,6 +409,22 @@ int Main() {
                   "measured point within %.1e m of the calibrated model\n",
                   FLAGS_urdf_out.c_str(), urdf.worst_m);
     urdf_note = line;
+  }
+  if (!FLAGS_ur_calibration_out.empty()) {
+    UrCalibration ur;
+    if (!MakeUrCalibration(summary.model, calibrated, all,
+                           "Calibrated by activecal_identify from " + source,
+                           &ur, &error)) {
+      app::Fail("--ur_calibration_out: " + error);
+    }
+    outputs.push_back({FLAGS_ur_calibration_out, ur.text});
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "  --ur_calibration_out: wrote %s; rebuilt as "
+                  "ur_description does, tool0 is within %.1e m and %.1e rad "
+                  "of the calibrated model\n",
+                  FLAGS_ur_calibration_out.c_str(), ur.worst_m, ur.worst_rad);
+    urdf_note += line;
   }
   if (!FLAGS_frames_out.empty()) {
     outputs.push_back(

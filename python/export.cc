@@ -4,7 +4,8 @@
 //
 // Estimate.write_urdf is activecal_identify --urdf_out's library call
 // (calibration_export.h: MakeCalibratedUrdf, the same choice of writer and
-// the same 1e-9 m reload check).
+// the same 1e-9 m reload check); Estimate.write_ur_calibration is
+// --ur_calibration_out's (MakeUrCalibration).
 
 #include <fstream>
 
@@ -33,7 +34,7 @@ void ResolvedChain(const Robot& robot, UrdfChainOptions* chain,
   if (!robot.urdf) return;
   std::string xml, error;
   std::vector<UrdfChainJoint> joints;
-  if (!ReadTextFile(robot.path, &xml, &error) ||
+  if (!ReadUrdfText(robot.path, &xml, &error) ||
       !UrdfChainJoints(xml, robot.path, robot.chain, &joints, &error)) {
     Fail(error);
   }
@@ -68,6 +69,23 @@ double WriteUrdfPy(const EstimateResult& e, const py::object& path_obj,
   if (!ok) Fail("write_urdf: " + error);
   WriteText(path, urdf.text);
   return urdf.worst_m;
+}
+
+// write_ur_calibration: activecal_identify --ur_calibration_out's call;
+// returns the check's largest differences (m, rad).
+py::tuple WriteUrCalibrationPy(const EstimateResult& e,
+                               const py::object& path_obj) {
+  const std::string path = PathArg(path_obj);
+  UrCalibration ur;
+  std::string error;
+  if (!MakeUrCalibration(
+          e.model(), e.fit().parameters, e.measurements,
+          "Calibrated by activecal (Python) from " + SourceNote(e), &ur,
+          &error)) {
+    Fail("write_ur_calibration: " + error);
+  }
+  WriteText(path, ur.text);
+  return py::make_tuple(ur.worst_m, ur.worst_rad);
 }
 
 std::vector<RosTransform> Transforms(const EstimateResult& e,
@@ -170,6 +188,15 @@ void BindExport(py::module_& m) {
             "measurement (default: those identified from and the "
             "validation rows) within 1e-9 m of the calibrated model, or "
             "ValueError. Returns the largest difference (m).");
+  AddMethod(estimate, "write_ur_calibration", &WriteUrCalibrationPy,
+            py::arg("path"),
+            "Writes the calibrated UR's kinematics for the UR ROS driver "
+            "(as activecal_identify --ur_calibration_out: ur_description's "
+            "default_kinematics.yaml form, for kinematics_params_file:=). "
+            "Only for a UR loaded from its URDF, base_link to tool0; the "
+            "chain rebuilt from the written numbers as ur_description does "
+            "must match the calibrated model within 1e-9 m and 1e-9 rad, or "
+            "ValueError. Returns the largest differences (m, rad).");
   AddMethod(
       estimate, "write_frames",
       [](const EstimateResult& e, const py::object& path) {

@@ -3,7 +3,8 @@
 # in degrees under the controller's names, orientation as intrinsic X-Y-Z
 # Euler angles in degrees) read by activecal_identify through --column_map:
 # the same calibration as the file converted to activecal's form; bad maps
-# are one line on stderr.
+# are one line on stderr; the orientation hint is printed for a wrong
+# convention and not for the right one.
 #
 #   tests/column_map_cli_test.sh <build/apps dir>
 set -uo pipefail
@@ -32,7 +33,7 @@ def rotation(v):  # rotation vector -> matrix (Rodrigues)
     t = math.sqrt(sum(x * x for x in v))
     if t == 0: return [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
     k = [x / t for x in v]; c, s = math.cos(t), math.sin(t)
-    return [[c + k[i] * k[j] * (1 - c) + (0 if i == j else s * (-1 if (j - i) % 3 == 1 else 1) * k[3 - i - j])
+    return [[(c if i == j else 0) + k[i] * k[j] * (1 - c) + (0 if i == j else s * (-1 if (j - i) % 3 == 1 else 1) * k[3 - i - j])
              for j in range(3)] for i in range(3)]
 def intrinsic_xyz_deg(R):  # R = Rx(a) Ry(b) Rz(c)
     b = math.asin(max(-1.0, min(1.0, R[0][2])))
@@ -76,6 +77,12 @@ if "$apps/activecal_identify" --measurements=leica.csv --column_map=leica.yaml \
 else
   fail "identify reads the German export through the map"; cat err.txt out.txt
 fi
+if grep -q "check the orientation convention" out.txt; then
+  fail "no orientation hint for the right convention"; cat out.txt
+else
+  ok "no orientation hint for the right convention"
+fi
+
 # Positions only: the map and the hand conversion give the same fit, byte
 # for byte (the orientation columns left unmapped are ignored).
 sed '/^orientation:/d' leica.yaml >positions.yaml
@@ -88,6 +95,16 @@ if cmp -s <(tail -n +2 positions.yaml.out) <(tail -n +2 mm.yaml.out); then
 else
   fail "the map's fit is the hand conversion's, byte for byte"
   diff positions.yaml.out mm.yaml.out | head
+fi
+
+# The wrong convention (extrinsic instead of intrinsic): the hint.
+sed 's/intrinsic: true/intrinsic: false/' leica.yaml >wrong.yaml
+"$apps/activecal_identify" --measurements=leica.csv --column_map=wrong.yaml \
+  >out.txt 2>err.txt
+if grep -q "check the orientation convention (measurement_rx, measurement_ry, measurement_rz as extrinsic XYZ, deg (wrong.yaml))" out.txt; then
+  ok "the orientation hint for the wrong convention: $(grep 'check the orientation' out.txt)"
+else
+  fail "the orientation hint for the wrong convention"; cat err.txt out.txt
 fi
 
 # Bad maps and files: one line on stderr, status 1, nothing written.

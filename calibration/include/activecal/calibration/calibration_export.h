@@ -65,6 +65,42 @@ bool MakeCalibratedUrdf(const RobotModel& model,
                         const CalibratedUrdfOptions& options,
                         CalibratedUrdf* urdf, std::string* error);
 
+// The kinematics file of the UR ROS driver (io/ur_kinematics.h) of a
+// calibrated UR: what activecal_identify --ur_calibration_out and Python's
+// Estimate.save_ur_calibration write. The robot must be UR-shaped: six
+// revolute URDF joints named as ur_description names them
+// (shoulder_pan_joint ... wrist_3_joint, all with the same prefix, if
+// any), each turning about its frame's z with gain 1, loaded on the chain
+// base_link -> tool0. Each entry is the joint's calibrated origin with the
+// joint offset folded in, origin * Correction * Rz(offset) (the first
+// relative to base_link_inertia = base_link Rz(pi)); the rotations are
+// converted to the format's roll, pitch, yaw at the end only
+// (RotationToShortRpy: also at pitch +-90 deg). The base registration and
+// the markers are metrology and stay out (they go to a frames file).
+//
+// Checked before it is returned: the text is read back, the chain rebuilt
+// from its numbers as ur_description's ur_macro.xacro builds it
+// (UrTool0Pose) and compared with the calibrated model's chain (base_link
+// to its tip) at the joints of `check` and at fixed poses; the largest
+// differences must be at most kUrCalibrationTolerance (m and rad).
+inline constexpr double kUrCalibrationTolerance = 1e-9;
+
+struct UrCalibration {
+  std::string text;
+  double worst_m = 0;    // the check's largest position difference (m)
+  double worst_rad = 0;  // ... and rotation difference (rad)
+};
+
+// False with one line in *error (the caller prefixes its option): "the
+// robot is not a UR: ..." naming why, or "the written UR kinematics do not
+// reproduce the calibrated model: ... (more than 1e-9 m / rad): ...".
+// `comment`: lines written at the top of the file.
+bool MakeUrCalibration(const RobotModel& model,
+                       const Eigen::VectorXd& parameters,
+                       const std::vector<Measurement>& check,
+                       const std::string& comment, UrCalibration* out,
+                       std::string* error);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CALIBRATION_CALIBRATION_EXPORT_H_

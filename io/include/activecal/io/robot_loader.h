@@ -1,5 +1,7 @@
 // One entry for every robot description activecal reads: a URDF file
-// (".urdf", a serial chain of it, urdf_robot.h) or an activecal robot YAML
+// (".urdf", a serial chain of it, urdf_robot.h; or a xacro file, ".xacro"
+// or ".urdf.xacro", expanded by running `xacro` when it is installed) or an
+// activecal robot YAML
 // file (robot_file.h), optionally with a metrology frames file
 // (frames_file.h).
 //
@@ -27,8 +29,19 @@ struct RobotLoadOptions {
   std::string frames_path;
 };
 
-// True for a path that names a URDF file (ends in ".urdf", any case).
+// True for a path that names a URDF file (ends in ".urdf" or ".xacro", any
+// case).
 bool IsUrdfPath(const std::string& path);
+// True for a xacro file (ends in ".xacro", any case: robot.urdf.xacro).
+bool IsXacroPath(const std::string& path);
+
+// The URDF text of `path`: a .urdf file as it is; a xacro file expanded by
+// `xacro` found on PATH (run as `xacro FILE`, its output into a temporary
+// file). False with one line: "FILE is a xacro file: run `xacro FILE >
+// robot.urdf` (xacro is not installed)", or "FILE: xacro failed (exit
+// status N): <its first error line>".
+bool ReadUrdfText(const std::string& path, std::string* xml,
+                  std::string* error);
 
 bool LoadRobot(const std::string& path, const RobotLoadOptions& options,
                RobotDescription* robot, std::string* error);
