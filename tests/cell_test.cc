@@ -4,6 +4,7 @@
 // the tour, and the hook in BuildSelectionPool.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <string>
 
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
@@ -41,8 +43,15 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 const std::string kData = ACTIVECAL_DATA_DIR;
 
+// Unique per test and process: ctest runs the tests of this binary in
+// parallel, and two tests writing one path read each other's half-written
+// files.
 std::string TempPath(const std::string& name) {
-  return ::testing::TempDir() + "/activecal_cell_" + name;
+  const ::testing::TestInfo* test =
+      ::testing::UnitTest::GetInstance()->current_test_info();
+  return ::testing::TempDir() + "/activecal_cell_" +
+         std::to_string(static_cast<long>(getpid())) + "_" +
+         (test != nullptr ? std::string(test->name()) + "_" : "") + name;
 }
 
 void WriteText(const std::string& path, const std::string& text) {
@@ -1632,7 +1641,7 @@ std::vector<int> ColumnsByName(const RobotModel& from, const RobotModel& to) {
 
 TEST(CellTargetsTest, ADesignPoseHasTheRowsOfTheMarkersSeenOnly) {
   BackToBack b;
-  LoadBackToBack(&b);
+  ASSERT_NO_FATAL_FAILURE(LoadBackToBack(&b));
   // The parameters the pool identifies (the full set, reduced), as
   // activecal_select finds them.
   RobotModel two = b.u.robot.model;
@@ -1750,7 +1759,7 @@ TEST(CellTargetsTest, ADesignPoseHasTheRowsOfTheMarkersSeenOnly) {
 
 TEST(CellTargetsTest, SelectionPoolTakesTheMasksOfTheCellFilter) {
   BackToBack b;
-  LoadBackToBack(&b);
+  ASSERT_NO_FATAL_FAILURE(LoadBackToBack(&b));
   const RobotModel& two = b.u.robot.model;
   EXPECT_TRUE(CellTargetsAreMarkers(*b.u.setup.checker, two));
   const Eigen::MatrixXd all = UrSobol(two, 1500);
