@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # activecal's one entry point on a fresh Debian machine.
 #
 #   ./run.sh paper [flags]   install what is missing, build, run activecal_puma_paper
@@ -81,7 +83,7 @@ sanitize() {
 
 usage() {
   # The header comment above: the commands.
-  sed -n '2,/^set -euo/p' "$here/run.sh" | sed '$d' | sed 's/^# \{0,1\}//'
+  sed -n '4,/^set -euo/p' "$here/run.sh" | sed '$d' | sed 's/^# \{0,1\}//'
 }
 
 cmd="${1:-paper}"

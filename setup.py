@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Builds activecal's Python package with the project's CMake build.
 
 pyproject.toml holds the metadata; this file adds the one step setuptools

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_active: the active calibration loop. A D-optimal first batch
 // at the nominal values, then, round by round, measure, identify, and
 // select the next task-optimal batch at the new estimate, until the

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_compensate: rewrites a robot program so that the real robot,
 // described by a calibrated model, reaches where the program meant
 // ("filtering"). See kinematics/.../compensation.h for what a program

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_evaluate: how well a robot model predicts a measurements file,
 // with no fitting at all (the model as given, e.g. a calibrated one on
 // poses it was not fitted to).

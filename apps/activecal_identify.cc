@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_identify: identify a robot's kinematic parameters from
 // measurements (a CSV file from the device, or simulated ones), validate on
 // held-out measurements, and write the calibrated model and a report: the

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_monte_carlo: checks the identification's statistics. Measures
 // one design again and again with fresh simulated noise, identifies each
 // time, and compares the scatter of the estimates with the predicted

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_puma_paper: Sun & Hollerbach, "Active Robot Calibration
 // Algorithm", Section V, end to end, printed beside the paper's figures.
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_select: choose calibration poses for a robot (the paper's PUMA
 // 560 by default) from a joint lattice or a pool read from CSV, by a
 // D-optimal design algorithm or for the task accuracy (--criterion=task_rms),

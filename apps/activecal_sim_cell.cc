@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_sim_cell: a simulated robot cell (a robot and a tracker) that
 // speaks the driver protocol (docs/driver_protocol.md) on stdin/stdout, or
 // on TCP with --listen, for trying activecal_active --driver without

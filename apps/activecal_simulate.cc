@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal_simulate: the measurements a device would report at the poses
 // of a poses CSV, computed from the robot's true values with Gaussian noise,
 // so the calibration workflow can be tried without hardware.

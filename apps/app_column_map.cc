@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // --column_map and the function that reads it, in a file of its own (see
 // app_parameter_set.cc): the programs that read measurements call
 // ColumnMapOrDie().

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Helpers shared by the activecal programs (not part of the library).
 //
 // Flags: each flag shared by several programs is defined in the file of the

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // --strict_limits and ReadMeasurementsOrDie, which reads it (and
 // --columns_strict), in a file of their own (see app_parameter_set.cc).
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // --parameter_set and the function that reads it. A file of its own: the
 // programs link activecal_app_common as a static library, so only those
 // that call ParameterSetOrDie or ReducedParameterSetOrDie have (and list in

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Drawing a figure with gnuplot from a program (not part of the library):
 // the script, with its data inline, is piped to gnuplot. Programs skip the
 // figure with a note when gnuplot is not installed.

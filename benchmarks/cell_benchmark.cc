@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Speed of the cell's preprocess (cell/pool_filter.h): poses per second
 // filtered on 1 and 2 threads, and what a feasible pose costs by rejection
 // sampling of a Sobol pool against the measurable pool (inverse

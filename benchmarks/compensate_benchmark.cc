@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Speed of program compensation (compensation.h): targets per second for
 // 6-axis arms on 1 and 2 threads, and the iterations each target needs.
 //

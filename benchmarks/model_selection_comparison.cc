@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Which way of choosing the parameters predicts new poses best: keeping
 // every identifiable parameter, model selection by cross-validation or by a
 // validation session, or a MAP fit with priors. Prints a table of test RMS

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Per-pose time of the Python module's Robot.jacobian against the program's
 pool kernel (PoolJacobians, the selection benchmark's
 BM_PoolJacobians/threads:1/analytic:1), measured in one run, alternated.

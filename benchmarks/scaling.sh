@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Time and peak memory of activecal_select --algorithm=fedorov (Jacobians,
 # approximate design, certificate and exchanges included) against pool size
 # and design size. Prints Markdown tables: the PUMA lattice (levels per

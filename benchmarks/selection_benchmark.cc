@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Cost of scoring one candidate pose: the paper's determinant update
 // against the eigenvalue OI by SVD of the stacked design matrix, for the
 // paper's PUMA (27 parameters) and a 30-pose design.

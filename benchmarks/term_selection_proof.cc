@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The rule that keeps a joint error term only where it predicts better
 // (term_selection.h), on simulated UR10s with and without each effect:
 // geometric errors only, + joint compliance under gravity, + joint-periodic

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Install rules: the libraries, the public headers only, the programs, and a
 # CMake package so that other projects can find_package(activecal) and link
 # activecal::activecal.

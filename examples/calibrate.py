@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """A calibration campaign in the style of a Jupyter notebook (one cell per
 "# %%"): plan the poses, simulate the measurements, identify the
 parameters, check them on held-out poses, and plot (matplotlib if

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """A minimal activecal driver: the bridge between activecal_active and a
 robot cell (a robot and a tracker), in plain Python 3 (no activecal import).
 

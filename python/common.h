@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Shared by the files of the Python module `activecal` (module.cc binds
 // what they define): conversions between numpy and Eigen, errors, the
 // GIL-aware progress bridge, the result classes, and the declarations of

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Python module `activecal`: compensate; with cell= a configuration the
 // cell refuses is a collision (cell_planning.h), as activecal_compensate
 // --cell.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Python module `activecal`: select: the pool, the task and the design, by
 // the library (selection_pool.h, select_design.h); with cell= the pool is
 // the feasible one (cell_planning.h), as activecal_select --cell.

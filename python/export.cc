@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Python module `activecal`: what the programs write from an Estimate
 // (the calibrated URDF, the frames file, the frames for ROS 2) and the ROS
 // frames reader, through the same io functions the programs call.

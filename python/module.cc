@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Python module `activecal`: thin pybind11 bindings over the library,
 // numpy in and out (docs/python.md). This file binds the functions and
 // classes the other files of python/ define (common.h).

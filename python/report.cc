@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Python module `activecal`: Estimate.write_report, the HTML report of
 // activecal_identify --report_html through the same library call
 // (report/html_report.h: CalibrationHtmlReport, RenderHtml).

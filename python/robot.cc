@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Python module `activecal`: Robot: load_robot, puma560, forward, frame,
 // jacobian, with_parameter_set, save.
 

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Draws the figures of a activecal_puma_paper run with gnuplot, as PNG files
 # in <out_dir>/plots:
 #

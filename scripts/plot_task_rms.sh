@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Draws the curve of an activecal_select --target_rms_m run: the predicted
 # task RMS position error of the design of each size the search tried,
 # with the target, as a PNG.

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # The accuracy report end to end on FIGAROH's UR10e data and on the
 # simulated PUMA: model selection (cv, validation), the registration-only
 # baseline, sigma weighting, warnings, the evaluation before/after with

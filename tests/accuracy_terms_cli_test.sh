@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Joint error terms end to end (activecal_identify --compliance
 # --harmonics): on FIGAROH's UR10e data each candidate's held-out error in
 # the JSON and the printout, the families kept exactly those whose paired

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Accuracy on real data: per-measurement sigma weighting, the MAP fit, the
 // registration-only baseline, model selection by held-out error, the
 // warnings on the estimates and the posture groups of an evaluation.

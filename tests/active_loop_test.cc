@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The active loop: the residual check, poses the measurer cannot measure
 // (excluded, never asked again, the design repaired), the pool filter, the
 // measured joints identified from, resuming from any round, and the

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The approximate design on pools larger than its subsample (column
 // generation: issue #17), on single-precision pools, and the certificate
 // over a pool's exact blocks.

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # activecal_select with a cell (docs/formats.md "Cell file"): the README's
 # UR10e-on-a-table example on a small Sobol pool, the JSON's feasible_poses
 # and rejected counts, the rejected CSV, the tour, the measurable pool, the

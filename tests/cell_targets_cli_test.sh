@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Several targets per pose (issue #24, item 1): a cell with two reflectors
 # back to back on the PUMA's flange, its targets the markers. The design's
 # poses CSV says which targets each pose sees (the JSON's targets_seen), and

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The cell (cell/): the cell file and its bad input, robot collision
 // geometry, the checks at their thresholds, FCL's distances against
 // analytic ones, the pool filter and its rejected CSV, the measurable pool,

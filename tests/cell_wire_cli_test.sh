@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # The cell where poses are planned besides activecal_select (issues #24 and
 # #25, items 6): activecal_active --cell designs every batch from the
 # feasible pool (every pose it measured passes the cell's checks, recomputed

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Reads an activecal_identify --json_out report back and checks its
 // correlation matrix: unit diagonal, symmetric, equal to
 // covariance / (std std^T), positive semi-definite.

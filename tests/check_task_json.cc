@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Reads an activecal_select --criterion=task_rms report back and checks its
 // meaning: predicted_task_rms_m recomputed from joint_angles_rad (fresh
 // Jacobians of the built-in PUMA at its nominal values, task = the lattice

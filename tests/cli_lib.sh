@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Shared by the command-line tests: expects `apps` (the programs' folder)
 # and `failures` (a counter) in the caller.
 

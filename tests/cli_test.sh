@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Command-line tests of the programs: the README's calibration loop with the
 # shipped PUMA file gives the same files as the built-in model, and every
 # bad input ends with status 1 and one clear line on stderr, leaving no

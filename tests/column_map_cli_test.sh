@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # A German-locale tracker export (';' separators, decimal commas, mm, joints
 # in degrees under the controller's names, orientation as intrinsic X-Y-Z
 # Euler angles in degrees) read by activecal_identify through --column_map:

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Column maps (io/column_map.h): a device's export read through a map gives
 // the measurements of the same data converted by hand.
 

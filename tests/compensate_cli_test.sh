@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # activecal_compensate end to end: the PUMA loop select -> simulate ->
 # identify -> compensate with the programs, the true robot's error at the
 # compensated joints against what the program meant (before and after), the

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs activecal from the build tree into a temporary prefix, then
 # configures, builds and runs tests/consumer against it with
 # find_package(activecal), as software that links activecal would.

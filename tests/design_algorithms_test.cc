@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Fedorov, DETMAX, greedy, the approximate design and its certificate.
 
 #include <gtest/gtest.h>

@@ -1,4 +1,6 @@
 #!/bin/bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # The active loop against a robot cell through a real pipe: activecal_active
 # --driver with activecal_sim_cell (and the Python example driver), the
 # session killed from either side and resumed to the same bytes, every

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The driver protocol: every bad reply named, messages read back exactly,
 // commands split without a shell, the client against real processes (a
 // driver that exits, hangs, answers garbage or another protocol) and over

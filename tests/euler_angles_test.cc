@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Euler / Tait-Bryan conventions (core/euler_angles.h): every order, both
 // frames, both units, against products of elementary rotations written out
 // by hand; round trips; the gimbal-lock points.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Fedorov at scale (issue #17): the pair scan's bound and batched products,
 // single-precision pools, and results for any thread count.
 

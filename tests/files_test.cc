@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Robot description files (YAML) and the workflow's CSV files: the shipped
 // PUMA file equals the built-in model, round trips are exact, and every
 // malformed input is answered with file, line and field.

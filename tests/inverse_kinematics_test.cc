@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Inverse kinematics (inverse_kinematics.h) and compensation
 // (compensation.h): the exact joint Jacobian against central differences,
 // convergence on every convention, each status provoked, limits never

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // ISO 9283 7.2 pose accuracy and repeatability (estimation/iso9283.h)
 // against an independent computation: the attained orientations are built
 // from known deviations by quaternions (not matrices), the position

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Joint error terms: gravity torques, the residual's Jacobian, the URDF
 // inertials, the joint fit with the geometry and the choice of terms by
 // held-out error (a term kept when present, none when absent).

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Sobol and random pools (core/joint_sampling.h): inside the ranges,
 // seeded, evenly spread (every one-dimensional projection of 2^k Sobol
 // points puts one point in each of 2^k equal bins), one turn for full-turn

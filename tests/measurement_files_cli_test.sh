@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Measurement files as devices export them, through the programs: the
 # warning for joint readings beyond the limits (and --strict_limits), the
 # note for columns a device adds (and --columns_strict), millimetres and the

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Identification from 6D pose, distance and mixed measurements; robust
 // losses against gross outliers; identifiability repair.
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The URDF-joint and frame conventions, the tip transform and several
 // markers: forward kinematics against an independent composition of
 // Eigen::Isometry3d transforms, the robot file round trip, and the model's

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The identification's predicted covariance agrees with the scatter of its
 // estimates over repeated noise, within sampling error.
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The orientation convention hint (estimation/orientation_check.h).
 
 #include "activecal/estimation/orientation_check.h"

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The analytic point Jacobian (core/point_jacobian.h) against the Ceres
 // auto-diff residual's Jacobian and central differences, on every
 // convention: standard and modified DH, Hayati, URDF joints (revolute about

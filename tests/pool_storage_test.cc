@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Single-precision pools: the storage, the chunked builder and its exact
 // source, and the sweeps that read them.
 

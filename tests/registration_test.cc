@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Closed-form registration of the base frame, and an identification that
 // needs no initial guess of the device's frame: 20 random frames 400 mm and
 // 90 degrees away from the robot.

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # The HTML report (--report_html) rendered in headless Chromium: its figures
 # exist, its numbers equal the JSON report's, the "after" errors spread
 # over several log bins, it prints to PDF; the warnings of the README's

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Numerical robustness of the selector: long update chains, near-singular
 // designs, duplicated poses, parameters some poses cannot see, and pools
 // read from files with such poses.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The metrology frames as ROS 2 static transforms (io/ros_frames.h): the
 // script and the TFMessage YAML read back to the model's transforms; the
 // readers' forms and errors.

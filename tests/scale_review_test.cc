@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Review of the scale work (issue #17): cases the other scale tests miss.
 
 #include <gtest/gtest.h>

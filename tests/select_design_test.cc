@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // SelectDesign (the design step of activecal_select and the Python module)
 // and BuildSelectionPool (its pool side).
 

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Command-line tests of the task criterion (activecal_select
 # --criterion=task_rms, --target_rms_m, --measured_csv) and of the active
 # loop (activecal_active): reports read back and checked for their meaning,

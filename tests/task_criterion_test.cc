@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The task criterion: its update formulas against recomputation, the
 // exchange and greedy algorithms, the approximate design, its certificate
 // against exhaustive search, and the meaning of the predicted RMS.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Helpers shared by the tests.
 
 #ifndef ACTIVECAL_TESTS_TEST_UTIL_H_

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The UR ROS driver's kinematics file (io/ur_kinematics.h) of a calibrated
 // UR (calibration_export.h: MakeUrCalibration).
 

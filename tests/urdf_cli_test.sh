@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # The URDF workflow from the README on FIGAROH's UR10e data: URDF in, a
 # calibrated URDF and frames out, evaluation with them; the programs' answers
 # read back and checked for what they mean; bad URDF inputs end with status 1

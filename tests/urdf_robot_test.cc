@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // URDF chains as robots: the chain found, the structure read, and forward
 // kinematics checked against an independent implementation, orocos KDL
 // (through kdl_parser), to 1e-12 m over random configurations.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Warnings that mean something (issue #29): the outlier rule (chi-square
 // per measurement, robust scale per class of rows, Bonferroni) at its
 // threshold, and a calibration of every shipped robot on clean simulated

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The inner solver of the approximate design (selection/src/weight_exchange.h):
 // the exchange step against a brute-force search, the Woodbury update of
 // V against recomputation, and the solver's result against the

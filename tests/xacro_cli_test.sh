@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # xacro input: --robot=x.urdf.xacro runs `xacro` when it is on PATH (here a
 # fake one that logs its call and prints the URDF), passes a failing
 # xacro's error on in one line, and without xacro says in one line how to

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Small helpers shared by the cell library's sources (not installed).
 
 #ifndef ACTIVECAL_CELL_SRC_CELL_INTERNAL_H_

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 #include "activecal/estimation/iso9283.h"
 
 #include <cmath>

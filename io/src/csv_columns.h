@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Internal to the io library: the column logic of the measurements CSV
 // (csv_files.cc) for another file of the same columns, the targets CSV
 // (targets_csv.cc), so that both accept the same columns.

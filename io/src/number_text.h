@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Numbers as text, shared by the file readers and writers of core (not
 // installed).
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The reading habits of core's YAML files (robot descriptions, frames):
 // messages "<source>:<line>:<column>: <field>: <what>", unknown keys refused,
 // finite numbers, [x, y, z] lists and {xyz, rpy} poses. Not installed.

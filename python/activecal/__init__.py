@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """activecal: robot kinematic calibration (C++ core, pybind11 bindings).
 
 Units are SI (m, rad); errors are ValueError (bad input) or RuntimeError (a

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Tables of activecal's results: pandas DataFrames when pandas is
 installed, otherwise dicts of numpy arrays (column name -> 1-D array, every
 column of one length) that pandas.DataFrame(...) would take as they are.

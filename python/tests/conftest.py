@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Shared fixtures of the activecal pytest suite.
 
 Run by ctest (python_test) with PYTHONPATH=<build>/python and

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """The cell where Python plans a pose: select(..., cell=) chooses from the
 poses the cell can run, as activecal_select --cell; compensate(..., cell=)
 gives a configuration through the table the status 'collision', as

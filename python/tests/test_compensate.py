@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """compensate: the same joints as activecal_compensate, and their meaning."""
 import json
 import subprocess

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """The README example, examples/calibrate.py and the installed module."""
 import os
 import pathlib

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """What Python writes from an Estimate is what activecal_identify writes:
 the calibrated URDF (--urdf_out, with its reload check), the frames file
 (--frames_out); the frames for ROS 2 read back to the model's transforms."""

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Formats users already have: a tracker export read through a column map
 (read_measurements(column_map=)), and the UR ROS driver's kinematics file
 (Estimate.write_ur_calibration, activecal_identify --ur_calibration_out)."""

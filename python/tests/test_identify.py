@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """identify: the same estimates as activecal_identify, and what they mean."""
 import json
 

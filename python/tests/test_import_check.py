@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """The import check (activecal/__init__.py): another interpreter, one that
 cannot load the extension or has no numpy, gets one line naming the
 interpreter the build is for and the one running, not a failure at the

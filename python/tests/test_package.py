@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """pip install of the checkout (pyproject.toml, setup.py) into a temporary
 venv, then the README's Python example run there; the wheel of
 `python3 -m build --no-isolation --wheel`. A ctest of its own

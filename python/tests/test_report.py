@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Estimate.write_report: the HTML report of activecal_identify
 --report_html, through the same library call; its numbers are the
 estimate's (in mm / mrad, SI in data-value)."""

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """A new user's review of the module: behaviour that docs/python.md got
 wrong or left out, checked against the module and against the document.
 

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Robot: loading, parameters, forward kinematics and the Jacobian."""
 import numpy as np
 import pytest

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """select: the same designs as activecal_select, and what they mean."""
 import json
 import threading

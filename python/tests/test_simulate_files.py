@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """simulate and the CSV files: the same measurements as activecal_simulate."""
 import numpy as np
 import pytest

@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """Tables (activecal/_tables.py): pandas DataFrames when pandas is
 installed, dicts of numpy arrays without; the same columns and values."""
 import subprocess

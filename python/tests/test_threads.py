@@ -1,3 +1,5 @@
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 """One Robot from several Python threads; the GIL released in long work."""
 import concurrent.futures
 import threading

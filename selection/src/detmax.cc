@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // DETMAX (Mitchell 1974): excursions that add k poses and remove k, or
 // remove k and add k, kept when they raise log det.
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Fedorov exchange (fast form of Nguyen & Miller 1992), with the reduced
 // pool and the polish over the whole pool.
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Greedy: add the best pose until the design has num_poses.
 
 #include <chrono>

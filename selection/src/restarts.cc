@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The machinery the restarted selection algorithms share: the starting
 // design, the best of the restarts, the summary.
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Internal pieces shared by the selection algorithms. Not installed.
 
 #ifndef ACTIVECAL_SELECTION_SRC_SELECTION_INTERNAL_H_

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Part of a pool as a pool of its own, with the index maps both ways: the
 // reduced pool of Fedorov's restarts and its polish rounds work on one.
 // Not installed.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 #include "activecal/selection/target_size.h"
 
 #include <Eigen/QR>

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The approximate task design (multiplicative updates on a working set)
 // and the certificate of exact designs.
 

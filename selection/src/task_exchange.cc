@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Fedorov exchange and greedy additions for the task criterion.
 
 #include "activecal/selection/task_exchange.h"

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The inner solver of the approximate D-optimal design: the weights on a
 // working set of pose blocks, optimised by randomized exchanges (after
 // Harman, Filova & Richtarik, "A randomized exchange algorithm for

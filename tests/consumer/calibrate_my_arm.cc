@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The whole calibration job through the library: load a robot file, choose
 // poses by Fedorov exchange on a lattice, simulate what a tracker would
 // measure there, identify, and save the calibrated model.

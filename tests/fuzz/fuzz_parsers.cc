@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // libFuzzer targets of the file parsers: whatever the bytes, a parser
 // returns true or false with a message; it never crashes, reads out of
 // bounds, overflows or hangs. One binary per parser, chosen at compile time

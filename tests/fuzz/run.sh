@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds the libFuzzer targets with clang (ASan + UBSan), replays the
 # regression inputs (what earlier fuzzing found, kept after the fix), then
 # fuzzes each parser for a fixed time from its seed corpus.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The active calibration loop: design a batch, measure it, identify from
 // everything measured, re-design the next batch at the new estimate, until
 // the predicted task RMS position error meets a target.

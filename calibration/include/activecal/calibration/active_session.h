@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A session of the active loop kept in a directory, so that a crash of
 // activecal or of the robot cell loses nothing and the loop continues where
 // it stopped:

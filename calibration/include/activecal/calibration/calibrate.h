@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Calibrate: the whole identification corridor, from a robot model and its
 // measurements to the calibrated parameters, what was held fixed and why,
 // the registration-only baseline, validation errors and warnings. What

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The calibrated robot as URDF, checked before it is written: what
 // activecal_identify --urdf_out and the Python module's Estimate.write_urdf
 // write.

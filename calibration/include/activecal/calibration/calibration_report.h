@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // What activecal_identify prints and writes for a calibration
 // (calibrate.h): the lines of the stages as they ran, the estimates table
 // and the closing lines, the note on what was held fixed, and the JSON

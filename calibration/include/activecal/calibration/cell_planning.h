@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The cell wherever a pose is planned (activecal_select, activecal_active,
 // activecal_compensate, the Python module): the pool filter that runs the
 // cell's checks (cell/pool_filter.h) and keeps their verdicts, the one line

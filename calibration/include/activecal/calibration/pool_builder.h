@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // BuildCandidatePool: the pipeline from joint values to the candidate pool a
 // design is selected from. The Jacobian of every pose at the given
 // parameter values (jacobians.h), optionally an identifiability check

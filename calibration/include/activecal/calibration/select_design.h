@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The whole design step of activecal_select on a pool already built: the
 // approximate design (for the starts and the certificate), the algorithm
 // chosen by name and criterion, the search for the fewest poses meeting a

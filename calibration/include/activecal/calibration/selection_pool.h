@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The pool side of activecal_select (and the Python module's select): the
 // parameters a design is for, the storage of the pool's Jacobian blocks,
 // the pool itself, and the task's pool when it is not the pool.

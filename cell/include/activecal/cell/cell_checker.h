@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Whether a real cell can run a pose: CellChecker holds the robot's
 // collision geometry, the cell's obstacles and device as FCL objects and
 // checks one joint configuration at a time.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The cell a robot is calibrated in (YAML, docs/formats.md "Cell file"):
 // the joint margins planned poses keep, the clearance to obstacles and
 // between links, the obstacles, the measuring device and the targets it

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // What a program needs for --cell, in one call: the cell file, the robot's
 // collision geometry (from the robot's own file), the cell's targets as the
 // robot's markers when no frames file gives them, and the checker.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A pool that samples where measurement is possible: instead of drawing
 // joint values and keeping the few a cell can measure (a UR10e in front of
 // a laser tracker keeps ~3 % of its joint space), draw what the device can

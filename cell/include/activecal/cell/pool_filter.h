@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The preprocess of a candidate pool: the poses a real cell can run (the
 // checks of cell_checker.h), counted per reason, before the pool's
 // Jacobians, the identifiability check and the design.

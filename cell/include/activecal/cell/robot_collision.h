@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The robot's collision geometry: rigid bodies of collision shapes, each
 // fixed to a frame of the RobotModel, and the joints' velocity limits.
 //

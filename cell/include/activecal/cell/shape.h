@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Collision shapes of the cell: the robot's links and the obstacles, as
 // FCL (the Flexible Collision Library) checks them.
 //

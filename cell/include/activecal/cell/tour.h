@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // An order to run a design in: a short tour in joint space, every move
 // between consecutive poses checked for collisions.
 //

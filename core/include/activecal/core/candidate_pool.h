@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The candidate poses a design is chosen from, as their Jacobian blocks:
 // pose i contributes the block X_i of t rows (3 for a position measurement)
 // and p columns (free parameters). Blocks are stored stacked and row-major,

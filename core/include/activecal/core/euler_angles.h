@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Euler and Tait-Bryan angles: the 12 axis orders, intrinsic or extrinsic,
 // in radians or degrees, to and from rotation matrices. For the orientation
 // columns of files written by trackers and other software; activecal's own

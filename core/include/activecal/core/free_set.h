@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The free set: which parameters of a robot model a calibration estimates,
 // as a value.
 //

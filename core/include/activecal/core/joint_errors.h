@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Joint error terms: errors of a joint's motion that depend on the pose, on
 // top of the geometric (kinematic) parameters of robot_model.h.
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Candidate poses beyond the lattice: quasi-random (Sobol) or random joint
 // values inside the model's joint ranges, for any number of joints. A
 // lattice of L levels on n joints has L^n poses and covers a 7- or 8-axis

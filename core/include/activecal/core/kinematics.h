@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Forward kinematics of a RobotModel, written once and templated on the
 // scalar so that Ceres' Jets differentiate through it.
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The candidate pool of Sun & Hollerbach, Section V-B: every joint range
 // sampled at evenly spaced levels, both ends included, and every combination
 // of levels taken as a pose.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // What a measuring device reports about the robot, one struct for every
 // kind: a 3D position (laser tracker, stereo camera), a full 6D pose (a
 // tracker with a 6D probe), or the distance between the measured points of

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A minimal static-partition parallel for. Each index is handled by exactly
 // one call, and work is split into contiguous ranges, so results written per
 // index do not depend on the thread count. The threads are kept in a pool

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Which parameters a calibration identifies, chosen by name rather than by
 // editing free flags:
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The analytic parameter Jacobian of a measured point: one forward pass
 // through the chain, then every free parameter's column as the screw it
 // moves the point along. The selection pool's fast path (issues #17, #32):

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The PUMA 560 of Sun & Hollerbach, "Active Robot Calibration Algorithm",
 // Section V, with the 27 free parameters in the paper's order:
 //

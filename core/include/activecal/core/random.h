@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A seeded random source whose streams are the same on every platform and
 // standard library: std::mt19937_64 (fully specified by the standard) with
 // our own uniform, integer and Gaussian transforms (the std:: distributions

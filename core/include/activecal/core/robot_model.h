@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal: kinematic calibration of serial robot arms.
 //
 // RobotModel describes a serial arm for calibration: a base frame, one link

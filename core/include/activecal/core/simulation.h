@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Simulated measurements, for trying a calibration without hardware and for
 // testing: the measured point computed from the true parameters plus
 // i.i.d. Gaussian noise on each axis, reproducible for a seed.

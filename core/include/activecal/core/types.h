@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Common matrix types.
 
 #ifndef ACTIVECAL_CORE_TYPES_H_

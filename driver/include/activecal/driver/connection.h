@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The byte streams the driver protocol runs over: lines of text on a pair
 // of file descriptors (a child process's stdin and stdout, or a TCP
 // socket), read with a timeout.

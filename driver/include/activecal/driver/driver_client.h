@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // activecal's side of the driver protocol (protocol.h) over a connection
 // (connection.h): hello, then one measure request at a time, then bye.
 //

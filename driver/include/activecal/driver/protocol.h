@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The driver protocol (docs/driver_protocol.md): how activecal hands a pose
 // to a robot cell (a robot and a tracker behind a "driver" program) and
 // gets the measurement back. One JSON object per line, in both directions:

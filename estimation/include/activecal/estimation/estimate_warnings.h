@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Warnings a calibration engineer wants about an identification's
 // estimates, one line each, naming the parameters:
 //

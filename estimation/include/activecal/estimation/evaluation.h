@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // How well a model predicts measurements, with no fitting at all: the
 // honest test of a calibration on poses it has not seen.
 //

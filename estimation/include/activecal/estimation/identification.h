@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Identification of the free kinematic parameters from measurements of any
 // kind (measurement.h: position, 6D pose, distance, mixed), by nonlinear
 // least squares (Ceres, Levenberg-Marquardt), optionally with a robust loss.

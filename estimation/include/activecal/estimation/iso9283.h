@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // ISO 9283:1998 section 7.2: pose accuracy (AP) and pose repeatability (RP)
 // of n cycles to one commanded pose, the figures robot data sheets quote.
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Choosing how many parameters the data support, from held-out error.
 //
 // A full kinematic model with every identifiable parameter fits its

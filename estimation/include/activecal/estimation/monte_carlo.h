@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A Monte Carlo check of the identification's statistics: the same design
 // is measured again and again with fresh noise, identified each time, and
 // the scatter of the estimates is compared with the covariance the theory

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A hint for orientations read in the wrong convention.
 //
 // Pose measurements whose orientation was read in another Euler convention

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Reducing a named parameter set (core/parameter_sets.h) to the parameters
 // the measurements can separate, by a rule a calibration engineer can
 // predict: parameters are considered in a fixed priority order and each is

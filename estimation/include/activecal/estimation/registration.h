@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Closed-form registration of a robot's base frame to measured points, so
 // that an identification needs no initial guess of where the measuring
 // device (a laser tracker, a mocap system) stands relative to the robot.

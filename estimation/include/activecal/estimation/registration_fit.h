@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The honest baseline of a calibration: the nominal geometry with only the
 // base frame and the marker points fitted to the measurements (the
 // 'registration' parameter set, core/parameter_sets.h). When the device's

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A check of the measured values' unit before anything is calibrated.
 //
 // After the registration (the base frame and the markers fitted to the

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Choosing the joint error terms (joint_errors.h) by held-out error.
 //
 // Families of terms ("compliance": one compliance per joint under gravity;

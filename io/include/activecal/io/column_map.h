@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Column maps: how to read a measurements file as a device's software
 // exports it (docs/formats.md, "Column maps"), without converting it by
 // hand first. A small YAML file:

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Programs for a robot controller that move through a design's poses and
 // wait at each for the measurement, for cells without a driver
 // (docs/driver_protocol.md): URScript (Universal Robots: movej), KUKA KRL

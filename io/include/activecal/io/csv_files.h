@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The CSV files of the calibration workflow (docs/formats.md):
 //
 //   poses        what to run on the robot: pose_index, then each joint in SI

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Metrology frames (YAML): where the robot's base sits in the measuring
 // device's frame and where the measured points (markers) sit on the end
 // effector. They are not robot geometry, so a calibrated URDF does not hold

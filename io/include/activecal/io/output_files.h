@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Writing output files so that a failed run leaves nothing half-written:
 // each file goes to a temporary file beside its path ("<path>.tmp") and is
 // renamed over the path; several files are all written to temporaries

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Robot description files (YAML): the structure, nominal values, free
 // parameters, joint limits and gains of a serial arm, and optionally the
 // true values a simulation should use. docs/formats.md documents the format;

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // One entry for every robot description activecal reads: a URDF file
 // (".urdf", a serial chain of it, urdf_robot.h; or a xacro file, ".xacro"
 // or ".urdf.xacro", expanded by running `xacro` when it is installed) or an

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The metrology frames (frames_file.h: the base registration and the
 // markers) for ROS 2's tf2, in the two forms ROS takes static transforms:
 //

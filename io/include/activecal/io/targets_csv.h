@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The targets CSV: Cartesian targets for the robot's marker, one per row,
 // in the measuring device's (base/tracker) frame (docs/formats.md):
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The kinematics file of Universal Robots' ROS description
 // (ur_description's config/<type>/default_kinematics.yaml, which the UR ROS
 // driver loads with kinematics_params_file:=FILE, and ur_calibration

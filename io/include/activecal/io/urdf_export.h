@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Calibrated robots back into the URDF world.
 //
 // CalibratedUrdfText rewrites a URDF so that it carries a calibration of its

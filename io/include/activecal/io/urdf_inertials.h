@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The gravity model of a URDF chain (joint_errors.h: GravityModel): the
 // mass and centre of mass of every link on the chain that a moving joint
 // carries, from the links' <inertial> elements, for the compliance terms.

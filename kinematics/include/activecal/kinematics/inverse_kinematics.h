@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Inverse kinematics of any activecal RobotModel (standard DH, modified DH,
 // Hayati, URDF joints; revolute and prismatic joints; joint offsets and
 // gains; any marker): the joint values that put a marker at a target point,

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The report a calibration engineer hands over: one self-contained HTML
 // file (figures inline as SVG, no script, no network) with the set-up, the
 // errors before (registration only) and after, on the training and the

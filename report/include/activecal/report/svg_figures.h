@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The report's figures as SVG text (no script, no external resource): a
 // histogram of error magnitudes on logarithmic bins, a curve with error
 // bars, a matrix as a heat map with its row and column names. Each figure

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Jacobians of the measurements with respect to the free parameters: the
 // design matrix rows consumed by the pose selector. They are evaluated
 // through the same cost functions the identification uses

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Jacobians and residuals of measurements with joint error terms
 // (joint_errors.h, joint_error_residual.h): the free geometric parameters'
 // columns, then one column per term.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The residual of one measurement with joint error terms (joint_errors.h:
 // compliance under gravity, joint-periodic errors): the geometric residual
 // (measurement_residual.h) with each joint's motion offset moved by its

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The Ceres residual of one measurement (measurement.h): predicted minus
 // measured, with exact automatic derivatives through the templated
 // kinematics.

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The approximate (continuous-weight) D-optimal design over a pool, and the
 // certificate it gives for exact designs.
 //

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Design criteria and observability indices.
 //
 // With sigma_1 >= ... >= sigma_L the non-zero singular values of the stacked

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // A design (a set of distinct pool poses) with its information matrix kept
 // current, the inputs every selection algorithm shares, and the Summary
 // every selection algorithm returns.

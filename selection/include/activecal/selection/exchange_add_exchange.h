@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The exchange-add-exchange algorithm of Sun & Hollerbach, Section IV:
 //
 //  1. Initialise: n random poses from the pool (fixed poses included).

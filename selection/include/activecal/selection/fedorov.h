@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Exact-design algorithms beyond the paper's exchange-add-exchange, on the
 // same information-matrix updates:
 //

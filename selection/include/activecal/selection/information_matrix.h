@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The information matrix M = sum_i X_i^T X_i of a design, with its
 // log-determinant and inverse V = M^-1 kept current as pose blocks are added
 // and removed (matrix determinant lemma and Woodbury identity, O(t p^2) per

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Best of K random designs (Sun & Hollerbach, Section V-C): the baseline
 // the active algorithms are measured against.
 

@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The size from a target: the fewest poses whose design predicts a task RMS
 // position error (task_criterion.h) at or below a target.
 //

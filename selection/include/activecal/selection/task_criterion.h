@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // The task-accuracy criterion (I-optimality): how well a design predicts
 // the robot's position where it will work.
 //

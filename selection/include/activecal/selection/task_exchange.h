@@ -1,3 +1,6 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
 // Exact designs for the task criterion phi = tr(W M^-1) (task_criterion.h):
 //
 //  * TaskExchange: Fedorov exchange. At every iteration the best swap over
