@@ -36,9 +36,11 @@ std::vector<int> ReductionPriority(const RobotModel& model) {
     const Link& l = model.link(b);
     std::vector<int> within = all(b);
     // The joint offset first.
-    const int offset = l.convention == LinkConvention::kUrdf   ? kUrdfOffset
-                       : l.joint_type == JointType::kPrismatic ? kD
-                                                               : kGamma;
+    // (Two enums of block indices: compared as the ints they index with.)
+    const int offset =
+        l.convention == LinkConvention::kUrdf   ? static_cast<int>(kUrdfOffset)
+        : l.joint_type == JointType::kPrismatic ? static_cast<int>(kD)
+                                                : static_cast<int>(kGamma);
     within.erase(std::find(within.begin(), within.end(), offset));
     within.insert(within.begin(), offset);
     add_block(b, within);
