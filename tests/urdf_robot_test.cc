@@ -25,6 +25,7 @@
 #include "activecal/core/random.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/urdf_export.h"
+#include "activecal/io/xml_text.h"
 #include "test_util.h"
 
 namespace activecal {
@@ -597,6 +598,17 @@ TEST(UrdfExportTest, Pitch90ChainsExportExactly) {
         (MeasuredPoint(*model, v, q) - MeasuredPoint(m, values, q)).norm(),
         1e-14);
   }
+}
+
+// One escape for the URDF writer and the HTML report: the five characters,
+// the apostrophe as each reader wants it, UTF-8 untouched.
+TEST(XmlTextTest, FiveCharactersAndTheApostropheOfEachWriter) {
+  const std::string text = "a&b <c> \"d\" it's \u00b5m";
+  EXPECT_EQ(EscapeXmlText(text, XmlApostrophe::kNamed),
+            "a&amp;b &lt;c&gt; &quot;d&quot; it&apos;s \u00b5m");
+  EXPECT_EQ(EscapeXmlText(text, XmlApostrophe::kNumeric),
+            "a&amp;b &lt;c&gt; &quot;d&quot; it&#39;s \u00b5m");
+  EXPECT_EQ(EscapeXmlText("", XmlApostrophe::kNamed), "");
 }
 
 // Issue #26, item 10: a joint name holding an XML entity (name="j2 &amp;

@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/io/xml_text.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -48,29 +49,7 @@ Eigen::Isometry3d LinkAt(const Link& link, const double* p) {
 
 // Text for an XML attribute value.
 std::string Escaped(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+  return EscapeXmlText(text, XmlApostrophe::kNamed);
 }
 
 // UTF-8 of a character number (a numeric character reference).

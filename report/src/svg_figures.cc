@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "activecal/io/xml_text.h"
+
 namespace activecal {
 namespace {
 
@@ -87,30 +89,7 @@ std::vector<double> LinearTicks(double lo, double hi) {
 }  // namespace
 
 std::string HtmlEscape(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+  return EscapeXmlText(text, XmlApostrophe::kNumeric);
 }
 
 std::vector<double> LogBinEdges(const std::vector<std::vector<double>>& values,
