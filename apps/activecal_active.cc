@@ -313,11 +313,15 @@ int Main() {
   }
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
-    // Reduced to what the poses the loop may design separate.
+    // Reduced to what the poses the loop may design separate, each
+    // measuring the targets it sees when they are the markers.
+    const bool masked =
+        with_cell && CellTargetsAreMarkers(*cell.checker, model);
     model = WithFreeSet(
         model, app::ReducedParameterSetOrDie(
                    model, urdf,
-                   with_cell ? feasibility.FeasibleJoints(joints) : joints));
+                   with_cell ? feasibility.FeasibleJoints(joints) : joints,
+                   masked ? &feasibility.targets_seen : nullptr));
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
       model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);

@@ -28,6 +28,7 @@
 #include <string>
 #include <thread>
 
+#include "activecal/calibration/cell_planning.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
@@ -407,8 +408,20 @@ int Main() {
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
     const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
-    model = WithFreeSet(model, app::ReducedParameterSetOrDie(
-                                   model, urdf, lattice.AllJointValues()));
+    const Eigen::MatrixXd joints = lattice.AllJointValues();
+    // The cell's targets as the markers: the simulated robot's truth is
+    // every marker's, each measured at every pose of the lattice.
+    std::vector<uint32_t> every_marker;
+    if (cell_setup.checker &&
+        CellTargetsAreMarkers(*cell_setup.checker, model)) {
+      every_marker.assign(joints.rows(), model.num_markers() >= 32
+                                             ? ~0u
+                                             : (1u << model.num_markers()) - 1);
+    }
+    model =
+        WithFreeSet(model, app::ReducedParameterSetOrDie(
+                               model, urdf, joints,
+                               every_marker.empty() ? nullptr : &every_marker));
   }
   Eigen::VectorXd truth = robot.true_parameters.size() == model.num_parameters()
                               ? robot.true_parameters

@@ -192,11 +192,15 @@ void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
                        const PoseList& poses, const std::string& comment);
 
 // The free set of --parameter_set (ParameterSetOrDie) on `model`, reduced
-// to what position measurements at the rows of `joints` separate (at most
-// 2,000 of them, evenly spaced). Prints the parameters held fixed; dies
-// when nothing is left to identify. (app_parameter_set.cc)
-FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
-                                 const Eigen::MatrixXd& joints);
+// to what position measurements at the rows of `joints` separate
+// (ReduceForPool, calibration/pool_reduction.h: at most 2,000 of them,
+// evenly spaced). seen_masks: null, marker 0 at every pose; otherwise
+// the markers seen at each row (a cell's targets_seen). Prints the
+// parameters held fixed; dies when nothing is left to identify.
+// (app_parameter_set.cc)
+FreeSet ReducedParameterSetOrDie(
+    const RobotModel& model, bool urdf_robot, const Eigen::MatrixXd& joints,
+    const std::vector<uint32_t>* seen_masks = nullptr);
 
 }  // namespace app
 }  // namespace activecal

@@ -8,11 +8,12 @@
 
 #include <gflags/gflags.h>
 
-#include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <string>
 #include <vector>
 
-#include "activecal/estimation/parameter_reduction.h"
+#include "activecal/calibration/pool_reduction.h"
 #include "app_common.h"
 
 DEFINE_string(parameter_set, "",
@@ -37,27 +38,21 @@ ParameterSet ParameterSetOrDie(bool urdf_robot) {
 }
 
 FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
-                                 const Eigen::MatrixXd& joints) {
+                                 const Eigen::MatrixXd& joints,
+                                 const std::vector<uint32_t>* seen_masks) {
   const ParameterSet set = ParameterSetOrDie(urdf_robot);
-  const Eigen::Index n = std::min<Eigen::Index>(joints.rows(), 2000);
-  Eigen::MatrixXd sample(n, joints.cols());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    sample.row(i) = joints.row(i * joints.rows() / n);
-  }
-  Eigen::VectorXd point = model.nominal;
-  FreeSet free;
-  std::vector<HeldParameter> dropped;
-  std::string error;
-  if (!ReduceParameterSet(model, set, MeasurementPlan(sample), 1.0, &point,
-                          &free, &dropped, &error)) {
+  PoolReductionOptions options;
+  options.evenly_spaced = true;
+  PoolReduction reduction;
+  if (!ReduceForPool(model, set, joints, seen_masks, options, &reduction)) {
     Fail("--parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
-         error);
+         reduction.message);
   }
-  for (const HeldParameter& d : dropped) {
+  for (const HeldParameter& d : reduction.held) {
     std::printf("  --parameter_set=%s: %s held fixed: %s\n",
                 ParameterSetToString(set), d.name.c_str(), d.reason.c_str());
   }
-  return free;
+  return reduction.free;
 }
 
 }  // namespace app

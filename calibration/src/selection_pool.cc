@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <sstream>
 
-#include "activecal/core/joint_sampling.h"
+#include "activecal/calibration/pool_reduction.h"
 
 namespace activecal {
 
@@ -148,52 +148,31 @@ bool BuildSelectionPool(RobotModel* model, const Eigen::MatrixXd& all_joints,
   const std::vector<uint32_t>* masks =
       options.filter ? options.kept_marker_masks : nullptr;
   {
-    std::vector<Measurement> plan;
-    if (masks == nullptr) {
-      plan = MeasurementPlan(
-          SubsampleRows(pool_joints, options.reduction_sample_size),
-          options.type);
-    } else {
-      // The markers seen at each sampled pose: the mask rides along as a
-      // last column through the subsample.
-      if (masks->size() != static_cast<size_t>(pool_joints.rows())) {
-        summary->message = "pool filter: " + std::to_string(masks->size()) +
-                           " marker masks for " +
-                           std::to_string(pool_joints.rows()) + " poses";
-        return false;
-      }
-      const int n = static_cast<int>(pool_joints.cols());
-      Eigen::MatrixXd tagged(pool_joints.rows(), n + 1);
-      tagged.leftCols(n) = pool_joints;
-      for (size_t i = 0; i < masks->size(); ++i) tagged(i, n) = (*masks)[i];
-      const Eigen::MatrixXd sample =
-          SubsampleRows(tagged, options.reduction_sample_size);
-      for (Eigen::Index i = 0; i < sample.rows(); ++i) {
-        const uint32_t mask = static_cast<uint32_t>(sample(i, n));
-        for (int k = 0; k < model->num_markers() && k < 32; ++k) {
-          if (!(mask & (1u << k))) continue;
-          Measurement m;
-          m.type = options.type;
-          m.joints = sample.row(i).head(n).transpose();
-          m.marker = k;
-          plan.push_back(std::move(m));
-        }
-      }
+    PoolReductionOptions reduction_options;
+    reduction_options.type = options.type;
+    reduction_options.rotation_weight_m_per_rad =
+        options.rotation_weight_m_per_rad;
+    reduction_options.sample_size = options.reduction_sample_size;
+    PoolReduction reduction;
+    if (masks != nullptr &&
+        masks->size() != static_cast<size_t>(pool_joints.rows())) {
+      summary->message = "pool filter: " + std::to_string(masks->size()) +
+                         " marker masks for " +
+                         std::to_string(pool_joints.rows()) + " poses";
+      return false;
     }
-    Eigen::VectorXd point = model->nominal;
-    FreeSet free;
-    if (!ReduceParameterSet(*model, options.parameter_set, plan,
-                            options.rotation_weight_m_per_rad, &point, &free,
-                            &summary->dropped, &error)) {
+    if (!ReduceForPool(*model, options.parameter_set, pool_joints, masks,
+                       reduction_options, &reduction)) {
       summary->reduction_failed = true;
       summary->message =
           "parameter_set=" +
           std::string(ParameterSetToString(options.parameter_set)) + ": " +
-          error;
+          reduction.message;
       return false;
     }
-    *model = WithFreeSet(*model, free);
-    model->nominal = point;
+    summary->dropped = reduction.held;
+    *model = WithFreeSet(*model, reduction.free);
+    model->nominal = reduction.point;
   }
   summary->double_mib = 8.0 * pool_joints.rows() *
                         MeasurementDimension(options.type) * model->num_free() /
