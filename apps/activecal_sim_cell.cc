@@ -433,12 +433,11 @@ int Main() {
         "or perturb it (--perturb_m, --perturb_rad)");
   }
   if (perturbed) {
-    Random random(Random::StreamSeed(FLAGS_seed, 0x5eed));
-    for (int i : model.FreeParameterIndices()) {
-      const ParameterKind kind = model.Kind(i);
-      const double g = random.Gaussian();
-      if (kind == ParameterKind::kLength) truth[i] += FLAGS_perturb_m * g;
-      if (kind == ParameterKind::kAngle) truth[i] += FLAGS_perturb_rad * g;
+    std::string error;
+    const Eigen::VectorXd unperturbed = truth;
+    if (!PerturbParameters(model, unperturbed, FLAGS_perturb_m,
+                           FLAGS_perturb_rad, FLAGS_seed, &truth, &error)) {
+      app::Fail("--" + error);
     }
   }
   if (!FLAGS_truth_out.empty()) {

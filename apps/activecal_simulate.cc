@@ -3,14 +3,27 @@
 
 // activecal_simulate: the measurements a device would report at the poses
 // of a poses CSV, computed from the robot's true values with Gaussian noise,
-// so the calibration workflow can be tried without hardware.
+// so the calibration workflow can be tried without hardware. A robot
+// without true values (a URDF) is simulated from its nominal values
+// perturbed (--perturb_m, --perturb_rad: PerturbParameters), the truth
+// written with --true_model_out; with --cell only the poses the cell
+// allows are measured, each of the targets it sees.
 
 #include <gflags/gflags.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <string>
+#include <vector>
 
-#include "activecal/io/csv_files.h"
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/cell/pool_filter.h"
 #include "activecal/core/simulation.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/output_files.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
 DEFINE_string(poses_csv, "",
@@ -27,25 +40,82 @@ DEFINE_double(noise_m, 0.01,
 DEFINE_double(rotation_noise_rad, 0.001,
               "pose: noise standard deviation of each rotation component "
               "(rad).");
-DEFINE_uint64(seed, 1, "Seed of the noise.");
+DEFINE_uint64(seed, 1,
+              "Seed of the noise and of the perturbation (its own stream).");
+DEFINE_double(perturb_m, 0.0,
+              "Simulate from the robot's true values (its nominal values "
+              "when it has none, e.g. a URDF) with every parameter to "
+              "identify moved: lengths by N(0, perturb_m^2) (m). The "
+              "parameters are --parameter_set's, reduced to what the poses "
+              "separate.");
+DEFINE_double(perturb_rad, 0.0,
+              "As --perturb_m, angles by N(0, perturb_rad^2) (rad).");
+DEFINE_string(true_model_out, "",
+              "Robot file (YAML, docs/formats.md) to write: the model "
+              "simulated, its 'true:' entries the values the measurements "
+              "were computed from (activecal_identify --robot= reads it, and "
+              "its JSON then gives each estimate's true value).");
+DEFINE_string(cell, "",
+              "Cell file (YAML, docs/formats.md): only the poses the cell "
+              "allows are measured (the others are counted by reason, as "
+              "activecal_select does), each of the targets it sees at that "
+              "pose (a 'marker' column); without --frames the cell's "
+              "targets are the markers.");
 
 namespace activecal {
 namespace {
 
+// A flag's value as gflags holds it ("0.001", "-1").
+std::string FlagText(const char* name) {
+  gflags::CommandLineFlagInfo info;
+  gflags::GetCommandLineFlagInfo(name, &info);
+  return info.current_value;
+}
+
 int Main() {
   if (FLAGS_poses_csv.empty()) app::Fail("--poses_csv is required");
   if (FLAGS_out.empty()) app::Fail("--out is required");
-  const RobotDescription robot = app::LoadRobotOrDie();
-  const RobotModel& model = robot.model;
-  if (robot.true_parameters.size() != model.num_parameters()) {
-    app::Fail("--robot '" + FLAGS_robot +
-              "' has no true values to simulate from: add 'true:' entries "
-              "to its blocks (docs/formats.md)");
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"perturb_m", FLAGS_perturb_m},
+        {"perturb_rad", FLAGS_perturb_rad}}) {
+    if (!(value >= 0) || !std::isfinite(value)) {
+      app::Fail(std::string("--") + name + " must be >= 0, got " +
+                FlagText(name));
+    }
+  }
+  const bool perturbed = FLAGS_perturb_m > 0 || FLAGS_perturb_rad > 0;
+  if (!FLAGS_parameter_set.empty() && !perturbed) {
+    app::Fail(
+        "--parameter_set chooses the parameters --perturb_m and "
+        "--perturb_rad move: give one of them");
   }
   MeasurementType type;
   if (!ParseMeasurementType(FLAGS_type, &type)) {
     app::Fail("--type must be position, pose or distance, got '" + FLAGS_type +
               "'");
+  }
+  if (!FLAGS_cell.empty() && type == MeasurementType::kDistance) {
+    app::Fail(
+        "--cell plans what a tracker, cameras or mocap see: not with "
+        "--type=distance (a ballbar)");
+  }
+  app::CheckWritableOrDie(FLAGS_out, "out");
+  if (!FLAGS_true_model_out.empty()) {
+    app::CheckWritableOrDie(FLAGS_true_model_out, "true_model_out");
+  }
+  RobotDescription robot = app::LoadRobotOrDie();
+  CellSetup cell;
+  if (!FLAGS_cell.empty()) {
+    cell = app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot);
+  }
+  RobotModel& model = robot.model;
+  const bool truth_known =
+      robot.true_parameters.size() == model.num_parameters();
+  if (!truth_known && !perturbed) {
+    app::Fail("--robot '" + FLAGS_robot +
+              "' has no true values to simulate from: add 'true:' entries "
+              "to its blocks (docs/formats.md) or perturb it (--perturb_m, "
+              "--perturb_rad)");
   }
   PoseList poses;
   std::string error;
@@ -53,12 +123,47 @@ int Main() {
                     &error)) {
     app::Fail("--poses_csv: " + error);
   }
+  // The cell: the poses it allows, and the targets each sees.
+  Eigen::MatrixXd joints = poses.joints;
+  std::vector<uint32_t> seen;
+  if (cell.checker) {
+    PoolFilterSummary feasibility;
+    if (!FilterPool(*cell.checker, poses.joints, PoolFilterOptions(),
+                    &feasibility)) {
+      app::Fail("--cell: " + feasibility.message);
+    }
+    if (feasibility.num_feasible() == 0) {
+      app::Fail("--cell: no pose of --poses_csv is left: " +
+                FeasibleNote(*cell.checker, feasibility));
+    }
+    std::printf("  %s", feasibility.BriefReport(*cell.checker).c_str());
+    joints = feasibility.FeasibleJoints(poses.joints);
+    if (CellTargetsAreMarkers(*cell.checker, model)) {
+      seen = feasibility.targets_seen;
+    }
+  }
+  // The truth: the file's, or its nominal values, moved.
+  Eigen::VectorXd truth = truth_known ? robot.true_parameters : model.nominal;
+  if (perturbed) {
+    const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
+    if (urdf || !FLAGS_parameter_set.empty()) {
+      // The parameters the poses separate, each measuring what it sees.
+      model = WithFreeSet(
+          model, app::ReducedParameterSetOrDie(model, urdf, joints,
+                                               seen.empty() ? nullptr : &seen));
+    }
+    const Eigen::VectorXd unperturbed = truth;
+    if (!PerturbParameters(model, unperturbed, FLAGS_perturb_m,
+                           FLAGS_perturb_rad, FLAGS_seed, &truth, &error)) {
+      app::Fail("--" + error);
+    }
+  }
   std::vector<Measurement> plan;
-  const int n = static_cast<int>(poses.joints.rows());
+  const int n = static_cast<int>(joints.rows());
   if (type == MeasurementType::kDistance) {
     if (n < 2) app::Fail("--type=distance needs at least 2 poses, got 1");
     for (int i = 0; i + 1 < n; ++i) {
-      if (poses.joints.row(i) == poses.joints.row(i + 1)) {
+      if (joints.row(i) == joints.row(i + 1)) {
         app::Fail("--type=distance: poses " + std::to_string(i + 1) + " and " +
                   std::to_string(i + 2) + " of " + FLAGS_poses_csv +
                   " (data rows) are identical: a distance between them "
@@ -66,24 +171,28 @@ int Main() {
       }
       Measurement m;
       m.type = type;
-      m.joints = poses.joints.row(i).transpose();
-      m.joints2 = poses.joints.row(i + 1).transpose();
+      m.joints = joints.row(i).transpose();
+      m.joints2 = joints.row(i + 1).transpose();
       plan.push_back(m);
     }
   } else {
     for (int i = 0; i < n; ++i) {
-      Measurement m;
-      m.type = type;
-      m.joints = poses.joints.row(i).transpose();
-      plan.push_back(m);
+      for (int k = 0; k < (seen.empty() ? 1 : model.num_markers()); ++k) {
+        if (!seen.empty() && (k >= 32 || !(seen[i] & (1u << k)))) continue;
+        Measurement m;
+        m.type = type;
+        m.joints = joints.row(i).transpose();
+        m.marker = k;
+        plan.push_back(m);
+      }
     }
   }
   SimulationNoise noise;
   noise.position_m = FLAGS_noise_m;
   noise.rotation_rad = FLAGS_rotation_noise_rad;
   std::vector<Measurement> measurements;
-  if (!SimulateMeasurements(model, robot.true_parameters, plan, noise,
-                            FLAGS_seed, &measurements, &error)) {
+  if (!SimulateMeasurements(model, truth, plan, noise, FLAGS_seed,
+                            &measurements, &error)) {
     if (type == MeasurementType::kDistance) {
       error +=
           " (measurement i is the distance between poses i + 1 and "
@@ -92,9 +201,37 @@ int Main() {
     }
     app::Fail(error);
   }
-  app::WriteTextOrDie(FLAGS_out, MeasurementsCsvText(model, measurements));
+  std::vector<OutputFile> outputs = {
+      {FLAGS_out, MeasurementsCsvText(model, measurements)}};
+  if (!FLAGS_true_model_out.empty()) {
+    RobotFileOptions text;
+    text.angle_unit = robot.angle_unit;
+    text.true_parameters = truth;
+    text.comment =
+        "The robot activecal_simulate measured: its 'true:' "
+        "entries are the values the measurements of " +
+        FLAGS_out + " were computed from";
+    if (perturbed) {
+      text.comment +=
+          " (" + std::string(truth_known ? "the true" : "the nominal") +
+          " values of " +
+          (FLAGS_robot.empty() ? std::string("the built-in PUMA 560")
+                               : FLAGS_robot) +
+          ", every free parameter perturbed: --perturb_m=" +
+          FlagText("perturb_m") + " --perturb_rad=" + FlagText("perturb_rad") +
+          " --seed=" + FlagText("seed") + ")";
+    }
+    outputs.push_back(
+        {FLAGS_true_model_out, RobotFileText(model, model.nominal, text)});
+  }
+  if (!WriteFilesAtomically(outputs, &error)) app::Fail(error);
   std::printf("wrote %zu %s measurements of '%s' to %s\n", measurements.size(),
               FLAGS_type.c_str(), model.name.c_str(), FLAGS_out.c_str());
+  if (!FLAGS_true_model_out.empty()) {
+    std::printf("wrote the true model (%d free parameters%s) to %s\n",
+                model.num_free(), perturbed ? ", perturbed" : "",
+                FLAGS_true_model_out.c_str());
+  }
   return 0;
 }
 
@@ -108,6 +245,9 @@ int main(int argc, char** argv) {
       "poses CSV, from the true values of --robot (default: the Sun & "
       "Hollerbach PUMA 560, Table I) plus Gaussian noise.\n"
       "  activecal_simulate --robot=data/puma560.yaml --poses_csv=poses.csv "
-      "--noise_m=0.01 --seed=1 --out=measurements.csv");
+      "--noise_m=0.01 --seed=1 --out=measurements.csv\n"
+      "  activecal_simulate --robot=data/ur10e.urdf --tip_link=tool0 "
+      "--poses_csv=poses.csv --perturb_m=0.001 --perturb_rad=0.001 "
+      "--seed=1 --true_model_out=true.yaml --out=measurements.csv");
   return activecal::Main();
 }

@@ -12,9 +12,10 @@ installed; skipped otherwise).
 
 Everything is SI (m, rad). The measurements are simulated from the robot
 file's true values; a robot without them (a URDF) is simulated from its
-nominal values perturbed (seeded by --seed): every parameter of the
-"full" set in metres by N(0, --perturb-m), in radians by
-N(0, --perturb-rad); other parameters stay nominal. With real data,
+nominal values perturbed (seeded by --seed, Robot.perturbed: the values
+activecal_simulate --perturb_m --perturb_rad --seed simulates from):
+every parameter of the "full" set in metres by N(0, --perturb-m), in
+radians by N(0, --perturb-rad); other parameters stay nominal. With real data,
 replace the simulate() cell by
 activecal.read_measurements(robot, "measurements.csv").
 """
@@ -59,13 +60,9 @@ print(robot)
 # has none) the nominal values perturbed, seeded.
 truth = robot.true_parameters
 if truth is None:
-    full = robot.with_parameter_set("full")
-    units = np.array(full.parameter_units)
-    scale = np.where(units == "m", args.perturb_m,
-                     np.where(units == "rad", args.perturb_rad, 0.0))
-    scale[~full.free] = 0.0
-    truth = robot.nominal + scale * np.random.default_rng(
-        args.seed).standard_normal(robot.num_parameters)
+    # As activecal_simulate --perturb_m --perturb_rad --seed does.
+    truth = robot.with_parameter_set("full").perturbed(
+        args.perturb_m, args.perturb_rad, seed=args.seed)
     print(f"no true values in {args.robot}: simulating from the nominal "
           f"values perturbed by {args.perturb_m} m / {args.perturb_rad} rad "
           f"(seed {args.seed})")

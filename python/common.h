@@ -443,6 +443,10 @@ py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
 RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
                           const std::string& measurement);
 
+// Robot.perturbed: PerturbParameters (core/simulation.h).
+Eigen::VectorXd PerturbedPy(const Robot& robot, double perturb_m,
+                            double perturb_rad, uint64_t seed,
+                            const py::object& parameters);
 void SaveRobot(const Robot& robot, const py::object& path,
                const py::object& parameters);
 

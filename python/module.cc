@@ -110,6 +110,14 @@ PYBIND11_MODULE(_activecal, m) {
            "A copy whose free parameters are the named set (registration, "
            "offsets, full; file: unchanged), as ParameterSetFreeSet; select "
            "and identify further reduce it to what the data separate.")
+      .def("perturbed", &PerturbedPy, py::arg("perturb_m"),
+           py::arg("perturb_rad"), py::arg("seed") = 1,
+           py::arg("parameters") = py::none(),
+           "The parameters of a simulated robot: `parameters` (default: "
+           "nominal) with every free parameter moved by N(0, perturb_m^2) "
+           "(lengths, m) or N(0, perturb_rad^2) (angles, rad), seeded: the "
+           "values activecal_simulate --perturb_m --perturb_rad --seed "
+           "simulates from (PerturbParameters).")
       .def(py::pickle(&RobotState, &RobotFromState))
       .def("__copy__", [](const RobotPtr& r) { return r; })
       .def(

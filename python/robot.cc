@@ -2,7 +2,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 
 // The Python module `activecal`: Robot: load_robot, puma560, forward, frame,
-// jacobian, with_parameter_set, save.
+// jacobian, with_parameter_set, perturbed, save.
 
 #include "common.h"
 
@@ -165,6 +165,18 @@ RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
     RobotModel& model = out->description.model;
     model = WithFreeSet(
         model, ParameterSetFreeSet(model, set, type == MeasurementType::kPose));
+  }
+  return out;
+}
+
+Eigen::VectorXd PerturbedPy(const Robot& robot, double perturb_m,
+                            double perturb_rad, uint64_t seed,
+                            const py::object& parameters) {
+  Eigen::VectorXd out;
+  std::string error;
+  if (!PerturbParameters(robot.model(), ParametersArg(robot, parameters),
+                         perturb_m, perturb_rad, seed, &out, &error)) {
+    Fail(error);
   }
   return out;
 }

@@ -141,7 +141,8 @@ for prog in $all_programs; do
   for flag in parameter_set strict_limits columns_strict; do
     case "$flag:$prog" in
       parameter_set:activecal_select | parameter_set:activecal_identify |\
-        parameter_set:activecal_active | parameter_set:activecal_sim_cell) want=yes ;;
+        parameter_set:activecal_active | parameter_set:activecal_sim_cell |\
+        parameter_set:activecal_simulate) want=yes ;;
       strict_limits:activecal_identify | strict_limits:activecal_evaluate) want=yes ;;
       columns_strict:activecal_identify | columns_strict:activecal_evaluate |\
         columns_strict:activecal_compensate) want=yes ;;

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/random.h"
@@ -120,6 +121,40 @@ bool SimulateAtRandomLatticePoses(const RobotModel& model,
   noise.position_m = noise_m;
   return SimulateMeasurements(model, true_parameters, plan, noise,
                               Random::StreamSeed(seed, 1), out, error);
+}
+
+bool PerturbParameters(const RobotModel& model, const Eigen::VectorXd& values,
+                       double length_std_m, double angle_std_rad, uint64_t seed,
+                       Eigen::VectorXd* perturbed, std::string* error) {
+  for (const auto& [name, sigma] :
+       {std::pair<const char*, double>{"perturb_m", length_std_m},
+        {"perturb_rad", angle_std_rad}}) {
+    if (!(sigma >= 0.0 && std::isfinite(sigma))) {
+      if (error) {
+        std::ostringstream msg;
+        msg << name << " must be >= 0 and finite, got " << sigma;
+        *error = msg.str();
+      }
+      return false;
+    }
+  }
+  if (values.size() != model.num_parameters()) {
+    if (error) {
+      *error = "perturbation: " + std::to_string(values.size()) +
+               " parameter values for a model of " +
+               std::to_string(model.num_parameters());
+    }
+    return false;
+  }
+  *perturbed = values;
+  Random random(Random::StreamSeed(seed, 0x5eed));
+  for (int i : model.FreeParameterIndices()) {
+    const ParameterKind kind = model.Kind(i);
+    const double g = random.Gaussian();
+    if (kind == ParameterKind::kLength) (*perturbed)[i] += length_std_m * g;
+    if (kind == ParameterKind::kAngle) (*perturbed)[i] += angle_std_rad * g;
+  }
+  return true;
 }
 
 }  // namespace activecal

@@ -52,6 +52,22 @@ bool SimulateAtRandomLatticePoses(const RobotModel& model,
                                   std::vector<Measurement>* out,
                                   std::string* error);
 
+// The parameters of a simulated robot whose file has no true values (a
+// URDF): `values` (a full parameter vector, e.g. the nominal) with every
+// free parameter of `model` moved by an independent Gaussian draw, a length
+// (ParameterKind::kLength) with standard deviation length_std_m, an angle
+// (kAngle) with angle_std_rad; the other free parameters (gains) and every
+// fixed one keep their values. One draw per free parameter in
+// FreeParameterIndices order from Random stream (seed, 0x5eed), so the
+// result is the same for a seed whatever the caller. What
+// activecal_simulate, activecal_sim_cell (--perturb_m, --perturb_rad) and
+// the Python module's Robot.perturbed compute. False with *error
+// ("perturb_m must be >= 0 and finite, got -1") for a negative or
+// non-finite standard deviation or values of the wrong size.
+bool PerturbParameters(const RobotModel& model, const Eigen::VectorXd& values,
+                       double length_std_m, double angle_std_rad, uint64_t seed,
+                       Eigen::VectorXd* perturbed, std::string* error);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CORE_SIMULATION_H_
