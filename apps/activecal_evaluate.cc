@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "activecal/calibration/iso9283_cycles.h"
 #include "activecal/estimation/evaluation.h"
 #include "activecal/estimation/registration_fit.h"
 #include "activecal/io/csv_files.h"
@@ -54,6 +55,20 @@ DEFINE_string(report_html, "",
               "Write the evaluation as a report a person reads: one "
               "self-contained HTML file (before and after errors in mm and "
               "deg, histograms on log bins, posture groups).");
+DEFINE_bool(iso9283, false,
+            "ISO 9283 pose accuracy (AP) and repeatability (RP) of the "
+            "measurements as repeated cycles to commanded poses: the file's "
+            "'pose' column groups the cycles, commanded_x_m.. (or _mm) and "
+            "commanded_qw.. (or commanded_r11..r33) give each commanded pose "
+            "in the robot's base frame (docs/iso9283.md). Printed per pose "
+            "without the model (as measured) and with it (predicted after "
+            "compensation by --robot); 'iso9283' in --json_out and "
+            "--report_html.");
+DEFINE_string(iso9283_registration, "robot",
+              "With --iso9283, where the robot's base frame is in the "
+              "device's: robot (--robot's base, e.g. the --frames identify "
+              "wrote) or file (--robot's base and markers fitted to these "
+              "measurements).");
 DEFINE_double(rotation_weight, 1.0,
               "Weight of 6D pose orientation rows (m per rad) in the "
               "registration-only fit of the 'before' report.");
@@ -160,6 +175,34 @@ void PlotHistograms(const std::vector<Measurement>& measurements,
   std::printf("  --plot: wrote %s\n", FLAGS_plot.c_str());
 }
 
+// The ISO 9283 figures of the cycles (--iso9283), in the base frame of
+// --iso9283_registration.
+Iso9283CyclesSummary Iso9283OrDie(const RobotModel& model,
+                                  const std::vector<Measurement>& measurements,
+                                  const std::vector<int>& lines,
+                                  const IdentificationOptions& fit_options) {
+  const std::vector<CommandedPose> commanded =
+      app::ReadCommandedPosesOrDie(FLAGS_measurements, model);
+  Eigen::VectorXd parameters = model.nominal;
+  if (FLAGS_iso9283_registration == "file") {
+    RegistrationFitSummary fit;
+    FitRegistration(model, model.nominal, measurements, fit_options, &fit);
+    if (fit.termination_type != TerminationType::kConvergence) {
+      app::Fail("--iso9283_registration=file: " + fit.message);
+    }
+    parameters = fit.parameters;
+  } else if (FLAGS_iso9283_registration != "robot") {
+    app::Fail("--iso9283_registration must be robot or file, got '" +
+              FLAGS_iso9283_registration + "'");
+  }
+  Iso9283CyclesSummary iso;
+  if (!EvaluateIso9283Cycles(model, parameters, measurements, lines, commanded,
+                             &iso)) {
+    app::Fail("--iso9283: " + FLAGS_measurements + ": " + iso.message);
+  }
+  return iso;
+}
+
 int Main() {
   if (FLAGS_measurements.empty()) app::Fail("--measurements is required");
   const RobotDescription robot = app::LoadRobotOrDie();
@@ -174,8 +217,9 @@ int Main() {
         "errors below include where the device stands relative to the "
         "robot (give the frames identify wrote with --frames_out)\n");
   }
-  const std::vector<Measurement> measurements =
-      app::ReadMeasurementsOrDie(FLAGS_measurements, model);
+  std::vector<int> lines;
+  const std::vector<Measurement> measurements = app::ReadMeasurementsOrDie(
+      FLAGS_measurements, model, "measurements", &lines);
   EvaluationSummary summary;
   if (!EvaluateModel(model, model.nominal, measurements, &summary)) {
     app::Fail("--measurements: " + summary.message);
@@ -215,6 +259,9 @@ int Main() {
     std::string why;
     if (!fit_options.IsValid(&why)) app::Fail("--rotation_weight: " + why);
   }
+  Iso9283CyclesSummary iso;
+  if (FLAGS_iso9283)
+    iso = Iso9283OrDie(model, measurements, lines, fit_options);
   std::vector<Measurement> training;
   if (!FLAGS_training.empty()) {
     training = app::ReadMeasurementsOrDie(FLAGS_training, model, "training");
@@ -286,6 +333,7 @@ int Main() {
         "--robot; give --nominal_robot for the registration-only baseline "
         "fitted on --training\n");
   }
+  if (FLAGS_iso9283) std::printf("%s", iso.TableText().c_str());
   // Posture groups relative to the training poses.
   std::vector<PostureGroup> groups;
   nlohmann::json groups_json = nlohmann::json::object();
@@ -370,6 +418,10 @@ int Main() {
         j["errors"][i]["group"] = PostureGroupName(groups[i]);
       }
     }
+    if (FLAGS_iso9283) {
+      j["iso9283"] = iso.Json();
+      j["iso9283"]["registration"] = FLAGS_iso9283_registration;
+    }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
   if (!FLAGS_report_html.empty()) {
@@ -412,6 +464,7 @@ int Main() {
       }
       report.groups.push_back(e);
     }
+    if (FLAGS_iso9283) report.iso9283 = iso;
     app::WriteTextOrDie(FLAGS_report_html, RenderHtml(report));
   }
   return 0;

@@ -72,7 +72,16 @@ ParameterSet ParameterSetOrDie(bool urdf_robot);
 // warning: ...", joint readings beyond the limits) and notes (ignored columns,
 // markers not seen) on stdout; dies with "--<flag>: file:line: ..." on errors.
 // (app_measurements.cc)
+// *lines (may be null): the file line of each measurement.
 std::vector<Measurement> ReadMeasurementsOrDie(
+    const std::string& path, const RobotModel& model,
+    const std::string& flag = "measurements",
+    std::vector<int>* lines = nullptr);
+
+// The commanded poses (ISO 9283 cycles: pose, commanded_x_m, ...) of the
+// measurements file `path`, read with --column_map; dies with "--<flag>:
+// file:line: ..." on errors. (app_measurements.cc)
+std::vector<CommandedPose> ReadCommandedPosesOrDie(
     const std::string& path, const RobotModel& model,
     const std::string& flag = "measurements");
 

@@ -21,7 +21,8 @@ namespace app {
 
 std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
                                                const RobotModel& model,
-                                               const std::string& flag) {
+                                               const std::string& flag,
+                                               std::vector<int>* lines) {
   MeasurementsCsvOptions options;
   options.strict_limits = FLAGS_strict_limits;
   options.columns_strict = ColumnsStrict();
@@ -40,7 +41,21 @@ std::vector<Measurement> ReadMeasurementsOrDie(const std::string& path,
   for (const std::string& n : report.notes) {
     std::cout << ProgramName() << ": note: " << n << std::endl;
   }
+  if (lines) *lines = report.lines;
   return measurements;
+}
+
+std::vector<CommandedPose> ReadCommandedPosesOrDie(const std::string& path,
+                                                   const RobotModel& model,
+                                                   const std::string& flag) {
+  MeasurementsCsvOptions options;
+  options.column_map = ColumnMapOrDie();
+  std::vector<CommandedPose> poses;
+  std::string error;
+  if (!ReadCommandedPosesCsv(path, model, options, &poses, &error)) {
+    Fail("--" + flag + ": " + error);
+  }
+  return poses;
 }
 
 }  // namespace app

@@ -4,6 +4,7 @@
 #include "activecal/io/csv_files.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -669,6 +670,24 @@ const std::vector<Form>& OrientationForms() {
       {{"roll_deg", "pitch_deg", "yaw_deg"}, kDegree}};
   return forms;
 }
+// The commanded pose of an ISO 9283 file (CommandedPosesCsv): its point
+// and the orientation, a unit quaternion or a rotation matrix.
+const std::vector<Form>& CommandedPositionForms() {
+  static const std::vector<Form> forms = {
+      {{"commanded_x_m", "commanded_y_m", "commanded_z_m"}, 1.0, 1.0, true},
+      {{"commanded_x_mm", "commanded_y_mm", "commanded_z_mm"}, 1.0, 1e3, true}};
+  return forms;
+}
+enum CommandedOrientationForm { kCommandedQuat, kCommandedMatrix };
+const std::vector<Form>& CommandedOrientationForms() {
+  static const std::vector<Form> forms = {
+      {{"commanded_qw", "commanded_qx", "commanded_qy", "commanded_qz"}, 1.0},
+      {{"commanded_r11", "commanded_r12", "commanded_r13", "commanded_r21",
+        "commanded_r22", "commanded_r23", "commanded_r31", "commanded_r32",
+        "commanded_r33"},
+       1.0}};
+  return forms;
+}
 const std::vector<Form>& DistanceForms() {
   static const std::vector<Form> forms = {{{"distance_m"}, 1.0, 1.0, true},
                                           {{"distance_mm"}, 1.0, 1e3, true}};
@@ -894,6 +913,17 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
   }
   if (table_.Has("type")) known_["type"] = 1;
   if (table_.Has("marker")) known_["marker"] = 1;
+  // The commanded poses of ISO 9283 cycles (ParseCommandedPosesCsv reads
+  // them): known, so neither a note nor an error of strict columns.
+  if (table_.Has("pose")) known_["pose"] = 1;
+  for (const auto* forms :
+       {&CommandedPositionForms(), &CommandedOrientationForms()}) {
+    for (const Form& f : *forms) {
+      for (const std::string& c : f.columns) {
+        if (table_.Has(c)) known_[c] = 1;
+      }
+    }
+  }
   // The wide form of motion capture: x1_m, y1_m, z1_m, x2_m, ...
   std::string unit;
   for (size_t c = 0; c < table_.header().size(); ++c) {
@@ -1687,6 +1717,121 @@ bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,
                          std::string* error) {
   return ReadMeasurementsCsv(path, model, MeasurementsCsvOptions(),
                              measurements, nullptr, error);
+}
+
+// ---------------------------------------------------------------------------
+// The commanded poses of ISO 9283 cycles.
+
+bool ParseCommandedPosesCsv(const std::string& text, const std::string& source,
+                            const RobotModel& model,
+                            const MeasurementsCsvOptions& options,
+                            std::vector<CommandedPose>* poses,
+                            std::string* error) {
+  std::string mapped;
+  std::vector<std::string> notes;
+  if (!ApplyColumnMapOption(options, model, text, source, &mapped, &notes,
+                            error)) {
+    return false;
+  }
+  Table table;
+  if (!table.Parse(options.column_map ? mapped : text, source, error)) {
+    return false;
+  }
+  int position = -1, orientation = -1;
+  if (!ChooseForm(table, "the commanded point", CommandedPositionForms(),
+                  &position, error) ||
+      !ChooseForm(table, "the commanded orientation",
+                  CommandedOrientationForms(), &orientation, error)) {
+    return false;
+  }
+  if (!table.Has("pose")) {
+    return table.Fail(table.header_line(),
+                      "the header has no column 'pose' (the label the cycles "
+                      "to one commanded pose share: P1, P2, ...)",
+                      error);
+  }
+  if (position < 0) {
+    return table.Fail(table.header_line(),
+                      "the header has no column 'commanded_x_m' (the "
+                      "commanded point: commanded_x_m,commanded_y_m,"
+                      "commanded_z_m or commanded_x_mm,commanded_y_mm,"
+                      "commanded_z_mm)",
+                      error);
+  }
+  const Form& pf = CommandedPositionForms()[position];
+  std::vector<CommandedPose> out;
+  for (const Row& row : table.rows()) {
+    CommandedPose c;
+    c.line = row.line;
+    c.pose = row.fields[table.Column("pose")];
+    if (c.pose.empty()) return table.Fail(row.line, "pose: empty", error);
+    for (int k = 0; k < 3; ++k) {
+      double v;
+      if (!table.Number(row, pf.columns[k], &v, error)) return false;
+      c.position[k] = v * pf.scale / pf.divisor;
+      if (!(std::abs(c.position[k]) <= kMaxLengthM)) {
+        return table.Fail(row.line,
+                          pf.columns[k] + ": " + Number6(v) + " is more than " +
+                              Number6(kMaxLengthM / 1e3) +
+                              " km: a corrupt cell or a wrong unit",
+                          error);
+      }
+    }
+    if (orientation >= 0) {
+      const Form& of = CommandedOrientationForms()[orientation];
+      double v[9];
+      for (size_t k = 0; k < of.columns.size(); ++k) {
+        if (!table.Number(row, of.columns[k], &v[k], error)) return false;
+      }
+      c.has_rotation = true;
+      if (orientation == kCommandedQuat) {
+        const Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
+        if (!(std::abs(q.norm() - 1.0) <= kQuaternionNormTolerance)) {
+          return table.Fail(row.line,
+                            "commanded_qw,commanded_qx,commanded_qy,"
+                            "commanded_qz: the quaternion's norm is " +
+                                Number6(q.norm()) + ", not 1 (to " +
+                                Number6(kQuaternionNormTolerance) +
+                                "): not a unit quaternion",
+                            error);
+        }
+        c.rotation = q.normalized().toRotationMatrix();
+      } else {
+        Eigen::Matrix3d r;
+        r << v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8];
+        const double off = (r.transpose() * r - Eigen::Matrix3d::Identity())
+                               .cwiseAbs()
+                               .maxCoeff();
+        const double det = r.determinant();
+        if (!(off <= kCommandedRotationTolerance) || !(det > 0)) {
+          return table.Fail(
+              row.line,
+              "commanded_r11..commanded_r33: not a rotation matrix (|R^T R - "
+              "I| = " +
+                  Number6(off) + ", det = " + Number6(det) + "; to " +
+                  Number6(kCommandedRotationTolerance) +
+                  " a rotation has R^T R = I and det = +1)",
+              error);
+        }
+        // The nearest rotation (the file's digits round it off one).
+        const Eigen::JacobiSVD<Eigen::Matrix3d> svd(
+            r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        c.rotation = svd.matrixU() * svd.matrixV().transpose();
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  *poses = std::move(out);
+  return true;
+}
+
+bool ReadCommandedPosesCsv(const std::string& path, const RobotModel& model,
+                           const MeasurementsCsvOptions& options,
+                           std::vector<CommandedPose>* poses,
+                           std::string* error) {
+  std::string text;
+  return ReadTextFile(path, &text, error) &&
+         ParseCommandedPosesCsv(text, path, model, options, poses, error);
 }
 
 }  // namespace activecal

@@ -14,6 +14,7 @@
 
 #include "activecal/core/free_set.h"
 #include "activecal/core/parameter_sets.h"
+#include "activecal/report/iso9283_section.h"
 #include "activecal/report/svg_figures.h"
 
 namespace activecal {
@@ -348,6 +349,7 @@ std::string RenderHtml(const HtmlReport& r) {
   for (const std::string& n : r.notes) {
     h += "<p class=\"note\">" + HtmlEscape(n) + "</p>\n";
   }
+  if (!r.iso9283.poses.empty()) h += Iso9283Section(r.iso9283);
   h += "<h2 id=\"errors\">Errors before and after</h2>\n";
   h += "<p>Position errors in mm, orientation errors in degrees: the norm "
        "and each axis (the mean of an axis is signed: a bias).</p>\n";

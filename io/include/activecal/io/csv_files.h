@@ -42,6 +42,7 @@
 #define ACTIVECAL_IO_CSV_FILES_H_
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -165,6 +166,47 @@ bool ParseMeasurementsCsv(const std::string& text, const std::string& source,
 bool ReadMeasurementsCsv(const std::string& path, const RobotModel& model,
                          std::vector<Measurement>* measurements,
                          std::string* error);
+
+// ISO 9283 cycles (docs/iso9283.md): the commanded pose of each row of a
+// measurements file, read from the columns
+//   pose                    the label the cycles to one commanded pose share
+//                           (P1, P2, ...: any text, not empty)
+//   commanded_x_m, commanded_y_m, commanded_z_m (or commanded_x_mm, ...)
+//                           the commanded point of the measured target frame
+//                           in the robot's base frame
+//   commanded_qw, commanded_qx, commanded_qy, commanded_qz (a unit
+//   quaternion, as qw..qz of a measured pose) or commanded_r11 ...
+//   commanded_r33 (a rotation matrix, row by row)
+//                           the commanded orientation of that frame in the
+//                           base frame; optional for position measurements
+// The measurements reader knows these columns (no note, no strict-columns
+// error) and leaves them to this one. One entry per data row, in file
+// order, with its line (MeasurementsCsvReport::lines of the measurements).
+struct CommandedPose {
+  int line = 0;
+  std::string pose;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m
+  bool has_rotation = false;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+};
+
+// A commanded rotation matrix is one when |R^T R - I| (largest entry) is
+// within this and det R > 0; it is then replaced by the nearest rotation.
+inline constexpr double kCommandedRotationTolerance = 1e-6;
+
+// False with "<source>:<line>: <column>: ..." for a missing 'pose' or
+// commanded point column, an empty label, a quaternion that is not a unit
+// one or a matrix that is not a rotation. options.column_map is applied as
+// by ParseMeasurementsCsv.
+bool ParseCommandedPosesCsv(const std::string& text, const std::string& source,
+                            const RobotModel& model,
+                            const MeasurementsCsvOptions& options,
+                            std::vector<CommandedPose>* poses,
+                            std::string* error);
+bool ReadCommandedPosesCsv(const std::string& path, const RobotModel& model,
+                           const MeasurementsCsvOptions& options,
+                           std::vector<CommandedPose>* poses,
+                           std::string* error);
 
 // Reads a whole file; false with "<path>: cannot open ..." on failure.
 bool ReadTextFile(const std::string& path, std::string* text,

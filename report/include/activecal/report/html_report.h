@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "activecal/calibration/calibrate.h"
+#include "activecal/calibration/iso9283_cycles.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/estimation/evaluation.h"
@@ -79,6 +80,9 @@ struct HtmlReport {
   std::string selection_method;
   std::vector<std::string> warnings;
   std::vector<std::string> notes;
+  // ISO 9283 AP and RP per pose (activecal_evaluate --iso9283; no poses:
+  // no section), drawn by Iso9283Section (iso9283_section.h).
+  Iso9283CyclesSummary iso9283;
 };
 
 struct CalibrationHtmlOptions {

@@ -1,0 +1,188 @@
+#!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
+# activecal_evaluate --iso9283 end to end: cycles to five commanded poses
+# simulated by a seeded script (a known bias per pose and a known
+# repeatability), the printed and JSON AP and RP against the script's own
+# numpy computation (quaternions, not matrices), the HTML section's numbers
+# against the JSON's; bad input (a pose of one cycle, a missing commanded
+# column, a commanded matrix that is not a rotation): status 1, one line,
+# nothing written.
+#
+#   tests/iso9283_cli_test.sh <build/apps dir> <data dir>
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+apps="$(cd "$1" && pwd)"
+data="$(cd "$2" && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+failures=0
+
+source "$here/cli_lib.sh"
+# numpy: the system Python's (the one the Python module is built for).
+py=python3
+/usr/bin/python3 -c "import numpy" 2>/dev/null && py=/usr/bin/python3
+
+# The UR10 without --frames: the base frame is the device's, so the
+# measured poses are the attained ones.
+robot=(--robot="$data/ur10.urdf" --tip_link=tool0)
+
+"$py" - <<'EOF'
+import numpy as np
+rng = np.random.default_rng(5)
+
+def qmul(a, b):
+    w1, x1, y1, z1 = a; w2, x2, y2, z2 = b
+    return np.array([w1*w2 - x1*x2 - y1*y2 - z1*z2, w1*x2 + x1*w2 + y1*z2 - z1*y2,
+                     w1*y2 - x1*z2 + y1*w2 + z1*x2, w1*z2 + x1*y2 - y1*x2 + z1*w2])
+
+def qexp(d):
+    a = np.linalg.norm(d)
+    if a == 0: return np.array([1.0, 0, 0, 0])
+    return np.concatenate([[np.cos(a / 2)], np.sin(a / 2) * d / a])
+
+def qlog(q):
+    q = q / np.linalg.norm(q)
+    if q[0] < 0: q = -q
+    s = np.linalg.norm(q[1:])
+    return 2 * np.arctan2(s, q[0]) * q[1:] / s if s > 0 else np.zeros(3)
+
+def qconj(q): return np.array([q[0], -q[1], -q[2], -q[3]])
+
+def qmat(q):
+    w, x, y, z = q
+    return np.array([[1-2*(y*y+z*z), 2*(x*y-w*z), 2*(x*z+w*y)],
+                     [2*(x*y+w*z), 1-2*(x*x+z*z), 2*(y*z-w*x)],
+                     [2*(x*z-w*y), 2*(y*z+w*x), 1-2*(x*x+y*y)]])
+
+sigma_m, sigma_rad, cycles = 30e-6, 50e-6, 10
+rows, expected = [], {}
+header = ("pose,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m,"
+          "qw,qx,qy,qz,commanded_x_m,commanded_y_m,commanded_z_m,"
+          "commanded_qw,commanded_qx,commanded_qy,commanded_qz")
+for k in range(5):
+    name = "P%d" % (k + 1)
+    q = rng.uniform(-1, 1, 6)
+    xc = np.array([0.6, -0.2, 0.5]) + rng.uniform(-0.2, 0.2, 3)
+    qc = qexp(rng.uniform(-2, 2, 3))
+    bias_m = rng.uniform(-1e-3, 1e-3, 3)       # the pose's accuracy error
+    bias_rad = rng.uniform(-1e-3, 1e-3, 3)
+    xs, ds = [], []
+    for c in range(cycles):
+        x = xc + bias_m + sigma_m * rng.standard_normal(3)
+        qa = qmul(qexp(bias_rad + sigma_rad * rng.standard_normal(3)), qc)
+        if qa[0] < 0: qa = -qa
+        rows.append(",".join([name] + ["%.17g" % v for v in q] +
+                             ["%.17g" % v for v in x] + ["%.17g" % v for v in qa] +
+                             ["%.17g" % v for v in xc] + ["%.17g" % v for v in qc]))
+        xs.append(x)
+        # ISO's angle deviations, log(R_j R_c^T), by quaternions.
+        ds.append(qlog(qmul(qa, qconj(qc))))
+    xs, ds = np.array(xs), np.array(ds)
+    bary = xs.mean(axis=0)
+    l = np.linalg.norm(xs - bary, axis=1)
+    d_bar = ds.mean(axis=0)
+    expected[name] = {
+        "num_cycles": cycles,
+        "ap_p_m": float(np.linalg.norm(bary - xc)),
+        "ap_xyz_m": (bary - xc).tolist(),
+        "rp_l_m": float(l.mean() + 3 * l.std(ddof=1)),
+        "ap_abc_rad": d_bar.tolist(),
+        "rp_abc_rad": (3 * ds.std(axis=0, ddof=1)).tolist(),
+        "matrix": qmat(qc).tolist()}
+open("cycles.csv", "w").write(header + "\n" + "\n".join(rows) + "\n")
+import json
+json.dump(expected, open("expected.json", "w"))
+# Bad files: a pose of one cycle; no commanded_z_m; a commanded matrix that
+# is not a rotation (a reflection).
+lines = rows[:]
+lines[0] = "lonely" + lines[0][2:]
+open("one_cycle.csv", "w").write(header + "\n" + "\n".join(lines) + "\n")
+cols = header.split(",")
+drop = cols.index("commanded_z_m")
+def without(line): f = line.split(","); del f[drop]; return ",".join(f)
+open("no_z.csv", "w").write(without(header) + "\n" +
+                            "\n".join(without(r) for r in rows) + "\n")
+mheader = ",".join(cols[:17] + ["commanded_r%d%d" % (i, j) for i in (1, 2, 3) for j in (1, 2, 3)])
+mrows = []
+for i, r in enumerate(rows):
+    f = r.split(",")
+    m = np.array(expected[f[0]]["matrix"])
+    if i == 13: m[2] = -m[2]
+    mrows.append(",".join(f[:17] + ["%.17g" % v for v in m.ravel()]))
+open("matrix.csv", "w").write(mheader + "\n" + "\n".join(mrows) + "\n")
+EOF
+
+"$apps/activecal_evaluate" "${robot[@]}" --measurements=cycles.csv --iso9283 \
+  --before=none --json_out=iso.json --report_html=iso.html >out.txt 2>err.txt \
+  && ok "evaluate --iso9283" || { fail "evaluate --iso9283"; cat err.txt; }
+grep -q "ISO 9283 pose accuracy" out.txt && ok "table printed" || { fail "table printed"; cat out.txt; }
+# The matrix form gives the same figures.
+"$py" - <<'EOF' && ok "matrix form" || fail "matrix form"
+import sys
+rows = open("matrix.csv").read().splitlines()
+rows[14] = rows[14].rsplit(",", 9)[0] + "," + ",".join(rows[13].rsplit(",", 9)[1:])
+open("matrix_good.csv", "w").write("\n".join(rows) + "\n")
+EOF
+"$apps/activecal_evaluate" "${robot[@]}" --measurements=matrix_good.csv \
+  --iso9283 --before=none --json_out=iso_matrix.json >/dev/null 2>err.txt \
+  || { fail "evaluate matrix form"; cat err.txt; }
+
+"$py" - <<'EOF' && ok "AP and RP equal numpy's" || fail "AP and RP equal numpy's"
+import json, re, sys
+exp = json.load(open("expected.json"))
+got = json.load(open("iso.json"))["iso9283"]
+mat = json.load(open("iso_matrix.json"))["iso9283"]
+bad = []
+assert [p["pose"] for p in got["poses"]] == ["P1", "P2", "P3", "P4", "P5"]
+for p, pm in zip(got["poses"], mat["poses"]):
+    e = exp[p["pose"]]
+    w = p["without"]
+    if p["num_cycles"] != e["num_cycles"]: bad.append((p["pose"], "cycles"))
+    for key in ("ap_p_m", "rp_l_m"):
+        if abs(w[key] - e[key]) > 1e-12: bad.append((p["pose"], key, w[key], e[key]))
+        if abs(pm["without"][key] - e[key]) > 1e-12: bad.append((p["pose"], "matrix", key))
+    for key in ("ap_xyz_m", "ap_abc_rad", "rp_abc_rad"):
+        for a, b in zip(w[key], e[key]):
+            if abs(a - b) > 1e-11: bad.append((p["pose"], key, a, b))
+    # mm and mrad beside SI.
+    if abs(w["ap_p_mm"] - 1e3 * w["ap_p_m"]) > 1e-12: bad.append("mm")
+    # The biases are ~1 mm and 1 mrad: far above the figures' tolerance.
+    if w["ap_p_m"] < 1e-4: bad.append((p["pose"], "no bias"))
+# The printed table: AP_p and RP_l in mm with 3 decimals.
+text = open("out.txt").read()
+table = text.split("without the model")[1].split("with the model")[0]
+for p in got["poses"]:
+    m = re.search(r"^\s+%s\s+(\d+)\s+(\S+)\s+\S+\s+\S+\s+\S+\s+(\S+)" % p["pose"], table, re.M)
+    if not m: bad.append(("no row", p["pose"])); continue
+    if int(m.group(1)) != p["num_cycles"]: bad.append("printed cycles")
+    if m.group(2) != "%.3f" % (p["without"]["ap_p_m"] * 1e3): bad.append(("printed AP_p", m.group(2)))
+    if m.group(3) != "%.3f" % (p["without"]["rp_l_m"] * 1e3): bad.append(("printed RP_l", m.group(3)))
+# The HTML section's numbers are the JSON's.
+html = open("iso.html").read()
+for p in got["poses"]:
+    for which in ("without", "with"):
+        key = "iso9283.%s.%s.ap_p" % (p["pose"], which)
+        m = re.search(r'data-key="%s" data-value="([^"]+)"' % re.escape(key), html)
+        if not m or float(m.group(1)) != p[which]["ap_p_m"]: bad.append(("html", key))
+if bad:
+    print(bad); sys.exit(1)
+EOF
+
+# Bad input: one line, status 1, nothing written.
+expect_fail "a pose of one cycle" "pose 'lonely' has 1 cycle" activecal_evaluate \
+  "${robot[@]}" --measurements=one_cycle.csv --iso9283 --json_out=bad1.json
+expect_fail "no commanded_z_m" "the header has commanded_x_m,commanded_y_m but not commanded_z_m" \
+  activecal_evaluate "${robot[@]}" --measurements=no_z.csv --iso9283 --json_out=bad2.json
+expect_fail "not a rotation" "matrix.csv:15: commanded_r11..commanded_r33: not a rotation matrix" \
+  activecal_evaluate "${robot[@]}" --measurements=matrix.csv --iso9283 --json_out=bad3.json
+expect_fail "bad registration" "--iso9283_registration must be robot or file" \
+  activecal_evaluate "${robot[@]}" --measurements=cycles.csv --iso9283 \
+  --iso9283_registration=tracker --json_out=bad4.json
+for f in bad1.json bad2.json bad3.json bad4.json; do
+  [ -e "$f" ] && fail "$f written" || ok "$f not written"
+done
+
+[ "$failures" -eq 0 ] && echo "all passed" || echo "$failures failed"
+exit "$failures"
