@@ -289,6 +289,47 @@ void PrintOrientationHint(const CalibrationSummary& summary,
               OrientationHint(fit, what).c_str());
 }
 
+// 6D data fitted without --rotation_weight: a note saying what was
+// assumed (1 m/rad), the weight the fit's own residuals suggest (pose
+// pairs' distance mismatch over their angle mismatch, orientation_check.h)
+// and the parameters model selection keeps with it: forgetting the flag
+// can change the kept set (the README's UR10e: 13 against 21).
+void PrintRotationWeightNote(const CalibrationSummary& summary,
+                             const std::vector<Measurement>& all,
+                             const RobotModel& model,
+                             const CalibrationOptions& options) {
+  if (!gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default) {
+    return;
+  }
+  const PoseFit fit =
+      PoseFitOf(summary.model, summary.identification.parameters, all);
+  if (fit.num_poses < 2 || !(fit.rotation_rms_rad > 0) ||
+      !(fit.position_rms_m > 0)) {
+    return;
+  }
+  const double weight = fit.position_rms_m / fit.rotation_rms_rad;
+  char rounded[32];
+  std::snprintf(rounded, sizeof(rounded), "%.2g", weight);
+  CalibrationOptions with = options;
+  with.identification.rotation_weight_m_per_rad = std::stod(rounded);
+  CalibrationSummary other;
+  Calibrate(model, all, with, &other);
+  const int kept = summary.identification.estimates.size();
+  std::string effect = "the fit with it failed";
+  if (other.stage == CalibrationStage::kDone) {
+    effect = "keeps " + std::to_string(other.identification.estimates.size()) +
+             " parameters";
+  }
+  std::printf(
+      "%s: note: --rotation_weight not given: the orientations of the pose "
+      "rows were weighted 1 m/rad and %d parameters kept; their residuals "
+      "(between %d poses: distances %.3f mm, angles %.3f mrad RMS) have the "
+      "ratio %s m/rad, with which the calibration %s; set it to "
+      "sigma_position / sigma_rotation of the device\n",
+      app::ProgramName().c_str(), kept, fit.num_poses, fit.position_rms_m * 1e3,
+      fit.rotation_rms_rad * 1e3, rounded, effect.c_str());
+}
+
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -368,6 +409,7 @@ int Main() {
     app::Fail(CalibrationFailureText(summary, text));
   }
   std::printf("%s", CalibrationResultText(summary, text).c_str());
+  if (!app::Quiet()) PrintRotationWeightNote(summary, all, model, options);
 
   // Every output is made and checked before any is written: a run that
   // fails writes nothing (each file then atomically).
@@ -459,6 +501,7 @@ int Main() {
   }
   if (!WriteFilesAtomically(outputs, &error)) app::Fail(error);
   std::printf("%s", urdf_note.c_str());
+  app::PrintResult(app::ProgramName() + ": " + CalibrationResultLine(summary));
   return 0;
 }
 

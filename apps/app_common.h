@@ -102,7 +102,21 @@ void EnumFlagOrDie(bool (*string_to)(const std::string&, Enum*),
 }
 
 // Parses gflags and sets up glog; logs go to stderr, warnings and above.
+// With --quiet (every program has it), stdout goes to /dev/null from here
+// on: only PrintResult's line and the errors (stderr) are printed.
 void Init(int* argc, char*** argv, const char* usage);
+
+// --quiet was given.
+bool Quiet();
+
+// The program's one-line result, on stdout even with --quiet (its last
+// line: a script reads it with `tail -1`).
+void PrintResult(const std::string& line);
+
+// "<program>: <line>" on stderr, flushed at once, unless --quiet: what a
+// run that can take more than 2 s is doing (stdout stays the same for
+// scripts whether or not progress is printed).
+void PrintProgress(const std::string& line);
 
 // The writers below go through io/output_files.h (a temporary file beside
 // the path, renamed over it: a failure never leaves a half-written file).

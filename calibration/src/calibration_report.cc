@@ -318,6 +318,23 @@ std::string CalibrationResultText(const CalibrationSummary& s,
   return text;
 }
 
+std::string CalibrationResultLine(const CalibrationSummary& s) {
+  const IdentificationSummary& id = s.identification;
+  std::string line =
+      Format("%d of %d parameters identified from %d measurements, RMS %.3f mm",
+             static_cast<int>(id.estimates.size()), s.num_free_in_set,
+             id.num_measurements, id.rms_m * 1e3);
+  if (s.have_baseline) {
+    line += Format(" (registration only %.3f mm)", s.baseline.rms_m * 1e3);
+  }
+  const ValidationErrors& v = s.validation_errors;
+  if (v.count > 0) {
+    line += Format(", held out: %.3f mm RMS on %d measurements",
+                   v.rms_calibrated_m * 1e3, v.count);
+  }
+  return line;
+}
+
 std::string CalibrationFailureText(const CalibrationSummary& s,
                                    const CalibrationTextOptions& o) {
   const std::string prefix = Option(o, "");
