@@ -358,11 +358,18 @@ ProgressCallback ProgressLine::callback() {
 }
 
 void ProgressLine::Update(int64_t done, int64_t total) {
-  if (!tty_) return;
+  if (FLAGS_quiet) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const int64_t now = NowNs();
-  if (done < total && now - last_ns_ < 200000000) return;
+  // Nothing in the first kProgressAfterNs: a short step prints no line.
+  if (now - start_ns_ < kProgressAfterNs) return;
+  // On a terminal the line is rewritten 5 times a second; in a file or a
+  // pipe a new line every 2 s, and the last one.
+  const int64_t every = tty_ ? 200000000 : kProgressAfterNs;
+  if (done < total && printed_ && now - last_ns_ < every) return;
+  if (done >= total && !tty_ && finished_) return;
   last_ns_ = now;
+  finished_ = done >= total;
   const double elapsed = (now - start_ns_) * 1e-9;
   const double rate = elapsed > 0 ? done / elapsed : 0.0;
   char line[256];
@@ -377,7 +384,11 @@ void ProgressLine::Update(int64_t done, int64_t total) {
                   static_cast<long long>(done), static_cast<long long>(total),
                   elapsed);
   }
-  std::cerr << "\r" << line << "\033[K" << std::flush;
+  if (tty_) {
+    std::cerr << "\r" << line << "\033[K" << std::flush;
+  } else {
+    std::cerr << line << std::endl;
+  }
   printed_ = true;
 }
 

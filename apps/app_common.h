@@ -160,8 +160,12 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
                              const std::vector<int64_t>& labels);
 
 // A progress line on stderr, "<program>: <label>: 12288/15625 (41000/s,
-// 0.1 s left)", rewritten in place at most 5 times a second, and only when
-// stderr is a terminal: logs and pipes stay clean. Thread-safe.
+// 0.1 s left)", once the step has taken kProgressAfterNs (2 s: a short
+// step prints nothing), flushed as it is written: on a terminal rewritten
+// in place at most 5 times a second; in a file or a pipe one line every
+// 2 s and the last one. Never with --quiet; never on stdout (what scripts
+// read stays the same). Thread-safe.
+inline constexpr int64_t kProgressAfterNs = 2000000000;
 class ProgressLine {
  public:
   explicit ProgressLine(std::string label);
@@ -181,6 +185,7 @@ class ProgressLine {
   int64_t start_ns_;
   int64_t last_ns_ = 0;
   bool printed_ = false;
+  bool finished_ = false;
 };
 
 double Seconds(int64_t start_ns);
