@@ -16,6 +16,7 @@
 #include "activecal/calibration/calibrate.h"
 #include "activecal/calibration/calibration_export.h"
 #include "activecal/calibration/calibration_report.h"
+#include "activecal/calibration/defaults.h"
 #include "activecal/core/simulation.h"
 #include "activecal/estimation/orientation_check.h"
 #include "activecal/io/frames_file.h"
@@ -43,7 +44,7 @@ DEFINE_string(json_out, "",
 DEFINE_double(validation_fraction, 0.0,
               "Fraction of the measurements held out (chosen at random with "
               "--seed) to validate the calibrated model on; in [0, 0.9].");
-DEFINE_string(robust_loss, "none",
+DEFINE_string(robust_loss, activecal::defaults::kRobustLoss,
               "none, huber or cauchy: a robust loss on each measurement's "
               "residual norm, for data with outliers.");
 DEFINE_double(robust_scale_m, 0.0,
@@ -60,7 +61,7 @@ DEFINE_double(outlier_probability,
               "Flag a measurement as an outlier when its residual is this "
               "improbable under the fitted (robust) noise, Bonferroni over "
               "the measurements: clean data flag any with this probability.");
-DEFINE_double(rotation_weight, 1.0,
+DEFINE_double(rotation_weight, activecal::defaults::kRotationWeightMPerRad,
               "Weight of 6D pose orientation rows, m per rad (set it to "
               "sigma_position / sigma_rotation of the device).");
 DEFINE_bool(auto_fix, false,
@@ -92,10 +93,10 @@ DEFINE_int32(levels, 5,
              "included).");
 DEFINE_double(noise_m, 0.01,
               "Simulation only: noise standard deviation on each axis (m).");
-DEFINE_uint64(seed, 1,
+DEFINE_uint64(seed, activecal::defaults::kSeed,
               "Seed of the validation split, of the cross-validation folds "
               "and of the simulation (pose draw and noise).");
-DEFINE_string(model_selection, "auto",
+DEFINE_string(model_selection, activecal::defaults::kModelSelection,
               "auto (default), cv, validation or none. none identifies "
               "every identifiable parameter of the set; cv and validation "
               "rank them and keep the number --selection_rule chooses from "
@@ -105,7 +106,7 @@ DEFINE_string(model_selection, "auto",
               "to it). auto: none when the robot file names the free set "
               "(--parameter_set=file, the default for YAML robots) or with "
               "a prior, cv for a named set (docs/accuracy.md).");
-DEFINE_string(selection_rule, "1se_most",
+DEFINE_string(selection_rule, activecal::defaults::kSelectionRule,
               "How --model_selection chooses the count from its curve: "
               "1se_most (default: the most parameters whose held-out error "
               "is within one standard error of the minimum, so a parameter "
@@ -116,10 +117,10 @@ DEFINE_string(selection_rule, "1se_most",
 DEFINE_string(validation, "",
               "Measurements CSV of held-out poses for "
               "--model_selection=validation (same robot, same markers).");
-DEFINE_int32(folds, 5,
+DEFINE_int32(folds, activecal::defaults::kFolds,
              "Folds of --model_selection=cv (all rows of one pose in one "
              "fold; assigned from --seed); at most the number of poses.");
-DEFINE_string(selection_ranking, "significance",
+DEFINE_string(selection_ranking, activecal::defaults::kSelectionRanking,
               "Order in which --model_selection adds link parameters: "
               "significance (|estimate - nominal| / std of the full fit, "
               "ranked inside each fold) or jacobian (QR with column "
@@ -289,6 +290,47 @@ void PrintOrientationHint(const CalibrationSummary& summary,
               OrientationHint(fit, what).c_str());
 }
 
+// 6D data fitted without --rotation_weight: a note saying what was
+// assumed (1 m/rad), the weight the fit's own residuals suggest (pose
+// pairs' distance mismatch over their angle mismatch, orientation_check.h)
+// and the parameters model selection keeps with it: forgetting the flag
+// can change the kept set (the README's UR10e: 13 against 21).
+void PrintRotationWeightNote(const CalibrationSummary& summary,
+                             const std::vector<Measurement>& all,
+                             const RobotModel& model,
+                             const CalibrationOptions& options) {
+  if (!gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default) {
+    return;
+  }
+  const PoseFit fit =
+      PoseFitOf(summary.model, summary.identification.parameters, all);
+  if (fit.num_poses < 2 || !(fit.rotation_rms_rad > 0) ||
+      !(fit.position_rms_m > 0)) {
+    return;
+  }
+  const double weight = fit.position_rms_m / fit.rotation_rms_rad;
+  char rounded[32];
+  std::snprintf(rounded, sizeof(rounded), "%.2g", weight);
+  CalibrationOptions with = options;
+  with.identification.rotation_weight_m_per_rad = std::stod(rounded);
+  CalibrationSummary other;
+  Calibrate(model, all, with, &other);
+  const int kept = summary.identification.estimates.size();
+  std::string effect = "the fit with it failed";
+  if (other.stage == CalibrationStage::kDone) {
+    effect = "keeps " + std::to_string(other.identification.estimates.size()) +
+             " parameters";
+  }
+  std::printf(
+      "%s: note: --rotation_weight not given: the orientations of the pose "
+      "rows were weighted 1 m/rad and %d parameters kept; their residuals "
+      "(between %d poses: distances %.3f mm, angles %.3f mrad RMS) have the "
+      "ratio %s m/rad, with which the calibration %s; set it to "
+      "sigma_position / sigma_rotation of the device\n",
+      app::ProgramName().c_str(), kept, fit.num_poses, fit.position_rms_m * 1e3,
+      fit.rotation_rms_rad * 1e3, rounded, effect.c_str());
+}
+
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -322,6 +364,10 @@ int Main() {
                      "none, huber or cauchy", &fit.robust_loss);
   fit.robust_scale_m = FLAGS_robust_scale_m;
   fit.outlier_probability = FLAGS_outlier_probability;
+  if (!(FLAGS_rotation_weight > 0) || !std::isfinite(FLAGS_rotation_weight)) {
+    app::Fail("--rotation_weight must be finite and > 0 (m per rad), got " +
+              std::to_string(FLAGS_rotation_weight));
+  }
   fit.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   fit.default_sigma_m = FLAGS_default_sigma_m;
   fit.default_sigma_rad = FLAGS_default_sigma_rad;
@@ -368,6 +414,7 @@ int Main() {
     app::Fail(CalibrationFailureText(summary, text));
   }
   std::printf("%s", CalibrationResultText(summary, text).c_str());
+  if (!app::Quiet()) PrintRotationWeightNote(summary, all, model, options);
 
   // Every output is made and checked before any is written: a run that
   // fails writes nothing (each file then atomically).
@@ -459,6 +506,7 @@ int Main() {
   }
   if (!WriteFilesAtomically(outputs, &error)) app::Fail(error);
   std::printf("%s", urdf_note.c_str());
+  app::PrintResult(app::ProgramName() + ": " + CalibrationResultLine(summary));
   return 0;
 }
 

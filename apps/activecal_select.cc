@@ -19,6 +19,7 @@
 #include <string>
 
 #include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/defaults.h"
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
@@ -33,7 +34,7 @@
 #include "activecal/selection/task_criterion.h"
 #include "app_common.h"
 
-DEFINE_int32(levels, 5,
+DEFINE_int32(levels, activecal::defaults::kLevels,
              "Lattice values per joint, both range ends included (>= 2). "
              "The pool has levels^(number of joints) poses.");
 DEFINE_string(pool, "lattice",
@@ -43,7 +44,7 @@ DEFINE_string(pool, "lattice",
               "measurable (with --cell: --pool_size poses solved by inverse "
               "kinematics for target poses the device can measure, each "
               "checked).");
-DEFINE_int64(pool_size, 100000,
+DEFINE_int64(pool_size, activecal::defaults::kPoolSize,
              "sobol, random, measurable: number of candidate poses.");
 DEFINE_string(pool_csv, "",
               "Read the candidate poses from this poses CSV "
@@ -55,13 +56,13 @@ DEFINE_string(poses_csv, "",
 DEFINE_string(measurement, "position",
               "What the device measures at each pose: position (3D point) "
               "or pose (6D: point and orientation).");
-DEFINE_double(rotation_weight, 1.0,
+DEFINE_double(rotation_weight, activecal::defaults::kRotationWeightMPerRad,
               "pose: weight of the orientation rows, m per rad (set it to "
               "sigma_position / sigma_rotation of the device).");
 DEFINE_bool(auto_fix, false,
             "If the pool cannot identify some free parameters, hold them "
             "at their nominal values (named on stderr) instead of failing.");
-DEFINE_string(algorithm, "eae",
+DEFINE_string(algorithm, activecal::defaults::kSelectAlgorithm,
               "eae: the paper's exchange-add-exchange; random: best of "
               "--random_designs random designs; fedorov: Fedorov exchange "
               "(best swap over all pairs), restart 0 from the rounded "
@@ -69,20 +70,23 @@ DEFINE_string(algorithm, "eae",
               "sequential best additions; approx: the approximate "
               "(continuous-weight) D-optimal design, rounded to its "
               "--num_poses heaviest poses.");
-DEFINE_string(criterion, "det",
+DEFINE_string(criterion, activecal::defaults::kSelectCriterion,
               "det (d): D-optimal (eae: svd scores it by SVD); task_rms: "
               "least predicted RMS position error over the task poses.");
 DEFINE_string(task_poses_csv, "",
               "Poses CSV of where the robot will work (default: the pool).");
-DEFINE_double(noise_m, 1e-4, "Measurement noise sigma per coordinate (m).");
+DEFINE_double(noise_m, activecal::defaults::kDesignNoiseM,
+              "Measurement noise sigma per coordinate (m).");
 DEFINE_double(target_rms_m, 0.0,
               "If set: the fewest poses whose predicted task RMS is <= this.");
 DEFINE_string(measured_csv, "",
               "Measurements CSV of poses already measured (task_rms): fixed.");
 DEFINE_string(curve_csv, "", "With --target_rms_m: write the curve here.");
-DEFINE_int32(num_poses, 30, "Poses in the design.");
-DEFINE_int32(initial_poses, 12, "eae: random poses in the initial design.");
-DEFINE_int32(random_designs, 5000, "random: number of designs drawn.");
+DEFINE_int32(num_poses, activecal::defaults::kNumPoses, "Poses in the design.");
+DEFINE_int32(initial_poses, activecal::defaults::kInitialPoses,
+             "eae: random poses in the initial design.");
+DEFINE_int32(random_designs, activecal::defaults::kRandomDesigns,
+             "random: number of designs drawn.");
 DEFINE_int32(restarts, 0,
              "eae, fedorov, detmax: independent restarts, run in parallel; "
              "the best is kept. 0: the algorithm's default (eae 1, fedorov "
@@ -91,10 +95,10 @@ DEFINE_bool(certificate, true,
             "Solve the approximate design and report a certified lower "
             "bound on the design's D-efficiency (efficiency_lower_bound) "
             "and the upper bound on log10 det it rests on.");
-DEFINE_double(approx_tolerance, 2e-3,
+DEFINE_double(approx_tolerance, activecal::defaults::kApproxTolerance,
               "Approximate design: stop when max_i d_i <= p (1 + tol). The "
               "bounds hold for any value; smaller is tighter and slower.");
-DEFINE_int64(polish_pool_size, 20000,
+DEFINE_int64(polish_pool_size, activecal::defaults::kPolishPoolSize,
              "fedorov: a pool larger than this is polished in rounds over "
              "this many poses of largest variance rather than over every "
              "pose (<= 0: always every pose).");
@@ -106,9 +110,9 @@ DEFINE_string(pool_storage, "auto",
               "double blocks would take more than --max_double_pool_mib and "
               "the algorithm is fedorov or approx). Float needs "
               "--algorithm=fedorov or approx with the D criterion.");
-DEFINE_int64(max_double_pool_mib, 2048,
+DEFINE_int64(max_double_pool_mib, activecal::defaults::kMaxDoublePoolMib,
              "--pool_storage=auto: the largest pool kept in double (MiB).");
-DEFINE_uint64(seed, 1, "Seed of every random choice.");
+DEFINE_uint64(seed, activecal::defaults::kSeed, "Seed of every random choice.");
 DEFINE_int32(threads, 0, "Threads (0: all). Results do not depend on it.");
 DEFINE_string(json_out, "", "If set, write the selected design here.");
 DEFINE_string(program_out, "",

@@ -34,7 +34,7 @@ DEFINE_string(type, "position",
               "position: the 3D point at each pose; pose: point and "
               "orientation (6D); distance: the distance between the points "
               "of consecutive poses (rows 1-2, 2-3, ...), as a ballbar.");
-DEFINE_double(noise_m, 0.01,
+DEFINE_double(noise_m, 0.001,  // defaults::kSimulationNoiseM
               "Noise standard deviation on each axis of a point and on a "
               "distance (m).");
 DEFINE_double(rotation_noise_rad, 0.001,

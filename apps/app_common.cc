@@ -3,6 +3,7 @@
 
 #include "app_common.h"
 
+#include <fcntl.h>
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 #include <unistd.h>
@@ -24,6 +25,10 @@
 #include "activecal/io/robot_loader.h"
 #include "activecal/selection/criteria.h"
 
+DEFINE_bool(quiet, false,
+            "Print only errors (stderr) and the one-line result (stdout, "
+            "where the program has one): no notes, tables, warnings or "
+            "progress lines. Output files are the same.");
 DEFINE_string(robot, "",
               "Robot description: an activecal robot YAML file or a URDF "
               "file (.urdf; docs/formats.md). Empty: the built-in PUMA 560 "
@@ -43,7 +48,8 @@ namespace activecal {
 namespace app {
 namespace {
 std::string g_program = "activecal";
-}
+int g_result_fd = STDOUT_FILENO;  // where PrintResult writes
+}  // namespace
 
 const std::string& ProgramName() { return g_program; }
 
@@ -150,6 +156,37 @@ void Init(int* argc, char*** argv, const char* usage) {
     Fail(std::string("unexpected argument '") + (*argv)[1] +
          "' (flags are written --name=value; see --help)");
   }
+  if (FLAGS_quiet) {
+    // Everything the program prints on stdout goes to /dev/null; the
+    // result line (PrintResult) to the real stdout.
+    std::fflush(stdout);
+    g_result_fd = dup(STDOUT_FILENO);
+    const int null = open("/dev/null", O_WRONLY);
+    if (g_result_fd < 0 || null < 0 || dup2(null, STDOUT_FILENO) < 0) {
+      Fail("--quiet: cannot redirect stdout");
+    }
+    close(null);
+  }
+}
+
+bool Quiet() { return FLAGS_quiet; }
+
+void PrintResult(const std::string& line) {
+  std::fflush(stdout);
+  const std::string text = line + "\n";
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n =
+        write(g_result_fd, text.data() + done, text.size() - done);
+    if (n <= 0) break;
+    done += static_cast<size_t>(n);
+  }
+}
+
+void PrintProgress(const std::string& line) {
+  if (FLAGS_quiet) return;
+  std::fprintf(stderr, "%s: %s\n", g_program.c_str(), line.c_str());
+  std::fflush(stderr);
 }
 
 void WriteTextOrDie(const std::string& path, const std::string& text) {
@@ -321,11 +358,18 @@ ProgressCallback ProgressLine::callback() {
 }
 
 void ProgressLine::Update(int64_t done, int64_t total) {
-  if (!tty_) return;
+  if (FLAGS_quiet) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const int64_t now = NowNs();
-  if (done < total && now - last_ns_ < 200000000) return;
+  // Nothing in the first kProgressAfterNs: a short step prints no line.
+  if (now - start_ns_ < kProgressAfterNs) return;
+  // On a terminal the line is rewritten 5 times a second; in a file or a
+  // pipe a new line every 2 s, and the last one.
+  const int64_t every = tty_ ? 200000000 : kProgressAfterNs;
+  if (done < total && printed_ && now - last_ns_ < every) return;
+  if (done >= total && !tty_ && finished_) return;
   last_ns_ = now;
+  finished_ = done >= total;
   const double elapsed = (now - start_ns_) * 1e-9;
   const double rate = elapsed > 0 ? done / elapsed : 0.0;
   char line[256];
@@ -340,7 +384,11 @@ void ProgressLine::Update(int64_t done, int64_t total) {
                   static_cast<long long>(done), static_cast<long long>(total),
                   elapsed);
   }
-  std::cerr << "\r" << line << "\033[K" << std::flush;
+  if (tty_) {
+    std::cerr << "\r" << line << "\033[K" << std::flush;
+  } else {
+    std::cerr << line << std::endl;
+  }
   printed_ = true;
 }
 

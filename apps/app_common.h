@@ -111,7 +111,21 @@ void EnumFlagOrDie(bool (*string_to)(const std::string&, Enum*),
 }
 
 // Parses gflags and sets up glog; logs go to stderr, warnings and above.
+// With --quiet (every program has it), stdout goes to /dev/null from here
+// on: only PrintResult's line and the errors (stderr) are printed.
 void Init(int* argc, char*** argv, const char* usage);
+
+// --quiet was given.
+bool Quiet();
+
+// The program's one-line result, on stdout even with --quiet (its last
+// line: a script reads it with `tail -1`).
+void PrintResult(const std::string& line);
+
+// "<program>: <line>" on stderr, flushed at once, unless --quiet: what a
+// run that can take more than 2 s is doing (stdout stays the same for
+// scripts whether or not progress is printed).
+void PrintProgress(const std::string& line);
 
 // The writers below go through io/output_files.h (a temporary file beside
 // the path, renamed over it: a failure never leaves a half-written file).
@@ -155,8 +169,12 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
                              const std::vector<int64_t>& labels);
 
 // A progress line on stderr, "<program>: <label>: 12288/15625 (41000/s,
-// 0.1 s left)", rewritten in place at most 5 times a second, and only when
-// stderr is a terminal: logs and pipes stay clean. Thread-safe.
+// 0.1 s left)", once the step has taken kProgressAfterNs (2 s: a short
+// step prints nothing), flushed as it is written: on a terminal rewritten
+// in place at most 5 times a second; in a file or a pipe one line every
+// 2 s and the last one. Never with --quiet; never on stdout (what scripts
+// read stays the same). Thread-safe.
+inline constexpr int64_t kProgressAfterNs = 2000000000;
 class ProgressLine {
  public:
   explicit ProgressLine(std::string label);
@@ -176,6 +194,7 @@ class ProgressLine {
   int64_t start_ns_;
   int64_t last_ns_ = 0;
   bool printed_ = false;
+  bool finished_ = false;
 };
 
 double Seconds(int64_t start_ns);

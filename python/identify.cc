@@ -3,6 +3,7 @@
 
 // The Python module `activecal`: identify and evaluate.
 
+#include "activecal/calibration/defaults.h"
 #include "common.h"
 
 namespace activecal {
@@ -38,28 +39,29 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   options.register_base = Option(kwargs, "register_base", true);
   options.auto_fix = Option(kwargs, "auto_fix", false);
   options.model_selection =
-      EnumOption(kwargs, "model_selection", "auto",
+      EnumOption(kwargs, "model_selection", defaults::kModelSelection,
                  StringToModelSelectionMethod, "auto, none, validation or cv");
   options.selection_rule =
-      EnumOption(kwargs, "selection_rule", "1se_most", StringToSelectionRule,
-                 "1se_most, min, 1se or ftest");
-  options.num_folds = Option(kwargs, "folds", 5);
+      EnumOption(kwargs, "selection_rule", defaults::kSelectionRule,
+                 StringToSelectionRule, "1se_most, min, 1se or ftest");
+  options.num_folds = Option(kwargs, "folds", defaults::kFolds);
   options.selection_ranking =
-      EnumOption(kwargs, "selection_ranking", "significance",
+      EnumOption(kwargs, "selection_ranking", defaults::kSelectionRanking,
                  StringToParameterRanking, "significance or jacobian");
   options.validation_fraction = Option(kwargs, "validation_fraction", 0.0);
   IdentificationOptions& fit = options.identification;
-  fit.robust_loss = EnumOption(kwargs, "robust_loss", "none",
+  fit.robust_loss = EnumOption(kwargs, "robust_loss", defaults::kRobustLoss,
                                StringToRobustLoss, "none, huber or cauchy");
   fit.robust_scale_m = Option(kwargs, "robust_scale_m", 0.0);
   fit.outlier_probability =
       Option(kwargs, "outlier_probability", fit.outlier_probability);
-  fit.rotation_weight_m_per_rad = Option(kwargs, "rotation_weight", 1.0);
+  fit.rotation_weight_m_per_rad =
+      Option(kwargs, "rotation_weight", defaults::kRotationWeightMPerRad);
   fit.default_sigma_m = Option(kwargs, "default_sigma_m", 0.0);
   fit.default_sigma_rad = Option(kwargs, "default_sigma_rad", 0.0);
   fit.prior_std_m = Option(kwargs, "prior_std_m", 0.0);
   fit.prior_std_rad = Option(kwargs, "prior_std_rad", 0.0);
-  options.seed = Option<uint64_t>(kwargs, "seed", 1);
+  options.seed = Option<uint64_t>(kwargs, "seed", defaults::kSeed);
   options.num_threads = Option(kwargs, "num_threads", 0);
   py::object validation = py::none();
   if (kwargs.contains("validation")) {

@@ -5,6 +5,7 @@
 // numpy in and out (docs/python.md). This file binds the functions and
 // classes the other files of python/ define (common.h).
 
+#include "activecal/calibration/defaults.h"
 #include "common.h"
 
 using namespace activecal;
@@ -285,8 +286,9 @@ PYBIND11_MODULE(_activecal, m) {
         "rotation vectors (n, 3) rad or None, start joints (n, num_joints) "
         "or None, pose_indices (n,)), for compensate(targets=...).");
   m.def("simulate", &SimulatePy, py::arg("robot"), py::arg("joint_angles"),
-        py::arg("noise_m") = 0.001, py::arg("seed") = 1,
-        py::arg("type") = "position", py::arg("rotation_noise_rad") = 0.001,
+        py::arg("noise_m") = defaults::kSimulationNoiseM,
+        py::arg("seed") = defaults::kSeed, py::arg("type") = "position",
+        py::arg("rotation_noise_rad") = defaults::kSimulationRotationNoiseRad,
         py::arg("parameters") = py::none(),
         "The measurements a device would report at the poses (rows of "
         "joint_angles), from the robot's true values (or `parameters`) with "
@@ -438,19 +440,29 @@ PYBIND11_MODULE(_activecal, m) {
         return s.str();
       });
 
-  m.def("select", &SelectPy, py::arg("robot"), py::arg("algorithm") = "fedorov",
-        py::arg("num_poses") = 30, py::arg("seed") = 1, py::arg("levels") = 5,
-        py::arg("pool") = py::none(), py::arg("criterion") = "d",
-        py::arg("pool_size") = 100000, py::arg("pool_indices") = py::none(),
-        py::arg("measurement") = "position", py::arg("rotation_weight") = 1.0,
+  m.def("select", &SelectPy, py::arg("robot"),
+        py::arg("algorithm") = defaults::kSelectAlgorithm,
+        py::arg("num_poses") = defaults::kNumPoses,
+        py::arg("seed") = defaults::kSeed,
+        py::arg("levels") = defaults::kLevels, py::arg("pool") = py::none(),
+        py::arg("criterion") = defaults::kSelectCriterion,
+        py::arg("pool_size") = defaults::kPoolSize,
+        py::arg("pool_indices") = py::none(),
+        py::arg("measurement") = "position",
+        py::arg("rotation_weight") = defaults::kRotationWeightMPerRad,
         py::arg("parameter_set") = py::none(), py::arg("auto_fix") = false,
-        py::arg("restarts") = 0, py::arg("initial_poses") = 12,
-        py::arg("random_designs") = 5000, py::arg("certificate") = true,
-        py::arg("approx_tolerance") = 2e-3, py::arg("polish_pool_size") = 20000,
-        py::arg("pool_storage") = "auto", py::arg("max_double_pool_mib") = 2048,
-        py::arg("noise_m") = 1e-4, py::arg("task_poses") = py::none(),
-        py::arg("measured") = py::none(), py::arg("target_rms_m") = py::none(),
-        py::arg("num_threads") = 0, py::arg("progress") = py::none(),
+        py::arg("restarts") = 0,
+        py::arg("initial_poses") = defaults::kInitialPoses,
+        py::arg("random_designs") = defaults::kRandomDesigns,
+        py::arg("certificate") = true,
+        py::arg("approx_tolerance") = defaults::kApproxTolerance,
+        py::arg("polish_pool_size") = defaults::kPolishPoolSize,
+        py::arg("pool_storage") = "auto",
+        py::arg("max_double_pool_mib") = defaults::kMaxDoublePoolMib,
+        py::arg("noise_m") = defaults::kDesignNoiseM,
+        py::arg("task_poses") = py::none(), py::arg("measured") = py::none(),
+        py::arg("target_rms_m") = py::none(), py::arg("num_threads") = 0,
+        py::arg("progress") = py::none(),
         "Selects calibration poses, as activecal_select with the same "
         "options (the same design for the same seed). pool: None or "
         "'lattice' (levels per joint), 'sobol' or 'random' (pool_size "

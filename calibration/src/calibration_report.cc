@@ -9,6 +9,9 @@
 #include <cstdarg>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <set>
+
+#include "activecal/core/text_table.h"
 
 namespace activecal {
 namespace {
@@ -97,6 +100,51 @@ void PrefixWord(const std::string& name, const std::string& prefix,
   }
 }
 
+// The model selection's report: its message and the curve (RMS in mm
+// beside the count kept), the parameters it held named once (as the rows
+// after the kept one when they are those).
+std::string SelectionText(const ModelSelectionSummary& selection) {
+  std::string text = selection.message + "\n";
+  if (selection.curve.empty()) return text;
+  TextTable table({{"kept", ColumnAlign::kRight},
+                   {"added"},
+                   {"training RMS (mm)", ColumnAlign::kRight},
+                   {"held-out RMS (mm)", ColumnAlign::kRight},
+                   {"+- SE (mm)", ColumnAlign::kRight},
+                   {""}});
+  std::set<std::string> after_kept;
+  for (const ModelSelectionPoint& pt : selection.curve) {
+    std::string mark;
+    if (pt.num_kept == selection.best_num_kept) mark += "<- kept";
+    if (pt.num_kept == selection.minimum_num_kept &&
+        selection.best_num_kept != selection.minimum_num_kept) {
+      mark += mark.empty() ? "<- minimum" : "  <- minimum";
+    }
+    if (pt.num_kept > selection.best_num_kept && !pt.added.empty()) {
+      after_kept.insert(pt.added);
+    }
+    table.AddRow({std::to_string(pt.num_kept),
+                  pt.added.empty() ? "(registration)" : pt.added,
+                  FormatNumber("%.4f", pt.training_rms_m * 1e3),
+                  FormatNumber("%.4f", pt.held_out_rms_m * 1e3),
+                  FormatNumber("%.4f", pt.held_out_se_m * 1e3), mark});
+  }
+  text += table.ToString(2);
+  const std::vector<std::string>& dropped = selection.dropped;
+  if (dropped.empty()) return text;
+  if (std::set<std::string>(dropped.begin(), dropped.end()) == after_kept) {
+    text += Format(
+        "  the %zu parameters added after '<- kept' are held at their start "
+        "values\n",
+        dropped.size());
+  } else {
+    text += "  held at their start values:";
+    for (const std::string& d : dropped) text += " " + d;
+    text += "\n";
+  }
+  return text;
+}
+
 }  // namespace
 
 std::string CalibrationStagesText(const CalibrationSummary& s,
@@ -104,17 +152,21 @@ std::string CalibrationStagesText(const CalibrationSummary& s,
   std::string text;
   if (s.registered_base) text += "  " + s.registration_message + "\n";
   if (Reduced(s)) {
-    const std::string label = SetLabel(s, o);
+    // Each parameter the reduction held, named once with its reason.
     const std::vector<std::string> held = s.HeldAt(HoldStage::kParameterSet);
-    if (s.Passed(CalibrationStage::kParameterSet)) {
+    if (s.Passed(CalibrationStage::kParameterSet) && !held.empty()) {
+      text += Format(
+          "  %s: the %zu measurements cannot identify %zu of %d free "
+          "parameters; held fixed at their nominal values:\n",
+          SetLabel(s, o).c_str(), s.training.size(), held.size(),
+          s.num_free_in_set);
+      TextTable table({{"held fixed"}, {"reason"}});
       for (const HeldParameter& h : s.held) {
-        if (h.stage != HoldStage::kParameterSet) continue;
-        text +=
-            "  " + label + ": " + h.name + " held fixed: " + h.reason + "\n";
+        if (h.stage == HoldStage::kParameterSet) {
+          table.AddRow({h.name, h.reason});
+        }
       }
-    }
-    if (s.Passed(CalibrationStage::kIdentifiability)) {
-      text += FixedNote(s, o, held, label);
+      text += table.ToString(4);
     }
   } else if (s.options.auto_fix &&
              s.Passed(CalibrationStage::kIdentifiability)) {
@@ -123,7 +175,7 @@ std::string CalibrationStagesText(const CalibrationSummary& s,
   }
   if (s.Passed(CalibrationStage::kModelSelection) &&
       s.model_selection != ModelSelectionMethod::kNone) {
-    text += s.selection.BriefReport();
+    text += SelectionText(s.selection);
   }
   if (s.Passed(CalibrationStage::kTermSelection) &&
       !s.options.term_families.empty()) {
@@ -152,6 +204,33 @@ std::string HeldFixedNote(const CalibrationSummary& s,
   return note;
 }
 
+namespace {
+
+// "K of M free parameters held fixed ...: a by <stage>, b by <stage>, named
+// above": the count of what was held, each group by its stage.
+std::string HeldCountNote(const CalibrationSummary& s,
+                          const CalibrationTextOptions& o) {
+  if (s.held.empty()) return "";
+  std::string groups;
+  auto group = [&](HoldStage stage, const std::string& by) {
+    const size_t n = s.HeldAt(stage).size();
+    if (n == 0) return;
+    groups += (groups.empty() ? "" : ", ") + std::to_string(n) + " by " + by;
+  };
+  group(HoldStage::kParameterSet, SetLabel(s, o));
+  group(HoldStage::kAutoFix, Option(o, "auto_fix"));
+  group(HoldStage::kModelSelection,
+        Option(o, "model_selection=") +
+            ModelSelectionMethodToString(s.model_selection));
+  std::string note =
+      Format("%zu of %d free parameters", s.held.size(), s.num_free_in_set) +
+      " held fixed at their nominal values (not in 'free'";
+  if (o.model_out) note += " of " + Option(o, "model_out");
+  return note + "): " + groups + ", named above";
+}
+
+}  // namespace
+
 std::string CalibrationResultText(const CalibrationSummary& s,
                                   const CalibrationTextOptions& o) {
   const IdentificationSummary& id = s.identification;
@@ -161,30 +240,60 @@ std::string CalibrationResultText(const CalibrationSummary& s,
   // Stated sigmas the residuals contradict: the std the implied noise
   // gives, beside the stated ones (identification.h).
   const bool scaled = !id.chi_square_plausible;
-  std::string text = Format("%-10s %-4s %12s %12s %12s", "parameter", "unit",
-                            "nominal", "estimate", "std");
-  if (scaled) text += Format(" %12s", "std_scaled");
-  if (has_truth) text += Format(" %12s %12s %8s", "true", "error", "err/std");
-  text += "\n";
+  std::vector<TextColumn> columns = {{"parameter"},
+                                     {"unit"},
+                                     {"nominal", ColumnAlign::kRight},
+                                     {"estimate", ColumnAlign::kRight},
+                                     {"std", ColumnAlign::kRight}};
+  if (scaled) columns.push_back({"std_scaled", ColumnAlign::kRight});
+  if (has_truth) {
+    columns.push_back({"true", ColumnAlign::kRight});
+    columns.push_back({"error", ColumnAlign::kRight});
+    columns.push_back({"err/std", ColumnAlign::kRight});
+  }
+  // Beside the SI (or the file's) units: the correction and its std in mm
+  // or deg, the units a person reads.
+  columns.push_back({"change", ColumnAlign::kRight});
+  columns.push_back({"std", ColumnAlign::kRight});
+  columns.push_back({"in"});
+  TextTable table(columns);
   int outside = 0;
   for (size_t k = 0; k < free.size(); ++k) {
     const int i = free[k];
     const double sd = id.standard_deviations[k];
-    const bool degrees = std::string(model.ParameterUnit(i)) == "rad" &&
-                         o.angle_unit == AngleUnit::kDegree;
+    const std::string unit = model.ParameterUnit(i);
+    const bool degrees = unit == "rad" && o.angle_unit == AngleUnit::kDegree;
     const double u = degrees ? 180.0 / M_PI : 1.0;
-    text += Format("%-10s %-4s %12.6f %12.6f %12.6f", id.names[k].c_str(),
-                   degrees ? "deg" : model.ParameterUnit(i),
-                   u * model.nominal[i], u * id.estimates[k], u * sd);
-    if (scaled) text += Format(" %12.6f", u * id.scaled_standard_deviations[k]);
+    std::vector<std::string> row = {id.names[k], degrees ? "deg" : unit,
+                                    FormatNumber("%.6f", u * model.nominal[i]),
+                                    FormatNumber("%.6f", u * id.estimates[k]),
+                                    FormatNumber("%.6f", u * sd)};
+    if (scaled) {
+      row.push_back(FormatNumber("%.6f", u * id.scaled_standard_deviations[k]));
+    }
     if (has_truth) {
       const double truth = o.true_parameters[i];
       const double err = id.estimates[k] - truth;
       if (std::abs(err) > 4 * sd) ++outside;
-      text += Format(" %12.6f %12.6f %8.2f", u * truth, u * err, err / sd);
+      row.push_back(FormatNumber("%.6f", u * truth));
+      row.push_back(FormatNumber("%.6f", u * err));
+      row.push_back(FormatNumber("%.2f", err / sd));
     }
-    text += "\n";
+    const double change = id.estimates[k] - model.nominal[i];
+    if (unit == "m") {
+      row.push_back(FormatNumber("%.3f", 1e3 * change));
+      row.push_back(FormatNumber("%.3f", 1e3 * sd));
+      row.push_back("mm");
+    } else if (unit == "rad") {
+      row.push_back(FormatNumber("%.4f", change * 180.0 / M_PI));
+      row.push_back(FormatNumber("%.4f", sd * 180.0 / M_PI));
+      row.push_back("deg");
+    } else {
+      row.insert(row.end(), {"", "", ""});
+    }
+    table.AddRow(row);
   }
+  std::string text = table.ToString();
   const std::string fit = id.BriefReport();
   text += "\n" + fit;
   if (has_truth) {
@@ -199,14 +308,31 @@ std::string CalibrationResultText(const CalibrationSummary& s,
   }
   // The baseline, validation and warning lines of the brief report.
   text += s.BriefReport().substr(fit.size());
-  const std::string note = HeldFixedNote(s, o);
-  if (!note.empty()) text += "  " + note + "\n";
+  const std::string held = HeldCountNote(s, o);
+  if (!held.empty()) text += "  " + held + "\n";
   if (!id.outliers.empty()) {
     text += "  outliers (measurement index in the input):";
     for (int k : id.outliers) text += Format(" %d", s.training_index[k]);
     text += "\n";
   }
   return text;
+}
+
+std::string CalibrationResultLine(const CalibrationSummary& s) {
+  const IdentificationSummary& id = s.identification;
+  std::string line =
+      Format("%d of %d parameters identified from %d measurements, RMS %.3f mm",
+             static_cast<int>(id.estimates.size()), s.num_free_in_set,
+             id.num_measurements, id.rms_m * 1e3);
+  if (s.have_baseline) {
+    line += Format(" (registration only %.3f mm)", s.baseline.rms_m * 1e3);
+  }
+  const ValidationErrors& v = s.validation_errors;
+  if (v.count > 0) {
+    line += Format(", held out: %.3f mm RMS on %d measurements",
+                   v.rms_calibrated_m * 1e3, v.count);
+  }
+  return line;
 }
 
 std::string CalibrationFailureText(const CalibrationSummary& s,
