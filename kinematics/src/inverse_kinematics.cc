@@ -78,6 +78,7 @@ class ChainEvaluator {
         BlockPointers<double>(model, parameters.data());
     LinkTransform(model.base, blocks[0], 0.0, &base_R_, &base_t_);
     blocks_.resize(n_);
+    values_.resize(n_);
     fixed_R_.resize(n_);
     fixed_t_.resize(n_);
     offset_.resize(n_);
@@ -85,7 +86,10 @@ class ChainEvaluator {
     gain_.resize(n_);
     for (int j = 0; j < n_; ++j) {
       const int size = model.block_size(j + 1);
-      for (int k = 0; k < size; ++k) blocks_[j][k] = Jet1(blocks[j + 1][k]);
+      for (int k = 0; k < size; ++k) {
+        blocks_[j][k] = Jet1(blocks[j + 1][k]);
+        values_[j][k] = blocks[j + 1][k];
+      }
       int offset = 0, gain = 0;
       JointEntries(model, j, &offset, &gain);
       offset_[j] = offset - model.block_offset(j + 1);
@@ -182,12 +186,48 @@ class ChainEvaluator {
     }
   }
 
+  // The marker frame at q only, in doubles: the same arithmetic as the
+  // values of Evaluate (a Jet's value is computed as the double), so the
+  // same bits, at about half its cost. For trial steps, which are kept
+  // only when they lower the merit.
+  void Pose(const double* q, Eigen::Matrix3d* R, Eigen::Vector3d* t) {
+    Eigen::Matrix3d Rc = base_R_;
+    Eigen::Vector3d tc = base_t_;
+    Eigen::Matrix3d Rj;
+    Eigen::Vector3d tj;
+    for (int j = 0; j < n_; ++j) {
+      const Link& link = model_.links[j];
+      const double value = entry_[j] + gain_[j] * q[j];
+      if (link.convention == LinkConvention::kUrdf) {
+        if (link.joint_type == JointType::kRevolute) {
+          Rj = fixed_R_[j] * AxisRotation(link.axis, value);
+          tj = fixed_t_[j];
+        } else {
+          Rj = fixed_R_[j];
+          tj = fixed_t_[j] + (fixed_R_[j] * link.axis) * value;
+        }
+      } else {
+        values_[j][offset_[j]] = value;
+        LinkTransform(link, values_[j].data(), 0.0, &Rj, &tj);
+      }
+      tc += Rc * tj;
+      Rc = Rc * Rj;
+    }
+    if (!model_.tip.IsIdentity()) {
+      tc += Rc * model_.tip.translation;
+      Rc = Rc * model_.tip.rotation;
+    }
+    *t = Rc * marker_point_ + tc;
+    *R = Rc * marker_R_;
+  }
+
  private:
   const RobotModel& model_;
   const int n_;
   Eigen::Matrix3d base_R_;
   Eigen::Vector3d base_t_;
   std::vector<std::array<Jet1, kMaxBlockSize>> blocks_;
+  std::vector<std::array<double, kMaxBlockSize>> values_;  // the same, doubles
   std::vector<int> offset_;
   std::vector<double> entry_;
   std::vector<double> gain_;
@@ -356,6 +396,25 @@ class IkSolver {
         consider(again.last);
       }
     }
+    if (limits && best_change == HUGE_VAL && !limited.hit_cap &&
+        !(ran_free && Converged(free.last))) {
+      // Not reached, and not for the cap or a limit: the run stalled (a
+      // local minimum of the merit, often at a singular configuration on
+      // the start's branch) or the target is out of reach. A few runs from
+      // the first restart points tell the two apart (measured in
+      // docs/compensation.md: UR10e pose targets from starts 3 rad off).
+      constexpr int kFailureRestarts = 4;
+      constexpr int kRestartIterations = 30;
+      const int cap = std::min(options_.max_iterations, kRestartIterations);
+      for (int k = 0; k < std::min(options_.restarts, kFailureRestarts) &&
+                      best_change == HUGE_VAL;
+           ++k) {
+        RunResult again;
+        Run(true, RestartPoint(k), cap, &again);
+        result->iterations += again.iterations;
+        consider(again.last);
+      }
+    }
     if (best_change < HUGE_VAL) {
       SetResult(best, result);
       const bool singular = result->conditioning < options_.singular_threshold;
@@ -472,9 +531,16 @@ class IkSolver {
 
   bool pose() const { return options_.match == IkMatch::kPose; }
 
-  void Evaluate(const Joints& q, Iterate* it) const {
+  // The iterate at q; without `jacobian` its pose and residual only (J is
+  // left as it was: a trial step's, completed by Evaluate(q, it) when the
+  // step is kept).
+  void Evaluate(const Joints& q, Iterate* it, bool jacobian = true) const {
     it->q = q;
-    evaluator_->Evaluate(q.data(), pose(), &it->R, &it->t, &it->J);
+    if (jacobian) {
+      evaluator_->Evaluate(q.data(), pose(), &it->R, &it->t, &it->J);
+    } else {
+      evaluator_->Pose(q.data(), &it->R, &it->t);
+    }
     it->r.resize(pose() ? 6 : 3);
     it->r.head<3>() = target_.point - it->t;
     it->position_error = it->r.head<3>().norm();
@@ -483,7 +549,7 @@ class IkSolver {
       it->rotation_error = std::abs(e.angle());
       const double w = options_.rotation_weight_m;
       it->r.tail<3>() = w * e.angle() * e.axis();
-      it->J.bottomRows<3>() *= w;
+      if (jacobian) it->J.bottomRows<3>() *= w;
     }
     it->cost = it->r.squaredNorm();
   }
@@ -782,8 +848,9 @@ class IkSolver {
         const Joints dq = Step(it, mu, pull, limits, &bounded);
         met_limit |= bounded;
         if (dq.norm() <= kTinyStep * (1.0 + it.q.norm())) continue;
-        Evaluate(Clamp(it.q + dq, limits), &candidate);
-        ++iterations;
+        // The trial by its pose only: the Jacobian is evaluated when the
+        // step is kept (a rejected trial costs a forward pass).
+        Evaluate(Clamp(it.q + dq, limits), &candidate, /*jacobian=*/false);
         if (candidate.cost < it.cost) {
           // Nielsen's damping update from the gain ratio.
           const Joints taken = candidate.q - it.q;
@@ -794,6 +861,8 @@ class IkSolver {
           const double decrease = it.cost - candidate.cost;
           const bool stalled =
               decrease <= 1e-14 * it.cost && !Converged(candidate);
+          Evaluate(candidate.q, &candidate);
+          ++iterations;
           std::swap(it, candidate);
           accepted = true;
           const double f = 2.0 * rho - 1.0;
