@@ -732,6 +732,22 @@ int Main() {
     }
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
+  {
+    // The one-line result (what --quiet prints).
+    char result[256];
+    std::snprintf(result, sizeof(result),
+                  "%s: %zu poses of %lld (%s), log10 det %.4f",
+                  app::ProgramName().c_str(), summary.design.size(),
+                  static_cast<long long>(pool_joints.rows()),
+                  summary.algorithm.c_str(), summary.log10_det());
+    std::string line = result;
+    if (std::isfinite(summary.efficiency_lower_bound)) {
+      std::snprintf(result, sizeof(result), ", D-efficiency >= %.4f",
+                    summary.efficiency_lower_bound);
+      line += result;
+    }
+    app::PrintResult(line);
+  }
   return 0;
 }
 

@@ -379,7 +379,9 @@ void ProgressLine::Update(int64_t done, int64_t total) {
                   static_cast<long long>(done), static_cast<long long>(total),
                   rate, (total - done) / rate);
   } else {
-    std::snprintf(line, sizeof(line), "%s: %s: %lld/%lld (%.1f s)",
+    std::snprintf(line, sizeof(line),
+                  done < total ? "%s: %s: %lld/%lld (%.1f s so far)"
+                               : "%s: %s: %lld/%lld (%.1f s)",
                   g_program.c_str(), label_.c_str(),
                   static_cast<long long>(done), static_cast<long long>(total),
                   elapsed);

@@ -122,5 +122,29 @@ echo "$note" | grep -q "weighted 1 m/rad and 22 parameters kept" &&
   ok "--rotation_weight note: $note" ||
   { fail "--rotation_weight note"; tail -5 out1.txt; }
 
+# --- Progress lines: on stderr once a step has run 2 s (here a file, not a
+# terminal), flushed as they happen; none on a short run; none with --quiet.
+# One thread: the 117,649-pose PUMA lattice's 16 Fedorov restarts take
+# about 5 s of CPU, well over 2 s on any machine.
+select=("$apps/activecal_select" --robot="$data/puma560.yaml" --num_poses=30
+  --certificate=false --threads=1)
+"${select[@]}" --levels=7 >long.out 2>long.err
+if grep -Eq "^activecal_select: fedorov restarts: [0-9]+/16 " long.err; then
+  ok "progress lines on a long run: $(tail -1 long.err)"
+else
+  fail "progress lines on a long run"; cat long.err
+fi
+grep -q "restarts:" long.out && fail "no progress line on stdout" ||
+  ok "no progress line on stdout"
+"${select[@]}" --levels=3 >short.out 2>short.err
+[ ! -s short.err ] && ok "no progress line on a short run" ||
+  { fail "no progress line on a short run"; cat short.err; }
+"${select[@]}" --levels=7 --quiet >qlong.out 2>qlong.err
+[ ! -s qlong.err ] && [ "$(wc -l <qlong.out)" -eq 1 ] &&
+  [ "$(cat qlong.out)" = "$(tail -1 long.out)" ] &&
+  grep -q "^activecal_select: 30 poses of 117649 (fedorov), log10 det " qlong.out &&
+  ok "--quiet select: $(cat qlong.out)" ||
+  { fail "--quiet select"; cat qlong.out qlong.err; }
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]

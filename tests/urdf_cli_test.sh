@@ -177,7 +177,7 @@ EOF2
 grep -q "pool stored in single precision" iiwa_auto.out && ok "auto storage says so" \
   || fail "auto storage does not say it stored the pool in float"
 expect_fail "float pool with eae" "--pool_storage=float needs --algorithm=fedorov or approx with the D criterion (got --algorithm=eae --criterion=det)" \
-  activecal_select --pool_storage=float
+  activecal_select --pool_storage=float --algorithm=eae
 expect_fail "bad pool storage" "--pool_storage must be auto, double or float, got 'half'" \
   activecal_select --pool_storage=half
 expect_fail "unknown pool" "--pool must be lattice, sobol, random or measurable, got 'halton'" \

@@ -34,8 +34,8 @@ def flag_default(program, name):
         pytest.skip("%s not built" % program)
     text = subprocess.run([str(path), "--help"], capture_output=True,
                           text=True).stdout + ""
-    match = re.search(r"-%s \(.*?\) type: \w+ default: (\S+)" % name, text,
-                      re.S)
+    match = re.search(r"^    -%s \(.*?\)\s+type: \w+\s+default: (\S+)" % name,
+                      text, re.S | re.M)
     assert match, "%s --help lists no --%s" % (program, name)
     return match.group(1).strip('"')
 
