@@ -28,6 +28,23 @@ using Residual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Joints = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1>;
 
+// A^-1 c for a symmetric positive definite A of 3 or 6 rows (the damped
+// normal matrix of a position or pose step) by a Cholesky factorisation of
+// fixed size (a third of the instructions of the dynamic-size one).
+template <typename Square, typename Residual>
+Residual SolvePositiveDefinite(const Square& A, const Residual& c) {
+  if (A.rows() == 6) {
+    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+    using Vector6d = Eigen::Matrix<double, 6, 1>;
+    return Residual(Eigen::LLT<Matrix6d>(Matrix6d(A)).solve(Vector6d(c)));
+  }
+  if (A.rows() == 3) {
+    return Residual(Eigen::LLT<Eigen::Matrix3d>(Eigen::Matrix3d(A))
+                        .solve(Eigen::Vector3d(c)));
+  }
+  return A.llt().solve(c);
+}
+
 // Below this sigma_min / sigma_max a failure's message says the solver
 // stopped near a singularity.
 constexpr double kNearSingular = 1e-2;
@@ -685,7 +702,7 @@ class IkSolver {
       }
       Square A = Jf * it.J.transpose();
       A.diagonal().array() += lambda;
-      const Residual y = A.llt().solve(c);
+      const Residual y = SolvePositiveDefinite(A, c);
       const Joints target = Jf.transpose() * y;
       // As far towards it as the bounds let the free joints go.
       double alpha = 1.0;
