@@ -27,8 +27,9 @@
 // Gaussian) or far (each joint off by up to `--far_rad`, uniform). The two
 // solvers run alternately `repeats` times in one process; the best time of
 // each is reported, with the targets each reaches and the ones only the
-// other reaches. `--solver=activecal` or `kdl` runs one solver only (for
-// callgrind instruction counts).
+// other reaches. `--solver=activecal` or `kdl` runs one solver only, and
+// `--starts=near` or `far` one kind of start (for callgrind instruction
+// counts).
 
 #include <gflags/gflags.h>
 
@@ -56,6 +57,7 @@ DEFINE_double(far_rad, 1.0,
 DEFINE_string(solver, "both",
               "The IK comparison's solvers: both, activecal or kdl.");
 DEFINE_bool(compensation, true, "Run the compensation cases.");
+DEFINE_string(starts, "both", "The IK comparison's starts: both, near or far.");
 
 namespace activecal {
 namespace {
@@ -153,6 +155,7 @@ int CompareWithKdl(const RobotModel& model) {
       "--- |\n");
   int failures = 0;
   for (const bool far : {false, true}) {
+    if (FLAGS_starts != "both" && (FLAGS_starts == "far") != far) continue;
     IkCase ik;
     ik.starts.resize(n, dof);
     Random random(far ? 13 : 12);

@@ -278,6 +278,107 @@ TEST(InverseKinematicsTest, APointOutOfReachIsUnreachable) {
       << result.message << " (conditioning " << result.conditioning << ")";
 }
 
+// UR10e pose targets from far starts (each joint up to 3 rad off the
+// target's configuration): a run that stalls (a local minimum of the merit,
+// often at a singular configuration on the start's branch) is retried from
+// restart points. Seen fail before the retry: with restarts = 0 (no retry)
+// a number of these targets end unreachable.
+TEST(InverseKinematicsTest, FarStartsThatStallAreRetriedAndReached) {
+  const RobotModel ur = LoadUrdf(DataFile("ur10e.urdf"), "tool0");
+  const Eigen::VectorXd& values = ur.nominal;
+  Random random(5);
+  const int n = 300;
+  std::vector<IkTarget> targets;
+  Eigen::MatrixXd starts(n, 6);
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd truth(6);
+    for (int j = 0; j < 6; ++j) {
+      const Link& l = ur.links[j];
+      truth[j] = l.joint_min + 0.1 +
+                 (l.joint_max - l.joint_min - 0.2) * random.Uniform();
+      starts(i, j) = std::clamp(truth[j] + 3.0 * (2.0 * random.Uniform() - 1.0),
+                                l.joint_min, l.joint_max);
+    }
+    targets.push_back(TargetAt(ur, values, truth));
+  }
+  InverseKinematicsOptions options;
+  options.match = IkMatch::kPose;
+  InverseKinematicsOptions once = options;
+  once.restarts = 0;
+  int reached = 0, reached_once = 0, lost = 0;
+  for (int i = 0; i < n; ++i) {
+    InverseKinematicsResult result, plain;
+    SolveInverseKinematics(ur, values, targets[i], starts.row(i).transpose(),
+                           options, &result);
+    SolveInverseKinematics(ur, values, targets[i], starts.row(i).transpose(),
+                           once, &plain);
+    const bool ok = result.status == IkStatus::kConverged ||
+                    result.status == IkStatus::kSingular;
+    const bool ok_once = plain.status == IkStatus::kConverged ||
+                         plain.status == IkStatus::kSingular;
+    reached += ok;
+    reached_once += ok_once;
+    lost += ok_once && !ok;
+    EXPECT_TRUE(InsideLimits(ur, result.joints)) << i;
+    if (ok) {
+      // The pose reached, recomputed.
+      Eigen::Matrix3d R;
+      Eigen::Vector3d t;
+      Eigen::MatrixXd J;
+      std::string error;
+      ASSERT_TRUE(
+          JointJacobian(ur, values, result.joints, 0, &R, &t, &J, &error));
+      EXPECT_LE((t - targets[i].point).norm(), 1e-9) << i;
+      EXPECT_LE(Eigen::AngleAxisd(targets[i].rotation * R.transpose()).angle(),
+                1e-9)
+          << i;
+    } else {
+      // Out of reach or stalled: the retries are bounded (a run of at most
+      // max_iterations, a run without limits, and 4 restarts of 30).
+      EXPECT_LE(result.iterations, 2 * options.max_iterations + 4 * 30)
+          << i << ": " << result.message;
+    }
+  }
+  std::printf(
+      "UR10e pose from starts 3 rad off: %d of %d reached, %d "
+      "without the retry\n",
+      reached, n, reached_once);
+  EXPECT_GT(reached, reached_once);
+  EXPECT_EQ(lost, 0);
+  EXPECT_GE(reached, n * 97 / 100);
+  // Deterministic, whatever the thread count.
+  std::vector<InverseKinematicsResult> one, two;
+  SolveInverseKinematicsBatch(ur, values, targets, starts, options, 1, &one);
+  SolveInverseKinematicsBatch(ur, values, targets, starts, options, 2, &two);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_TRUE(one[i].joints == two[i].joints) << i;
+    EXPECT_EQ(one[i].iterations, two[i].iterations) << i;
+  }
+}
+
+// A pose target out of reach ends unreachable after the retries, within
+// their bound.
+TEST(InverseKinematicsTest, AnOutOfReachPoseIsUnreachableAfterBoundedRetries) {
+  const RobotModel ur = LoadUrdf(DataFile("ur10e.urdf"), "tool0");
+  const Eigen::VectorXd start = Eigen::VectorXd::Constant(6, 0.3);
+  IkTarget target = TargetAt(ur, ur.nominal, start);
+  target.point += Eigen::Vector3d(3.0, 0.0, 0.0);
+  InverseKinematicsOptions options;
+  options.match = IkMatch::kPose;
+  InverseKinematicsResult result;
+  SolveInverseKinematics(ur, ur.nominal, target, start, options, &result);
+  EXPECT_EQ(result.status, IkStatus::kUnreachable) << result.message;
+  EXPECT_GT(result.position_error_m, 1.0);
+  EXPECT_TRUE(InsideLimits(ur, result.joints));
+  EXPECT_LE(result.iterations, 2 * options.max_iterations + 4 * 30);
+  // Without restarts there is no retry: fewer evaluations, same status.
+  options.restarts = 0;
+  InverseKinematicsResult plain;
+  SolveInverseKinematics(ur, ur.nominal, target, start, options, &plain);
+  EXPECT_EQ(plain.status, IkStatus::kUnreachable);
+  EXPECT_LT(plain.iterations, result.iterations);
+}
+
 TEST(InverseKinematicsTest, AnOrientationTheArmCannotTakeIsUnreachable) {
   // The 4-joint mixed model cannot take an arbitrary orientation.
   const RobotModel mixed = MixedModel();

@@ -28,6 +28,23 @@ using Residual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Joints = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1>;
 
+// A^-1 c for a symmetric positive definite A of 3 or 6 rows (the damped
+// normal matrix of a position or pose step) by a Cholesky factorisation of
+// fixed size (a third of the instructions of the dynamic-size one).
+template <typename Square, typename Residual>
+Residual SolvePositiveDefinite(const Square& A, const Residual& c) {
+  if (A.rows() == 6) {
+    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+    using Vector6d = Eigen::Matrix<double, 6, 1>;
+    return Residual(Eigen::LLT<Matrix6d>(Matrix6d(A)).solve(Vector6d(c)));
+  }
+  if (A.rows() == 3) {
+    return Residual(Eigen::LLT<Eigen::Matrix3d>(Eigen::Matrix3d(A))
+                        .solve(Eigen::Vector3d(c)));
+  }
+  return A.llt().solve(c);
+}
+
 // Below this sigma_min / sigma_max a failure's message says the solver
 // stopped near a singularity.
 constexpr double kNearSingular = 1e-2;
@@ -299,6 +316,7 @@ class IkSolver {
     lower_.resize(n_);
     upper_.resize(n_);
     period_.resize(n_);
+    wraps_.resize(n_);
     for (int j = 0; j < n_; ++j) {
       lower_[j] = model.links[j].joint_min;
       upper_[j] = model.links[j].joint_max;
@@ -310,6 +328,19 @@ class IkSolver {
       period_[j] = model.links[j].joint_type == JointType::kRevolute && g > 0.0
                        ? 2.0 * M_PI / g
                        : 0.0;
+      // A range of a whole period or more (a UR's +-2 pi, a continuous
+      // joint) holds an equivalent of every value. On a chain without
+      // spare joints (whose solutions are isolated points) the runs let
+      // such a joint through its limits, and the solution found is turned
+      // back inside them by whole periods (NearestEquivalentInLimits):
+      // stopped at the limit instead, a run from a start near +-2 pi spent
+      // its evaluations against it and left the target to a second run
+      // without limits. A redundant chain keeps the limits: there the
+      // solution inside them next to the start is the one wanted, and one
+      // through the limit turned back by a period is a whole turn away.
+      const bool spare = n_ > (options.match == IkMatch::kPose ? 6 : 3);
+      wraps_[j] =
+          !spare && period_[j] > 0.0 && upper_[j] - lower_[j] >= period_[j];
     }
   }
 
@@ -428,8 +459,13 @@ class IkSolver {
       }
       return;
     }
-    // Not reached inside the limits: the run inside them is returned.
-    const Iterate& at = limited.last;
+    // Not reached inside the limits: the run inside them is returned, its
+    // joints that wrap turned back inside the limits.
+    Iterate at = limited.last;
+    if (limits) {
+      Joints q = at.q;
+      if (NearestEquivalentInLimits(&q) && q != at.q) Evaluate(q, &at);
+    }
     SetResult(at, result);
     const std::string misses =
         Number(at.position_error) + " m" +
@@ -643,12 +679,16 @@ class IkSolver {
         limit_hi(n_);
     for (int j = 0; j < n_; ++j) {
       const double down = lower_[j] - it.q[j], up = upper_[j] - it.q[j];
-      limit_lo[j] = limits && down >= -kMaxStep;
-      limit_hi[j] = limits && up <= kMaxStep;
-      lo[j] = limits ? std::max(down, -kMaxStep) + z[j] : -HUGE_VAL;
-      hi[j] = limits ? std::min(up, kMaxStep) + z[j] : HUGE_VAL;
-      if (limits && it.q[j] >= upper_[j]) active[j] = 1;
-      if (limits && it.q[j] <= lower_[j]) active[j] = -1;
+      // A joint that wraps keeps the trust region, not the limits.
+      const bool bound = limits && !wraps_[j];
+      limit_lo[j] = bound && down >= -kMaxStep;
+      limit_hi[j] = bound && up <= kMaxStep;
+      lo[j] = limits ? (bound ? std::max(down, -kMaxStep) : -kMaxStep) + z[j]
+                     : -HUGE_VAL;
+      hi[j] = limits ? (bound ? std::min(up, kMaxStep) : kMaxStep) + z[j]
+                     : HUGE_VAL;
+      if (bound && it.q[j] >= upper_[j]) active[j] = 1;
+      if (bound && it.q[j] <= lower_[j]) active[j] = -1;
     }
     for (int pass = 0; pass < 4 * n_ + 4; ++pass) {
       // The free joints' minimiser with the active ones held.
@@ -662,7 +702,7 @@ class IkSolver {
       }
       Square A = Jf * it.J.transpose();
       A.diagonal().array() += lambda;
-      const Residual y = A.llt().solve(c);
+      const Residual y = SolvePositiveDefinite(A, c);
       const Joints target = Jf.transpose() * y;
       // As far towards it as the bounds let the free joints go.
       double alpha = 1.0;
@@ -744,10 +784,14 @@ class IkSolver {
     return true;
   }
 
-  Joints Clamp(Joints q, bool limits) const {
+  // q inside the limits (with `limits`); with `wrapping` the joints that
+  // wrap are left where they are (a run's iterate).
+  Joints Clamp(Joints q, bool limits, bool wrapping = false) const {
     if (!limits) return q;
-    for (int j = 0; j < n_; ++j)
+    for (int j = 0; j < n_; ++j) {
+      if (wrapping && wraps_[j]) continue;
       q[j] = std::min(std::max(q[j], lower_[j]), upper_[j]);
+    }
     return q;
   }
 
@@ -810,7 +854,8 @@ class IkSolver {
         double alpha = 1.0;
         for (int halving = 0; halving < 3 && !improved; ++halving) {
           if (iterations >= max_iterations) break;
-          Evaluate(Clamp(it.q + alpha * dq, limits), &candidate);
+          Evaluate(Clamp(it.q + alpha * dq, limits, /*wrapping=*/true),
+                   &candidate);
           ++iterations;
           for (int correct = 0; correct < 3 && !Converged(candidate) &&
                                 iterations < max_iterations;
@@ -818,7 +863,8 @@ class IkSolver {
             bool ignored = false;
             const Joints dc =
                 Step(candidate, 1e-12, /*pull=*/false, limits, &ignored);
-            Evaluate(Clamp(candidate.q + dc, limits), &corrected);
+            Evaluate(Clamp(candidate.q + dc, limits, /*wrapping=*/true),
+                     &corrected);
             ++iterations;
             if (!(corrected.cost < candidate.cost)) break;
             std::swap(candidate, corrected);
@@ -850,7 +896,8 @@ class IkSolver {
         if (dq.norm() <= kTinyStep * (1.0 + it.q.norm())) continue;
         // The trial by its pose only: the Jacobian is evaluated when the
         // step is kept (a rejected trial costs a forward pass).
-        Evaluate(Clamp(it.q + dq, limits), &candidate, /*jacobian=*/false);
+        Evaluate(Clamp(it.q + dq, limits, /*wrapping=*/true), &candidate,
+                 /*jacobian=*/false);
         if (candidate.cost < it.cost) {
           // Nielsen's damping update from the gain ratio.
           const Joints taken = candidate.q - it.q;
@@ -891,6 +938,8 @@ class IkSolver {
   std::unique_ptr<ChainEvaluator> evaluator_;
   Joints lower_, upper_;
   Joints period_;  // revolute joints: 2 pi / |gain|; 0 otherwise
+  // Joints the runs let through their limits (see the constructor).
+  Eigen::Array<bool, Eigen::Dynamic, 1, 0, kMaxIkJoints, 1> wraps_;
   Joints weight_;  // options_.joint_weights, or ones
   IkTarget target_;
   Joints start_;
