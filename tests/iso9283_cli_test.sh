@@ -207,6 +207,11 @@ for r, w in zip(rows, want):
     assert np.abs(got - w).max() < 1e-12, (got, w)
     # The tool turned 180 deg about x at every pose.
     assert abs(float(r["rx_rad"]) - np.pi) < 1e-12
+for r, w in zip(poses, want):
+    got = np.array([float(r[k]) for k in ("commanded_x_m", "commanded_y_m", "commanded_z_m")])
+    assert np.abs(got - w).max() < 1e-12, (got, w)
+    q = [float(r[k]) for k in ("commanded_qw", "commanded_qx", "commanded_qy", "commanded_qz")]
+    assert np.abs(np.array(q) - [0, 1, 0, 0]).max() < 1e-15, q
 EOF
 expect_fail "cube of 3 values" "--iso9283_cube: expected cx,cy,cz,edge_m" \
   activecal_select "${robot[@]}" --iso9283_cube=0.6,0.2,0.5 --poses_csv=bad5.csv

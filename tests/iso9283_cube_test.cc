@@ -18,6 +18,7 @@
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/puma560.h"
+#include "activecal/io/csv_files.h"
 
 namespace activecal {
 namespace {
@@ -104,10 +105,22 @@ TEST(Iso9283CubeTest, SolvedPosesReachThePoints) {
     EXPECT_LT(std::abs(d.angle()), 1e-9) << s.labels[k];
     EXPECT_TRUE(model.CheckJointValues(s.joints.row(k).transpose(), nullptr));
   }
-  // The files: a pose column P1..P5.
+  // The poses file: the pose labels and the commanded poses, read back by
+  // the reader of ISO 9283 cycles.
   const std::string poses = Iso9283CubePosesCsvText(model, s);
-  EXPECT_NE(poses.find(",pose\n"), std::string::npos) << poses;
-  EXPECT_NE(poses.find(",P5\n"), std::string::npos) << poses;
+  std::vector<CommandedPose> commanded;
+  std::string error;
+  ASSERT_TRUE(ParseCommandedPosesCsv(poses, "cube.csv", model,
+                                     MeasurementsCsvOptions(), &commanded,
+                                     &error))
+      << error;
+  ASSERT_EQ(commanded.size(), 5u);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(commanded[k].pose, s.labels[k]);
+    EXPECT_EQ(commanded[k].position, s.points_m[k]);
+    EXPECT_LT((commanded[k].rotation - s.tool_rotation).norm(), 1e-15);
+  }
+  EXPECT_NE(s.TableText().find("P5"), std::string::npos);
   // A cube beyond the reach: the pose named.
   o.centre_m.x() += 10.0;
   EXPECT_FALSE(DesignIso9283Cube(model, model.nominal, o, &s));

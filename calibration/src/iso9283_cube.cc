@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
@@ -61,9 +62,10 @@ bool Quaternion(const double* v, const std::string& what, Eigen::Matrix3d* r,
   return true;
 }
 
-// A column `pose` P1..P5 after each row of a CSV text (header first).
-std::string WithPoseColumn(const std::string& text,
-                           const std::vector<std::string>& labels) {
+// Columns after each row of a CSV text (header first): `header` after the
+// header, cells[k] after data row k.
+std::string WithColumns(const std::string& text, const std::string& header,
+                        const std::vector<std::string>& cells) {
   std::stringstream in(text);
   std::string line, out;
   int row = -1;
@@ -72,10 +74,19 @@ std::string WithPoseColumn(const std::string& text,
       out += line + "\n";
       continue;
     }
-    out += line + "," + (row < 0 ? std::string("pose") : labels[row]) + "\n";
+    out += line + "," + (row < 0 ? header : cells[row]) + "\n";
     ++row;
   }
   return out;
+}
+
+std::string Shortest(double v) {
+  char buffer[32];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(buffer, sizeof(buffer), "%.*g", digits, v);
+    if (std::strtod(buffer, nullptr) == v) break;
+  }
+  return buffer;
 }
 
 }  // namespace
@@ -122,12 +133,26 @@ std::string Iso9283CubePosesCsvText(const RobotModel& model,
   PoseList poses;
   poses.joints = summary.joints;
   poses.pose_indices = summary.targets.pose_indices;
-  return WithPoseColumn(PosesCsvText(model, poses), summary.labels);
+  Eigen::Quaterniond q(summary.tool_rotation);
+  if (q.w() < 0) q.coeffs() *= -1;
+  std::vector<std::string> cells;
+  for (size_t k = 0; k < summary.labels.size(); ++k) {
+    const Eigen::Vector3d& p = summary.points_m[k];
+    cells.push_back(summary.labels[k] + "," + Shortest(p.x()) + "," +
+                    Shortest(p.y()) + "," + Shortest(p.z()) + "," +
+                    Shortest(q.w()) + "," + Shortest(q.x()) + "," +
+                    Shortest(q.y()) + "," + Shortest(q.z()));
+  }
+  return WithColumns(PosesCsvText(model, poses),
+                     "pose,commanded_x_m,commanded_y_m,commanded_z_m,"
+                     "commanded_qw,commanded_qx,commanded_qy,commanded_qz",
+                     cells);
 }
 
 std::string Iso9283CubeTargetsCsvText(const RobotModel& model,
                                       const Iso9283CubeSummary& summary) {
-  return WithPoseColumn(TargetsCsvText(model, summary.targets), summary.labels);
+  return WithColumns(TargetsCsvText(model, summary.targets), "pose",
+                     summary.labels);
 }
 
 void Iso9283CubePoints(const Iso9283CubeOptions& o,

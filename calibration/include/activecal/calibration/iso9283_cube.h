@@ -97,10 +97,13 @@ bool DesignIso9283Cube(const RobotModel& model,
 bool ParseIso9283Cube(const std::string& cube, const std::string& orientation,
                       Iso9283CubeOptions* options, std::string* error);
 
-// The poses CSV of the five poses (PosesCsvText, pose_index 1..5) with a
-// `pose` column P1..P5, and the targets CSV (TargetsCsvText: the points
-// and orientations in the device's frame, the joints as starts) with the
-// same column.
+// The poses CSV of the five poses (PosesCsvText, pose_index 1..5) with the
+// columns of ISO 9283 cycles (csv_files.h CommandedPose): `pose` P1..P5 and
+// the commanded pose in the base frame, commanded_x_m,commanded_y_m,
+// commanded_z_m,commanded_qw,commanded_qx,commanded_qy,commanded_qz (a
+// measurements file of the cycles keeps them beside each row); and the targets
+// CSV (TargetsCsvText: the points and orientations in the device's frame, the
+// joints as starts) with the same column.
 std::string Iso9283CubePosesCsvText(const RobotModel& model,
                                     const Iso9283CubeSummary& summary);
 std::string Iso9283CubeTargetsCsvText(const RobotModel& model,
