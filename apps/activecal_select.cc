@@ -20,6 +20,7 @@
 
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/defaults.h"
+#include "activecal/calibration/iso9283_cube.h"
 #include "activecal/calibration/pool_builder.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
@@ -141,8 +142,49 @@ DEFINE_double(order_resolution_deg, 1.0,
               "steps of at most this many degrees (mm for prismatic "
               "joints).");
 
+DEFINE_string(iso9283_cube, "",
+              "Instead of a design: the ISO 9283 (6.8) test poses P1..P5 of "
+              "the cube cx,cy,cz,edge_m (m, the robot's base frame; "
+              "optionally ,qw,qx,qy,qz: the cube's axes), solved to joints "
+              "by the inverse kinematics (checked against --cell if given) "
+              "and written to --poses_csv with a 'pose' column "
+              "(docs/iso9283.md).");
+DEFINE_string(iso9283_orientation, "",
+              "With --iso9283_cube: the orientation qw,qx,qy,qz of the "
+              "measured target frame at all five poses (base frame). "
+              "Default: its orientation at the middle of the joint ranges.");
+DEFINE_string(iso9283_targets_csv, "",
+              "With --iso9283_cube: write the five targets here (targets "
+              "CSV, device frame, with the joints and a 'pose' column).");
+
 namespace activecal {
 namespace {
+
+// --iso9283_cube: the cube's five test poses instead of a design.
+int Iso9283CubeMain(const RobotModel& model, const CellSetup& cell) {
+  if (FLAGS_poses_csv.empty()) app::Fail("--iso9283_cube needs --poses_csv");
+  app::CheckWritableOrDie(FLAGS_poses_csv, "poses_csv");
+  app::CheckWritableOrDie(FLAGS_iso9283_targets_csv, "iso9283_targets_csv");
+  Iso9283CubeOptions options;
+  std::string error;
+  if (!ParseIso9283Cube(FLAGS_iso9283_cube, FLAGS_iso9283_orientation, &options,
+                        &error)) {
+    app::Fail(error);
+  }
+  if (cell.checker) options.check = CellCompensationCheck(*cell.checker);
+  Iso9283CubeSummary summary;
+  const bool ok = DesignIso9283Cube(model, model.nominal, options, &summary);
+  std::printf("%s", summary.TableText().c_str());
+  if (!ok) app::Fail("--iso9283_cube: " + summary.message);
+  app::WriteTextOrDie(FLAGS_poses_csv, Iso9283CubePosesCsvText(model, summary));
+  std::printf("  wrote %s\n", FLAGS_poses_csv.c_str());
+  if (!FLAGS_iso9283_targets_csv.empty()) {
+    app::WriteTextOrDie(FLAGS_iso9283_targets_csv,
+                        Iso9283CubeTargetsCsvText(model, summary));
+    std::printf("  wrote %s\n", FLAGS_iso9283_targets_csv.c_str());
+  }
+  return 0;
+}
 
 std::string Number(double x, int digits) {
   char buffer[64];
@@ -175,6 +217,7 @@ int Main() {
       with_cell ? app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot)
                 : CellSetup();
   RobotModel model = robot.model;
+  if (!FLAGS_iso9283_cube.empty()) return Iso9283CubeMain(model, cell);
   MeasurementType type;
   if (!ParseMeasurementType(FLAGS_measurement, &type) ||
       type == MeasurementType::kDistance) {

@@ -184,5 +184,42 @@ for f in bad1.json bad2.json bad3.json bad4.json; do
   [ -e "$f" ] && fail "$f written" || ok "$f not written"
 done
 
+# activecal_select --iso9283_cube: the five poses, their points against
+# the cube's geometry computed here, the pose labels.
+"$apps/activecal_select" "${robot[@]}" --iso9283_cube=0.6,0.2,0.5,0.3 \
+  --iso9283_orientation=0,1,0,0 --poses_csv=cube.csv \
+  --iso9283_targets_csv=cube_targets.csv >cube.txt 2>err.txt \
+  && ok "select --iso9283_cube" || { fail "select --iso9283_cube"; cat err.txt; }
+"$py" - <<'EOF' && ok "cube points and labels" || fail "cube points and labels"
+import csv, sys
+import numpy as np
+rows = list(csv.DictReader(open("cube_targets.csv")))
+poses = list(csv.DictReader(open("cube.csv")))
+c, h = np.array([0.6, 0.2, 0.5]), 0.15
+c1, c2, c7, c8 = (c + h * np.array([-1, -1, -1]), c + h * np.array([1, -1, -1]),
+                  c + h * np.array([1, 1, 1]), c + h * np.array([-1, 1, 1]))
+want = [c, c1 + 0.1 * (c7 - c1), c2 + 0.1 * (c8 - c2), c7 + 0.1 * (c1 - c7),
+        c8 + 0.1 * (c2 - c8)]
+assert [r["pose"] for r in rows] == ["P1", "P2", "P3", "P4", "P5"]
+assert [r["pose"] for r in poses] == ["P1", "P2", "P3", "P4", "P5"]
+for r, w in zip(rows, want):
+    got = np.array([float(r[k]) for k in ("x_m", "y_m", "z_m")])
+    assert np.abs(got - w).max() < 1e-12, (got, w)
+    # The tool turned 180 deg about x at every pose.
+    assert abs(float(r["rx_rad"]) - np.pi) < 1e-12
+for r, w in zip(poses, want):
+    got = np.array([float(r[k]) for k in ("commanded_x_m", "commanded_y_m", "commanded_z_m")])
+    assert np.abs(got - w).max() < 1e-12, (got, w)
+    q = [float(r[k]) for k in ("commanded_qw", "commanded_qx", "commanded_qy", "commanded_qz")]
+    assert np.abs(np.array(q) - [0, 1, 0, 0]).max() < 1e-15, q
+EOF
+expect_fail "cube of 3 values" "--iso9283_cube: expected cx,cy,cz,edge_m" \
+  activecal_select "${robot[@]}" --iso9283_cube=0.6,0.2,0.5 --poses_csv=bad5.csv
+expect_fail "cube out of reach" "--iso9283_cube: P1 at (5600.0, 200.0, 500.0) mm (base frame): unreachable" \
+  activecal_select "${robot[@]}" --iso9283_cube=5.6,0.2,0.5,0.3 --poses_csv=bad6.csv
+for f in bad5.csv bad6.csv; do
+  [ -e "$f" ] && fail "$f written" || ok "$f not written"
+done
+
 [ "$failures" -eq 0 ] && echo "all passed" || echo "$failures failed"
 exit "$failures"
