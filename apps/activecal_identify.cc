@@ -323,12 +323,13 @@ void PrintRotationWeightNote(const CalibrationSummary& summary,
   }
   std::printf(
       "%s: note: --rotation_weight not given: the orientations of the pose "
-      "rows were weighted 1 m/rad and %d parameters kept; their residuals "
+      "rows were weighted %g m/rad and %d parameters kept; their residuals "
       "(between %d poses: distances %.3f mm, angles %.3f mrad RMS) have the "
       "ratio %s m/rad, with which the calibration %s; set it to "
       "sigma_position / sigma_rotation of the device\n",
-      app::ProgramName().c_str(), kept, fit.num_poses, fit.position_rms_m * 1e3,
-      fit.rotation_rms_rad * 1e3, rounded, effect.c_str());
+      app::ProgramName().c_str(), defaults::kRotationWeightMPerRad, kept,
+      fit.num_poses, fit.position_rms_m * 1e3, fit.rotation_rms_rad * 1e3,
+      rounded, effect.c_str());
 }
 
 int Main() {

@@ -74,7 +74,7 @@ std::string FlagText(const char* name) {
 
 int Main() {
   if (!FLAGS_parameter_set.empty()) {
-    app::ParameterSetOrDie(IsUrdfPath(FLAGS_robot));
+    app::ParameterSetOrDie(!FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot));
   }
   if (FLAGS_poses_csv.empty()) app::Fail("--poses_csv is required");
   if (FLAGS_out.empty()) app::Fail("--out is required");
