@@ -110,9 +110,8 @@ TEST(Iso9283CubeTest, SolvedPosesReachThePoints) {
   const std::string poses = Iso9283CubePosesCsvText(model, s);
   std::vector<CommandedPose> commanded;
   std::string error;
-  ASSERT_TRUE(ParseCommandedPosesCsv(poses, "cube.csv", model,
-                                     MeasurementsCsvOptions(), &commanded,
-                                     &error))
+  ASSERT_TRUE(ParseCommandedPosesCsv(
+      poses, "cube.csv", model, MeasurementsCsvOptions(), &commanded, &error))
       << error;
   ASSERT_EQ(commanded.size(), 5u);
   for (int k = 0; k < 5; ++k) {
