@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "activecal/io/csv_files.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/calibration/pool_builder.h"
 
 namespace {
 

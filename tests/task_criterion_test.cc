@@ -14,10 +14,10 @@
 #include <cmath>
 #include <string>
 
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/calibration/pool_builder.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_exchange.h"

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/puma560.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/frames_file.h"
-#include "activecal/core/puma560.h"
 #include "activecal/io/robot_file.h"
 #include "activecal/io/targets_csv.h"
 #include "activecal/io/urdf_export.h"
