@@ -402,6 +402,19 @@ class IkSolver {
       }
     };
     consider(limited.last);
+    // Runs from the first `count` restart points while `more()` holds, each
+    // with a shorter cap: a restart in the basin of a solution reaches it in
+    // a few evaluations.
+    auto restart = [&](int count, auto more) {
+      constexpr int kRestartIterations = 30;
+      const int cap = std::min(options_.max_iterations, kRestartIterations);
+      for (int k = 0; k < count && more(); ++k) {
+        RunResult again;
+        Run(true, RestartPoint(k), cap, &again);
+        result->iterations += again.iterations;
+        consider(again.last);
+      }
+    };
     RunResult free;
     bool ran_free = false;
     if (limits && limited.met_limit) {
@@ -414,18 +427,9 @@ class IkSolver {
       // The best so far turns a joint by more than half a turn: other
       // solutions inside the limits near the start (another of the arm's
       // branches, close to it near a singularity) are looked for from
-      // starts spread around the start.
-      // Each with a shorter cap (a restart in the basin of a solution
-      // reaches it in a few evaluations), until one turns no joint by more
+      // starts spread around the start, until one turns no joint by more
       // than half a turn.
-      constexpr int kRestartIterations = 30;
-      const int cap = std::min(options_.max_iterations, kRestartIterations);
-      for (int k = 0; k < options_.restarts && TurnsAJoint(best.q); ++k) {
-        RunResult again;
-        Run(true, RestartPoint(k), cap, &again);
-        result->iterations += again.iterations;
-        consider(again.last);
-      }
+      restart(options_.restarts, [&] { return TurnsAJoint(best.q); });
     }
     if (limits && best_change == HUGE_VAL && !limited.hit_cap &&
         !(ran_free && Converged(free.last))) {
@@ -435,16 +439,8 @@ class IkSolver {
       // the first restart points tell the two apart (measured in
       // docs/compensation.md: UR10e pose targets from starts 3 rad off).
       constexpr int kFailureRestarts = 4;
-      constexpr int kRestartIterations = 30;
-      const int cap = std::min(options_.max_iterations, kRestartIterations);
-      for (int k = 0; k < std::min(options_.restarts, kFailureRestarts) &&
-                      best_change == HUGE_VAL;
-           ++k) {
-        RunResult again;
-        Run(true, RestartPoint(k), cap, &again);
-        result->iterations += again.iterations;
-        consider(again.last);
-      }
+      restart(std::min(options_.restarts, kFailureRestarts),
+              [&] { return best_change == HUGE_VAL; });
     }
     if (best_change < HUGE_VAL) {
       SetResult(best, result);
