@@ -11,6 +11,11 @@
 // truth. Prints a Markdown table (docs/accuracy.md).
 //
 //   activecal_term_selection_proof [seeds] [poses] [num_standard_errors]
+//                                  [effect_scale]
+//
+// effect_scale (default 1) multiplies the simulated compliances and
+// harmonics: below some scale an effect no longer predicts better than the
+// noise, and the rule rightly leaves it out (the detection limit).
 
 #include <cmath>
 #include <cstdio>
@@ -32,7 +37,7 @@ struct Scenario {
   bool compliance, periodic;
 };
 
-int Run(int num_seeds, int num_poses, double num_se) {
+int Run(int num_seeds, int num_poses, double num_se, double scale) {
   const std::string path = std::string(ACTIVECAL_DATA_DIR) + "/ur10.urdf";
   UrdfChainOptions chain;
   chain.tip_link = "tool0";
@@ -81,14 +86,14 @@ int Run(int num_seeds, int num_poses, double num_se) {
         JointErrorModel c = compliance;
         c.values << 0, 2e-6, 4e-6, 8e-6, 8e-6, 8e-6;
         for (int t = 0; t < c.size(); ++t) {
-          c.values[t] *= 0.75 + 0.5 * random.Uniform();
+          c.values[t] *= scale * (0.75 + 0.5 * random.Uniform());
         }
         effects.Append(c);
       }
       if (sc.periodic) {
         JointErrorModel p = periodic;
         for (int t = 0; t < p.size(); ++t) {
-          p.values[t] = (20e-6 + 40e-6 * random.Uniform()) *
+          p.values[t] = scale * (20e-6 + 40e-6 * random.Uniform()) *
                         (random.Uniform() < 0.5 ? -1 : 1);
         }
         effects.Append(p);
@@ -155,9 +160,9 @@ int Run(int num_seeds, int num_poses, double num_se) {
     std::fflush(stdout);
   }
   std::printf(
-      "\nfalse terms kept: %d; effects missed: %d (%d poses, rule: "
-      "gain > %.1f SE)\n",
-      false_terms, missed, num_poses, num_se);
+      "\nfalse terms kept: %d; effects missed: %d (%d poses, effects x %g, "
+      "rule: gain > %.1f SE)\n",
+      false_terms, missed, num_poses, scale, num_se);
   return 0;
 }
 
@@ -168,5 +173,13 @@ int main(int argc, char** argv) {
   const int seeds = argc > 1 ? std::atoi(argv[1]) : 10;
   const int poses = argc > 2 ? std::atoi(argv[2]) : 200;
   const double se = argc > 3 ? std::atof(argv[3]) : 2.0;
-  return activecal::Run(seeds, poses, se);
+  const double scale = argc > 4 ? std::atof(argv[4]) : 1.0;
+  if (seeds < 1 || poses < 10 || !(se > 0) || !(scale >= 0)) {
+    std::fprintf(stderr,
+                 "usage: activecal_term_selection_proof [seeds >= 1] "
+                 "[poses >= 10] [num_standard_errors > 0] [effect_scale >= "
+                 "0]\n");
+    return 2;
+  }
+  return activecal::Run(seeds, poses, se, scale);
 }
