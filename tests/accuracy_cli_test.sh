@@ -12,11 +12,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
 source "$here/cli_lib.sh"
+cli_workdir
 
 m="$data/figaroh_ur10e/measurements.csv"
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)
@@ -394,5 +391,4 @@ expect_fail "nominal robot of another chain" \
   activecal_evaluate --robot=cal.yaml --measurements=puma_one.csv \
   --nominal_robot="$data/puma560.yaml"
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

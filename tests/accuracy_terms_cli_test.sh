@@ -12,11 +12,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
 source "$here/cli_lib.sh"
+cli_workdir
 
 m="$data/figaroh_ur10e/measurements.csv"
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)
@@ -89,4 +86,4 @@ expect_fail "terms with a MAP fit" \
   activecal_identify "${ur[@]}" --measurements="$m" --harmonics=1 \
   --prior_std_m=0.001 --model_selection=none
 
-exit $((failures > 0))
+cli_end

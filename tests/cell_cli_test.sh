@@ -12,12 +12,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0)
 cell="$data/cells/ur10e_table.yaml"
@@ -191,5 +187,4 @@ expect_fail "feasible pool smaller than the design" "--num_poses=200: the feasib
   activecal_select "${ur[@]}" --cell="$cell" --pool=sobol --pool_size=2000 --num_poses=200 --json_out=x.json
 [ ! -e x.json ] && ok "a failed run writes nothing" || fail "a failed run wrote its JSON"
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

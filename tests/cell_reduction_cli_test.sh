@@ -14,12 +14,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 # The table cell without its targets, then two targets.
 sed '/^targets:/,$d' "$data/cells/ur10e_table.yaml" >base.yaml
@@ -78,5 +74,4 @@ for p in x y z; do
 done
 grep -q "smr\.[xyz] held fixed" never.set && fail "smr held" || ok "smr's offsets free"
 
-echo "cell_reduction_cli_test: $failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

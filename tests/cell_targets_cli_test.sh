@@ -14,12 +14,8 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 tdata="$(cd "$3" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 puma=(--robot="$data/puma560.yaml")
 cell="$tdata/puma_two_targets_cell.yaml"
@@ -105,5 +101,4 @@ assert r[3]["points_m"][0] and r[3]["points_m"][1] is None, r[3]
 assert r[4]["status"] in ("ok", "not_visible"), r[4]
 PY
 
-echo "cell_targets_cli_test: $failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

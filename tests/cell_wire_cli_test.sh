@@ -16,12 +16,8 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 tdata="$(cd "$3" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 puma="$data/puma560.yaml"
 cell="$tdata/puma_table_cell.yaml"
@@ -199,5 +195,4 @@ grep -q "is collision: joint margin (L[1-6])" m.err &&
   ok "compensate --cell: a joint margin left is a collision too" ||
   { fail "compensate --cell joint margin"; cat m.err; }
 
-echo "cell_wire_cli_test: $failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

@@ -1,7 +1,30 @@
 # Copyright (c) 2026, the activecal authors.
 # SPDX-License-Identifier: BSD-3-Clause
 # Shared by the command-line tests: expects `apps` (the programs' folder)
-# and `failures` (a counter) in the caller.
+# in the caller; counts failures in `failures`.
+#
+#   here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+#   apps="$(cd "$1" && pwd)"
+#   source "$here/cli_lib.sh"
+#   cli_workdir           # a temporary folder, removed on exit; cd there
+#   ...
+#   cli_end               # "<test>: N failure(s)"; the status: N == 0
+
+failures=${failures:-0}
+
+# cli_workdir: a fresh temporary folder in $work, removed when the script
+# exits; the script runs in it (every file a test writes lands there).
+cli_workdir() {
+  work="$(mktemp -d)"
+  trap 'rm -rf "$work"' EXIT
+  cd "$work" || exit 1
+}
+
+# cli_end: the count of failures, and the script's status (0: none).
+cli_end() {
+  echo "$(basename "$0" .sh): $failures failure(s)"
+  exit $((failures > 0))
+}
 
 # ok <name>, fail <name>: one line each; fail counts in $failures.
 ok() { echo "ok   [$1]"; }

@@ -12,12 +12,8 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 check_report="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 expect_same() {
   [ -s "$1" ] || { echo "FAIL [same]: $1 is empty or missing"; failures=$((failures + 1)); return; }
@@ -319,5 +315,4 @@ expect_fail "unwritable output" "--json_out: cannot write 'kept.json'" \
 [ "$(cat kept.json)" = "keep me" ] && echo "ok   [old output kept]" ||
   { echo "FAIL [old output kept]"; failures=$((failures + 1)); }
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

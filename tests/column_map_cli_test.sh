@@ -12,12 +12,8 @@
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 # 40 poses of the built-in PUMA, measured in position and orientation.
 "$apps/activecal_select" --algorithm=random --random_designs=20 \
@@ -136,8 +132,4 @@ expect_fail "decimal comma with comma delimiter" \
 expect_fail "the export without a map" "leica.csv:1" \
   activecal_identify --measurements=leica.csv
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "all column map CLI tests passed"
+cli_end

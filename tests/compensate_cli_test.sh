@@ -12,12 +12,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 puma="$data/puma560.yaml"
 # --- the loop -------------------------------------------------------------
@@ -358,5 +354,4 @@ expect_fail "unknown marker" "--marker: 'smr9' is not a marker of robot" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=points.csv --out=x.csv --marker=smr9
 [ ! -e x.csv ] && ok "no output written on bad input" || fail "output written on bad input"
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

@@ -12,14 +12,8 @@ set -u
 apps="$1"
 data="$2"
 examples="$3"
-failures=0
 . "$(dirname "$0")/cli_lib.sh"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work" || exit 1
-
-pass() { echo "ok   [$1]"; }
-fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
+cli_workdir
 
 A="$apps/activecal_active"
 CELL="$apps/activecal_sim_cell"
@@ -34,7 +28,7 @@ same_session() {  # same_session <dir a> <dir b>: the same bytes
 # --- The reference: one uninterrupted run. ---
 if "$A" "${common[@]}" --driver="$cell --served_log=$work/served_ref.jsonl" \
     --session=ref --json_out=ref.json >ref.txt 2>ref.err; then
-  python3 - <<'PY' && pass "loop against the cell" || fail "loop against the cell"
+  python3 - <<'PY' && ok "loop against the cell" || fail "loop against the cell"
 import json
 j = json.load(open('ref.json'))
 assert j['termination_type'] == 'CONVERGENCE', j['message']
@@ -54,7 +48,7 @@ fi
 # One line per round as it happens: the rows are in the output.
 rows=$(grep -cE '^  [0-9]+ +[0-9]+ ' ref.txt)
 [ "$rows" -eq "$(python3 -c "import json; print(len(json.load(open('ref.json'))['rounds']))")" ] \
-  && pass "a row per round" || fail "a row per round ($rows)"
+  && ok "a row per round" || fail "a row per round ($rows)"
 
 # --- The driver killed twice: resumed to the same bytes. ---
 "$A" "${common[@]}" --driver="$cell --die_after=10 --served_log=$work/served.jsonl" \
@@ -64,25 +58,25 @@ grep -v "activecal_sim_cell:" k1.err >k1.act
 if [ "$s1" -eq 1 ] && [ "$(wc -l <k1.act)" -eq 1 ] &&
    grep -q "exited with status 3 while activecal waited for the reply to measure 11" k1.act &&
    grep -q "continue it with --resume" k1.act; then
-  pass "driver killed: one line, session kept"
+  ok "driver killed: one line, session kept"
 else
   fail "driver killed: one line, session kept"; cat k1.err
 fi
 "$A" "${common[@]}" --driver="$cell --die_after=15 --served_log=$work/served.jsonl" \
   --session=killed --resume --json_out=killed.json >k2.txt 2>k2.err
 [ $? -eq 1 ] && grep -q "continuing with round" k2.txt \
-  && pass "driver killed again" || { fail "driver killed again"; cat k2.err; }
+  && ok "driver killed again" || { fail "driver killed again"; cat k2.err; }
 if "$A" "${common[@]}" --driver="$cell --served_log=$work/served.jsonl" \
     --session=killed --resume --json_out=killed.json --verbose >k3.txt 2>k3.err &&
    same_session ref killed && cmp -s ref.json killed.json; then
-  pass "killed twice, resumed: the same bytes as uninterrupted"
+  ok "killed twice, resumed: the same bytes as uninterrupted"
 else
   fail "killed twice, resumed: the same bytes as uninterrupted"; cat k3.err
 fi
-grep -q "(from the session log)" k3.txt && pass "verbose: answers from the log" \
+grep -q "(from the session log)" k3.txt && ok "verbose: answers from the log" \
   || fail "verbose: answers from the log"
 # Every measurement the cell served is in the log exactly once.
-python3 - <<'PY' && pass "served once, logged once" || fail "served once, logged once"
+python3 - <<'PY' && ok "served once, logged once" || fail "served once, logged once"
 import collections, csv, json
 served = [json.loads(l) for l in open('served.jsonl') if '"measurement"' in l]
 ok = collections.Counter()
@@ -113,7 +107,7 @@ kill -9 "$pid" 2>/dev/null
 wait "$pid" 2>/dev/null
 if "$A" "${common[@]}" --driver="$cell" --session=crash --resume >c2.txt 2>c2.err &&
    same_session ref crash; then
-  pass "activecal killed mid-round, resumed: the same bytes"
+  ok "activecal killed mid-round, resumed: the same bytes"
 else
   fail "activecal killed mid-round, resumed: the same bytes"; cat c2.err
 fi
@@ -131,14 +125,14 @@ check_garbage() {  # <kind> <expected text> [flags]
   answers=$(( $(wc -l <"$dir/measurements.csv") - 1 + $(cat "$dir/excluded.jsonl" 2>/dev/null | wc -l) ))
   if [ "$status" -eq 1 ] && [ "$(wc -l <"$dir.err")" -eq 1 ] &&
      grep -qF -- "$want" "$dir.err" && [ "$answers" -eq 4 ]; then
-    pass "driver answers $kind: $(cut -c1-150 "$dir.err")"
+    ok "driver answers $kind: $(cut -c1-150 "$dir.err")"
   else
     fail "driver answers $kind (exit $status, $answers answers logged)"; cat "$dir.err"
   fi
   [ "$kind" = not_json ] || [ "$kind" = hang ] || return 0
   if "$A" "${common[@]}" --driver="$cell" --session="$dir" --resume >/dev/null 2>&1 &&
      same_session ref "$dir"; then
-    pass "after $kind, resumed: the same bytes"
+    ok "after $kind, resumed: the same bytes"
   else
     fail "after $kind, resumed: the same bytes"
   fi
@@ -180,7 +174,7 @@ for _ in $(seq 1 300); do
 done
 if [ -n "$port" ] && "$A" "${common[@]}" --driver="tcp://127.0.0.1:$port" \
     --session=tcp >tcp.txt 2>tcp.err && same_session ref tcp; then
-  pass "loop over TCP: the same measurements"
+  ok "loop over TCP: the same measurements"
 else
   fail "loop over TCP"; cat tcp.err listen.err
 fi
@@ -192,7 +186,7 @@ if "$A" --robot="$examples/driver_example_robot.yaml" --levels=3 \
     --driver="python3 $examples/driver_example.py" --noise_m=5e-5 \
     --target_rms_m=5e-5 --json_out=example.json --session=example \
     >example.txt 2>example.err; then
-  python3 - <<'PY' && pass "the Python example driver" || fail "the Python example driver"
+  python3 - <<'PY' && ok "the Python example driver" || fail "the Python example driver"
 import json
 j = json.load(open('example.json'))
 assert j['termination_type'] == 'CONVERGENCE', j['message']
@@ -222,7 +216,7 @@ if "$A" --robot="$examples/driver_example_robot.yaml" --levels=3 \
     --driver="python3 adapted_driver.py" --noise_m=5e-5 --max_rounds=2 \
     --target_rms_m=5e-5 --json_out=adapted.json >adapted.txt 2>adapted.err &&
    grep -q "sdk: moving to" adapted.err && grep -q "sdk helper: settled" adapted.err; then
-  pass "the example with prints on stdout: they reach stderr, not the protocol"
+  ok "the example with prints on stdout: they reach stderr, not the protocol"
 else
   fail "the example with prints on stdout"; tail -3 adapted.err
 fi
@@ -239,7 +233,7 @@ if [ -s iiwa_truth.yaml ] && grep -q "true:" iiwa_truth.yaml &&
      --target_rms_m=1.2e-4 --driver="$CELL --robot=iiwa_truth.yaml --seed=2" \
      --json_out=iiwa.json --program_out=iiwa_poses.src --program_language=krl \
      --controller="$data/controllers/kuka_iiwa14.yaml" >iiwa.txt 2>iiwa.err; then
-  python3 - <<'PY' && pass "perturbed URDF cell, KRL program" || fail "perturbed URDF cell, KRL program"
+  python3 - <<'PY' && ok "perturbed URDF cell, KRL program" || fail "perturbed URDF cell, KRL program"
 import json, re
 j = json.load(open('iiwa.json'))
 assert j['termination_type'] == 'CONVERGENCE', j['message']
@@ -255,8 +249,4 @@ else
   fail "perturbed URDF cell, KRL program"; cat iiwa_cell.err iiwa.err
 fi
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "all driver command-line tests passed"
+cli_end

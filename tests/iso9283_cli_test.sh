@@ -14,12 +14,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 # numpy: the system Python's (the one the Python module is built for).
 py=python3
 /usr/bin/python3 -c "import numpy" 2>/dev/null && py=/usr/bin/python3
@@ -221,5 +217,4 @@ for f in bad5.csv bad6.csv; do
   [ -e "$f" ] && fail "$f written" || ok "$f not written"
 done
 
-[ "$failures" -eq 0 ] && echo "all passed" || echo "$failures failed"
-exit "$failures"
+cli_end

@@ -16,12 +16,8 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 docs="$(cd "$3" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 # expect_ok <name> <text expected on stdout> <program> [flags...]: status 0,
 # nothing on stderr, the text on stdout.
@@ -201,8 +197,4 @@ grep -qF "activecal_evaluate: note: mocap.csv: 1 marker position left empty (not
 python3 -c "import json; r = json.load(open('mocap.json')); assert r['num_position_measurements'] == 3, r" &&
   ok "mocap example: 3 marker positions" || fail "mocap example: 3 marker positions"
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures measurement file test(s) failed"
-  exit 1
-fi
-echo "all measurement file tests passed"
+cli_end

@@ -12,12 +12,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 m="$data/figaroh_ur10e/measurements.csv"
 identify=("$apps/activecal_identify" --robot="$data/ur10e.urdf" --tip_link=tool0
@@ -155,5 +151,4 @@ fi
   ok "--quiet select: $(cat qlong.out)" ||
   { fail "--quiet select"; cat qlong.out qlong.err; }
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

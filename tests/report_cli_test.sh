@@ -11,12 +11,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 chromium_run() {
   timeout 120 chromium --headless --no-sandbox --disable-gpu \
@@ -236,5 +232,4 @@ else
   fail "-h is --help"; head help.txt
 fi
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

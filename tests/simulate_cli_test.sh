@@ -14,12 +14,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0)
 perturb=(--perturb_m=0.001 --perturb_rad=0.001 --seed=1 --noise_m=1e-5)
@@ -158,5 +154,4 @@ expect_fail "cell leaving no pose" \
 [ ! -e bad.csv ] && [ ! -e t.yaml ] && ok "nothing written on bad input" ||
   fail "a failed run wrote a file"
 
-echo "simulate_cli_test: $failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

@@ -13,11 +13,8 @@ apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
 check="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
 scripts="$(cd "$4" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
 source "$here/cli_lib.sh"
+cli_workdir
 
 pass() { echo "ok   [$1]"; }
 fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
@@ -231,8 +228,4 @@ expect_fail "active noise <= 0" "activecal_active: error: --noise_m must be > 0"
 expect_fail "active first batch <= 0" "activecal_active: error: --first_batch must be > 0" \
   activecal_active --levels=3 --first_batch=0
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "all task command-line tests passed"
+cli_end

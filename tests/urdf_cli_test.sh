@@ -11,12 +11,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 m="$data/figaroh_ur10e/measurements.csv"
 # Identify the UR10e: registration of the unknown camera frame in closed
@@ -313,5 +309,4 @@ printf '<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="re
 expect_fail "urdfdom's reason" "nolimit.urdf: not a valid URDF: Joint [j] is of type REVOLUTE but it does not specify limits" \
   activecal_select --robot=nolimit.urdf
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

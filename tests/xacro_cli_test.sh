@@ -11,12 +11,8 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 apps="$(cd "$1" && pwd)"
 data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_workdir
 
 cp "$data/ur10e.urdf" ur10e.urdf.xacro
 mkdir -p fake bad empty
@@ -66,8 +62,4 @@ expect_fail "a missing xacro file" \
   "--robot: missing.xacro: cannot open" \
   activecal_identify --robot=missing.xacro
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "all xacro CLI tests passed"
+cli_end
