@@ -10,10 +10,8 @@
 #   tests/accuracy_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 m="$data/figaroh_ur10e/measurements.csv"
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)

@@ -12,10 +12,8 @@
 #   tests/cell_reduction_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 # The table cell without its targets, then two targets.
 sed '/^targets:/,$d' "$data/cells/ur10e_table.yaml" >base.yaml

@@ -11,11 +11,9 @@
 #   tests/cell_targets_cli_test.sh <build/apps dir> <data dir> <tests/data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 tdata="$(cd "$3" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 puma=(--robot="$data/puma560.yaml")
 cell="$tdata/puma_two_targets_cell.yaml"

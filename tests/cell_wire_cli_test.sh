@@ -13,11 +13,9 @@
 #   tests/cell_wire_cli_test.sh <build/apps dir> <data dir> <tests/data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 tdata="$(cd "$3" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 puma="$data/puma560.yaml"
 cell="$tdata/puma_table_cell.yaml"

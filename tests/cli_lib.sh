@@ -1,12 +1,12 @@
 # Copyright (c) 2026, the activecal authors.
 # SPDX-License-Identifier: BSD-3-Clause
-# Shared by the command-line tests: expects `apps` (the programs' folder)
-# in the caller; counts failures in `failures`.
+# Shared by the command-line tests: the programs' folder in `apps`, the
+# data folder in `data`, a temporary folder to work in, the failures
+# counted in `failures`.
 #
 #   here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-#   apps="$(cd "$1" && pwd)"
 #   source "$here/cli_lib.sh"
-#   cli_workdir           # a temporary folder, removed on exit; cd there
+#   cli_begin "$@"        # apps=$1, data=$2 (absolute), cd to a temp folder
 #   ...
 #   cli_end               # "<test>: N failure(s)"; the status: N == 0
 
@@ -18,6 +18,15 @@ cli_workdir() {
   work="$(mktemp -d)"
   trap 'rm -rf "$work"' EXIT
   cd "$work" || exit 1
+}
+
+# cli_begin <apps dir> [<data dir>] ...: $apps and $data as absolute
+# paths (the arguments after the second are the script's), then
+# cli_workdir.
+cli_begin() {
+  apps="$(cd "$1" && pwd)" || exit 1
+  if [ $# -ge 2 ]; then data="$(cd "$2" && pwd)" || exit 1; fi
+  cli_workdir
 }
 
 # cli_end: the count of failures, and the script's status (0: none).

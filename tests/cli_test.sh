@@ -9,11 +9,9 @@
 #   tests/cli_test.sh <build/apps dir> <data dir> <check_report_json>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 check_report="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 expect_same() {
   [ -s "$1" ] || { echo "FAIL [same]: $1 is empty or missing"; failures=$((failures + 1)); return; }

@@ -11,9 +11,8 @@
 #   tests/column_map_cli_test.sh <build/apps dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 # 40 poses of the built-in PUMA, measured in position and orientation.
 "$apps/activecal_select" --algorithm=random --random_designs=20 \

@@ -12,10 +12,8 @@
 #   tests/iso9283_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 # numpy: the system Python's (the one the Python module is built for).
 py=python3
 /usr/bin/python3 -c "import numpy" 2>/dev/null && py=/usr/bin/python3

@@ -13,11 +13,9 @@
 #   tests/measurement_files_cli_test.sh <build/apps dir> <data dir> <docs dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 docs="$(cd "$3" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 # expect_ok <name> <text expected on stdout> <program> [flags...]: status 0,
 # nothing on stderr, the text on stdout.

@@ -12,10 +12,8 @@
 #   tests/simulate_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0)
 perturb=(--perturb_m=0.001 --perturb_rad=0.001 --seed=1 --noise_m=1e-5)

@@ -9,15 +9,11 @@
 #   tests/task_cli_test.sh <build/apps dir> <data dir> <check_task_json> <scripts dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 check="$(cd "$(dirname "$3")" && pwd)/$(basename "$3")"
 scripts="$(cd "$4" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
-pass() { echo "ok   [$1]"; }
-fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
 json() {  # json <file> <python expression on j>
   python3 -c "import json,sys; j=json.load(open('$1')); print($2)"
 }
@@ -26,35 +22,35 @@ S="$apps/activecal_select"
 # --- A fixed size: the JSON's predicted RMS recomputed from its poses. ---
 if "$S" --levels=3 --criterion=task_rms --num_poses=20 --noise_m=1e-4 \
     --json_out=task20.json --poses_csv=task20.csv >task20.txt; then
-  "$check" task20.json && pass "task_rms 20 poses read back" || fail "task_rms 20 poses read back"
-  grep -q "predicted task RMS" task20.txt && pass "printed" || fail "printed"
+  "$check" task20.json && ok "task_rms 20 poses read back" || fail "task_rms 20 poses read back"
+  grep -q "predicted task RMS" task20.txt && ok "printed" || fail "printed"
 else
   fail "task_rms run"
 fi
 # The D-optimal design of the same size predicts a larger task RMS, and
 # its report carries the same keys (recomputed too).
 "$S" --levels=3 --criterion=d --algorithm=fedorov --num_poses=20 \
-  --json_out=d20.json >/dev/null && "$check" d20.json && pass "d design read back" || fail "d design read back"
+  --json_out=d20.json >/dev/null && "$check" d20.json && ok "d design read back" || fail "d design read back"
 if [ "$(json task20.json "int(j['predicted_task_rms_m'] < json.load(open('d20.json'))['predicted_task_rms_m'])")" = 1 ]; then
-  pass "task design predicts less than the D design of its size"
+  ok "task design predicts less than the D design of its size"
 else
   fail "task design predicts less than the D design of its size"
 fi
 # Same design whatever the thread count.
 "$S" --levels=3 --criterion=task_rms --num_poses=20 --threads=1 --json_out=t1.json >/dev/null
 if [ "$(json t1.json "j['pose_indices']")" = "$(json task20.json "j['pose_indices']")" ]; then
-  pass "threads"; else fail "threads"; fi
+  ok "threads"; else fail "threads"; fi
 
 # --- The size from a target, the curve and its plot. ---
 if "$S" --levels=3 --criterion=task_rms --target_rms_m=1.5e-4 --noise_m=1e-4 \
     --json_out=target.json --curve_csv=curve.csv >target.txt; then
-  "$check" target.json && pass "target read back" || fail "target read back"
+  "$check" target.json && ok "target read back" || fail "target read back"
   # The curve CSV holds the JSON's curve.
   if [ "$(json target.json "len(j['predicted_task_rms_by_size_m'])")" = "$(($(wc -l <curve.csv) - 1))" ]; then
-    pass "curve csv"; else fail "curve csv"; fi
+    ok "curve csv"; else fail "curve csv"; fi
   if command -v gnuplot >/dev/null; then
     "$scripts/plot_task_rms.sh" curve.csv 1.5e-4 curve.png task_rms && [ -s curve.png ] \
-      && pass "curve plot" || fail "curve plot"
+      && ok "curve plot" || fail "curve plot"
   fi
 else
   fail "target run"
@@ -77,8 +73,8 @@ expect_fail "task algorithm" "--criterion=task_rms: --algorithm must be fedorov,
 "$S" --levels=3 --algorithm=random --random_designs=1 --num_poses=40 \
   --poses_csv=task_poses.csv >/dev/null
 "$S" --levels=3 --criterion=task_rms --num_poses=20 --task_poses_csv=task_poses.csv \
-  --json_out=tp.json >/dev/null && pass "task poses csv" || fail "task poses csv"
-if [ "$(json tp.json "j['num_task_poses']")" = 40 ]; then pass "task poses counted"; else fail "task poses counted"; fi
+  --json_out=tp.json >/dev/null && ok "task poses csv" || fail "task poses csv"
+if [ "$(json tp.json "j['num_task_poses']")" = 40 ]; then ok "task poses counted"; else fail "task poses counted"; fi
 printf 'pose_index,q1_rad,q2_rad,q3_rad\n0,0.1,0.2,0.3\n' >three_joints.csv
 expect_fail "task poses for another robot" "--task_poses_csv: three_joints.csv:1: the header has neither" \
   activecal_select --levels=3 --criterion=task_rms --task_poses_csv=three_joints.csv
@@ -91,10 +87,10 @@ expect_fail "task poses with a seventh joint" "--task_poses_csv: seven_joints.cs
   --out=measured.csv >/dev/null
 if "$S" --levels=3 --criterion=task_rms --num_poses=10 --measured_csv=measured.csv \
     --json_out=next.json >next.txt; then
-  "$check" next.json && pass "next batch read back" || fail "next batch read back"
+  "$check" next.json && ok "next batch read back" || fail "next batch read back"
   # 20 measured + 10 new predict less than the 20 alone.
   if [ "$(json next.json "int(j['predicted_task_rms_m'] < json.load(open('task20.json'))['predicted_task_rms_m'])")" = 1 ]; then
-    pass "measured poses count"; else fail "measured poses count"; fi
+    ok "measured poses count"; else fail "measured poses count"; fi
 else
   fail "next batch run"
 fi
@@ -103,13 +99,13 @@ t20=$(json task20.json "j['predicted_task_rms_m']")
 target=$(python3 -c "print($t20 * 0.6)")
 "$S" --levels=3 --criterion=task_rms --target_rms_m="$target" --measured_csv=measured.csv \
   --json_out=next_target.json >/dev/null && "$check" next_target.json \
-  && pass "next batch for a target" || fail "next batch for a target"
+  && ok "next batch for a target" || fail "next batch for a target"
 if [ "$(json next_target.json "int(j['num_poses'] > 0 and j['predicted_task_rms_by_size_m'][0][0] == 0)")" = 1 ]; then
-  pass "the measured poses alone are tried first"; else fail "the measured poses alone are tried first"; fi
+  ok "the measured poses alone are tried first"; else fail "the measured poses alone are tried first"; fi
 # A target the measured poses already meet: no new pose.
 "$S" --levels=3 --criterion=task_rms --target_rms_m="$(python3 -c "print($t20 * 1.01)")" \
   --measured_csv=measured.csv --json_out=none.json >/dev/null
-if [ "$(json none.json "j['num_poses']")" = 0 ]; then pass "no new pose needed"; else fail "no new pose needed"; fi
+if [ "$(json none.json "j['num_poses']")" = 0 ]; then ok "no new pose needed"; else fail "no new pose needed"; fi
 # Per-measurement sigmas weight the rows: the same file with sigma 10x
 # larger (per axis, as one sigma_m column, as u95_mm = 2 mm) predicts more,
 # the three forms alike; a stated sigma equal to --noise_m changes nothing.
@@ -130,11 +126,11 @@ for f in sigma sigma_m u95 noise; do
     --json_out=next_$f.json >/dev/null || fail "measured with $f columns run"
 done
 if [ "$(json next_sigma.json "int(j['predicted_task_rms_m'] > 1.5 * json.load(open('next.json'))['predicted_task_rms_m'])")" = 1 ]; then
-  pass "measurement sigmas weight the prior"; else fail "measurement sigmas weight the prior"; fi
+  ok "measurement sigmas weight the prior"; else fail "measurement sigmas weight the prior"; fi
 if [ "$(json next_sigma.json "int(all(abs(j['predicted_task_rms_m'] - json.load(open(f))['predicted_task_rms_m']) <= 1e-9 * j['predicted_task_rms_m'] for f in ('next_sigma_m.json', 'next_u95.json')))")" = 1 ]; then
-  pass "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; else fail "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; fi
+  ok "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; else fail "sigma_m and u95_mm columns weight as sigma_x/y/z_m"; fi
 if [ "$(json next_noise.json "int(abs(j['predicted_task_rms_m'] - json.load(open('next.json'))['predicted_task_rms_m']) <= 1e-9 * j['predicted_task_rms_m'])")" = 1 ]; then
-  pass "a stated sigma equal to --noise_m"; else fail "a stated sigma equal to --noise_m"; fi
+  ok "a stated sigma equal to --noise_m"; else fail "a stated sigma equal to --noise_m"; fi
 printf 'type,q1_rad,q2_rad,q3_rad,x_m,y_m,z_m\nposition,0.1,0.2,0.3,1,2,3\n' >wrong_robot.csv
 expect_fail "measured rows for another robot" "--measured_csv: wrong_robot.csv" \
   activecal_select --levels=3 --criterion=task_rms --measured_csv=wrong_robot.csv
@@ -156,7 +152,7 @@ PY
 if "$S" --robot="$here/data/arm7_rail.urdf" --tip_link=tcp --pool_csv=rail_pool.csv \
     --criterion=task_rms --num_poses=30 --json_out=rail.json >rail.txt 2>/dev/null; then
   # (check_task_json recomputes for the built-in PUMA's lattice only.)
-  python3 - <<'PY' && pass "7 axes on a rail: indices and joints" || fail "7 axes on a rail: indices and joints"
+  python3 - <<'PY' && ok "7 axes on a rail: indices and joints" || fail "7 axes on a rail: indices and joints"
 import csv, json
 j = json.load(open('rail.json'))
 rows = {int(r['pose_index']): r for r in csv.DictReader(open('rail_pool.csv'))}
@@ -167,7 +163,7 @@ for index, q in zip(j['pose_indices'], j['joint_angles_rad']):
     want = [float(r['q1_m'])] + [float(r['q%d_rad' % i]) for i in range(2, 9)]
     assert all(abs(a - b) < 1e-12 for a, b in zip(q, want)), (index, q, want)
 PY
-  python3 - <<'PY' && pass "rail printed in mm" || fail "rail printed in mm"
+  python3 - <<'PY' && ok "rail printed in mm" || fail "rail printed in mm"
 import json, math
 j = json.load(open('rail.json'))
 lines = open('rail.txt').read().splitlines()
@@ -187,7 +183,7 @@ fi
 # --- The active loop: rounds read back. ---
 A="$apps/activecal_active"
 if "$A" --levels=3 --target_rms_m=1e-4 --compare --json_out=active.json >active.txt; then
-  python3 - <<'PY' && pass "active loop report" || fail "active loop report"
+  python3 - <<'PY' && ok "active loop report" || fail "active loop report"
 import json
 j = json.load(open('active.json'))
 r = j['rounds']

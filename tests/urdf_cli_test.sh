@@ -9,10 +9,8 @@
 #   tests/urdf_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 m="$data/figaroh_ur10e/measurements.csv"
 # Identify the UR10e: registration of the unknown camera frame in closed

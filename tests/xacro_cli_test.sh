@@ -9,10 +9,8 @@
 #   tests/xacro_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 source "$here/cli_lib.sh"
-cli_workdir
+cli_begin "$@"
 
 cp "$data/ur10e.urdf" ur10e.urdf.xacro
 mkdir -p fake bad empty
