@@ -37,7 +37,7 @@
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/jacobians.h"
-#include "activecal/selection/fedorov.h"
+#include "activecal/selection/greedy.h"
 #include "activecal/selection/information_matrix.h"
 
 namespace activecal {

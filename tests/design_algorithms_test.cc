@@ -14,8 +14,10 @@
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
+#include "activecal/selection/detmax.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
+#include "activecal/selection/greedy.h"
 #include "test_util.h"
 
 namespace activecal {

@@ -13,6 +13,7 @@
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
+#include "activecal/selection/detmax.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/task_criterion.h"

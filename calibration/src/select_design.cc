@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "activecal/selection/detmax.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
+#include "activecal/selection/greedy.h"
 #include "activecal/selection/random_designs.h"
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"

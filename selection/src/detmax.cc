@@ -4,6 +4,8 @@
 // DETMAX (Mitchell 1974): excursions that add k poses and remove k, or
 // remove k and add k, kept when they raise log det.
 
+#include "activecal/selection/detmax.h"
+
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -12,7 +14,6 @@
 
 #include "activecal/core/random.h"
 #include "activecal/selection/criteria.h"
-#include "activecal/selection/fedorov.h"
 #include "selection_internal.h"
 
 namespace activecal {

@@ -3,12 +3,13 @@
 
 // Greedy: add the best pose until the design has num_poses.
 
+#include "activecal/selection/greedy.h"
+
 #include <chrono>
 #include <cmath>
 #include <string>
 
 #include "activecal/selection/criteria.h"
-#include "activecal/selection/fedorov.h"
 #include "selection_internal.h"
 
 namespace activecal {

@@ -18,7 +18,7 @@
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/selection/criteria.h"
-#include "activecal/selection/fedorov.h"
+#include "activecal/selection/greedy.h"
 #include "activecal/selection/task_approximate.h"
 #include "activecal/selection/task_criterion.h"
 #include "selection_internal.h"

@@ -1,8 +1,9 @@
 // Copyright (c) 2026, the activecal authors.
 // SPDX-License-Identifier: BSD-3-Clause
 
-// Exact-design algorithms beyond the paper's exchange-add-exchange, on the
-// same information-matrix updates:
+// Fedorov's exchange, an exact-design algorithm beyond the paper's
+// exchange-add-exchange, on the same information-matrix updates (DETMAX
+// and the greedy design, the other two: detmax.h, greedy.h):
 //
 //  * FedorovExchange: at every iteration the best swap over all
 //    (design pose, candidate) pairs, by the block exchange formula
@@ -18,15 +19,11 @@
 //    poses and restart r > 0 from N of its poses drawn without replacement
 //    with probability proportional to weight (randomized rounding);
 //    without one, every restart starts from a random design.
-//  * Detmax (Mitchell 1974): excursions that add k poses and remove k (or
-//    remove k and add k), k = 1..max_excursion, kept when they raise det.
-//  * GreedyDesign: add the best pose until N (from the fixed poses; a
-//    vanishing ridge while the design is singular).
 //
 // Restarts are independent and run in parallel threads; each draws from its
 // own seeded stream and ties go to the lowest index, so the result is the
-// same for any thread count. Every algorithm only accepts steps that raise
-// log det, so none ends below its start.
+// same for any thread count. Only steps that raise log det are accepted,
+// so it never ends below its start.
 
 #ifndef ACTIVECAL_SELECTION_FEDOROV_H_
 #define ACTIVECAL_SELECTION_FEDOROV_H_
@@ -93,7 +90,7 @@ struct FedorovOptions {
 // the stored blocks), whatever pool the swaps ran on (the history's log
 // dets are those of the pool each step ran on: for a single-precision pool,
 // the widened blocks).
-// Every function here returns summary->IsSolutionUsable().
+// Returns summary->IsSolutionUsable().
 bool FedorovExchange(const CandidatePool& pool,
                      const DesignConstraints& constraints,
                      const FedorovOptions& options,
@@ -108,36 +105,6 @@ namespace internal {
 // <= 0. Exposed for its test.
 double SwapLogRatioBound(const Eigen::MatrixXd& Dx, const Eigen::MatrixXd& Dy);
 }  // namespace internal
-
-struct DetmaxOptions {
-  int num_poses = 30;
-  int max_excursion = 4;
-  // Excursions per restart; when reached, NO_CONVERGENCE.
-  int max_iterations = 10000;
-  // Relative, as FedorovOptions::min_improvement.
-  double min_improvement = 1e-9;
-  int restarts = 4;
-  uint64_t seed = 1;
-  int num_threads = 0;
-  // Called as restarts finish (done, total = restarts).
-  ProgressCallback progress;
-
-  bool IsValid(std::string* error) const;
-};
-
-bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
-            const DetmaxOptions& options, SelectionSummary* summary);
-
-struct GreedyOptions {
-  int num_poses = 30;
-  int num_threads = 0;
-
-  bool IsValid(std::string* error) const;
-};
-
-bool GreedyDesign(const CandidatePool& pool,
-                  const DesignConstraints& constraints,
-                  const GreedyOptions& options, SelectionSummary* summary);
 
 }  // namespace activecal
 
