@@ -8,12 +8,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 
 #include "activecal/core/free_set.h"
 #include "activecal/core/parameter_sets.h"
+#include "activecal/core/text_table.h"
 #include "activecal/report/iso9283_section.h"
 #include "activecal/report/svg_figures.h"
 
@@ -23,18 +23,12 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = 180.0 / kPi;
 
-std::string Format(const char* format, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, v);
-  return buffer;
-}
-
-std::string Full(double v) { return Format("%.17g", v); }
+std::string Full(double v) { return FormatNumber("%.17g", v); }
 
 // A table cell: `shown` printed with 3 decimals (a value that rounds to
 // zero without its sign), the SI value in data-value.
 std::string Cell(const std::string& key, double si, double shown) {
-  std::string text = std::isfinite(shown) ? Format("%.3f", shown) : "-";
+  std::string text = std::isfinite(shown) ? FormatNumber("%.3f", shown) : "-";
   if (text == "-0.000") text = "0.000";
   return "<td class=\"num\" data-key=\"" + HtmlEscape(key) +
          "\" data-value=\"" + Full(si) + "\">" + text + "</td>";
@@ -213,13 +207,14 @@ bool CalibrationHtmlReport(const CalibrationSummary& s,
                     " joints), " + o.robot_file},
       {"measurements", o.measurements_file},
       {"device (measurement types)", device},
-      {"poses", std::to_string(s.training.size()) + " for the fit, " +
-                    std::to_string(s.validation.size()) + " held out" +
-                    (s.validation.empty()
-                         ? ""
-                         : " (validation fraction " +
-                               Format("%.2f", options.validation_fraction) +
-                               ", seed " + std::to_string(options.seed) + ")")},
+      {"poses",
+       std::to_string(s.training.size()) + " for the fit, " +
+           std::to_string(s.validation.size()) + " held out" +
+           (s.validation.empty()
+                ? ""
+                : " (validation fraction " +
+                      FormatNumber("%.2f", options.validation_fraction) +
+                      ", seed " + std::to_string(options.seed) + ")")},
       {"parameter set",
        std::string(ParameterSetToString(options.parameter_set)) + ": " +
            std::to_string(s.num_free_in_set) + " free in the set, " +
@@ -236,10 +231,10 @@ bool CalibrationHtmlReport(const CalibrationSummary& s,
       {"base frame", s.registered_base ? s.registration_message
                                        : "as given (not registered)"},
       {"rotation weight (m per rad)",
-       Format("%g", options.identification.rotation_weight_m_per_rad)},
-      {"fit", id.message + "; RMS residual " + Format("%.3f", 1e3 * id.rms_m) +
-                  " mm, sigma per row " + Format("%.3f", 1e3 * id.sigma_m) +
-                  " mm"},
+       FormatNumber("%g", options.identification.rotation_weight_m_per_rad)},
+      {"fit", id.message + "; RMS residual " +
+                  FormatNumber("%.3f", 1e3 * id.rms_m) + " mm, sigma per row " +
+                  FormatNumber("%.3f", 1e3 * id.sigma_m) + " mm"},
       {"program", o.program},
   };
   struct Set {
@@ -315,11 +310,12 @@ bool CalibrationHtmlReport(const CalibrationSummary& s,
   r.selection_method = ModelSelectionMethodToString(s.model_selection);
   r.warnings = s.warnings;
   for (int k : id.outliers) {
-    r.warnings.push_back("measurement " + std::to_string(s.training_index[k]) +
-                         " (index in the input) is an outlier: residual " +
-                         Format("%.3f", 1e3 * id.residual_norms[k]) +
-                         " mm, d^2 = " + Format("%.1f", id.outlier_d2[k]) +
-                         " > " + Format("%.1f", id.outlier_threshold[k]));
+    r.warnings.push_back(
+        "measurement " + std::to_string(s.training_index[k]) +
+        " (index in the input) is an outlier: residual " +
+        FormatNumber("%.3f", 1e3 * id.residual_norms[k]) +
+        " mm, d^2 = " + FormatNumber("%.1f", id.outlier_d2[k]) + " > " +
+        FormatNumber("%.1f", id.outlier_threshold[k]));
   }
   return true;
 }

@@ -4,25 +4,20 @@
 #include "activecal/report/iso9283_section.h"
 
 #include <cmath>
-#include <cstdio>
 
+#include "activecal/core/text_table.h"
 #include "activecal/report/svg_figures.h"
 
 namespace activecal {
 namespace {
 
-std::string Format(const char* format, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, v);
-  return buffer;
-}
-
 // A cell: `shown` with 3 decimals, the SI value in data-value.
 std::string Cell(const std::string& key, double si, double shown) {
-  std::string text = Format("%.3f", shown);
+  std::string text = FormatNumber("%.3f", shown);
   if (text == "-0.000") text = "0.000";
   return "<td class=\"num\" data-key=\"" + HtmlEscape(key) +
-         "\" data-value=\"" + Format("%.17g", si) + "\">" + text + "</td>";
+         "\" data-value=\"" + FormatNumber("%.17g", si) + "\">" + text +
+         "</td>";
 }
 
 std::string Table(const Iso9283CyclesSummary& s, bool with) {

@@ -10,23 +10,18 @@
 #include <cstdio>
 #include <limits>
 
+#include "activecal/core/text_table.h"
 #include "activecal/io/xml_text.h"
 
 namespace activecal {
 namespace {
 
-std::string Fmt(const char* format, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, v);
-  return buffer;
-}
-
 // A number as an attribute value: enough digits to read it back exactly.
-std::string Num(double v) { return Fmt("%.17g", v); }
-std::string Px(double v) { return Fmt("%.2f", v); }
+std::string Num(double v) { return FormatNumber("%.17g", v); }
+std::string Px(double v) { return FormatNumber("%.2f", v); }
 
 // Tick label: 3 significant digits, no trailing zeros.
-std::string Tick(double v) { return Fmt("%.3g", v); }
+std::string Tick(double v) { return FormatNumber("%.3g", v); }
 
 constexpr double kWidth = 640, kHeight = 300;
 constexpr double kLeft = 60, kRight = 20, kTop = 30, kBottom = 50;
@@ -311,7 +306,8 @@ std::string SvgHeatmap(const Eigen::MatrixXd& matrix,
              Px(y0 + cell * i) + "\" width=\"" + Px(cell) + "\" height=\"" +
              Px(cell) + "\" fill=\"" + colour +
              "\" stroke=\"#ddd\" stroke-width=\"0.5\"><title>" +
-             HtmlEscape(names[i] + " / " + names[j] + ": " + Fmt("%.3f", v)) +
+             HtmlEscape(names[i] + " / " + names[j] + ": " +
+                        FormatNumber("%.3f", v)) +
              "</title></rect>\n";
     }
   }
