@@ -19,6 +19,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/identification.h"
+#include "activecal/io/robot_file.h"
 #include "activecal/io/urdf_inertials.h"
 #include "activecal/io/urdf_robot.h"
 
@@ -282,6 +283,75 @@ TEST(LearnedResidual, KeptExactlyWhenASmoothNonGeometricErrorIsThere) {
     std::printf("case %d: %s", static_cast<int>(c.seed),
                 summary.BriefReport().c_str());
   }
+}
+
+// The robot file holds the correction: written and read back, the same
+// predictions (to the last bit: every number in its shortest exact form);
+// a bad entry is one line naming the field and its place.
+TEST(LearnedResidualFile, RoundTripPredictsTheSame) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = Data(model, 150, 1.0, 1e-5, 9);
+  LearnedResidualOptions options;
+  options.mode = LearnedResidualMode::kOn;
+  options.num_features = 40;
+  LearnedResidualSummary summary;
+  FitLearnedResidual(model, model.nominal, data, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence);
+  RobotFileOptions file;
+  file.learned_correction = &summary.correction;
+  const std::string text = RobotFileText(model, model.nominal, file);
+  RobotDescription back;
+  std::string error;
+  ASSERT_TRUE(ParseRobotDescription(text, "cal.yaml", &back, &error)) << error;
+  const LearnedCorrection& c = back.learned_correction;
+  ASSERT_FALSE(c.empty());
+  EXPECT_EQ(c.num_features(), 40);
+  EXPECT_EQ(c.seed, summary.correction.seed);
+  EXPECT_EQ(c.num_training, 150);
+  EXPECT_EQ(c.held_out_rms_hybrid_m, summary.correction.held_out_rms_hybrid_m);
+  Random random(5);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::VectorXd q = RandomJoints(model, &random);
+    EXPECT_LE((c.Correction(q, 0) - summary.correction.Correction(q, 0))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-12);
+  }
+  // Written again, the same text.
+  file.learned_correction = &c;
+  EXPECT_EQ(RobotFileText(back.model, back.model.nominal, file), text);
+  // Without a correction nothing is written.
+  EXPECT_EQ(RobotFileText(model, model.nominal).find("learned_residual"),
+            std::string::npos);
+
+  // A bad number, a short row, an unknown input: one line each.
+  auto fails = [&](const std::string& from, const std::string& to) {
+    std::string bad = text;
+    const size_t at = bad.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    bad.replace(at, from.size(), to);
+    RobotDescription r;
+    std::string why;
+    EXPECT_FALSE(ParseRobotDescription(bad, "cal.yaml", &r, &why));
+    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    return why;
+  };
+  const std::string bias = "bias: [";
+  EXPECT_NE(fails(bias, bias + "abc, ").find("learned_residual.bias"),
+            std::string::npos);
+  const std::string inputs = "inputs: [periodic";
+  EXPECT_NE(
+      fails(inputs, "inputs: [wavy")
+          .find("learned_residual.inputs[0]: expected periodic or linear, "
+                "got 'wavy'"),
+      std::string::npos);
+  const std::string phases = "phases: [";
+  const std::string why = fails(phases, phases + "0.5, ");
+  EXPECT_NE(why.find("learned_residual.phases: expected a list of 40 "
+                     "numbers (one per feature), got 41"),
+            std::string::npos)
+      << why;
+  EXPECT_EQ(why.rfind("cal.yaml:", 0), 0u) << why;
 }
 
 }  // namespace
