@@ -64,7 +64,10 @@ CorrectionRounds ApplyLearnedCorrection(const RobotModel& model,
     ++rounds.rounds;
     const std::vector<Eigen::Vector3d> next = corrections();
     rounds.last_change_m = 0.0;
+    // Over the targets the solver reached (one it cannot reach, e.g.
+    // outside the joint limits, need not settle).
     for (int i = 0; i < n; ++i) {
+      if (summary->results[i].status != IkStatus::kConverged) continue;
       rounds.last_change_m =
           std::max(rounds.last_change_m, (next[i] - c[i]).norm());
     }

@@ -7,8 +7,8 @@
 // joints, a fraction of a millimetre). Solved as a fixed point on top of
 // the parametric compensation (compensation.h): round k solves each target
 // t with the parametric inverse kinematics for t - R_B c(q_{k-1}), from
-// q_{k-1}, until no target's correction moves by more than the position
-// tolerance (at most max_rounds). Each result's position_error_m is then
+// q_{k-1}, until no reached target's correction moves by more than the
+// position tolerance (at most max_rounds). Each result's position_error_m is then
 // that of the hybrid model, |point(q) - t|; a target the parametric solver
 // reached whose hybrid error stays above the tolerance becomes
 // kIterationCap ("the learned correction did not settle ..."). The
