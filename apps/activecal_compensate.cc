@@ -21,6 +21,7 @@
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/targets_csv.h"
 #include "activecal/kinematics/compensation.h"
+#include "activecal/kinematics/corrected_compensation.h"
 #include "app_common.h"
 
 DEFINE_string(nominal, "",
@@ -215,9 +216,21 @@ int Main() {
   if (summary.termination_type == TerminationType::kUserFailure) {
     app::Fail(summary.message);
   }
+  // The learned correction of --robot's file (identify --learned_residual):
+  // the targets reached by the hybrid model.
+  const CorrectionRounds rounds = ApplyLearnedCorrection(
+      model, model.nominal, robot.learned_correction, options, &summary);
   app::WriteTextOrDie(FLAGS_out,
                       CompensatedPosesCsvText(model, labels, summary));
   std::printf("%s", summary.BriefReport().c_str());
+  if (!robot.learned_correction.empty()) {
+    std::printf(
+        "with --robot's learned correction (%d random Fourier features): %d "
+        "fixed-point rounds, the last moved a correction by %.3g m; errors "
+        "are of the corrected model\n",
+        robot.learned_correction.num_features(), rounds.rounds,
+        rounds.last_change_m);
+  }
   std::printf("wrote %zu compensated targets to %s\n", summary.results.size(),
               FLAGS_out.c_str());
   if (!FLAGS_json_out.empty()) {
@@ -243,6 +256,10 @@ int Main() {
     j["max_joint_change"] = summary.max_joint_change;
     j["rms_joint_change"] = summary.rms_joint_change;
     j["message"] = summary.message;
+    j["learned_correction"] = !robot.learned_correction.empty();
+    if (!robot.learned_correction.empty()) {
+      j["learned_correction_rounds"] = rounds.rounds;
+    }
     nlohmann::json rows = nlohmann::json::array();
     for (size_t i = 0; i < summary.results.size(); ++i) {
       const InverseKinematicsResult& r = summary.results[i];

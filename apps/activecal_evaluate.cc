@@ -203,6 +203,17 @@ Iso9283CyclesSummary Iso9283OrDie(const RobotModel& model,
   return iso;
 }
 
+// ", with its learned correction (...)" when the robot file has one.
+std::string LearnedCorrectionNote(const LearnedCorrection& c) {
+  if (c.empty()) return "";
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                ", with its learned correction (%d random Fourier features, "
+                "fitted on %d measurements)",
+                c.num_features(), c.num_training);
+  return text;
+}
+
 int Main() {
   if (FLAGS_measurements.empty()) app::Fail("--measurements is required");
   const RobotDescription robot = app::LoadRobotOrDie();
@@ -220,8 +231,12 @@ int Main() {
   std::vector<int> lines;
   const std::vector<Measurement> measurements = app::ReadMeasurementsOrDie(
       FLAGS_measurements, model, "measurements", &lines);
+  // The learned correction of --robot's file (identify
+  // --learned_residual), part of "after" when there is one.
+  const LearnedCorrection& correction = robot.learned_correction;
   EvaluationSummary summary;
-  if (!EvaluateModel(model, model.nominal, measurements, &summary)) {
+  if (!EvaluateCorrectedModel(model, model.nominal, correction, measurements,
+                              &summary)) {
     app::Fail("--measurements: " + summary.message);
   }
   // Before: the registration-only baseline (registration_fit.h).
@@ -315,7 +330,8 @@ int Main() {
     }
   }
   std::printf("%s", summary.BriefReport().c_str());
-  std::printf("  after: --robot as given (no fitting)\n");
+  std::printf("  after: --robot as given (no fitting)%s\n",
+              LearnedCorrectionNote(correction).c_str());
   if (have_before) {
     std::printf("  before: %s\n", before_text.c_str());
     PrintLine(before_kind == "training" ? "before (fitted on --training)"
@@ -343,7 +359,8 @@ int Main() {
                            PostureGroup::kOutOfRange}) {
       const std::vector<Measurement> subset = Subset(measurements, groups, g);
       EvaluationSummary s;
-      if (!subset.empty() && !EvaluateModel(model, model.nominal, subset, &s)) {
+      if (!subset.empty() && !EvaluateCorrectedModel(model, model.nominal,
+                                                     correction, subset, &s)) {
         app::Fail("--measurements: " + s.message);
       }
       const std::string label = std::string("after, ") + PostureGroupName(g);
@@ -410,7 +427,9 @@ int Main() {
       j["before"] = nullptr;
     }
     j["after"] = ReportJson(summary);
-    j["after"]["description"] = "--robot as given (no fitting)";
+    j["after"]["description"] =
+        "--robot as given (no fitting)" + LearnedCorrectionNote(correction);
+    j["after"]["learned_correction"] = !correction.empty();
     if (!training.empty()) {
       j["training"] = FLAGS_training;
       j["groups"] = groups_json;
@@ -432,7 +451,11 @@ int Main() {
                       " joints), " + FLAGS_robot},
         {"measurements",
          FLAGS_measurements + " (" + std::to_string(measurements.size()) + ")"},
-        {"after", "--robot as given (no fitting)"},
+        {"after", correction.empty()
+                      ? std::string("--robot as given (no fitting)")
+                      : "--robot's geometry as given (no fitting); the "
+                        "report's errors are without its learned correction "
+                        "(the printed and JSON errors have it)"},
         {"before", have_before ? before_text : "none"},
         {"program", "activecal_evaluate"}};
     if (!training.empty()) report.setup.push_back({"training", FLAGS_training});

@@ -36,10 +36,23 @@ ErrorStatistics ComputeErrorStatistics(std::vector<double> magnitudes) {
 bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
                    const std::vector<Measurement>& measurements,
                    EvaluationSummary* summary) {
+  return EvaluateCorrectedModel(model, parameters, LearnedCorrection(),
+                                measurements, summary);
+}
+
+bool EvaluateCorrectedModel(const RobotModel& model,
+                            const Eigen::VectorXd& parameters,
+                            const LearnedCorrection& correction,
+                            const std::vector<Measurement>& measurements,
+                            EvaluationSummary* summary) {
   *summary = EvaluationSummary();
   std::string error;
   if (!model.Validate(&error) || !model.CheckParameters(parameters, &error)) {
     summary->message = error;
+    return false;
+  }
+  if (!correction.empty() && !correction.Validate(&model, &error)) {
+    summary->message = "learned correction: " + error;
     return false;
   }
   const int n = static_cast<int>(measurements.size());
@@ -55,7 +68,8 @@ bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
       summary->message = "measurement " + std::to_string(i) + ": " + error;
       return false;
     }
-    const Measurement p = PredictMeasurement(model, parameters, m);
+    const Measurement p =
+        PredictCorrectedMeasurement(model, parameters, correction, m);
     if (m.type == MeasurementType::kDistance) {
       summary->distance_errors_m[i] = p.distance - m.distance;
       distances.push_back(std::abs(p.distance - m.distance));

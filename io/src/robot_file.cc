@@ -31,9 +31,10 @@ class Parser : public internal::YamlReader {
   bool Parse(const std::string& text, RobotDescription* robot) {
     YAML::Node root;
     if (!LoadMap(text, "of robot fields at the top", &root)) return false;
-    if (!CheckKeys(root, "",
-                   {"name", "angle_unit", "base", "links", "tip", "tool",
-                    "markers", "collision"})) {  // collision: read by cell/
+    if (!CheckKeys(
+            root, "",
+            {"name", "angle_unit", "base", "links", "tip", "tool", "markers",
+             "collision", "learned_residual"})) {  // collision: read by cell/
       return false;
     }
     RobotModel& m = robot->model;
@@ -123,6 +124,11 @@ class Parser : public internal::YamlReader {
     if (!m.Validate(&why)) return Fail(root.Mark(), "", why);
     robot->true_parameters =
         has_truth_ ? truth_ : Eigen::VectorXd(Eigen::VectorXd());
+    if (const YAML::Node learned = root["learned_residual"]) {
+      if (!LearnedResidual(learned, m, &robot->learned_correction)) {
+        return false;
+      }
+    }
     return true;
   }
 
@@ -340,6 +346,130 @@ class Parser : public internal::YamlReader {
     return true;
   }
 
+  // A list of `size` numbers (size < 0: any) into *out.
+  bool Numbers(const YAML::Node& node, const std::string& field, int size,
+               const std::string& what, Eigen::VectorXd* out) {
+    if (!node || !node.IsSequence() ||
+        (size >= 0 && static_cast<int>(node.size()) != size)) {
+      const std::string got =
+          node && node.IsSequence() ? std::to_string(node.size()) : "none";
+      return Fail(node ? node.Mark() : YAML::Mark::null_mark(), field,
+                  size >= 0 ? "expected a list of " + std::to_string(size) +
+                                  " numbers (" + what + "), got " + got
+                            : "expected a list of numbers (" + what + ")");
+    }
+    out->resize(node.size());
+    for (size_t k = 0; k < node.size(); ++k) {
+      if (!Number(node[k], field + "[" + std::to_string(k) + "]", &(*out)[k])) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // `rows` lists of `cols` numbers into *out (rows x cols).
+  bool NumberRows(const YAML::Node& node, const std::string& field, int rows,
+                  int cols, const std::string& what, Eigen::MatrixXd* out) {
+    if (!node || !node.IsSequence() || static_cast<int>(node.size()) != rows) {
+      const std::string got =
+          node && node.IsSequence() ? std::to_string(node.size()) : "none";
+      return Fail(node ? node.Mark() : YAML::Mark::null_mark(), field,
+                  "expected " + std::to_string(rows) +
+                      " rows (one per feature), got " + got);
+    }
+    out->resize(rows, cols);
+    Eigen::VectorXd row;
+    for (int r = 0; r < rows; ++r) {
+      if (!Numbers(node[r], field + "[" + std::to_string(r) + "]", cols, what,
+                   &row)) {
+        return false;
+      }
+      out->row(r) = row.transpose();
+    }
+    return true;
+  }
+
+  // The "learned_residual:" block (core/learned_correction.h).
+  bool LearnedResidual(const YAML::Node& node, const RobotModel& m,
+                       LearnedCorrection* c) {
+    const std::string f = "learned_residual";
+    if (!node.IsMap()) return Fail(node.Mark(), f, "expected a mapping");
+    if (!CheckKeys(node, f,
+                   {"features", "inputs", "scale", "length_scale", "ridge",
+                    "seed", "num_training", "held_out_rms_parametric_m",
+                    "held_out_rms_hybrid_m", "frequencies", "phases", "weights",
+                    "bias"})) {
+      return false;
+    }
+    *c = LearnedCorrection();
+    double v = 0;
+    auto required = [&](const char* key, double* out) {
+      const YAML::Node n = node[key];
+      if (!n) return Fail(node.Mark(), f + "." + key, "missing");
+      return Number(n, f + "." + key, out);
+    };
+    auto optional = [&](const char* key, double* out) {
+      const YAML::Node n = node[key];
+      return !n || Number(n, f + "." + key, out);
+    };
+    if (!required("features", &v)) return false;
+    if (!(v >= 1 && v <= 5000 && v == std::floor(v))) {
+      return Fail(node["features"].Mark(), f + ".features",
+                  "expected a whole number in [1, 5000]");
+    }
+    const int d = static_cast<int>(v);
+    const YAML::Node inputs = node["inputs"];
+    if (!inputs || !inputs.IsSequence() ||
+        static_cast<int>(inputs.size()) != m.num_joints()) {
+      return Fail(inputs ? inputs.Mark() : node.Mark(), f + ".inputs",
+                  "expected a list of " + std::to_string(m.num_joints()) +
+                      " entries (periodic or linear, one per joint)");
+    }
+    for (size_t j = 0; j < inputs.size(); ++j) {
+      const std::string t = inputs[j].IsScalar() ? inputs[j].Scalar() : "";
+      if (t != "periodic" && t != "linear") {
+        return Fail(inputs[j].Mark(), f + ".inputs[" + std::to_string(j) + "]",
+                    "expected periodic or linear, got '" + t + "'");
+      }
+      c->periodic.push_back(t == "periodic");
+    }
+    if (!Numbers(node["scale"], f + ".scale", m.num_joints(), "one per joint",
+                 &c->scale)) {
+      return false;
+    }
+    if (!required("length_scale", &c->length_scale) ||
+        !required("ridge", &c->ridge) ||
+        !optional("held_out_rms_parametric_m", &c->held_out_rms_parametric_m) ||
+        !optional("held_out_rms_hybrid_m", &c->held_out_rms_hybrid_m)) {
+      return false;
+    }
+    double count = 0;
+    if (!optional("num_training", &count)) return false;
+    c->num_training = static_cast<int>(std::max(0.0, count));
+    if (const YAML::Node seed = node["seed"]) {
+      try {
+        c->seed = seed.as<uint64_t>();
+      } catch (const YAML::Exception&) {
+        return Fail(seed.Mark(), f + ".seed", "expected a whole number >= 0");
+      }
+    }
+    const int outputs = 3 * m.num_markers();
+    if (!NumberRows(node["frequencies"], f + ".frequencies", d, c->num_inputs(),
+                    "inputs: 2 per periodic joint, 1 per linear one",
+                    &c->frequencies) ||
+        !Numbers(node["phases"], f + ".phases", d, "one per feature",
+                 &c->phases) ||
+        !NumberRows(node["weights"], f + ".weights", d, outputs, "3 per marker",
+                    &c->weights) ||
+        !Numbers(node["bias"], f + ".bias", outputs, "3 per marker",
+                 &c->bias)) {
+      return false;
+    }
+    std::string why;
+    if (!c->Validate(&m, &why)) return Fail(node.Mark(), f, why);
+    return true;
+  }
+
   double angle_scale_ = 1.0;
   Eigen::VectorXd truth_;
   bool has_truth_ = false;
@@ -501,6 +631,47 @@ std::string RobotFileText(const RobotModel& model,
     out << YAML::Key << "markers" << YAML::Value << YAML::BeginSeq;
     for (int k = 0; k < model.num_markers(); ++k) block(model.marker_block(k));
     out << YAML::EndSeq;
+  }
+  if (options.learned_correction && !options.learned_correction->empty()) {
+    const LearnedCorrection& c = *options.learned_correction;
+    auto list = [&](const auto& v) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (int k = 0; k < v.size(); ++k) out << ShortestText(v[k]);
+      out << YAML::EndSeq;
+    };
+    auto rows = [&](const Eigen::MatrixXd& a) {
+      out << YAML::BeginSeq;
+      for (int r = 0; r < a.rows(); ++r) {
+        const Eigen::VectorXd row = a.row(r).transpose();
+        list(row);
+      }
+      out << YAML::EndSeq;
+    };
+    out << YAML::Key << "learned_residual" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "features" << YAML::Value << c.num_features();
+    out << YAML::Key << "inputs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (bool p : c.periodic) out << (p ? "periodic" : "linear");
+    out << YAML::EndSeq;
+    out << YAML::Key << "scale" << YAML::Value;
+    list(c.scale);
+    out << YAML::Key << "length_scale" << YAML::Value
+        << ShortestText(c.length_scale);
+    out << YAML::Key << "ridge" << YAML::Value << ShortestText(c.ridge);
+    out << YAML::Key << "seed" << YAML::Value << c.seed;
+    out << YAML::Key << "num_training" << YAML::Value << c.num_training;
+    out << YAML::Key << "held_out_rms_parametric_m" << YAML::Value
+        << ShortestText(c.held_out_rms_parametric_m);
+    out << YAML::Key << "held_out_rms_hybrid_m" << YAML::Value
+        << ShortestText(c.held_out_rms_hybrid_m);
+    out << YAML::Key << "frequencies" << YAML::Value;
+    rows(c.frequencies);
+    out << YAML::Key << "phases" << YAML::Value;
+    list(c.phases);
+    out << YAML::Key << "weights" << YAML::Value;
+    rows(c.weights);
+    out << YAML::Key << "bias" << YAML::Value;
+    list(c.bias);
+    out << YAML::EndMap;
   }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

@@ -27,6 +27,7 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 void Summarize(const Eigen::MatrixXd& starts,
                const CompensationOptions& options,
                CompensationSummary* summary) {
+  summary->starts = starts;
   if (options.check) {
     for (InverseKinematicsResult& r : summary->results) {
       std::string reason;
@@ -165,6 +166,14 @@ Eigen::VectorXd ProgramMeaningParameters(
   meaning.head(nominal.block_size(0)) =
       calibrated_values.head(calibrated.block_size(0));
   return meaning;
+}
+
+void SummarizeCompensation(const CompensationOptions& options,
+                           CompensationSummary* summary) {
+  const Eigen::MatrixXd starts = summary->starts;
+  summary->max_position_error_m = summary->max_rotation_error_rad = 0.0;
+  summary->max_joint_change = summary->rms_joint_change = 0.0;
+  Summarize(starts, options, summary);
 }
 
 bool CompensationSummary::AllConverged() const {

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/core/learned_correction.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 
@@ -62,6 +63,14 @@ ErrorStatistics ComputeErrorStatistics(std::vector<double> magnitudes);
 bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
                    const std::vector<Measurement>& measurements,
                    EvaluationSummary* summary);
+// The same with the hybrid model: each predicted point moved by the learned
+// correction (PredictCorrectedMeasurement, core/learned_correction.h); an
+// empty correction gives EvaluateModel's numbers exactly.
+bool EvaluateCorrectedModel(const RobotModel& model,
+                            const Eigen::VectorXd& parameters,
+                            const LearnedCorrection& correction,
+                            const std::vector<Measurement>& measurements,
+                            EvaluationSummary* summary);
 
 // Where a posture lies relative to the poses a model was calibrated on.
 // Error grows from one group to the next, so each gets its own RMSE.

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "activecal/core/learned_correction.h"
 #include "activecal/core/robot_model.h"
 
 namespace activecal {
@@ -35,6 +36,10 @@ struct RobotDescription {
   Eigen::VectorXd true_parameters;
   // The unit the file used for angles, kept when writing it back.
   AngleUnit angle_unit = AngleUnit::kRadian;
+  // The learned correction of the hybrid model (the optional
+  // "learned_residual:" block, core/learned_correction.h); empty when the
+  // file has none.
+  LearnedCorrection learned_correction;
 };
 
 // Reads and validates a robot file. On failure returns false and *error
@@ -52,6 +57,10 @@ struct RobotFileOptions {
   Eigen::VectorXd true_parameters;
   // Lines written as a comment at the top (without "# ").
   std::string comment;
+  // Written as the "learned_residual:" block when not null and not empty
+  // (every number in its shortest exact form: read back, it predicts the
+  // same to the last bit).
+  const LearnedCorrection* learned_correction = nullptr;
 };
 
 // The robot file text of `model` with `values` (full vector) as its

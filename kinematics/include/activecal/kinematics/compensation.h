@@ -98,11 +98,21 @@ struct CompensationSummary {
   double max_joint_change = 0.0;
   double rms_joint_change = 0.0;
   double seconds = 0.0;
+  // The configuration each target's solve started from (the joint changes
+  // are from these): one row per target.
+  Eigen::MatrixXd starts;
 
   bool AllConverged() const;
   // A paragraph: counts per status, errors left, joint changes, time.
   std::string BriefReport() const;
 };
+
+// The cell's check of the converged results (options.check), then the
+// counts, maxima and termination of summary->results against
+// summary->starts (done by the functions below; for a caller that changes
+// the results, e.g. corrected_compensation.h).
+void SummarizeCompensation(const CompensationOptions& options,
+                           CompensationSummary* summary);
 
 // Compensates a joint program (one configuration per row, SI units) taught
 // with `nominal`, for the robot described by `calibrated` (see the top of
