@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/point_constraints.h"
 #include "csv_columns.h"
 #include "number_text.h"
 
@@ -317,7 +318,8 @@ bool ResolveJointColumns(const Table& table, const RobotModel& model,
       "type",       "marker",      "x_m",     "y_m",
       "z_m",        "x_mm",        "y_mm",    "z_mm",
       "distance_m", "distance_mm", "sigma_m", "sigma_mm",
-      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm"};
+      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm",
+      "point"};
   for (int j = 0; j < n; ++j) {
     const bool rev = Revolute(model, j);
     for (const std::string& suffix : {std::string(""), std::string("_2")}) {
@@ -913,6 +915,8 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
   }
   if (table_.Has("type")) known_["type"] = 1;
   if (table_.Has("marker")) known_["marker"] = 1;
+  // A fixed point's label (type=point rows).
+  if (table_.Has("point")) known_["point"] = 1;
   // The commanded poses of ISO 9283 cycles (ParseCommandedPosesCsv reads
   // them): known, so neither a note nor an error of strict columns.
   if (table_.Has("pose")) known_["pose"] = 1;
@@ -1144,6 +1148,12 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
         orientation_ >= 0 ? MeasurementType::kPose : MeasurementType::kPosition;
     type = MeasurementTypeName(m.type);
   }
+  if (m.type == MeasurementType::kPointDistance) {
+    return table_.Fail(row.line,
+                       "type: a known distance between fixed points is given "
+                       "in the points file (--points), not as a row",
+                       error);
+  }
   if (!wide_.empty() && m.type != MeasurementType::kPosition) {
     return table_.Fail(row.line,
                        "type: a file of numbered marker columns (x1_m, ...) "
@@ -1170,12 +1180,29 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
   }
   const bool pose = m.type == MeasurementType::kPose;
   const bool distance = m.type == MeasurementType::kDistance;
+  const bool point = m.type == MeasurementType::kPoint;
+  // A fixed point's row: its label, no coordinates (they are unknowns).
+  const bool labelled = table_.Has("point") && !table_.Empty(row, "point");
+  if (point && !labelled) {
+    return table_.Fail(row.line,
+                       "point: a point row needs the label of its fixed "
+                       "point (column 'point')",
+                       error);
+  }
+  if (!point && labelled) {
+    return table_.Fail(row.line,
+                       "point: a " + type +
+                           " measurement has no such value; leave it empty",
+                       error);
+  }
+  if (point) m.point = row.fields[table_.Column("point")];
   double v[4];
-  if (wide_.empty() && !ReadForm(row, PositionForms(), position_, !distance,
-                                 "a measured point", type, v, nullptr, error)) {
+  if (wide_.empty() &&
+      !ReadForm(row, PositionForms(), position_, !distance && !point,
+                "a measured point", type, v, nullptr, error)) {
     return false;
   }
-  if (wide_.empty() && !distance)
+  if (wide_.empty() && !distance && !point)
     m.position = Eigen::Vector3d(v[0], v[1], v[2]);
   if (!ReadForm(row, OrientationForms(), orientation_, pose, "an orientation",
                 type, v, nullptr, error)) {
@@ -1359,6 +1386,14 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   std::vector<int> lines;
   for (const Row& row : table_.rows()) {
     if (!ReadRow(row, &measurements, &lines, error)) return false;
+  }
+  // Fixed points: each label reached from two configurations at least.
+  std::string why;
+  if (!CheckPointLabels(measurements, &why)) {
+    // "measurement <i>: ...": the row's line instead.
+    const size_t colon = why.find(": ");
+    const int i = std::stoi(why.substr(std::string("measurement ").size()));
+    return table_.Fail(lines[i], why.substr(colon + 2), error);
   }
   if (measurements.empty()) {
     return table_.Fail(table_.header_line(),
