@@ -21,6 +21,7 @@
 #include "activecal/estimation/orientation_check.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/output_files.h"
+#include "activecal/io/points_file.h"
 #include "activecal/io/robot_file.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/urdf_inertials.h"
@@ -33,6 +34,11 @@ DEFINE_string(measurements, "",
               "distance rows, mixed freely. Empty: simulate --num_poses "
               "position measurements at random lattice poses from the "
               "robot's true values.");
+DEFINE_string(points, "",
+              "Points file (YAML, docs/formats.md): known distances between "
+              "the fixed points of type=point rows ('distances: - {from: "
+              "hole_0, to: hole_1, distance_m: 0.05}'), which fix the scale "
+              "that points alone cannot.");
 DEFINE_string(model_out, "",
               "If set, write the calibrated robot (same YAML format as "
               "--robot, identified values as nominal) here.");
@@ -332,6 +338,23 @@ void PrintRotationWeightNote(const CalibrationSummary& summary,
       rounded, effect.c_str());
 }
 
+// The known distances of --points appended to `measurements` (type=point
+// rows); --points without point rows, or naming a label no row has, fails.
+std::vector<Measurement> WithPointsFileOrDie(
+    std::vector<Measurement> measurements) {
+  if (FLAGS_points.empty()) return measurements;
+  std::vector<Measurement> distances;
+  std::vector<int> lines;
+  std::string error;
+  if (!ReadPointsFile(FLAGS_points, &distances, &lines, &error) ||
+      !CheckPointDistanceLabels(measurements, distances, lines, FLAGS_points,
+                                &error)) {
+    app::Fail("--points: " + error);
+  }
+  measurements.insert(measurements.end(), distances.begin(), distances.end());
+  return measurements;
+}
+
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -339,7 +362,11 @@ int Main() {
   std::vector<int64_t> simulated_poses;
   const std::vector<Measurement> all =
       simulated ? SimulateOrDie(robot, &simulated_poses)
-                : app::ReadMeasurementsOrDie(FLAGS_measurements, model);
+                : WithPointsFileOrDie(
+                      app::ReadMeasurementsOrDie(FLAGS_measurements, model));
+  if (simulated && !FLAGS_points.empty()) {
+    app::Fail("--points needs --measurements with type=point rows");
+  }
   CalibrationOptions options;
   const bool urdf_robot = IsUrdfPath(FLAGS_robot);
   options.parameter_set = app::ParameterSetOrDie(urdf_robot);

@@ -6,6 +6,8 @@
 // only (the base frame, the scale) and with a known distance, and a fit on
 // a simulated 7-axis arm against its truth.
 
+#include "activecal/core/point_constraints.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +15,7 @@
 #include <set>
 
 #include "activecal/core/kinematics.h"
-#include "activecal/core/point_constraints.h"
+#include "activecal/core/point_simulation.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
 #include "activecal/estimation/identification.h"
@@ -30,8 +32,8 @@ RobotModel LoadShipped(const std::string& file, const std::string& tip) {
   chain.tip_link = tip;
   RobotDescription robot;
   std::string error;
-  EXPECT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + file,
-                            chain, &robot, &error))
+  EXPECT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + file, chain,
+                            &robot, &error))
       << error;
   RobotModel m = robot.model;
   // A ball off the flange.
@@ -45,48 +47,23 @@ std::set<std::string> Names(const std::vector<HeldParameter>& held) {
   return names;
 }
 
-// `per_point` configurations at each of `num_points` fixed points that the
-// robot at `truth` reaches (each placement off by `placement_m` per axis,
-// Gaussian: the repeatability of a ball in its socket), found by moving
-// joints at random about a configuration reaching the point and reaching
-// it again. Joints kept inside their ranges.
+// `per_point` configurations at each of `num_points` sockets the robot at
+// `truth` reaches (point_simulation.h), placements off by `placement_m` per
+// axis.
 std::vector<Measurement> PointRows(const RobotModel& model,
-                                   const Eigen::VectorXd& truth,
-                                   int num_points, int per_point,
-                                   double placement_m, uint64_t seed,
+                                   const Eigen::VectorXd& truth, int num_points,
+                                   int per_point, double placement_m,
+                                   uint64_t seed,
                                    std::vector<Eigen::Vector3d>* points) {
-  Random random(seed);
+  PointSimulationOptions options;
+  options.num_points = num_points;
+  options.per_point = per_point;
+  options.placement_m = placement_m;
   std::vector<Measurement> rows;
-  points->clear();
-  Eigen::VectorXd q_ref(model.num_joints());
-  for (int k = 0; k < num_points; ++k) {
-    // A reachable point: where a configuration in the middle of the ranges
-    // puts the ball.
-    for (int j = 0; j < model.num_joints(); ++j) {
-      const Link& l = model.links[j];
-      q_ref[j] = 0.5 * (std::max(l.joint_min, -2.0) + std::min(l.joint_max, 2.0)) +
-                 0.6 * (random.Uniform() - 0.5);
-    }
-    const Eigen::Vector3d c = MeasuredPoint(model, truth, q_ref);
-    points->push_back(c);
-    int made = 0;
-    for (int attempt = 0; made < per_point && attempt < 100 * per_point;
-         ++attempt) {
-      Eigen::VectorXd q = q_ref;
-      for (int j = 0; j < q.size(); ++j) q[j] += 1.2 * (random.Uniform() - 0.5);
-      Eigen::Vector3d target = c;
-      for (int a = 0; a < 3; ++a) target[a] += placement_m * random.Gaussian();
-      if (!ReachPoint(model, truth, 0, target, &q)) continue;
-      if (!model.CheckJointValues(q, nullptr)) continue;
-      Measurement m;
-      m.type = MeasurementType::kPoint;
-      m.point = "hole_" + std::to_string(k);
-      m.joints = q;
-      rows.push_back(m);
-      ++made;
-    }
-    EXPECT_EQ(made, per_point) << "point " << k;
-  }
+  std::string error;
+  EXPECT_TRUE(SimulatePointMeasurements(model, truth, options, seed, &rows,
+                                        points, &error))
+      << error;
   return rows;
 }
 
@@ -286,8 +263,8 @@ TEST(PointConstraintsTest, FitOnSimulatedArmRecoversTruth) {
   // The truth: the held parameters at their start values (the gauge the
   // fit reports in), the others moved.
   Eigen::VectorXd truth;
-  ASSERT_TRUE(PerturbParameters(fitted, start, 0.5e-3, 0.5e-3, 3, &truth,
-                                &error))
+  ASSERT_TRUE(
+      PerturbParameters(fitted, start, 0.5e-3, 0.5e-3, 3, &truth, &error))
       << error;
   const std::vector<Measurement> rows =
       PointRows(model, truth, 3, 25, 2e-5, 12, &points);

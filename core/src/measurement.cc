@@ -55,10 +55,9 @@ const char* MeasurementTypeName(MeasurementType type) {
 }
 
 bool ParseMeasurementType(const std::string& name, MeasurementType* type) {
-  for (MeasurementType t :
-       {MeasurementType::kPosition, MeasurementType::kPose,
-        MeasurementType::kDistance, MeasurementType::kPoint,
-        MeasurementType::kPointDistance}) {
+  for (MeasurementType t : {MeasurementType::kPosition, MeasurementType::kPose,
+                            MeasurementType::kDistance, MeasurementType::kPoint,
+                            MeasurementType::kPointDistance}) {
     if (name == MeasurementTypeName(t)) {
       *type = t;
       return true;

@@ -267,9 +267,8 @@ double Median(std::vector<double> v) {
 
 // The raw residuals (no loss function applied) of every cost function at
 // the current parameter values.
-Eigen::VectorXd RawResiduals(
-    const std::vector<ceres::CostFunction*>& costs,
-    const std::vector<std::vector<double*>>& blocks) {
+Eigen::VectorXd RawResiduals(const std::vector<ceres::CostFunction*>& costs,
+                             const std::vector<std::vector<double*>>& blocks) {
   int rows = 0;
   for (const ceres::CostFunction* c : costs) rows += c->num_residuals();
   Eigen::VectorXd r(rows);
@@ -485,7 +484,8 @@ void Identify(const RobotModel& model,
     if (!CheckPointLabels(measurements, &error)) return user_failure(error);
     summary->point_labels = PointLabels(measurements);
   }
-  const int num_point_values = 3 * static_cast<int>(summary->point_labels.size());
+  const int num_point_values =
+      3 * static_cast<int>(summary->point_labels.size());
   const int p = summary->num_free + num_terms + num_point_values;
   // Identifiability at the starting point, before any solving (this also
   // checks every measurement).
@@ -559,15 +559,14 @@ void Identify(const RobotModel& model,
   // The points' coordinates start at the mean predicted point of each.
   Eigen::VectorXd points(num_point_values);
   {
-    const std::vector<Eigen::Vector3d> mean = MeanPointPositions(
-        model, initial, measurements, summary->point_labels);
+    const std::vector<Eigen::Vector3d> mean =
+        MeanPointPositions(model, initial, measurements, summary->point_labels);
     for (size_t k = 0; k < mean.size(); ++k) points.segment<3>(3 * k) = mean[k];
   }
   auto point_block = [&](const std::string& label) {
     const auto& labels = summary->point_labels;
-    return points.data() +
-           3 * (std::find(labels.begin(), labels.end(), label) -
-                labels.begin());
+    return points.data() + 3 * (std::find(labels.begin(), labels.end(), label) -
+                                labels.begin());
   };
   std::vector<ceres::CostFunction*> costs;  // unweighted; owned by problem
   std::vector<std::vector<double*>> cost_blocks;

@@ -318,8 +318,7 @@ bool ResolveJointColumns(const Table& table, const RobotModel& model,
       "type",       "marker",      "x_m",     "y_m",
       "z_m",        "x_mm",        "y_mm",    "z_mm",
       "distance_m", "distance_mm", "sigma_m", "sigma_mm",
-      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm",
-      "point"};
+      "sigma_rad",  "sigma_deg",   "u95_m",   "u95_mm"};
   for (int j = 0; j < n; ++j) {
     const bool rev = Revolute(model, j);
     for (const std::string& suffix : {std::string(""), std::string("_2")}) {
@@ -1190,10 +1189,10 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
                        error);
   }
   if (!point && labelled) {
-    return table_.Fail(row.line,
-                       "point: a " + type +
-                           " measurement has no such value; leave it empty",
-                       error);
+    return table_.Fail(
+        row.line,
+        "point: a " + type + " measurement has no such value; leave it empty",
+        error);
   }
   if (point) m.point = row.fields[table_.Column("point")];
   double v[4];
@@ -1572,8 +1571,10 @@ std::string MeasurementsCsvText(const RobotModel& model,
                                 const MeasurementsCsvFormat& format) {
   bool any_pose = false, any_distance = false, any_marker = false;
   bool any_iso = false, any_axes = false, any_sigma_rad = false;
+  bool any_point = false;
   for (const Measurement& m : measurements) {
     any_pose |= m.type == MeasurementType::kPose;
+    any_point |= m.type == MeasurementType::kPoint;
     any_distance |= m.type == MeasurementType::kDistance;
     any_marker |= m.marker != 0;
     any_sigma_rad |= m.type == MeasurementType::kPose && m.sigma_rad != 0;
@@ -1609,6 +1610,7 @@ std::string MeasurementsCsvText(const RobotModel& model,
   const int num_orientation = of == 1 ? 4 : 3;
   std::ostringstream out;
   out << "type";
+  if (any_point) out << ",point";
   if (any_marker) out << ",marker";
   for (int j = 0; j < nj; ++j) out << "," << joint_column(j);
   out << ",x" << lu << ",y" << lu << ",z" << lu;
@@ -1625,13 +1627,16 @@ std::string MeasurementsCsvText(const RobotModel& model,
   out << "\n";
   for (const Measurement& m : measurements) {
     out << MeasurementTypeName(m.type);
+    if (any_point) out << "," << m.point;
     if (any_marker)
       out << "," << model.block_name(model.marker_block(m.marker));
     for (int j = 0; j < nj; ++j) out << "," << joint_value(m.joints, j);
     const bool distance = m.type == MeasurementType::kDistance;
     const bool pose = m.type == MeasurementType::kPose;
+    // A fixed point's row has no coordinates (they are unknowns).
+    const bool no_point = distance || m.type == MeasurementType::kPoint;
     for (int k = 0; k < 3; ++k) {
-      out << "," << (distance ? "" : ShortestText(m.position[k] * length));
+      out << "," << (no_point ? "" : ShortestText(m.position[k] * length));
     }
     if (any_pose) {
       double v[4] = {0, 0, 0, 0};

@@ -188,8 +188,8 @@ bool EliminatedPointJacobian(const RobotModel& model,
       const Eigen::Vector3d d = centre[a] - centre[b];
       if (d.norm() < 1e-12) {
         if (error) {
-          *error = "measurement " + std::to_string(i) + ": points '" +
-                   m.point + "' and '" + m.point2 +
+          *error = "measurement " + std::to_string(i) + ": points '" + m.point +
+                   "' and '" + m.point2 +
                    "' are predicted at the same place: the distance's "
                    "Jacobian is undefined";
         }
@@ -213,8 +213,7 @@ bool EliminatedPointJacobian(const RobotModel& model,
   // Jt - Q Q^T Jt, Q an orthonormal basis of the coordinates' columns.
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jc);
   const int rank = static_cast<int>(qr.rank());
-  const Eigen::MatrixXd Q =
-      Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
+  const Eigen::MatrixXd Q = Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
   Jt -= Q * (Q.transpose() * Jt);
   for (int k = 0; k < s; ++k) J->row(point_rows[k]) = Jt.row(k);
   return true;
@@ -300,8 +299,8 @@ bool MeasurementErrors(const RobotModel& model,
       continue;
     }
     if (m.type == MeasurementType::kPointDistance) {
-      (*norms)[i] = std::abs(
-          (centre_of(m.point) - centre_of(m.point2)).norm() - m.distance);
+      (*norms)[i] = std::abs((centre_of(m.point) - centre_of(m.point2)).norm() -
+                             m.distance);
       continue;
     }
     double r[6];
