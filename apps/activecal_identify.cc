@@ -21,7 +21,6 @@
 #include "activecal/estimation/orientation_check.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/output_files.h"
-#include "activecal/io/points_file.h"
 #include "activecal/io/robot_file.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/urdf_inertials.h"
@@ -338,23 +337,6 @@ void PrintRotationWeightNote(const CalibrationSummary& summary,
       rounded, effect.c_str());
 }
 
-// The known distances of --points appended to `measurements` (type=point
-// rows); --points without point rows, or naming a label no row has, fails.
-std::vector<Measurement> WithPointsFileOrDie(
-    std::vector<Measurement> measurements) {
-  if (FLAGS_points.empty()) return measurements;
-  std::vector<Measurement> distances;
-  std::vector<int> lines;
-  std::string error;
-  if (!ReadPointsFile(FLAGS_points, &distances, &lines, &error) ||
-      !CheckPointDistanceLabels(measurements, distances, lines, FLAGS_points,
-                                &error)) {
-    app::Fail("--points: " + error);
-  }
-  measurements.insert(measurements.end(), distances.begin(), distances.end());
-  return measurements;
-}
-
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -362,7 +344,8 @@ int Main() {
   std::vector<int64_t> simulated_poses;
   const std::vector<Measurement> all =
       simulated ? SimulateOrDie(robot, &simulated_poses)
-                : WithPointsFileOrDie(
+                : app::WithPointsFileOrDie(
+                      FLAGS_points,
                       app::ReadMeasurementsOrDie(FLAGS_measurements, model));
   if (simulated && !FLAGS_points.empty()) {
     app::Fail("--points needs --measurements with type=point rows");

@@ -6,12 +6,13 @@
 // without a tracker.
 //
 //   make_point_measurements URDF TIP OUT.csv POINTS.yaml SEED [PLACEMENT_M]
-//       [NUM_POINTS] [PER_POINT]
+//       [NUM_POINTS] [PER_POINT] [SOCKET_SEED]
 //
 // The truth: the URDF's nominal with a ball 0.02, -0.01, 0.1 m off the tip
 // and every free parameter moved by 0.5 mm / 0.5 mrad (PerturbParameters,
-// SEED). POINTS.yaml: the true distances between consecutive sockets, in
-// the --points form.
+// SEED); the sockets and configurations from SOCKET_SEED (default SEED + 1:
+// another SOCKET_SEED is another placement of the block). POINTS.yaml: the true
+// distances between consecutive sockets, in the --points form.
 
 #include <cstdio>
 #include <cstdlib>
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
   if (argc < 6) {
     std::fprintf(stderr,
                  "usage: %s URDF TIP OUT.csv POINTS.yaml SEED [PLACEMENT_M] "
-                 "[NUM_POINTS] [PER_POINT]\n",
+                 "[NUM_POINTS] [PER_POINT] [SOCKET_SEED]\n",
                  argv[0]);
     return 2;
   }
@@ -54,9 +55,11 @@ int main(int argc, char** argv) {
   if (argc > 6) options.placement_m = std::atof(argv[6]);
   if (argc > 7) options.num_points = std::atoi(argv[7]);
   if (argc > 8) options.per_point = std::atoi(argv[8]);
+  const uint64_t socket_seed =
+      argc > 9 ? std::strtoull(argv[9], nullptr, 10) : seed + 1;
   std::vector<Measurement> rows;
   std::vector<Eigen::Vector3d> points;
-  if (!SimulatePointMeasurements(model, truth, options, seed + 1, &rows,
+  if (!SimulatePointMeasurements(model, truth, options, socket_seed, &rows,
                                  &points, &error)) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;

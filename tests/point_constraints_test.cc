@@ -18,8 +18,10 @@
 #include "activecal/core/point_simulation.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/estimation/parameter_reduction.h"
+#include "activecal/io/points_file.h"
 #include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
@@ -292,6 +294,93 @@ TEST(PointConstraintsTest, FitOnSimulatedArmRecoversTruth) {
   }
   // The uncalibrated start misses the points by far more.
   EXPECT_GT(summary.initial_rms_m, 1e-4);
+}
+
+// The points file: metres and millimetres, sigma, the entry's line; an
+// entry between a point and itself, or given twice, is refused.
+TEST(PointConstraintsTest, PointsFileReadsDistances) {
+  std::vector<Measurement> d;
+  std::vector<int> lines;
+  std::string error;
+  ASSERT_TRUE(ParsePointsFile(
+      "# sockets\ndistances:\n  - {from: a, to: b, distance_m: 0.05}\n"
+      "  - {from: b, to: c, distance_mm: 80, sigma_mm: 0.01}\n",
+      "p.yaml", &d, &lines, &error))
+      << error;
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].type, MeasurementType::kPointDistance);
+  EXPECT_EQ(d[0].point, "a");
+  EXPECT_EQ(d[0].point2, "b");
+  EXPECT_EQ(d[0].distance, 0.05);
+  EXPECT_EQ(d[0].sigma_m[0], 0.0);
+  EXPECT_DOUBLE_EQ(d[1].distance, 0.08);
+  EXPECT_DOUBLE_EQ(d[1].sigma_m[0], 1e-5);
+  EXPECT_EQ(lines, (std::vector<int>{3, 4}));
+  EXPECT_FALSE(
+      ParsePointsFile("distances:\n  - {from: a, to: a, distance_m: 1}\n",
+                      "p.yaml", &d, &lines, &error));
+  EXPECT_NE(error.find("p.yaml:2:5: distances[0]: a distance between point "
+                       "'a' and itself"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(
+      ParsePointsFile("distances:\n  - {from: a, to: b, distance_m: 1}\n"
+                      "  - {from: b, to: a, distance_m: 1}\n",
+                      "p.yaml", &d, &lines, &error));
+  EXPECT_NE(error.find("p.yaml:3:5: distances[1]: the distance between 'b' "
+                       "and 'a' is given twice"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(ParsePointsFile("distances:\n  - {from: a, to: b}\n", "p.yaml",
+                               &d, &lines, &error));
+  EXPECT_NE(error.find("distance_m (or distance_mm) missing"),
+            std::string::npos)
+      << error;
+}
+
+// Evaluation refits the points: each row's error is about the mean of its
+// label's predicted points, the known distance's error that of the means.
+TEST(PointConstraintsTest, EvaluationRefitsThePoints) {
+  const RobotModel model = LoadShipped("kuka_iiwa14.urdf", "flange");
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Measurement> rows =
+      PointRows(model, model.nominal, 2, 6, 1e-4, 5, &points);
+  Measurement d;
+  d.type = MeasurementType::kPointDistance;
+  d.point = "hole_0";
+  d.point2 = "hole_1";
+  d.distance = (points[0] - points[1]).norm() + 1e-3;
+  rows.push_back(d);
+  EvaluationSummary s;
+  ASSERT_TRUE(EvaluateModel(model, model.nominal, rows, &s)) << s.message;
+  ASSERT_EQ(s.point_labels, (std::vector<std::string>{"hole_0", "hole_1"}));
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 6; ++i)
+    mean += MeasuredPoint(model, model.nominal, rows[i].joints);
+  mean /= 6;
+  EXPECT_LT((s.point_coordinates[0] - mean).norm(), 1e-12);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double squares = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    const Eigen::Vector3d e =
+        MeasuredPoint(model, model.nominal, rows[i].joints) - mean;
+    EXPECT_LT((s.position_errors[i] - e).norm(), 1e-12);
+    sum += s.position_errors[i];
+    squares += e.squaredNorm();
+  }
+  EXPECT_LT(sum.norm(), 1e-12);  // about the mean
+  EXPECT_NEAR(s.point_spread[0].rms, std::sqrt(squares / 6), 1e-15);
+  EXPECT_EQ(s.point_spread[1].count, 6);
+  EXPECT_EQ(s.position.count, 12);
+  // Placements off by 0.1 mm per axis: a spread of that order.
+  EXPECT_GT(s.point_spread[0].rms, 3e-5);
+  EXPECT_LT(s.point_spread[0].rms, 5e-4);
+  ASSERT_EQ(s.distance.count, 1);
+  EXPECT_NEAR(
+      s.distance_errors_m[12],
+      (s.point_coordinates[0] - s.point_coordinates[1]).norm() - d.distance,
+      1e-15);
+  EXPECT_LT(std::abs(s.distance_errors_m[12] + 1e-3), 3e-4);
 }
 
 }  // namespace

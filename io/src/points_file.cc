@@ -68,7 +68,8 @@ class PointsFileReader : public internal::YamlReader {
       }
       if (!Length(e, "distance", field, true, &m.distance)) return false;
       if (!(m.distance > 0)) {
-        return Fail(e.Mark(), field + ".distance",
+        return Fail(e.Mark(),
+                    field + (e["distance_m"] ? ".distance_m" : ".distance_mm"),
                     "must be > 0 (two fixed points apart), got " +
                         std::to_string(m.distance) + " m");
       }
