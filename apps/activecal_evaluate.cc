@@ -21,6 +21,10 @@
 
 DEFINE_string(measurements, "",
               "Measurements CSV (docs/formats.md) to predict. Required.");
+DEFINE_string(points, "",
+              "Points file (YAML, docs/formats.md) of known distances "
+              "between the fixed points of type=point rows: their errors "
+              "are reported beside each point's spread.");
 DEFINE_string(json_out, "",
               "If set, write the report here: rmse_m, rmse_xyz_m, mean_m, "
               "p95_m, max_m, num_measurements, orientation and distance "
@@ -95,6 +99,20 @@ nlohmann::json ReportJson(const EvaluationSummary& s) {
       {"max_m", s.position.max},
       {"orientation_rad", StatisticsJson(s.rotation)},
       {"distance_m", StatisticsJson(s.distance)}};
+}
+
+// The fixed points (type=point rows): each one's refitted coordinates and
+// the spread of its rows about them.
+nlohmann::json PointsJson(const EvaluationSummary& s) {
+  nlohmann::json points = nlohmann::json::array();
+  for (size_t k = 0; k < s.point_labels.size(); ++k) {
+    const Eigen::Vector3d& c = s.point_coordinates[k];
+    nlohmann::json p = StatisticsJson(s.point_spread[k]);
+    p["label"] = s.point_labels[k];
+    p["coordinates_m"] = {c.x(), c.y(), c.z()};
+    points.push_back(p);
+  }
+  return points;
 }
 
 // The measurements of one posture group.
@@ -229,8 +247,9 @@ int Main() {
         "robot (give the frames identify wrote with --frames_out)\n");
   }
   std::vector<int> lines;
-  const std::vector<Measurement> measurements = app::ReadMeasurementsOrDie(
-      FLAGS_measurements, model, "measurements", &lines);
+  const std::vector<Measurement> measurements = app::WithPointsFileOrDie(
+      FLAGS_points, app::ReadMeasurementsOrDie(FLAGS_measurements, model,
+                                               "measurements", &lines));
   // The learned correction of --robot's file (identify
   // --learned_residual), part of "after" when there is one.
   const LearnedCorrection& correction = robot.learned_correction;
@@ -349,6 +368,7 @@ int Main() {
         "--robot; give --nominal_robot for the registration-only baseline "
         "fitted on --training\n");
   }
+  std::printf("%s", app::PointSpreadText(summary).c_str());
   if (FLAGS_iso9283) std::printf("%s", iso.TableText().c_str());
   // Posture groups relative to the training poses.
   std::vector<PostureGroup> groups;
@@ -400,7 +420,12 @@ int Main() {
       nlohmann::json row = {{"index", i},
                             {"type", MeasurementTypeName(m.type)},
                             {"marker", m.marker + 1}};
-      if (m.type == MeasurementType::kDistance) {
+      if (m.type == MeasurementType::kPoint) row["point"] = m.point;
+      if (m.type == MeasurementType::kPointDistance) {
+        row["points"] = {m.point, m.point2};
+      }
+      if (m.type == MeasurementType::kDistance ||
+          m.type == MeasurementType::kPointDistance) {
         row["distance_error_m"] = summary.distance_errors_m[i];
       } else {
         const Eigen::Vector3d& e = summary.position_errors[i];
@@ -413,6 +438,7 @@ int Main() {
       rows.push_back(row);
     }
     j["errors"] = rows;
+    if (!summary.point_labels.empty()) j["points"] = PointsJson(summary);
     if (have_before) {
       j["before"] = ReportJson(before);
       j["before"]["kind"] = before_kind;

@@ -35,6 +35,11 @@ DEFINE_string(measurements, "",
               "distance rows, mixed freely. Empty: simulate --num_poses "
               "position measurements at random lattice poses from the "
               "robot's true values.");
+DEFINE_string(points, "",
+              "Points file (YAML, docs/formats.md): known distances between "
+              "the fixed points of type=point rows ('distances: - {from: "
+              "hole_0, to: hole_1, distance_m: 0.05}'), which fix the scale "
+              "that points alone cannot.");
 DEFINE_string(model_out, "",
               "If set, write the calibrated robot (same YAML format as "
               "--robot, identified values as nominal) here.");
@@ -407,7 +412,12 @@ int Main() {
   std::vector<int64_t> simulated_poses;
   const std::vector<Measurement> all =
       simulated ? SimulateOrDie(robot, &simulated_poses)
-                : app::ReadMeasurementsOrDie(FLAGS_measurements, model);
+                : app::WithPointsFileOrDie(
+                      FLAGS_points,
+                      app::ReadMeasurementsOrDie(FLAGS_measurements, model));
+  if (simulated && !FLAGS_points.empty()) {
+    app::Fail("--points needs --measurements with type=point rows");
+  }
   CalibrationOptions options;
   const bool urdf_robot = IsUrdfPath(FLAGS_robot);
   options.parameter_set = app::ParameterSetOrDie(urdf_robot);

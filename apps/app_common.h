@@ -32,6 +32,7 @@
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/robot_model.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/io/controller_programs.h"
 #include "activecal/io/csv_files.h"
@@ -77,6 +78,17 @@ std::vector<Measurement> ReadMeasurementsOrDie(
     const std::string& path, const RobotModel& model,
     const std::string& flag = "measurements",
     std::vector<int>* lines = nullptr);
+
+// `measurements` with the known distances of the points file `path`
+// appended (nothing without a path); dies with "--points: file:line: ..."
+// on a bad file or a label no type=point row names. (app_points.cc)
+std::vector<Measurement> WithPointsFileOrDie(
+    const std::string& path, std::vector<Measurement> measurements);
+
+// One line per fixed point of `summary` (type=point rows): its rows, its
+// refitted coordinates and the spread of its rows about them (mean, RMS,
+// max distance, mm); empty without fixed points. (app_points.cc)
+std::string PointSpreadText(const EvaluationSummary& summary);
 
 // The commanded poses (ISO 9283 cycles: pose, commanded_x_m, ...) of the
 // measurements file `path`, read with --column_map; dies with "--<flag>:

@@ -5,10 +5,12 @@
 
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
+#include "activecal/core/point_constraints.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/estimate_warnings.h"
 #include "activecal/estimation/parameter_reduction.h"
@@ -243,6 +245,19 @@ void Calibrate(const RobotModel& input,
                 "measurements: none");
   }
   s.model_selection = options.ResolvedModelSelection();
+  // Fixed points (type=point rows): held-out rows would need the points'
+  // coordinates of the training fit; not done yet, so no model selection.
+  const bool with_points = HasPointRows(measurements);
+  if (with_points && s.model_selection != ModelSelectionMethod::kNone) {
+    if (options.model_selection != ModelSelectionMethod::kAuto) {
+      return fail(CalibrationStage::kOptions, TerminationType::kUserFailure,
+                  std::string("model_selection=") +
+                      ModelSelectionMethodToString(s.model_selection) +
+                      " is not supported with fixed-point (type=point) rows; "
+                      "use model_selection=none");
+    }
+    s.model_selection = ModelSelectionMethod::kNone;
+  }
   const double w = options.identification.rotation_weight_m_per_rad;
   IdentificationOptions fit_options = options.identification;
   fit_options.prior_std_m = fit_options.prior_std_rad = 0.0;
@@ -260,7 +275,10 @@ void Calibrate(const RobotModel& input,
     }
   }
   for (int i = 0; i < n; ++i) {
-    if (held_out[i]) {
+    // A known distance between fixed points stays with the training rows
+    // (it relates the points' coordinates, which the training fit has).
+    if (held_out[i] &&
+        measurements[i].type != MeasurementType::kPointDistance) {
       s.validation.push_back(measurements[i]);
     } else {
       s.training.push_back(measurements[i]);
@@ -273,7 +291,14 @@ void Calibrate(const RobotModel& input,
   // base, so that no initial guess of the device's frame is needed.
   s.stage = CalibrationStage::kRegistration;
   Eigen::VectorXd start = input.nominal;
-  if (options.register_base &&
+  // Fixed points only: nothing in the device frame to register to (the
+  // base frame is then held, parameter_reduction.h).
+  const bool any_coordinates =
+      std::any_of(training.begin(), training.end(), [](const Measurement& m) {
+        return m.type == MeasurementType::kPosition ||
+               m.type == MeasurementType::kPose;
+      });
+  if (options.register_base && (any_coordinates || !with_points) &&
       input.base.convention == LinkConvention::kFrame) {
     RegistrationSummary registration;
     s.registered_base =

@@ -231,6 +231,35 @@ std::string HeldCountNote(const CalibrationSummary& s,
 
 }  // namespace
 
+namespace {
+
+// The fixed points' identified coordinates (type=point rows), a table of
+// point.<label>.<axis> rows; empty without fixed points.
+std::string FixedPointsText(const IdentificationSummary& id) {
+  if (id.point_labels.empty()) return "";
+  TextTable table({{"fixed point"},
+                   {"unit"},
+                   {"estimate", ColumnAlign::kRight},
+                   {"std", ColumnAlign::kRight},
+                   {"std", ColumnAlign::kRight},
+                   {"in"}});
+  const bool have_std =
+      id.point_standard_deviations.size() == id.point_coordinates.size();
+  for (size_t k = 0; k < id.point_labels.size(); ++k) {
+    for (int a = 0; a < 3; ++a) {
+      const int i = 3 * static_cast<int>(k) + a;
+      const double sd = have_std ? id.point_standard_deviations[i] : 0.0;
+      table.AddRow({"point." + id.point_labels[k] + "." + "xyz"[a], "m",
+                    FormatNumber("%.6f", id.point_coordinates[i]),
+                    FormatNumber("%.6f", sd), FormatNumber("%.3f", 1e3 * sd),
+                    "mm"});
+    }
+  }
+  return table.ToString();
+}
+
+}  // namespace
+
 std::string CalibrationResultText(const CalibrationSummary& s,
                                   const CalibrationTextOptions& o) {
   const IdentificationSummary& id = s.identification;
@@ -293,7 +322,7 @@ std::string CalibrationResultText(const CalibrationSummary& s,
     }
     table.AddRow(row);
   }
-  std::string text = table.ToString();
+  std::string text = table.ToString() + FixedPointsText(id);
   const std::string fit = id.BriefReport();
   text += "\n" + fit;
   if (has_truth) {
@@ -399,6 +428,23 @@ std::string CalibrationJson(const CalibrationSummary& s,
     params.push_back(entry);
   }
   j["parameters"] = params;
+  if (!id.point_labels.empty()) {
+    // The fixed points' coordinates (base frame, m) and their covariance.
+    nlohmann::json points = nlohmann::json::array();
+    for (size_t k = 0; k < id.point_labels.size(); ++k) {
+      for (int a = 0; a < 3; ++a) {
+        const int i = 3 * static_cast<int>(k) + a;
+        points.push_back(
+            {{"name", "point." + id.point_labels[k] + "." + "xyz"[a]},
+             {"estimate", id.point_coordinates[i]},
+             {"std", id.point_standard_deviations.size() > i
+                         ? id.point_standard_deviations[i]
+                         : 0.0}});
+      }
+    }
+    j["points"] = points;
+    j["points_covariance"] = MatrixJson(id.point_covariance);
+  }
   j["correlation"] = MatrixJson(id.correlation);
   j["covariance"] = MatrixJson(id.covariance);
   nlohmann::json residuals = nlohmann::json::array();

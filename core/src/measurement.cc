@@ -30,6 +30,10 @@ int MeasurementDimension(MeasurementType type) {
       return 6;
     case MeasurementType::kDistance:
       return 1;
+    case MeasurementType::kPoint:
+      return 3;
+    case MeasurementType::kPointDistance:
+      return 1;
   }
   return 0;
 }
@@ -42,13 +46,18 @@ const char* MeasurementTypeName(MeasurementType type) {
       return "pose";
     case MeasurementType::kDistance:
       return "distance";
+    case MeasurementType::kPoint:
+      return "point";
+    case MeasurementType::kPointDistance:
+      return "point_distance";
   }
   return "unknown";
 }
 
 bool ParseMeasurementType(const std::string& name, MeasurementType* type) {
   for (MeasurementType t : {MeasurementType::kPosition, MeasurementType::kPose,
-                            MeasurementType::kDistance}) {
+                            MeasurementType::kDistance, MeasurementType::kPoint,
+                            MeasurementType::kPointDistance}) {
     if (name == MeasurementTypeName(t)) {
       *type = t;
       return true;
@@ -66,6 +75,23 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
                " is not a marker of the model (it has " +
                std::to_string(model.num_markers()) + ")";
     }
+    return false;
+  }
+  if (m.type == MeasurementType::kPointDistance) {
+    // No joints: a relation between two fixed points.
+    std::ostringstream bad;
+    if (m.point.empty() || m.point2.empty()) {
+      bad << "a point distance needs two point labels";
+    } else if (m.point == m.point2) {
+      bad << "a point distance between point '" << m.point
+          << "' and itself measures nothing";
+    } else if (!std::isfinite(m.distance) || m.distance < 0) {
+      bad << "known distance must be finite and >= 0, got " << m.distance;
+    } else if (!std::isfinite(m.sigma_m[0]) || m.sigma_m[0] < 0) {
+      bad << "distance standard deviation (sigma_m) must be finite and >= 0";
+    }
+    if (bad.tellp() == 0) return true;
+    if (error) *error = bad.str();
     return false;
   }
   // Joint readings are what the robot did: they may lie beyond the joint
@@ -107,6 +133,11 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
         msg << "measured distance must be finite and >= 0, got " << m.distance;
       }
       break;
+    case MeasurementType::kPoint:
+      if (m.point.empty()) msg << "a point row needs a point label";
+      break;
+    case MeasurementType::kPointDistance:
+      break;  // checked above
   }
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();
@@ -127,6 +158,8 @@ Measurement PredictMeasurement(const RobotModel& model,
                                const Eigen::VectorXd& parameters,
                                const Measurement& like) {
   Measurement out = like;
+  // A known distance between fixed points depends on no pose.
+  if (like.type == MeasurementType::kPointDistance) return out;
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
   TargetFrame(model, parameters, like.joints, &R, &t, like.marker);

@@ -90,7 +90,12 @@ bool SimulateMeasurements(const RobotModel& model,
         break;
       }
       case MeasurementType::kDistance:
+      case MeasurementType::kPointDistance:
         m.distance += noise.position_m * random.Gaussian();
+        break;
+      case MeasurementType::kPoint:
+        // No measured value: where the marker sat about the point is in
+        // the joints the plan gives (ReachPoint, point_reach.h).
         break;
     }
     result.push_back(std::move(m));

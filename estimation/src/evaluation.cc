@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/point_constraints.h"
 
 namespace activecal {
 
@@ -32,6 +33,53 @@ ErrorStatistics ComputeErrorStatistics(std::vector<double> magnitudes) {
   s.p95 = magnitudes[std::min(rank, magnitudes.size() - 1)];
   return s;
 }
+
+namespace {
+
+// The fixed points' rows of EvaluateModel (evaluation.h): errors about the
+// refitted points, appended to the position and distance magnitudes.
+void EvaluatePointRows(const RobotModel& model,
+                       const Eigen::VectorXd& parameters,
+                       const std::vector<Measurement>& measurements,
+                       EvaluationSummary* summary,
+                       std::vector<double>* positions, Eigen::Vector3d* squares,
+                       Eigen::Vector3d* sum, std::vector<double>* distances) {
+  if (!HasPointRows(measurements)) return;
+  const std::vector<std::string> labels = PointLabels(measurements);
+  const std::vector<Eigen::Vector3d> centre =
+      MeanPointPositions(model, parameters, measurements, labels);
+  auto index = [&](const std::string& label) {
+    return static_cast<size_t>(std::find(labels.begin(), labels.end(), label) -
+                               labels.begin());
+  };
+  std::vector<std::vector<double>> spread(labels.size());
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const Measurement& m = measurements[i];
+    if (m.type == MeasurementType::kPoint) {
+      const Eigen::Vector3d e =
+          MeasuredPoint(model, parameters, m.joints, m.marker) -
+          centre[index(m.point)];
+      summary->position_errors[i] = e;
+      positions->push_back(e.norm());
+      spread[index(m.point)].push_back(e.norm());
+      *squares += e.cwiseAbs2();
+      *sum += e;
+    } else if (m.type == MeasurementType::kPointDistance) {
+      const double e =
+          (centre[index(m.point)] - centre[index(m.point2)]).norm() -
+          m.distance;
+      summary->distance_errors_m[i] = e;
+      distances->push_back(std::abs(e));
+    }
+  }
+  summary->point_labels = labels;
+  summary->point_coordinates = centre;
+  for (const std::vector<double>& s : spread) {
+    summary->point_spread.push_back(ComputeErrorStatistics(s));
+  }
+}
+
+}  // namespace
 
 bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
                    const std::vector<Measurement>& measurements,
@@ -68,6 +116,7 @@ bool EvaluateCorrectedModel(const RobotModel& model,
       summary->message = "measurement " + std::to_string(i) + ": " + error;
       return false;
     }
+    if (m.involves_points()) continue;  // below
     const Measurement p =
         PredictCorrectedMeasurement(model, parameters, correction, m);
     if (m.type == MeasurementType::kDistance) {
@@ -93,6 +142,8 @@ bool EvaluateCorrectedModel(const RobotModel& model,
       rotations.push_back(angle);
     }
   }
+  EvaluatePointRows(model, parameters, measurements, summary, &positions,
+                    &squares, &sum, &distances);
   summary->position = ComputeErrorStatistics(positions);
   if (!positions.empty()) {
     summary->rmse_xyz_m = (squares / positions.size()).cwiseSqrt();

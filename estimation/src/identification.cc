@@ -17,6 +17,7 @@
 #include <memory>
 #include <sstream>
 
+#include "activecal/core/point_constraints.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/joint_error_jacobian.h"
 #include "activecal/residuals/joint_error_residual.h"
@@ -267,13 +268,14 @@ double Median(std::vector<double> v) {
 // The raw residuals (no loss function applied) of every cost function at
 // the current parameter values.
 Eigen::VectorXd RawResiduals(const std::vector<ceres::CostFunction*>& costs,
-                             const std::vector<double*>& blocks) {
+                             const std::vector<std::vector<double*>>& blocks) {
   int rows = 0;
   for (const ceres::CostFunction* c : costs) rows += c->num_residuals();
   Eigen::VectorXd r(rows);
   int row = 0;
-  for (const ceres::CostFunction* c : costs) {
-    if (!c->Evaluate(blocks.data(), r.data() + row, nullptr)) {
+  for (size_t i = 0; i < costs.size(); ++i) {
+    const ceres::CostFunction* c = costs[i];
+    if (!c->Evaluate(blocks[i].data(), r.data() + row, nullptr)) {
       r.segment(row, c->num_residuals())
           .setConstant(std::numeric_limits<double>::quiet_NaN());
     }
@@ -359,7 +361,7 @@ bool RowWeights(const std::vector<Measurement>& measurements,
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     Eigen::VectorXd s(m.dimension());
-    if (m.type == MeasurementType::kDistance) {
+    if (m.dimension() == 1) {  // a distance or a known point distance
       s[0] = m.sigma_m[0] > 0 ? m.sigma_m[0] : options.default_sigma_m;
     } else {
       for (int k = 0; k < 3; ++k) {
@@ -472,7 +474,19 @@ void Identify(const RobotModel& model,
   if (num_terms > 0) {
     features = MeasurementTermFeatures(model, initial, terms, measurements);
   }
-  const int p = summary->num_free + num_terms;
+  // Fixed points: 3 unknown coordinates per label, after the terms.
+  const bool with_points = HasPointRows(measurements);
+  if (with_points) {
+    if (num_terms > 0) {
+      return user_failure(
+          "joint error terms with fixed-point rows are not supported");
+    }
+    if (!CheckPointLabels(measurements, &error)) return user_failure(error);
+    summary->point_labels = PointLabels(measurements);
+  }
+  const int num_point_values =
+      3 * static_cast<int>(summary->point_labels.size());
+  const int p = summary->num_free + num_terms + num_point_values;
   // Identifiability at the starting point, before any solving (this also
   // checks every measurement).
   Eigen::MatrixXd stacked;
@@ -542,9 +556,29 @@ void Identify(const RobotModel& model,
   auto shared_terms = std::make_shared<const JointErrorModel>(terms);
   Eigen::VectorXd theta = terms.values;
   if (num_terms > 0) blocks.push_back(theta.data());
+  // The points' coordinates start at the mean predicted point of each.
+  Eigen::VectorXd points(num_point_values);
+  {
+    const std::vector<Eigen::Vector3d> mean =
+        MeanPointPositions(model, initial, measurements, summary->point_labels);
+    for (size_t k = 0; k < mean.size(); ++k) points.segment<3>(3 * k) = mean[k];
+  }
+  auto point_block = [&](const std::string& label) {
+    const auto& labels = summary->point_labels;
+    return points.data() + 3 * (std::find(labels.begin(), labels.end(), label) -
+                                labels.begin());
+  };
   std::vector<ceres::CostFunction*> costs;  // unweighted; owned by problem
+  std::vector<std::vector<double*>> cost_blocks;
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
+    cost_blocks.push_back(blocks);
+    if (m.type == MeasurementType::kPoint) {
+      cost_blocks.back().push_back(point_block(m.point));
+    } else if (m.type == MeasurementType::kPointDistance) {
+      cost_blocks.back().push_back(point_block(m.point));
+      cost_blocks.back().push_back(point_block(m.point2));
+    }
     ceres::LossFunction* loss = nullptr;
     if (options.robust_loss == RobustLoss::kHuber) {
       loss = new ceres::HuberLoss(options.robust_scale_m);
@@ -561,7 +595,7 @@ void Identify(const RobotModel& model,
     }
     ceres::CostFunction* cost = costs.back();
     if (summary->weighted) cost = new WeightedCost(cost, row_weights[i]);
-    problem.AddResidualBlock(cost, loss, blocks);
+    problem.AddResidualBlock(cost, loss, cost_blocks.back());
   }
   if (summary->with_prior) {
     for (int b = 1; b <= model.num_joints(); ++b) {
@@ -599,7 +633,10 @@ void Identify(const RobotModel& model,
     }
   }
   if (num_terms > 0) free_blocks.push_back(blocks.back());
-  const Eigen::VectorXd r0 = RawResiduals(costs, blocks);
+  for (int k = 0; k < num_point_values; k += 3) {
+    free_blocks.push_back(points.data() + k);
+  }
+  const Eigen::VectorXd r0 = RawResiduals(costs, cost_blocks);
   summary->initial_residual_norms = BlockNorms(measurements, r0);
   summary->initial_rms_m = Rms(summary->initial_residual_norms);
 
@@ -621,7 +658,8 @@ void Identify(const RobotModel& model,
   summary->parameters = x;
   summary->estimates = ExtractFree(model, x);
   summary->joint_errors.values = theta;
-  summary->residuals = RawResiduals(costs, blocks);
+  summary->residuals = RawResiduals(costs, cost_blocks);
+  summary->point_coordinates = points;
   summary->residual_norms = BlockNorms(measurements, summary->residuals);
   summary->rms_m = Rms(summary->residual_norms);
   OutlierStatistics(measurements, summary->residuals,
@@ -682,7 +720,8 @@ void Identify(const RobotModel& model,
   if (ss.termination_type != ceres::CONVERGENCE) {
     return fail("the solver failed: " + ss.message);
   }
-  if (!summary->parameters.allFinite() || !theta.allFinite()) {
+  if (!summary->parameters.allFinite() || !theta.allFinite() ||
+      !points.allFinite()) {
     return fail("the solver produced non-finite estimates");
   }
 
@@ -719,6 +758,12 @@ void Identify(const RobotModel& model,
           : Eigen::MatrixXd(cov * (summary->sigma_m * summary->sigma_m));
   const int g = summary->num_free;
   summary->covariance = full_covariance.topLeftCorner(g, g);
+  if (num_point_values > 0) {
+    summary->point_covariance =
+        full_covariance.bottomRightCorner(num_point_values, num_point_values);
+    summary->point_standard_deviations =
+        summary->point_covariance.diagonal().cwiseSqrt();
+  }
   if (num_terms > 0) {
     summary->term_covariance = full_covariance;
     summary->term_standard_deviations =

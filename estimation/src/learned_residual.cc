@@ -245,7 +245,9 @@ void FitLearnedResidual(const RobotModel& model,
   // The rows.
   std::vector<Measurement> used;
   for (const Measurement& m : measurements) {
-    if (m.type == MeasurementType::kDistance) {
+    // Distances and the rows of fixed points (their coordinates are
+    // unknowns of the fit, not measured positions) are not regressed.
+    if (m.type == MeasurementType::kDistance || m.involves_points()) {
       ++summary->num_skipped;
       continue;
     }

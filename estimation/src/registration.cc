@@ -71,7 +71,8 @@ bool RegisterBaseFrame(const RobotModel& model,
   at_identity.head(6).setZero();
   std::vector<Eigen::Vector3d> predicted, measured;
   for (const Measurement& m : measurements) {
-    if (m.type == MeasurementType::kDistance) continue;
+    // Distances and fixed points carry no coordinates in the device frame.
+    if (m.type == MeasurementType::kDistance || m.involves_points()) continue;
     if (!CheckMeasurement(model, m, &error)) {
       summary->message = "registration: " + error;
       return false;

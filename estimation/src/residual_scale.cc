@@ -24,6 +24,8 @@ double ReachAtPoses(const RobotModel& model, const Eigen::VectorXd& parameters,
     reach = std::max(reach, PredictMeasurement(model, p, m).position.norm());
   };
   for (const Measurement& m : measurements) {
+    // A known distance between fixed points has no pose.
+    if (m.type == MeasurementType::kPointDistance) continue;
     point(m.joints, m.marker);
     if (m.type == MeasurementType::kDistance) point(m.joints2, m.marker);
   }

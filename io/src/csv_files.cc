@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/point_constraints.h"
 #include "csv_columns.h"
 #include "number_text.h"
 
@@ -913,6 +914,8 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
   }
   if (table_.Has("type")) known_["type"] = 1;
   if (table_.Has("marker")) known_["marker"] = 1;
+  // A fixed point's label (type=point rows).
+  if (table_.Has("point")) known_["point"] = 1;
   // The commanded poses of ISO 9283 cycles (ParseCommandedPosesCsv reads
   // them): known, so neither a note nor an error of strict columns.
   if (table_.Has("pose")) known_["pose"] = 1;
@@ -1144,6 +1147,12 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
         orientation_ >= 0 ? MeasurementType::kPose : MeasurementType::kPosition;
     type = MeasurementTypeName(m.type);
   }
+  if (m.type == MeasurementType::kPointDistance) {
+    return table_.Fail(row.line,
+                       "type: a known distance between fixed points is given "
+                       "in the points file (--points), not as a row",
+                       error);
+  }
   if (!wide_.empty() && m.type != MeasurementType::kPosition) {
     return table_.Fail(row.line,
                        "type: a file of numbered marker columns (x1_m, ...) "
@@ -1170,12 +1179,29 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
   }
   const bool pose = m.type == MeasurementType::kPose;
   const bool distance = m.type == MeasurementType::kDistance;
+  const bool point = m.type == MeasurementType::kPoint;
+  // A fixed point's row: its label, no coordinates (they are unknowns).
+  const bool labelled = table_.Has("point") && !table_.Empty(row, "point");
+  if (point && !labelled) {
+    return table_.Fail(row.line,
+                       "point: a point row needs the label of its fixed "
+                       "point (column 'point')",
+                       error);
+  }
+  if (!point && labelled) {
+    return table_.Fail(
+        row.line,
+        "point: a " + type + " measurement has no such value; leave it empty",
+        error);
+  }
+  if (point) m.point = row.fields[table_.Column("point")];
   double v[4];
-  if (wide_.empty() && !ReadForm(row, PositionForms(), position_, !distance,
-                                 "a measured point", type, v, nullptr, error)) {
+  if (wide_.empty() &&
+      !ReadForm(row, PositionForms(), position_, !distance && !point,
+                "a measured point", type, v, nullptr, error)) {
     return false;
   }
-  if (wide_.empty() && !distance)
+  if (wide_.empty() && !distance && !point)
     m.position = Eigen::Vector3d(v[0], v[1], v[2]);
   if (!ReadForm(row, OrientationForms(), orientation_, pose, "an orientation",
                 type, v, nullptr, error)) {
@@ -1360,6 +1386,14 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   for (const Row& row : table_.rows()) {
     if (!ReadRow(row, &measurements, &lines, error)) return false;
   }
+  // Fixed points: each label reached from two configurations at least.
+  std::string why;
+  if (!CheckPointLabels(measurements, &why)) {
+    // "measurement <i>: ...": the row's line instead.
+    const size_t colon = why.find(": ");
+    const int i = std::stoi(why.substr(std::string("measurement ").size()));
+    return table_.Fail(lines[i], why.substr(colon + 2), error);
+  }
   if (measurements.empty()) {
     return table_.Fail(table_.header_line(),
                        "no measurements: no marker was seen in any row", error);
@@ -1537,8 +1571,10 @@ std::string MeasurementsCsvText(const RobotModel& model,
                                 const MeasurementsCsvFormat& format) {
   bool any_pose = false, any_distance = false, any_marker = false;
   bool any_iso = false, any_axes = false, any_sigma_rad = false;
+  bool any_point = false;
   for (const Measurement& m : measurements) {
     any_pose |= m.type == MeasurementType::kPose;
+    any_point |= m.type == MeasurementType::kPoint;
     any_distance |= m.type == MeasurementType::kDistance;
     any_marker |= m.marker != 0;
     any_sigma_rad |= m.type == MeasurementType::kPose && m.sigma_rad != 0;
@@ -1574,6 +1610,7 @@ std::string MeasurementsCsvText(const RobotModel& model,
   const int num_orientation = of == 1 ? 4 : 3;
   std::ostringstream out;
   out << "type";
+  if (any_point) out << ",point";
   if (any_marker) out << ",marker";
   for (int j = 0; j < nj; ++j) out << "," << joint_column(j);
   out << ",x" << lu << ",y" << lu << ",z" << lu;
@@ -1590,13 +1627,16 @@ std::string MeasurementsCsvText(const RobotModel& model,
   out << "\n";
   for (const Measurement& m : measurements) {
     out << MeasurementTypeName(m.type);
+    if (any_point) out << "," << m.point;
     if (any_marker)
       out << "," << model.block_name(model.marker_block(m.marker));
     for (int j = 0; j < nj; ++j) out << "," << joint_value(m.joints, j);
     const bool distance = m.type == MeasurementType::kDistance;
     const bool pose = m.type == MeasurementType::kPose;
+    // A fixed point's row has no coordinates (they are unknowns).
+    const bool no_point = distance || m.type == MeasurementType::kPoint;
     for (int k = 0; k < 3; ++k) {
-      out << "," << (distance ? "" : ShortestText(m.position[k] * length));
+      out << "," << (no_point ? "" : ShortestText(m.position[k] * length));
     }
     if (any_pose) {
       double v[4] = {0, 0, 0, 0};

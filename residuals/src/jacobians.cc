@@ -3,6 +3,7 @@
 
 #include "activecal/residuals/jacobians.h"
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -11,6 +12,7 @@
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
+#include "activecal/core/point_constraints.h"
 #include "activecal/core/point_jacobian.h"
 #include "activecal/residuals/measurement_residual.h"
 
@@ -47,6 +49,20 @@ class JacobianEvaluator {
     std::unique_ptr<ceres::CostFunction> cost(
         MeasurementResidual::Create(model_, measurement, rotation_weight_));
     double r[6];
+    if (measurement.type == MeasurementType::kPointDistance) {
+      // Depends on the points' coordinates only (StackedJacobian).
+      if (jacobian) std::fill(jacobian, jacobian + rows * columns_.size(), 0.0);
+      if (residuals) std::fill(residuals, residuals + rows, 0.0);
+      return true;
+    }
+    // A point row's point block (its coordinates do not change the
+    // Jacobian of the model's blocks): zero here.
+    std::vector<const double*> blocks = blocks_;
+    const double zero_point[3] = {0.0, 0.0, 0.0};
+    if (measurement.type == MeasurementType::kPoint) {
+      blocks.push_back(zero_point);
+      jacobian_ptrs_.resize(m.num_blocks() + 1, nullptr);
+    }
     if (jacobian) {
       // Ask Ceres only for the blocks that hold a free parameter.
       for (const auto& [b, j] : columns_) {
@@ -54,10 +70,10 @@ class JacobianEvaluator {
         jacobian_ptrs_[b] = block_jacobians_[b].data();
       }
     }
-    if (!cost->Evaluate(blocks_.data(), r,
-                        jacobian ? jacobian_ptrs_.data() : nullptr)) {
-      return false;
-    }
+    const bool ok = cost->Evaluate(blocks.data(), r,
+                                   jacobian ? jacobian_ptrs_.data() : nullptr);
+    jacobian_ptrs_.resize(m.num_blocks());
+    if (!ok) return false;
     if (residuals) std::copy(r, r + rows, residuals);
     if (!jacobian) return true;
     const int p = static_cast<int>(columns_.size());
@@ -112,6 +128,97 @@ bool CheckAll(const RobotModel& model,
   return true;
 }
 
+// The Jacobian with the fixed points' coordinates eliminated
+// (jacobians.h): point rows evaluated at their consistent joints, then the
+// columns of the points' coordinates projected out of every row that
+// involves them.
+bool EliminatedPointJacobian(const RobotModel& model,
+                             const Eigen::VectorXd& parameters,
+                             const std::vector<Measurement>& measurements,
+                             double rotation_weight, RowMatrixXd* J,
+                             std::string* error) {
+  const std::vector<std::string> labels = PointLabels(measurements);
+  const std::vector<Eigen::Vector3d> centre =
+      MeanPointPositions(model, parameters, measurements, labels);
+  auto label_index = [&](const std::string& label) {
+    return static_cast<int>(std::find(labels.begin(), labels.end(), label) -
+                            labels.begin());
+  };
+  const int p = model.num_free();
+  const int num_c = 3 * static_cast<int>(labels.size());
+  JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
+                              parameters, rotation_weight);
+  std::vector<int> point_rows;  // rows that involve the coordinates
+  Eigen::MatrixXd Jc;           // their derivatives by the coordinates
+  std::vector<Eigen::RowVectorXd> jc_rows;
+  int row = 0;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    Measurement m = measurements[i];
+    const int t = m.dimension();
+    if (m.type == MeasurementType::kPoint) {
+      // Where the model itself reaches the label's point: there the
+      // motions of the robot and the points together that leave the rows
+      // unchanged (a rotation of the base with the points, a scale) are
+      // exact null directions, as they are at the solution, and the
+      // reduction sees them as such.
+      ReachPoint(model, parameters, m.marker, centre[label_index(m.point)],
+                 &m.joints);
+    }
+    if (!evaluator.Evaluate(m, J->data() + row * p)) {
+      if (error) {
+        *error = "measurement " + std::to_string(i) +
+                 (m.type == MeasurementType::kDistance
+                      ? ": the distance's two poses put the measured point at "
+                        "the same place (the points coincide): its Jacobian "
+                        "is undefined"
+                      : ": Jacobian evaluation failed");
+      }
+      return false;
+    }
+    if (m.type == MeasurementType::kPoint) {
+      const int k = label_index(m.point);
+      for (int a = 0; a < 3; ++a) {
+        Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(num_c);
+        r[3 * k + a] = -1.0;
+        jc_rows.push_back(r);
+        point_rows.push_back(row + a);
+      }
+    } else if (m.type == MeasurementType::kPointDistance) {
+      const int a = label_index(m.point), b = label_index(m.point2);
+      const Eigen::Vector3d d = centre[a] - centre[b];
+      if (d.norm() < 1e-12) {
+        if (error) {
+          *error = "measurement " + std::to_string(i) + ": points '" + m.point +
+                   "' and '" + m.point2 +
+                   "' are predicted at the same place: the distance's "
+                   "Jacobian is undefined";
+        }
+        return false;
+      }
+      Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(num_c);
+      r.segment<3>(3 * a) = d.normalized().transpose();
+      r.segment<3>(3 * b) = -d.normalized().transpose();
+      jc_rows.push_back(r);
+      point_rows.push_back(row);
+    }
+    row += t;
+  }
+  const int s = static_cast<int>(point_rows.size());
+  Jc.resize(s, num_c);
+  Eigen::MatrixXd Jt(s, p);
+  for (int k = 0; k < s; ++k) {
+    Jc.row(k) = jc_rows[k];
+    Jt.row(k) = J->row(point_rows[k]);
+  }
+  // Jt - Q Q^T Jt, Q an orthonormal basis of the coordinates' columns.
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jc);
+  const int rank = static_cast<int>(qr.rank());
+  const Eigen::MatrixXd Q = Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
+  Jt -= Q * (Q.transpose() * Jt);
+  for (int k = 0; k < s; ++k) J->row(point_rows[k]) = Jt.row(k);
+  return true;
+}
+
 }  // namespace
 
 bool MeasurementJacobian(const RobotModel& model,
@@ -135,6 +242,14 @@ bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
   for (const Measurement& m : measurements) rows += m.dimension();
   const int p = model.num_free();
   RowMatrixXd J(rows, p);
+  if (HasPointRows(measurements)) {
+    if (!EliminatedPointJacobian(model, parameters, measurements,
+                                 rotation_weight_m_per_rad, &J, error)) {
+      return false;
+    }
+    *jacobian = J;
+    return true;
+  }
   JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
                               parameters, rotation_weight_m_per_rad);
   int row = 0;
@@ -168,7 +283,26 @@ bool MeasurementErrors(const RobotModel& model,
   JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
                               parameters, rotation_weight_m_per_rad);
   norms->resize(measurements.size());
+  const std::vector<std::string> labels = PointLabels(measurements);
+  const std::vector<Eigen::Vector3d> centre =
+      MeanPointPositions(model, parameters, measurements, labels);
+  auto centre_of = [&](const std::string& label) {
+    return centre[std::find(labels.begin(), labels.end(), label) -
+                  labels.begin()];
+  };
   for (size_t i = 0; i < measurements.size(); ++i) {
+    const Measurement& m = measurements[i];
+    if (m.type == MeasurementType::kPoint) {
+      (*norms)[i] = (MeasuredPoint(model, parameters, m.joints, m.marker) -
+                     centre_of(m.point))
+                        .norm();
+      continue;
+    }
+    if (m.type == MeasurementType::kPointDistance) {
+      (*norms)[i] = std::abs((centre_of(m.point) - centre_of(m.point2)).norm() -
+                             m.distance);
+      continue;
+    }
     double r[6];
     if (!evaluator.Evaluate(measurements[i], nullptr, r)) {
       if (error) {

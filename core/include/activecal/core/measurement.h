@@ -4,7 +4,10 @@
 // What a measuring device reports about the robot, one struct for every
 // kind: a 3D position (laser tracker, stereo camera), a full 6D pose (a
 // tracker with a 6D probe), or the distance between the measured points of
-// two poses (a ballbar or a length artefact). Measurements of different
+// two poses (a ballbar or a length artefact). Without a tracker: the marker
+// at a fixed point whose coordinates are unknown (a ball in a socket of a
+// block, reached from several configurations), and a known distance
+// between two such points (point_constraints.h). Measurements of different
 // kinds can be mixed freely in one identification.
 //
 // Units: metres and radians. Orientations are rotation vectors (axis times
@@ -25,11 +28,19 @@ enum class MeasurementType {
   kPosition,  // the measured point: 3 rows (m)
   kPose,      // point and target orientation: 6 rows (m, then weighted rad)
   kDistance,  // distance between the points of two poses: 1 row (m)
+  // The marker was at the fixed point `point` (a label), whose 3
+  // coordinates in the device frame (the robot's base frame when no row
+  // sees a device) are unknowns of the fit: 3 rows (m), predicted point -
+  // the point's coordinates.
+  kPoint,
+  // A known distance between fixed points `point` and `point2` (no
+  // joints): 1 row (m), |c(point) - c(point2)| - distance.
+  kPointDistance,
 };
 
-// Rows of the residual and of the Jacobian: 3, 6 or 1.
+// Rows of the residual and of the Jacobian: 3, 6, 1, 3 or 1.
 int MeasurementDimension(MeasurementType type);
-// "position", "pose", "distance".
+// "position", "pose", "distance", "point", "point_distance".
 const char* MeasurementTypeName(MeasurementType type);
 // Parses a name above; false if unknown.
 bool ParseMeasurementType(const std::string& name, MeasurementType* type);
@@ -44,20 +55,28 @@ struct Measurement {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   // Pose only: rotation vector of the target frame (rad).
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
-  // Distance only: the measured distance (m).
+  // Distance and point distance: the measured distance (m).
   double distance = 0.0;
+  // Point: the fixed point's label; point distance: its two points' labels.
+  std::string point;
+  std::string point2;
   // The marker (measured point) of the model this measurement sees,
   // 0-based; a distance is between two positions of the same marker.
   int marker = 0;
   // Standard deviations of the measured values when the device reports them
   // (zero: not given; the identification then uses its own noise options).
-  // Position and pose: of the point's x, y, z (m); distance: sigma_m[0] is
-  // the distance's (m).
+  // Position, pose and point: of the point's x, y, z (m); distance and point
+  // distance: sigma_m[0] is the distance's (m).
   Eigen::Vector3d sigma_m = Eigen::Vector3d::Zero();
   // Pose only: of each rotation-vector component (rad); zero: not given.
   double sigma_rad = 0.0;
 
   int dimension() const { return MeasurementDimension(type); }
+  // True for the rows whose residual involves fixed-point coordinates.
+  bool involves_points() const {
+    return type == MeasurementType::kPoint ||
+           type == MeasurementType::kPointDistance;
+  }
 };
 
 // How far beyond its joint range a measured joint reading may lie. Real
@@ -69,7 +88,8 @@ inline constexpr double kMeasuredJointToleranceM = 0.01;  // prismatic
 
 // Checks a measurement against the model: joint counts, finiteness, joint
 // readings within their ranges widened by the tolerances above, a
-// non-negative distance. The message names the field.
+// non-negative distance, point labels given (and two different ones for a
+// point distance, which has no joints). The message names the field.
 bool CheckMeasurement(const RobotModel& model, const Measurement& measurement,
                       std::string* error);
 

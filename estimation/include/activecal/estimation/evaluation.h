@@ -52,6 +52,16 @@ struct EvaluationSummary {
   Eigen::Vector3d mean_xyz_m = Eigen::Vector3d::Zero();  // signed bias
   ErrorStatistics rotation;  // rad, 6D pose measurements
   ErrorStatistics distance;  // |error| (m), distance measurements
+  // Fixed points (type=point rows, point_constraints.h): their coordinates
+  // are refitted to these measurements (each point the mean of its rows'
+  // predicted points, the least-squares fit), so a point row's position
+  // error is its predicted point minus that mean, and `position` includes
+  // them; a known distance's error is that of the distance between the
+  // means (in `distance`). Per label (PointLabels order): the refitted
+  // coordinates and the spread of its rows about them (mean distance, RMS).
+  std::vector<std::string> point_labels;
+  std::vector<Eigen::Vector3d> point_coordinates;
+  std::vector<ErrorStatistics> point_spread;
 
   std::string BriefReport() const;
 };

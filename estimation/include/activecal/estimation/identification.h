@@ -2,7 +2,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 
 // Identification of the free kinematic parameters from measurements of any
-// kind (measurement.h: position, 6D pose, distance, mixed), by nonlinear
+// kind (measurement.h: position, 6D pose, distance, fixed points, mixed;
+// the coordinates of fixed points are fitted too), by nonlinear
 // least squares (Ceres, Levenberg-Marquardt), optionally with a robust loss.
 //
 //   IdentificationOptions options;
@@ -210,6 +211,15 @@ struct IdentificationSummary {
   std::vector<std::string> term_names;
   Eigen::VectorXd term_standard_deviations;
   Eigen::MatrixXd term_covariance;
+  // Fixed points (point rows, point_constraints.h): their labels (in
+  // PointLabels order) and identified coordinates (x, y, z of each, m, in
+  // the device frame: the base frame when no row sees a device), with their
+  // standard deviations and covariance (the coordinates are fitted with the
+  // model; `covariance` holds the model's parameters only).
+  std::vector<std::string> point_labels;
+  Eigen::VectorXd point_coordinates;
+  Eigen::VectorXd point_standard_deviations;
+  Eigen::MatrixXd point_covariance;
   // Per measurement: the norm of its residual rows at start and at the
   // estimate (m; a 6D pose's rotation rows weighted).
   Eigen::VectorXd initial_residual_norms;

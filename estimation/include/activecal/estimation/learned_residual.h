@@ -104,7 +104,7 @@ struct LearnedResidualSummary {
   // The fitted correction (also when not kept: what was tested).
   LearnedCorrection correction;
   int num_measurements = 0;  // rows fitted (position and pose)
-  int num_skipped = 0;       // distance measurements, not used
+  int num_skipped = 0;       // distance and fixed-point rows, not used
   int num_poses = 0;
   int num_folds = 0;
   // The chosen hyperparameters (CV on all training folds) and the grid.

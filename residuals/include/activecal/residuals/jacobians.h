@@ -46,13 +46,26 @@ bool MeasurementJacobian(const RobotModel& model,
 
 // The Jacobians of all `measurements`, stacked in order (rows: the sum of
 // their dimensions). The message names the first bad measurement.
+//
+// With fixed points (point and point distance rows, point_constraints.h)
+// the points' coordinates are unknowns that are not model parameters: they
+// are eliminated. Each point row is evaluated at the joints nearest its
+// own at which the model at `parameters` puts the marker at the mean
+// predicted point of its label (ReachPoint), where the data are
+// consistent as at the solution; then the coordinates' columns are
+// projected out of the rows that involve them. What is left is the
+// information the rows carry about the model: a label's single row none;
+// a base frame moved with the points none (its columns are zero).
 bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
                      const std::vector<Measurement>& measurements,
                      double rotation_weight_m_per_rad,
                      Eigen::MatrixXd* jacobian, std::string* error);
 
 // Residual norms |predicted - measured| per measurement (rows as in
-// measurement_residual.h), at `parameters`.
+// measurement_residual.h), at `parameters`. A point row: the distance of
+// its predicted point from the mean predicted point of its label among
+// `measurements`; a point distance: the error of the distance between
+// those means.
 bool MeasurementErrors(const RobotModel& model,
                        const Eigen::VectorXd& parameters,
                        const std::vector<Measurement>& measurements,

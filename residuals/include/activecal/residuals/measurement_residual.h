@@ -10,6 +10,11 @@
 //                          w * Log(R_measured^T R_predicted) (rad scaled by
 //                          w, the rotation weight in m/rad)
 //   distance  1 row (m):   |p(q1) - p(q2)| - measured distance
+//   point     3 rows (m):  predicted point - c, c the fixed point's
+//                          coordinates (an extra parameter block of 3,
+//                          after the model's)
+//   point_distance 1 row (m): |c1 - c2| - known distance (two extra
+//                          blocks of 3; the model's blocks have no effect)
 //
 // The rotation weight puts the orientation rows on the same scale as the
 // position rows; set it to sigma_position / sigma_rotation of the device so
@@ -99,22 +104,49 @@ class MeasurementResidual {
         residuals[0] = (a - b).norm() - T(m_.distance);
         return true;
       }
+      case MeasurementType::kPoint: {
+        const Vector3<T> p =
+            MeasuredPoint<T>(*model_, blocks, m_.joints.data(), m_.marker);
+        const T* c = blocks[model_->num_blocks()];
+        for (int k = 0; k < 3; ++k) residuals[k] = p[k] - c[k];
+        return true;
+      }
+      case MeasurementType::kPointDistance: {
+        const T* a = blocks[model_->num_blocks()];
+        const T* b = blocks[model_->num_blocks() + 1];
+        const Vector3<T> d(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+        if (d.squaredNorm() < T(1e-24)) return false;
+        residuals[0] = d.norm() - T(m_.distance);
+        return true;
+      }
     }
     return false;
   }
 
-  // A cost function with the model's blocks declared, owned by the caller
-  // (or by the ceres::Problem it is added to).
+  // The parameter blocks of fixed points (3 each) a measurement of `type`
+  // takes after the model's: 1 for a point, 2 for a point distance.
+  static int NumPointBlocks(MeasurementType type) {
+    return type == MeasurementType::kPoint           ? 1
+           : type == MeasurementType::kPointDistance ? 2
+                                                     : 0;
+  }
+
+  // A cost function with the model's blocks declared (then the point
+  // blocks, NumPointBlocks), owned by the caller (or by the ceres::Problem
+  // it is added to).
   static CostFunction* Create(std::shared_ptr<const RobotModel> model,
                               Measurement measurement,
                               double rotation_weight_m_per_rad = 1.0) {
     const RobotModel& m = *model;
     const int rows = measurement.dimension();
+    const MeasurementType type = measurement.type;
     auto* cost = new CostFunction(new MeasurementResidual(
         std::move(model), std::move(measurement), rotation_weight_m_per_rad));
+    const int extra = NumPointBlocks(type);
     for (int b = 0; b < m.num_blocks(); ++b) {
       cost->AddParameterBlock(m.block_size(b));
     }
+    for (int k = 0; k < extra; ++k) cost->AddParameterBlock(3);
     cost->SetNumResiduals(rows);
     return cost;
   }
