@@ -323,6 +323,67 @@ TEST(ColumnMapTest, BadMapsAreNamedInOneLine) {
       std::string::npos);
 }
 
+// The map accepts every column the reader reads (one list, the reader's:
+// IsMeasurementsCsvColumn), the ISO 9283 ones among them: the commanded
+// pose of a cycles file mapped from a controller's names reads as the
+// same file written with activecal's names.
+TEST(ColumnMapTest, IsoColumnsAreMappedAsTheReaderReadsThem) {
+  const RobotModel model = Puma560PaperModel();
+  for (const std::string& c : MeasurementsCsvFixedColumns()) {
+    EXPECT_TRUE(IsMeasurementsCsvColumn(c, model)) << c;
+  }
+  for (const char* c : {"pose", "commanded_x_m", "commanded_z_mm",
+                        "commanded_qw", "commanded_r11", "commanded_r33"}) {
+    EXPECT_TRUE(IsMeasurementsCsvColumn(c, model)) << c;
+  }
+  for (const char* c : {"x_cm", "commanded_w", "q7_rad", "poses"}) {
+    EXPECT_FALSE(IsMeasurementsCsvColumn(c, model)) << c;
+  }
+  const std::string joints = "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad";
+  const std::string rows =
+      "0.1,0.2,0.3,0.4,0.5,0.6,0.5,0.1,0.2,P1,0.5,0.1,0.2,1,0,0,0\n"
+      "0.1,0.2,0.3,0.4,0.5,0.6,0.5,0.1,0.2,P1,0.5,0.1,0.2,1,0,0,0\n";
+  const std::string own =
+      joints +
+      ",x_m,y_m,z_m,pose,commanded_x_m,commanded_y_m,commanded_z_m,"
+      "commanded_qw,commanded_qx,commanded_qy,commanded_qz\n" +
+      rows;
+  const std::string device =
+      joints + ",x_m,y_m,z_m,Target,CX,CY,CZ,QW,QX,QY,QZ\n" + rows;
+  MeasurementsCsvOptions options;
+  options.column_map = MapOf(
+      "columns:\n  pose: Target\n  commanded_x_m: CX\n"
+      "  commanded_y_m: CY\n  commanded_z_m: CZ\n"
+      "  commanded_qw: QW\n  commanded_qx: QX\n  commanded_qy: QY\n"
+      "  commanded_qz: QZ\n");
+  std::vector<CommandedPose> mapped, direct;
+  std::string error;
+  ASSERT_TRUE(ParseCommandedPosesCsv(device, "device.csv", model, options,
+                                     &mapped, &error))
+      << error;
+  ASSERT_TRUE(
+      ParseCommandedPosesCsv(own, "own.csv", model, {}, &direct, &error))
+      << error;
+  ASSERT_EQ(mapped.size(), 2u);
+  ASSERT_EQ(direct.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(mapped[i].pose, "P1");
+    EXPECT_EQ(mapped[i].position, direct[i].position);
+    EXPECT_TRUE(mapped[i].has_rotation);
+    EXPECT_EQ(mapped[i].rotation, direct[i].rotation);
+  }
+  // The measurements reader reads the mapped file as the same measurements.
+  std::vector<Measurement> a, b;
+  ASSERT_TRUE(ParseMeasurementsCsv(device, "device.csv", model, options, &a,
+                                   nullptr, &error))
+      << error;
+  ASSERT_TRUE(
+      ParseMeasurementsCsv(own, "own.csv", model, {}, &b, nullptr, &error))
+      << error;
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].position, b[i].position);
+}
+
 TEST(ColumnMapTest, BadColumnsAreNamedInOneLine) {
   const std::string header =
       "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,X,y_m,z_m\n"

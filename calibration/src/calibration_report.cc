@@ -12,6 +12,7 @@
 #include <set>
 
 #include "activecal/core/text_table.h"
+#include "activecal/estimation/evaluation.h"
 
 namespace activecal {
 namespace {
@@ -204,7 +205,32 @@ std::string HeldFixedNote(const CalibrationSummary& s,
   return note;
 }
 
+PoseErrorRms PoseErrorRmsOf(const RobotModel& model,
+                            const Eigen::VectorXd& parameters,
+                            const std::vector<Measurement>& data) {
+  PoseErrorRms rms;
+  const int poses = static_cast<int>(std::count_if(
+      data.begin(), data.end(),
+      [](const Measurement& m) { return m.type == MeasurementType::kPose; }));
+  if (poses == 0 || parameters.size() != model.num_parameters()) return rms;
+  EvaluationSummary e;
+  if (!EvaluateModel(model, parameters, data, &e)) return rms;
+  rms.num_poses = poses;
+  rms.position_m = e.position.rms;
+  rms.rotation_rad = e.rotation.rms;
+  return rms;
+}
+
 namespace {
+
+// PoseErrorRmsOf for a calibration: none (the weighted output stays) when
+// joint error terms were kept, which the geometric prediction lacks.
+PoseErrorRms SplitOf(const CalibrationSummary& s,
+                     const Eigen::VectorXd& parameters,
+                     const std::vector<Measurement>& data) {
+  if (!s.identification.joint_errors.empty()) return PoseErrorRms();
+  return PoseErrorRmsOf(s.model, parameters, data);
+}
 
 // "K of M free parameters held fixed ...: a by <stage>, b by <stage>, named
 // above": the count of what was held, each group by its stage.
@@ -335,8 +361,38 @@ std::string CalibrationResultText(const CalibrationSummary& s,
           "those with care)\n";
     }
   }
+  // On 6D data the residual above mixes metres and weighted radians:
+  // position and rotation apart, at the estimate, registration only and
+  // held out.
+  const PoseErrorRms after = SplitOf(s, id.parameters, s.training);
+  if (after.num_poses > 0) {
+    text += Format(
+        "  6D poses (%d): position RMS %.3f mm, rotation RMS %.3f mrad "
+        "(%.4f deg) at the estimate; the RMS residual above weights the "
+        "rotations %g m/rad\n",
+        after.num_poses, 1e3 * after.position_m, 1e3 * after.rotation_rad,
+        after.rotation_rad * 180.0 / M_PI,
+        s.options.identification.rotation_weight_m_per_rad);
+  }
   // The baseline, validation and warning lines of the brief report.
   text += s.BriefReport().substr(fit.size());
+  if (after.num_poses > 0 && s.have_baseline) {
+    const PoseErrorRms before = SplitOf(s, s.baseline.parameters, s.training);
+    text += Format(
+        "  registration only: position RMS %.3f mm, rotation RMS %.3f mrad "
+        "-> %.3f mm, %.3f mrad calibrated\n",
+        1e3 * before.position_m, 1e3 * before.rotation_rad,
+        1e3 * after.position_m, 1e3 * after.rotation_rad);
+  }
+  const PoseErrorRms held_out = SplitOf(s, id.parameters, s.validation);
+  if (held_out.num_poses > 0) {
+    const PoseErrorRms nominal = SplitOf(s, s.registered_start, s.validation);
+    text += Format(
+        "  held out: position RMS %.3f mm, rotation RMS %.3f mrad calibrated "
+        "(%.3f mm, %.3f mrad nominal)\n",
+        1e3 * held_out.position_m, 1e3 * held_out.rotation_rad,
+        1e3 * nominal.position_m, 1e3 * nominal.rotation_rad);
+  }
   const std::string held = HeldCountNote(s, o);
   if (!held.empty()) text += "  " + held + "\n";
   if (!id.outliers.empty()) {
@@ -349,6 +405,26 @@ std::string CalibrationResultText(const CalibrationSummary& s,
 
 std::string CalibrationResultLine(const CalibrationSummary& s) {
   const IdentificationSummary& id = s.identification;
+  const PoseErrorRms after = SplitOf(s, id.parameters, s.training);
+  if (after.num_poses > 0) {
+    std::string line = Format(
+        "%d of %d parameters identified from %d measurements, RMS position "
+        "%.3f mm, rotation %.3f mrad",
+        static_cast<int>(id.estimates.size()), s.num_free_in_set,
+        id.num_measurements, 1e3 * after.position_m, 1e3 * after.rotation_rad);
+    if (s.have_baseline) {
+      const PoseErrorRms before = SplitOf(s, s.baseline.parameters, s.training);
+      line += Format(" (registration only %.3f mm, %.3f mrad)",
+                     1e3 * before.position_m, 1e3 * before.rotation_rad);
+    }
+    const PoseErrorRms held_out = SplitOf(s, id.parameters, s.validation);
+    if (held_out.num_poses > 0) {
+      line += Format(", held out: %.3f mm, %.3f mrad RMS on %d measurements",
+                     1e3 * held_out.position_m, 1e3 * held_out.rotation_rad,
+                     static_cast<int>(s.validation.size()));
+    }
+    return line;
+  }
   std::string line =
       Format("%d of %d parameters identified from %d measurements, RMS %.3f mm",
              static_cast<int>(id.estimates.size()), s.num_free_in_set,
@@ -487,6 +563,28 @@ std::string CalibrationJson(const CalibrationSummary& s,
                               {"improvement_percent", s.ImprovementPercent()}};
   } else {
     j["registration_only"] = nullptr;
+  }
+  // 6D data: position and rotation apart (rms_residual_m weights the
+  // rotations).
+  const PoseErrorRms after = SplitOf(s, id.parameters, s.training);
+  if (after.num_poses > 0) {
+    auto split = [](const PoseErrorRms& r) {
+      return nlohmann::json{{"num_poses", r.num_poses},
+                            {"position_rms_m", r.position_m},
+                            {"rotation_rms_rad", r.rotation_rad}};
+    };
+    nlohmann::json pose_errors = {{"calibrated", split(after)}};
+    if (s.have_baseline) {
+      pose_errors["registration_only"] =
+          split(SplitOf(s, s.baseline.parameters, s.training));
+    }
+    const PoseErrorRms held_out = SplitOf(s, id.parameters, s.validation);
+    if (held_out.num_poses > 0) {
+      pose_errors["held_out_calibrated"] = split(held_out);
+      pose_errors["held_out_nominal"] =
+          split(SplitOf(s, s.registered_start, s.validation));
+    }
+    j["pose_errors"] = pose_errors;
   }
   j["weighted"] = id.weighted;
   j["degrees_of_freedom"] = id.degrees_of_freedom;

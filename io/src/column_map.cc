@@ -162,44 +162,6 @@ class ColumnMapReader : public internal::YamlReader {
   }
 };
 
-// The measurements reader's column names (csv_files.h) for `model`: the
-// fixed ones, the joints' by number and by name (and their "_2" forms)
-// and the wide form's x<k>_m.
-bool IsActivecalColumn(const std::string& name, const RobotModel& model) {
-  static const std::set<std::string> kFixed = {
-      "type",      "marker",     "pose_index", "x_m",         "y_m",
-      "z_m",       "x_mm",       "y_mm",       "z_mm",        "rx_rad",
-      "ry_rad",    "rz_rad",     "qw",         "qx",          "qy",
-      "qz",        "roll_rad",   "pitch_rad",  "yaw_rad",     "roll_deg",
-      "pitch_deg", "yaw_deg",    "distance_m", "distance_mm", "sigma_m",
-      "sigma_mm",  "u95_m",      "u95_mm",     "sigma_x_m",   "sigma_y_m",
-      "sigma_z_m", "sigma_x_mm", "sigma_y_mm", "sigma_z_mm",  "sigma_rad",
-      "sigma_deg"};
-  if (kFixed.count(name)) return true;
-  for (int j = 0; j < model.num_joints(); ++j) {
-    const bool revolute = model.links[j].joint_type == JointType::kRevolute;
-    for (const std::string& stem :
-         {"q" + std::to_string(j + 1), model.block_name(j + 1)}) {
-      for (const char* unit : revolute
-                                  ? std::vector<const char*>{"_rad", "_deg"}
-                                  : std::vector<const char*>{"_m", "_mm"}) {
-        for (const char* suffix : {"", "_2"}) {
-          if (name == stem + unit + suffix) return true;
-        }
-      }
-    }
-  }
-  // The wide form: x1_m, y12_mm, ...
-  if (name.size() >= 4 &&
-      (name[0] == 'x' || name[0] == 'y' || name[0] == 'z')) {
-    size_t end = 1;
-    while (end < name.size() && name[end] >= '0' && name[end] <= '9') ++end;
-    const std::string unit = name.substr(end);
-    if (end > 1 && (unit == "_m" || unit == "_mm")) return true;
-  }
-  return false;
-}
-
 // Splits `line` at `delimiter` outside double quotes; the quotes stay, so
 // that a field is passed on as written. False if a quote is not closed.
 bool SplitAt(const std::string& line, char delimiter,
@@ -302,7 +264,7 @@ bool ApplyColumnMap(const ColumnMap& map, const RobotModel& model,
     return false;
   };
   for (const ColumnMap::Column& c : map.columns) {
-    if (!IsActivecalColumn(c.activecal, model)) {
+    if (!IsMeasurementsCsvColumn(c.activecal, model)) {
       *error = map.source + ":" + std::to_string(c.line) +
                ": columns: " + c.activecal +
                ": not an activecal column (docs/formats.md lists them; "

@@ -1424,6 +1424,43 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
 
 }  // namespace
 
+std::vector<std::string> MeasurementsCsvFixedColumns() {
+  // The forms above, every one (a new quantity's forms go here too).
+  std::vector<std::string> names = {"type", "marker", "pose_index", "pose"};
+  for (const std::vector<Form>* forms :
+       {&PositionForms(), &OrientationForms(), &CommandedPositionForms(),
+        &CommandedOrientationForms(), &DistanceForms(), &SigmaForms(),
+        &SigmaAxesForms(), &SigmaRotationForms()}) {
+    for (const Form& f : *forms) {
+      names.insert(names.end(), f.columns.begin(), f.columns.end());
+    }
+  }
+  return names;
+}
+
+bool IsMeasurementsCsvColumn(const std::string& name, const RobotModel& model) {
+  static const std::set<std::string> kFixed = [] {
+    const std::vector<std::string> names = MeasurementsCsvFixedColumns();
+    return std::set<std::string>(names.begin(), names.end());
+  }();
+  if (kFixed.count(name)) return true;
+  for (int j = 0; j < model.num_joints(); ++j) {
+    const bool rev = Revolute(model, j);
+    const std::string joint = model.block_name(j + 1);
+    for (const std::string& suffix : {std::string(""), std::string("_2")}) {
+      const JointColumnPair q = QColumns(model, j, suffix);
+      for (const std::string& c :
+           {q.si, q.display, joint + (rev ? "_rad" : "_m") + suffix,
+            joint + (rev ? "_deg" : "_mm") + suffix}) {
+        if (name == c) return true;
+      }
+    }
+  }
+  int axis, marker;
+  double scale;
+  return WideColumn(name, &axis, &marker, &scale);
+}
+
 namespace internal {
 
 bool ParsePointTable(const std::string& text, const std::string& source,

@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 
+#include "activecal/calibration/calibration_report.h"
 #include "activecal/core/free_set.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/text_table.h"
@@ -152,6 +153,29 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
   svg, table { break-inside: avoid; } }
 )";
 
+// The fit's errors: on 6D data position and rotation apart (the RMS
+// residual weights the rotations, calibration_report.h), else the residual.
+std::string FitErrors(const CalibrationSummary& s) {
+  const IdentificationSummary& id = s.identification;
+  const PoseErrorRms split =
+      id.joint_errors.empty()
+          ? PoseErrorRmsOf(s.model, id.parameters, s.training)
+          : PoseErrorRms();
+  if (split.num_poses > 0) {
+    return "; position RMS " + FormatNumber("%.3f", 1e3 * split.position_m) +
+           " mm, rotation RMS " +
+           FormatNumber("%.3f", 1e3 * split.rotation_rad) +
+           " mrad (the RMS residual " + FormatNumber("%.3f", 1e3 * id.rms_m) +
+           " mm weights the rotations " +
+           FormatNumber("%g",
+                        s.options.identification.rotation_weight_m_per_rad) +
+           " m/rad), sigma per row " + FormatNumber("%.3f", 1e3 * id.sigma_m) +
+           " mm";
+  }
+  return "; RMS residual " + FormatNumber("%.3f", 1e3 * id.rms_m) +
+         " mm, sigma per row " + FormatNumber("%.3f", 1e3 * id.sigma_m) + " mm";
+}
+
 }  // namespace
 
 bool ComputeReportErrors(const RobotModel& model,
@@ -232,9 +256,7 @@ bool CalibrationHtmlReport(const CalibrationSummary& s,
                                        : "as given (not registered)"},
       {"rotation weight (m per rad)",
        FormatNumber("%g", options.identification.rotation_weight_m_per_rad)},
-      {"fit", id.message + "; RMS residual " +
-                  FormatNumber("%.3f", 1e3 * id.rms_m) + " mm, sigma per row " +
-                  FormatNumber("%.3f", 1e3 * id.sigma_m) + " mm"},
+      {"fit", id.message + FitErrors(s)},
       {"program", o.program},
   };
   struct Set {

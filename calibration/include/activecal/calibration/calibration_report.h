@@ -59,10 +59,29 @@ std::string CalibrationStagesText(const CalibrationSummary& summary,
 std::string CalibrationResultText(const CalibrationSummary& summary,
                                   const CalibrationTextOptions& options);
 
+// The errors of data with 6D poses told apart. The fit's RMS residual
+// weights a pose's rotation rows by the rotation weight (m per rad), so on
+// 6D data it changes with the weight and is no position error: what is
+// printed, written and reported there is the position RMS over every
+// measured point (m) and the rotation RMS over the poses' orientations
+// (the angle of R_measured^T R_predicted, rad), EvaluateModel's
+// (evaluation.h). num_poses is 0 when `data` hold no 6D pose (the
+// position-only output is unchanged) or cannot be evaluated.
+struct PoseErrorRms {
+  int num_poses = 0;
+  double position_m = 0;
+  double rotation_rad = 0;
+};
+PoseErrorRms PoseErrorRmsOf(const RobotModel& model,
+                            const Eigen::VectorXd& parameters,
+                            const std::vector<Measurement>& data);
+
 // The result in one line (what --quiet prints): "13 of 54 parameters
 // identified from 23 measurements, RMS 3.269 mm (registration only 3.603
 // mm)[, held out: 3.9 mm RMS on 5 measurements]", errors in mm with 3
-// decimals.
+// decimals. On 6D data position and rotation apart (PoseErrorRms): "...,
+// RMS position 2.345 mm, rotation 4.567 mrad (registration only 2.9 mm,
+// 5.1 mrad)[, held out: 3.1 mm, 4.0 mrad RMS on 5 measurements]".
 std::string CalibrationResultLine(const CalibrationSummary& summary);
 
 // "<stages>: held fixed at their nominal values (not in 'free'[ of

@@ -208,6 +208,18 @@ bool ReadCommandedPosesCsv(const std::string& path, const RobotModel& model,
                            std::vector<CommandedPose>* poses,
                            std::string* error);
 
+// The columns the measurements reader (ParseMeasurementsCsv) and the ISO
+// 9283 reader (ParseCommandedPosesCsv) read, from the reader's own lists of
+// each quantity's forms: the fixed names ("type", "marker", "pose_index",
+// "pose", "x_m", ..., "commanded_qw", ..., "commanded_r33", "sigma_deg"),
+// in no particular order. A column map (column_map.h) accepts exactly
+// these, the joints' and the wide form's.
+std::vector<std::string> MeasurementsCsvFixedColumns();
+// `name` is one of those columns for `model`: a fixed name, a joint's
+// (q<j>_rad / _deg / _m / _mm or <joint name>_rad / ..., with an optional
+// "_2") or the wide form's x<k>_m / y<k>_mm / ....
+bool IsMeasurementsCsvColumn(const std::string& name, const RobotModel& model);
+
 // Reads a whole file; false with "<path>: cannot open ..." on failure.
 bool ReadTextFile(const std::string& path, std::string* text,
                   std::string* error);
