@@ -47,6 +47,11 @@ DEFINE_string(pool, "lattice",
               "checked).");
 DEFINE_int64(pool_size, activecal::defaults::kPoolSize,
              "sobol, random, measurable: number of candidate poses.");
+DEFINE_int64(max_draws, 0,
+             "measurable: stop after this many target poses drawn (0: 10 x "
+             "--pool_size); a cell that gives no pose in the first 1000 "
+             "draws stops there. Fewer poses found than --num_poses: one "
+             "line with the counts per rejection reason, exit 1.");
 DEFINE_string(pool_csv, "",
               "Read the candidate poses from this poses CSV "
               "(docs/formats.md) instead of the lattice; duplicates are an "
@@ -262,9 +267,19 @@ int Main() {
       !CheckSelectionPoolSize(FLAGS_pool_size, model, type, &size_error)) {
     app::Fail("--pool_size: " + size_error);
   }
+  if (!measurable &&
+      !gflags::GetCommandLineFlagInfoOrDie("max_draws").is_default) {
+    app::Fail("--max_draws caps the draws of --pool=measurable, got --pool=" +
+              FLAGS_pool);
+  }
+  if (FLAGS_max_draws < 0) {
+    app::Fail("--max_draws must be >= 0, got " +
+              std::to_string(FLAGS_max_draws));
+  }
   if (measurable) {
     MeasurablePoolOptions o;
     o.num_poses = FLAGS_pool_size;
+    o.max_draws = FLAGS_max_draws;
     o.seed = FLAGS_seed;
     o.num_threads = FLAGS_threads;
     {
@@ -273,6 +288,18 @@ int Main() {
       if (!SampleMeasurablePool(*cell.checker, o, &measurable_summary)) {
         app::Fail("--pool=measurable: " + measurable_summary.message);
       }
+    }
+    // Too few poses for the design (or none): one line with the counts.
+    const int64_t needed =
+        gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default
+            ? std::max(1, FLAGS_num_poses)
+            : 1;
+    if (measurable_summary.joints.rows() < needed) {
+      app::Fail("--pool=measurable: " +
+                measurable_summary.FailureText(*cell.checker) +
+                (measurable_summary.gave_up
+                     ? ""
+                     : " (raise --max_draws, or fix the cell)"));
     }
     std::printf("  %s", measurable_summary.BriefReport().c_str());
     if (!measurable_summary.message.empty()) {

@@ -28,6 +28,7 @@
 #include "activecal/cell/cell_setup.h"
 #include "activecal/cell/measurable_pool.h"
 #include "activecal/cell/pool_filter.h"
+#include "activecal/cell/rejection_counts.h"
 #include "activecal/cell/robot_collision.h"
 #include "activecal/cell/tour.h"
 #include "activecal/core/joint_sampling.h"
@@ -1797,6 +1798,231 @@ TEST(CellTargetsTest, SelectionPoolTakesTheMasksOfTheCellFilter) {
   std::string error;
   ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &one, &error));
   EXPECT_FALSE(CellTargetsAreMarkers(*one.setup.checker, one.robot.model));
+}
+
+// ---------------------------------------------------------------------
+// Why a cell admits too few poses: the counts, the pair to blame, the
+// measurable pool's cap on draws.
+
+// The stick over a floor 3 cm below its links (arm box and slider sphere
+// both 0.48 m high at their lowest): every pose too close at clearance
+// 0.05 m.
+std::string StickOverFloor(double floor_z) {
+  char obstacles[160];
+  std::snprintf(obstacles, sizeof(obstacles),
+                "clearance_m: 0.05\nobstacles:\n  - {name: floor, type: "
+                "plane, normal: [0, 0, 1], offset_m: %.17g}\n",
+                floor_z);
+  return StickCell(obstacles);
+}
+
+TEST(RejectionCountsTest, CountsPerReasonObstacleAndPairInFirstSeenOrder) {
+  Fixture f;
+  std::string error;
+  ASSERT_TRUE(MakeChecker(kStickUrdf, StickOverFloor(0.45), &f, &error))
+      << error;
+  auto verdict = [](RejectionReason r, int a, int b) {
+    PoseVerdict v;
+    v.reason = r;
+    v.a = static_cast<int16_t>(a);
+    v.b = static_cast<int16_t>(b);
+    return v;
+  };
+  const PoseVerdict facing = verdict(RejectionReason::kFacingAway, -1, -1);
+  const PoseVerdict floor_0 = verdict(RejectionReason::kObstacle, 0, 0);
+  const PoseVerdict floor_1 = verdict(RejectionReason::kObstacle, 0, 1);
+  const PoseVerdict self = verdict(RejectionReason::kSelfCollision, 0, 1);
+  const std::vector<std::pair<PoseVerdict, double>> poses = {
+      {facing, 0.0},  {floor_1, 0.1}, {PoseVerdict(), 0.2}, {floor_0, 0.3},
+      {floor_1, 0.4}, {self, 0.5},    {floor_1, 0.6},       {facing, 0.7}};
+  RejectionCounts all, first, second;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const double q[2] = {poses[k].second, 0.1};
+    all.Add(poses[k].first, q, 2);
+    (k < 4 ? first : second).Add(poses[k].first, q, 2);
+  }
+  EXPECT_EQ(all.num_checked, 8);
+  EXPECT_EQ(all.num_feasible, 1);
+  EXPECT_EQ(all.num_rejected(), 7);
+  EXPECT_EQ(all.rejected[static_cast<int>(RejectionReason::kFacingAway)], 2);
+  EXPECT_EQ(all.rejected[static_cast<int>(RejectionReason::kObstacle)], 4);
+  EXPECT_EQ(all.num_collisions(), 5);
+  ASSERT_EQ(all.rejected_by_obstacle.size(), 1u);
+  EXPECT_EQ(all.rejected_by_obstacle[0], 4);
+  ASSERT_EQ(all.collisions.size(), 3u);
+  EXPECT_EQ(all.collisions[0].b, 1);  // floor_1 first seen
+  EXPECT_EQ(all.collisions[0].count, 3);
+  EXPECT_EQ(all.collisions[0].first_joints, (std::vector<double>{0.1, 0.1}));
+  EXPECT_EQ(all.collisions[1].count, 1);
+  EXPECT_EQ(all.collisions[2].reason, RejectionReason::kSelfCollision);
+  EXPECT_EQ(all.MostFrequentCollision(), &all.collisions[0]);
+  // Merged in order, the halves give the same counts and example poses.
+  first.Merge(second);
+  EXPECT_EQ(first.num_checked, all.num_checked);
+  EXPECT_EQ(first.rejected, all.rejected);
+  EXPECT_EQ(first.rejected_by_obstacle, all.rejected_by_obstacle);
+  ASSERT_EQ(first.collisions.size(), all.collisions.size());
+  for (size_t k = 0; k < all.collisions.size(); ++k) {
+    EXPECT_EQ(first.collisions[k].count, all.collisions[k].count);
+    EXPECT_EQ(first.collisions[k].first_joints, all.collisions[k].first_joints);
+  }
+  EXPECT_EQ(first.CountsText(f.checker), all.CountsText(f.checker));
+  EXPECT_EQ(all.CountsText(f.checker),
+            "joint margin 0, self-collision 1, obstacle floor 4, out of range "
+            "0, target facing away 2, line of sight blocked 0");
+  // Not every pose, nor every one past the earlier checks (one feasible):
+  // the most frequent pair.
+  const std::string body = f.checker.robot().bodies[1].name;
+  EXPECT_EQ(all.CollisionDiagnosis(f.checker).rfind(
+                "most often (3 of 8 poses): link '" + body +
+                    "' collides with obstacle 'floor' (0.03 m apart, "
+                    "clearance_m 0.05); is 'floor' clear of the robot's base",
+                0),
+            0u)
+      << all.CollisionDiagnosis(f.checker);
+  // Without collisions, nothing to blame.
+  RejectionCounts none;
+  const double q0[2] = {0.0, 0.1};
+  none.Add(facing, q0, 2);
+  EXPECT_EQ(none.CollisionDiagnosis(f.checker), "");
+}
+
+TEST(RejectionCountsTest, EveryPoseAndEveryPosePastTheEarlierChecks) {
+  Fixture f;
+  std::string error;
+  ASSERT_TRUE(MakeChecker(kStickUrdf, StickOverFloor(0.45), &f, &error))
+      << error;
+  // Inside +-0.3 rad the target faces the device: every pose reaches the
+  // collision checks and one pair rejects it.
+  Eigen::MatrixXd joints(7, 2);
+  for (int i = 0; i < 7; ++i) joints.row(i) << -0.3 + 0.1 * i, 0.1;
+  PoolFilterSummary s;
+  ASSERT_TRUE(FilterPool(f.checker, joints, {}, &s));
+  ASSERT_EQ(s.num_feasible(), 0);
+  EXPECT_EQ(s.counts.num_checked, 7);
+  EXPECT_EQ(s.counts.rejected, s.rejected);
+  const std::string link = f.checker.Detail(s.verdicts[0]);
+  const std::string every = "every pose: link '" + link +
+                            "' collides with obstacle 'floor' (0.03 m apart, "
+                            "clearance_m 0.05); ";
+  EXPECT_EQ(s.counts.CollisionDiagnosis(f.checker).rfind(every, 0), 0u)
+      << s.counts.CollisionDiagnosis(f.checker);
+  // FeasibleNote (the line of "no pose of the pool is left") carries it.
+  EXPECT_NE(FeasibleNote(f.checker, s).find("; " + every), std::string::npos)
+      << FeasibleNote(f.checker, s);
+  // Two poses facing away first: every pose past those checks.
+  Eigen::MatrixXd wider(9, 2);
+  wider.topRows(7) = joints;
+  wider.row(7) << 1.0 - 4 * kDeg, 0.1;
+  wider.row(8) << -1.0 + 4 * kDeg, 0.1;
+  ASSERT_TRUE(FilterPool(f.checker, wider, {}, &s));
+  EXPECT_EQ(s.rejected[static_cast<int>(RejectionReason::kFacingAway)], 2);
+  EXPECT_EQ(s.counts.CollisionDiagnosis(f.checker).rfind(
+                "every pose that reached the obstacle checks (7 of 9): "
+                "link '" +
+                    link + "'",
+                0),
+            0u)
+      << s.counts.CollisionDiagnosis(f.checker);
+  // The floor 1 cm lower: 0.04 m apart, still too close; 3 cm lower
+  // (0.06 m): no collision, the note without a diagnosis.
+  Fixture lower;
+  ASSERT_TRUE(MakeChecker(kStickUrdf, StickOverFloor(0.44), &lower, &error));
+  ASSERT_TRUE(FilterPool(lower.checker, joints, {}, &s));
+  EXPECT_NE(s.counts.CollisionDiagnosis(lower.checker)
+                .find("(0.04 m apart, clearance_m 0.05)"),
+            std::string::npos);
+  Fixture clear;
+  ASSERT_TRUE(MakeChecker(kStickUrdf, StickOverFloor(0.42), &clear, &error));
+  ASSERT_TRUE(FilterPool(clear.checker, joints, {}, &s));
+  EXPECT_EQ(s.num_feasible(), 7);
+  EXPECT_EQ(FeasibleNote(clear.checker, s).find("collides"), std::string::npos);
+}
+
+TEST(RejectionCountsTest, SelfPairNamesBothLinks) {
+  Fixture f;
+  std::string error;
+  ASSERT_TRUE(MakeChecker(kStickUrdf, StickOverFloor(0.0), &f, &error))
+      << error;
+  RejectionCounts c;
+  PoseVerdict v;
+  v.reason = RejectionReason::kSelfCollision;
+  v.a = 0;
+  v.b = 1;
+  const double q[2] = {0.0, 0.1};
+  c.Add(v, q, 2);
+  const auto& bodies = f.checker.robot().bodies;
+  EXPECT_EQ(c.CollisionDiagnosis(f.checker).rfind(
+                "every pose: links '" + bodies[0].name + "' and '" +
+                    bodies[1].name + "' collide (",
+                0),
+            0u)
+      << c.CollisionDiagnosis(f.checker);
+  EXPECT_NE(c.CollisionDiagnosis(f.checker).find(
+                "lower self_clearance_m or add the pair to skip_pairs"),
+            std::string::npos);
+}
+
+TEST(CellPoolTest, MeasurablePoolGivesUpOrStopsAtItsCap) {
+  // A UR10e whose table top is 20 cm above its base: the shoulder is in
+  // the table at every pose.
+  const std::string path = TempPath("high_table.yaml");
+  WriteText(path,
+            "joint_margin_deg: 3\nclearance_m: 0.05\nself_clearance_m: 0.01\n"
+            "obstacles:\n"
+            "  - {name: table, type: plane, normal: [0, 0, 1], offset_m: "
+            "0.2}\n"
+            "device: {type: laser_tracker, xyz_m: [2.2, 0.4, 0.9], range_m: "
+            "[1.0, 6.0]}\n"
+            "targets:\n  - {name: smr, xyz_m: [0, 0, 0.06], normal: [0, 0, "
+            "1], acceptance_deg: 30}\n");
+  Ur10e u;
+  std::string error;
+  ASSERT_TRUE(LoadUr10e(path, &u, &error)) << error;
+  MeasurablePoolOptions o;
+  o.num_poses = 50;
+  EXPECT_EQ(MaxDraws(o), 500);  // kDefaultDrawsPerPose x num_poses
+  o.give_up_draws = 70;
+  MeasurablePoolSummary one, two;
+  o.num_threads = 1;
+  ASSERT_TRUE(SampleMeasurablePool(*u.setup.checker, o, &one));
+  o.num_threads = 2;
+  ASSERT_TRUE(SampleMeasurablePool(*u.setup.checker, o, &two));
+  EXPECT_EQ(one.termination_type, TerminationType::kNoConvergence);
+  EXPECT_TRUE(one.gave_up);
+  EXPECT_EQ(one.draws, 70);  // exactly at the threshold, for any threads
+  EXPECT_EQ(two.draws, 70);
+  EXPECT_EQ(one.joints.rows(), 0);
+  EXPECT_EQ(one.counts.rejected, two.counts.rejected);
+  EXPECT_EQ(one.counts.rejected, one.rejected);
+  EXPECT_EQ(one.counts.num_checked, one.solutions_checked);
+  EXPECT_GT(one.rejected[static_cast<int>(RejectionReason::kObstacle)], 0);
+  const std::string text = one.FailureText(*u.setup.checker);
+  EXPECT_EQ(text, two.FailureText(*u.setup.checker));
+  EXPECT_EQ(text.rfind("found no measurable pose in 70 draws", 0), 0u) << text;
+  EXPECT_NE(text.find("collides with obstacle 'table'"), std::string::npos)
+      << text;
+  // Without giving up the cap ends it: max_draws draws, not one more.
+  o.give_up_draws = 0;
+  o.max_draws = 90;
+  ASSERT_TRUE(SampleMeasurablePool(*u.setup.checker, o, &one));
+  EXPECT_FALSE(one.gave_up);
+  EXPECT_EQ(one.draws, 90);
+  EXPECT_EQ(one.max_draws, 90);
+  EXPECT_NE(one.message.find("in 90 draws (max_draws)"), std::string::npos)
+      << one.message;
+  // A cell that gives poses is not stopped by the threshold.
+  Ur10e ok;
+  ASSERT_TRUE(LoadUr10e(kData + "/cells/ur10e_table.yaml", &ok, &error));
+  o.max_draws = 0;
+  o.give_up_draws = 10;
+  o.num_poses = 20;
+  ASSERT_TRUE(SampleMeasurablePool(*ok.setup.checker, o, &one));
+  EXPECT_EQ(one.termination_type, TerminationType::kConvergence);
+  EXPECT_EQ(one.joints.rows(), 20);
+  o.give_up_draws = -1;
+  EXPECT_FALSE(SampleMeasurablePool(*ok.setup.checker, o, &one));
+  EXPECT_EQ(one.termination_type, TerminationType::kUserFailure);
 }
 
 }  // namespace

@@ -13,7 +13,10 @@ std::string FeasibleNote(const CellChecker& checker,
                          const PoolFilterSummary& summary) {
   return std::to_string(summary.num_feasible()) + " of " +
          std::to_string(summary.num_poses) +
-         " poses feasible; rejected: " + summary.CountsText(checker);
+         " poses feasible; rejected: " + summary.CountsText(checker) +
+         (summary.num_feasible() == 0 && summary.counts.num_collisions() > 0
+              ? "; " + summary.counts.CollisionDiagnosis(checker)
+              : std::string());
 }
 
 PoolFilter CellPoolFilter(const CellChecker& checker,

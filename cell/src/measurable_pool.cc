@@ -49,7 +49,9 @@ struct DrawResult {
   std::vector<Eigen::VectorXd> feasible;
   int solves = 0;
   int checked = 0;
-  std::array<int, kNumRejectionReasons> rejected{};
+  int ik_failures = 0;
+  bool no_point = false;
+  RejectionCounts counts;
 };
 
 }  // namespace
@@ -68,10 +70,37 @@ bool MeasurablePoolOptions::IsValid(std::string* error) const {
     e = "the inverse kinematics tolerances must be > 0";
   } else if (max_draws < 0) {
     e = "max_draws must be >= 0, got " + std::to_string(max_draws);
+  } else if (give_up_draws < 0) {
+    e = "give_up_draws must be >= 0, got " + std::to_string(give_up_draws);
   }
   if (e.empty()) return true;
   if (error) *error = e;
   return false;
+}
+
+int64_t MaxDraws(const MeasurablePoolOptions& options) {
+  return options.max_draws > 0 ? options.max_draws
+                               : kDefaultDrawsPerPose * options.num_poses;
+}
+
+std::string MeasurablePoolSummary::FailureText(
+    const CellChecker& checker) const {
+  std::string text =
+      message + "; " + std::to_string(solutions_checked) +
+      " inverse kinematics solutions checked, rejected: " +
+      counts.CountsText(checker) + "; " + std::to_string(ik_failures) + " of " +
+      std::to_string(ik_solves) + " solves failed; " +
+      std::to_string(draws_without_point) + " of " + std::to_string(draws) +
+      " draws found no target point in the device's range" +
+      (checker.cell().has_device &&
+               checker.cell().device.type != DeviceType::kLaserTracker
+           ? " and view"
+           : "") +
+      " outside the obstacles";
+  if (joints.rows() == 0 && counts.num_collisions() > 0) {
+    text += "; " + counts.CollisionDiagnosis(checker);
+  }
+  return text;
 }
 
 double MeasurablePoolSummary::DrawsPerPose() const {
@@ -203,7 +232,10 @@ bool SampleMeasurablePool(const CellChecker& checker,
       }
       found = !inside;
     }
-    if (!found) return;
+    if (!found) {
+      out->no_point = true;
+      return;
+    }
     // The normal inside the acceptance cone about the direction to the
     // eye, uniform on the cap; a random roll about it.
     const Eigen::Vector3d axis = (eye.position - p).normalized();
@@ -237,7 +269,10 @@ bool SampleMeasurablePool(const CellChecker& checker,
       }
       SolveInverseKinematics(ik_model, ik_parameters, goal, seed, ik, &result);
       ++out->solves;
-      if (result.status == IkStatus::kInvalid) continue;
+      if (result.status == IkStatus::kInvalid) {
+        ++out->ik_failures;
+        continue;
+      }
       bool seen = false;
       for (const Eigen::VectorXd& other : solutions) {
         seen = seen || (other - result.joints).cwiseAbs().maxCoeff() < 1e-4;
@@ -246,23 +281,21 @@ bool SampleMeasurablePool(const CellChecker& checker,
       solutions.push_back(result.joints);
       ++out->checked;
       const PoseVerdict v = checker.Check(result.joints.data(), w);
-      if (v.feasible()) {
-        out->feasible.push_back(result.joints);
-      } else {
-        ++out->rejected[static_cast<int>(v.reason)];
-      }
+      out->counts.Add(v, result.joints.data(), n);
+      if (v.feasible()) out->feasible.push_back(result.joints);
     }
   };
 
   const int threads = ResolveNumThreads(options.num_threads);
-  const int64_t max_draws =
-      options.max_draws > 0 ? options.max_draws : 200 * options.num_poses;
+  const int64_t max_draws = MaxDraws(options);
   std::vector<std::unique_ptr<CellChecker::Workspace>> workspaces(threads);
   for (auto& w : workspaces) w = checker.NewWorkspace();
   std::vector<Eigen::VectorXd> kept;
   const int64_t batch = 64 * threads;
   bool complete = false;
-  for (int64_t first = 0; first < max_draws && !complete; first += batch) {
+  bool gave_up = false;
+  for (int64_t first = 0; first < max_draws && !complete && !gave_up;
+       first += batch) {
     const int64_t count = std::min(batch, max_draws - first);
     std::vector<DrawResult> results(count);
     ParallelFor(count, threads, [&](int64_t begin, int64_t end, int thread) {
@@ -275,14 +308,23 @@ bool SampleMeasurablePool(const CellChecker& checker,
       ++s.draws;
       s.ik_solves += r.solves;
       s.solutions_checked += r.checked;
-      for (int k = 0; k < kNumRejectionReasons; ++k)
-        s.rejected[k] += r.rejected[k];
+      s.ik_failures += r.ik_failures;
+      s.draws_without_point += r.no_point ? 1 : 0;
+      s.counts.Merge(r.counts);
       for (const Eigen::VectorXd& q : r.feasible) {
         if (static_cast<int64_t>(kept.size()) < options.num_poses) {
           kept.push_back(q);
         }
       }
       complete = static_cast<int64_t>(kept.size()) >= options.num_poses;
+      // Nothing in the first give_up_draws draws: the cap cannot be met
+      // (draws stop in draw order, so at the same draw for every thread
+      // count).
+      if (!complete && kept.empty() && options.give_up_draws > 0 &&
+          s.draws >= options.give_up_draws && s.draws < max_draws) {
+        gave_up = true;
+        break;
+      }
     }
     if (options.progress) {
       options.progress(static_cast<int64_t>(kept.size()), options.num_poses);
@@ -294,8 +336,18 @@ bool SampleMeasurablePool(const CellChecker& checker,
   s.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
+  for (int k = 0; k < kNumRejectionReasons; ++k) {
+    s.rejected[k] = s.counts.rejected[k];
+  }
+  s.max_draws = max_draws;
+  s.gave_up = gave_up;
   if (complete) {
     s.termination_type = TerminationType::kConvergence;
+  } else if (gave_up) {
+    s.termination_type = TerminationType::kNoConvergence;
+    s.message = "found no measurable pose in " + std::to_string(s.draws) +
+                " draws (the search gives up there; max_draws " +
+                std::to_string(max_draws) + ")";
   } else {
     s.termination_type = TerminationType::kNoConvergence;
     s.message = "found " + std::to_string(kept.size()) + " of " +

@@ -14,13 +14,6 @@
 namespace activecal {
 namespace {
 
-// The order the counts are printed in (the issue's).
-constexpr RejectionReason kCountOrder[] = {
-    RejectionReason::kJointMargin, RejectionReason::kSelfCollision,
-    RejectionReason::kObstacle,    RejectionReason::kOutOfRange,
-    RejectionReason::kOutOfView,   RejectionReason::kFacingAway,
-    RejectionReason::kLineOfSight};
-
 // A CSV field, quoted when it holds a separator or a quote.
 std::string CsvField(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -35,24 +28,7 @@ std::string CsvField(const std::string& text) {
 }  // namespace
 
 std::string PoolFilterSummary::CountsText(const CellChecker& checker) const {
-  std::string text;
-  auto add = [&](const std::string& label, int64_t n) {
-    text += (text.empty() ? "" : ", ") + label + " " + std::to_string(n);
-  };
-  const bool cameras = checker.cell().has_device &&
-                       checker.cell().device.type != DeviceType::kLaserTracker;
-  for (RejectionReason r : kCountOrder) {
-    if (r == RejectionReason::kObstacle) {
-      for (size_t o = 0; o < checker.cell().obstacles.size(); ++o) {
-        add("obstacle " + checker.cell().obstacles[o].name,
-            o < rejected_by_obstacle.size() ? rejected_by_obstacle[o] : 0);
-      }
-      continue;
-    }
-    if (r == RejectionReason::kOutOfView && !cameras) continue;
-    add(RejectionReasonLabel(r), rejected[static_cast<int>(r)]);
-  }
-  return text;
+  return RejectionCountsText(checker, rejected, rejected_by_obstacle);
 }
 
 std::string PoolFilterSummary::BriefReport(const CellChecker& checker) const {
@@ -108,8 +84,14 @@ bool FilterPool(const CellChecker& checker, const Eigen::MatrixXd& joints,
     if (options.progress) options.progress(total, n);
   });
   s.rejected_by_obstacle.assign(checker.cell().obstacles.size(), 0);
+  Eigen::VectorXd q(joints.cols());
   for (int64_t i = 0; i < n; ++i) {
     const PoseVerdict& v = s.verdicts[i];
+    if (v.reason == RejectionReason::kSelfCollision ||
+        v.reason == RejectionReason::kObstacle) {
+      q = joints.row(i).transpose();  // the pair's example pose
+    }
+    s.counts.Add(v, q.data(), static_cast<int>(q.size()));
     if (v.feasible()) {
       s.feasible.push_back(i);
       s.targets_seen.push_back(v.targets_seen);

@@ -35,7 +35,10 @@
 namespace activecal {
 
 // "210 of 1000 poses feasible; rejected: joint margin 12, ..." (the
-// counts of PoolFilterSummary::CountsText).
+// counts of PoolFilterSummary::CountsText); when no pose is feasible and
+// collisions rejected some, then "; " and the pair to blame
+// (RejectionCounts::CollisionDiagnosis: "every pose: link 'shoulder_link'
+// collides with obstacle 'table' ...").
 std::string FeasibleNote(const CellChecker& checker,
                          const PoolFilterSummary& summary);
 

@@ -38,6 +38,7 @@
 #include <string>
 
 #include "activecal/cell/cell_checker.h"
+#include "activecal/cell/rejection_counts.h"
 #include "activecal/core/types.h"
 
 namespace activecal {
@@ -54,18 +55,31 @@ struct MeasurablePoolOptions {
   int ik_iterations = 40;
   double ik_position_tolerance_m = 1e-6;
   double ik_rotation_tolerance_rad = 1e-5;
-  // Stop after this many draws (0: 200 x num_poses).
+  // Stop after this many draws (0: kDefaultDrawsPerPose x num_poses).
   int64_t max_draws = 0;
+  // Stop when none of the first give_up_draws draws gives a feasible pose
+  // (0: never). A cell that fills the pool within the default cap gives
+  // at least one pose per 10 draws: none in 1,000 draws has probability
+  // below e^-100 then.
+  int64_t give_up_draws = 1000;
   int num_threads = 0;
   ProgressCallback progress;  // feasible poses found
 
   bool IsValid(std::string* error) const;
 };
 
+// The default cap on draws per pose wanted: the UR10e and iiwa cells of
+// docs/scaling.md need 0.85 and 0.92 draws per feasible pose.
+inline constexpr int64_t kDefaultDrawsPerPose = 10;
+
+// The draws options allow: max_draws, or kDefaultDrawsPerPose x num_poses.
+int64_t MaxDraws(const MeasurablePoolOptions& options);
+
 struct MeasurablePoolSummary {
   // CONVERGENCE: num_poses poses found; NO_CONVERGENCE: max_draws reached
-  // first (joints has fewer rows); USER_FAILURE: bad options or a cell
-  // without a device and targets.
+  // first, or give_up_draws without a pose (gave_up; joints has fewer
+  // rows); USER_FAILURE: bad options or a cell without a device and
+  // targets.
   TerminationType termination_type = TerminationType::kFailure;
   std::string message;
   Eigen::MatrixXd joints;
@@ -75,12 +89,24 @@ struct MeasurablePoolSummary {
   // RejectionReason).
   int64_t solutions_checked = 0;
   std::array<int64_t, kNumRejectionReasons> rejected{};
+  // The same counts, per obstacle and per pair that collided.
+  RejectionCounts counts;
+  int64_t ik_failures = 0;          // solves with no usable result
+  int64_t draws_without_point = 0;  // no target point passed the cheap tests
+  int64_t max_draws = 0;            // the cap applied
+  bool gave_up = false;             // stopped by give_up_draws
   double seconds = 0.0;
 
   // Draws and solves per feasible pose.
   double DrawsPerPose() const;
   double SolvesPerPose() const;
   std::string BriefReport() const;
+  // One line on a pool that fell short: message, then the solutions
+  // checked and the count per rejection reason, the failed solves, the
+  // draws without a target point and, when no pose was found and
+  // collisions rejected some, the pair to blame
+  // (RejectionCounts::CollisionDiagnosis).
+  std::string FailureText(const CellChecker& checker) const;
 };
 
 bool SampleMeasurablePool(const CellChecker& checker,

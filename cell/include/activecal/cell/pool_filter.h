@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "activecal/cell/cell_checker.h"
+#include "activecal/cell/rejection_counts.h"
 #include "activecal/core/types.h"
 
 namespace activecal {
@@ -51,6 +52,8 @@ struct PoolFilterSummary {
   // ones per obstacle (index: the cell's obstacles).
   std::array<int64_t, kNumRejectionReasons> rejected{};
   std::vector<int64_t> rejected_by_obstacle;
+  // The same counts, with the pairs that collided (rejection_counts.h).
+  RejectionCounts counts;
   double seconds = 0.0;
 
   int64_t num_feasible() const { return static_cast<int64_t>(feasible.size()); }
