@@ -144,6 +144,12 @@ expect_fail "evaluate: distance to an unknown point" \
   "nowhere.yaml:2: a known distance to point 'nowhere'" \
   activecal_evaluate --robot=cal.yaml --measurements=test.csv \
   --points=nowhere.yaml --json_out=o.json
+expect_fail "evaluate: point of one row" "one.csv:77: point 'lonely' has one row only" \
+  activecal_evaluate --robot=cal.yaml --measurements=one.csv --json_out=o.json
+expect_fail "evaluate: negative distance" \
+  "negative.yaml:2:5: distances[0].distance_m: must be > 0" \
+  activecal_evaluate --robot=cal.yaml --measurements=test.csv \
+  --points=negative.yaml --json_out=o.json
 [ ! -e o.json ] && ok "failed runs wrote nothing" || fail "failed runs wrote nothing"
 
 echo "$failures failure(s)"
