@@ -361,15 +361,21 @@ TEST(PointConstraintsTest, EvaluationRefitsThePoints) {
   EXPECT_LT((s.point_coordinates[0] - mean).norm(), 1e-12);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double squares = 0.0;
+  double distances = 0.0;
   for (int i = 0; i < 6; ++i) {
     const Eigen::Vector3d e =
         MeasuredPoint(model, model.nominal, rows[i].joints) - mean;
     EXPECT_LT((s.position_errors[i] - e).norm(), 1e-12);
     sum += s.position_errors[i];
     squares += e.squaredNorm();
+    distances += e.norm();
   }
   EXPECT_LT(sum.norm(), 1e-12);  // about the mean
   EXPECT_NEAR(s.point_spread[0].rms, std::sqrt(squares / 6), 1e-15);
+  // The mean distance to the point's mean, as MUKCa reports it: below the
+  // RMS unless every row is equally far.
+  EXPECT_NEAR(s.point_spread[0].mean, distances / 6, 1e-15);
+  EXPECT_LT(s.point_spread[0].mean, s.point_spread[0].rms);
   EXPECT_EQ(s.point_spread[1].count, 6);
   EXPECT_EQ(s.position.count, 12);
   // Placements off by 0.1 mm per axis: a spread of that order.

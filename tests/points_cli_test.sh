@@ -88,6 +88,30 @@ for pa, pb in zip(a["points"], b["points"]):
     assert pb["rms"] > 10 * pa["rms"], (pa, pb)
 assert a["distance_m"]["count"] == 2 and a["distance_m"]["max"] < 2e-5, a["distance_m"]
 PY
+# What is printed is what the JSON holds: per point the mean distance to the
+# point's mean (below its RMS), the RMS and the max; the known-distance error.
+python3 - <<'PY' && ok "printed spread = JSON" || fail "printed spread = JSON"
+import json, re
+a = json.load(open("after.json"))
+text = open("after.txt").read()
+for p in a["points"]:
+    m = re.search(r"^  point %s \((\d+) rows, refitted at ([-0-9.]+), ([-0-9.]+), "
+                  r"([-0-9.]+) m\): distance to the point's mean ([0-9.]+) mm "
+                  r"mean, RMS ([0-9.]+) mm, max ([0-9.]+) mm$" % p["label"],
+                  text, re.M)
+    assert m, (p["label"], text)
+    assert int(m.group(1)) == p["count"]
+    for g, c in zip((2, 3, 4), p["coordinates_m"]):
+        assert abs(float(m.group(g)) - c) <= 5e-7, (m.group(g), c)
+    for g, key in ((5, "mean"), (6, "rms"), (7, "max")):
+        assert abs(float(m.group(g)) - p[key] * 1e3) <= 5e-4, (key, m.group(g), p)
+    assert 0 < p["mean"] < p["rms"] <= p["max"], p
+d = a["distance_m"]
+m = re.search(r"distance \(2\): RMS ([0-9.]+) mm, max ([0-9.]+) mm", text)
+assert m, text
+assert abs(float(m.group(1)) - d["rms"] * 1e3) <= 5e-4, (m.group(1), d)
+assert abs(float(m.group(2)) - d["max"] * 1e3) <= 5e-4, (m.group(2), d)
+PY
 
 # Bad input: one line, status 1, nothing written.
 (cat train.csv; echo "point,lonely,0.1,0.2,0.3,0.4,0.5,0.6,0.7,,,") >one.csv
@@ -120,6 +144,12 @@ expect_fail "evaluate: distance to an unknown point" \
   "nowhere.yaml:2: a known distance to point 'nowhere'" \
   activecal_evaluate --robot=cal.yaml --measurements=test.csv \
   --points=nowhere.yaml --json_out=o.json
+expect_fail "evaluate: point of one row" "one.csv:77: point 'lonely' has one row only" \
+  activecal_evaluate --robot=cal.yaml --measurements=one.csv --json_out=o.json
+expect_fail "evaluate: negative distance" \
+  "negative.yaml:2:5: distances[0].distance_m: must be > 0" \
+  activecal_evaluate --robot=cal.yaml --measurements=test.csv \
+  --points=negative.yaml --json_out=o.json
 [ ! -e o.json ] && ok "failed runs wrote nothing" || fail "failed runs wrote nothing"
 
 echo "$failures failure(s)"

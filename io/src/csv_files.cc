@@ -1139,7 +1139,8 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
     if (!ParseMeasurementType(type, &m.type)) {
       return table_.Fail(
           row.line,
-          "type: expected position, pose or distance, got '" + type + "'",
+          "type: expected position, pose, distance or point, got '" + type +
+              "'",
           error);
     }
   } else {
