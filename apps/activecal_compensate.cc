@@ -287,6 +287,23 @@ int Main() {
     j["targets"] = rows;
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
+  {
+    // The one-line result (what --quiet prints): the JSON's num_converged,
+    // num_targets, max_position_error_m (in mm) and, matching poses,
+    // max_rotation_error_rad (in deg).
+    char result[256];
+    std::snprintf(result, sizeof(result),
+                  "%s: %d of %zu targets converged, max position error %.3g mm",
+                  app::ProgramName().c_str(), summary.num_converged,
+                  summary.results.size(), summary.max_position_error_m * 1e3);
+    std::string line = result;
+    if (options.ik.match == IkMatch::kPose) {
+      std::snprintf(result, sizeof(result), ", max rotation error %.3g deg",
+                    summary.max_rotation_error_rad * 180.0 / M_PI);
+      line += result;
+    }
+    app::PrintResult(line);
+  }
   if (!summary.AllConverged()) {
     // Not bad input: the files are complete, each target with its status.
     size_t first = 0;

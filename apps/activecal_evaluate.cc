@@ -126,6 +126,32 @@ std::vector<Measurement> Subset(const std::vector<Measurement>& all,
   return out;
 }
 
+// The one-line result (what --quiet prints): the key figures of "after"
+// with units, each the JSON's value (rmse_m, max_m, orientation_rad.rms,
+// distance_m.rms) scaled to mm or deg.
+std::string EvaluationResultLine(const EvaluationSummary& s) {
+  const double deg = 180.0 / M_PI;
+  char text[128];
+  std::string line = app::ProgramName() + ": " +
+                     std::to_string(s.num_measurements) + " measurements";
+  if (s.position.count > 0) {
+    std::snprintf(text, sizeof(text), ", position RMS %.4f mm, max %.4f mm",
+                  s.position.rms * 1e3, s.position.max * 1e3);
+    line += text;
+  }
+  if (s.rotation.count > 0) {
+    std::snprintf(text, sizeof(text), ", orientation RMS %.5f deg",
+                  s.rotation.rms * deg);
+    line += text;
+  }
+  if (s.distance.count > 0) {
+    std::snprintf(text, sizeof(text), ", distance RMS %.4f mm",
+                  s.distance.rms * 1e3);
+    line += text;
+  }
+  return line;
+}
+
 void PrintLine(const char* label, const EvaluationSummary& s) {
   const double deg = 180.0 / M_PI;
   std::printf("  %-28s", label);
@@ -516,6 +542,7 @@ int Main() {
     if (FLAGS_iso9283) report.iso9283 = iso;
     app::WriteTextOrDie(FLAGS_report_html, RenderHtml(report));
   }
+  app::PrintResult(EvaluationResultLine(summary));
   return 0;
 }
 

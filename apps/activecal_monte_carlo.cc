@@ -123,6 +123,18 @@ int Main() {
     j["timing"] = {{"seconds", s.seconds}};
     app::WriteJsonOrDie(FLAGS_json_out, j);
   }
+  {
+    // The one-line result (what --quiet prints): the JSON's trials, failed,
+    // log_det_ratio, expected_log_det_ratio and fraction_within_2_std.
+    char result[256];
+    std::snprintf(result, sizeof(result),
+                  "%s: %d trials (%d failed), log det ratio %.4f (expected "
+                  "%.4f), %.1f%% within 2 std",
+                  app::ProgramName().c_str(), s.num_trials, s.num_failed,
+                  s.log_det_ratio, s.expected_log_det_ratio,
+                  100.0 * s.fraction_within_2_std);
+    app::PrintResult(result);
+  }
   return 0;
 }
 

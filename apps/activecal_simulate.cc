@@ -228,13 +228,15 @@ int Main() {
         {FLAGS_true_model_out, RobotFileText(model, model.nominal, text)});
   }
   if (!WriteFilesAtomically(outputs, &error)) app::Fail(error);
-  std::printf("wrote %zu %s measurements of '%s' to %s\n", measurements.size(),
-              FLAGS_type.c_str(), model.name.c_str(), FLAGS_out.c_str());
   if (!FLAGS_true_model_out.empty()) {
     std::printf("wrote the true model (%d free parameters%s) to %s\n",
                 model.num_free(), perturbed ? ", perturbed" : "",
                 FLAGS_true_model_out.c_str());
   }
+  // The one-line result (what --quiet prints), last.
+  app::PrintResult(app::ProgramName() + ": wrote " +
+                   std::to_string(measurements.size()) + " " + FLAGS_type +
+                   " measurements of '" + model.name + "' to " + FLAGS_out);
   return 0;
 }
 

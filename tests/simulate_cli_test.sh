@@ -28,7 +28,7 @@ if "$apps/activecal_simulate" "${ur[@]}" --poses_csv=p.csv "${perturb[@]}" \
 else
   fail "simulate a URDF robot"; cat sim.err
 fi
-grep -qE "^wrote 40 position measurements of 'ur10e' to m.csv$" sim.out &&
+grep -qE "^activecal_simulate: wrote 40 position measurements of 'ur10e' to m.csv$" sim.out &&
   grep -qE "^wrote the true model \([0-9]+ free parameters, perturbed\) to true.yaml$" sim.out &&
   ok "simulate says what it wrote" || { fail "simulate's lines"; cat sim.out; }
 # Seeded: the same seed, the same files; another seed, another truth.

@@ -1,0 +1,160 @@
+#!/usr/bin/env bash
+# Copyright (c) 2026, the activecal authors.
+# SPDX-License-Identifier: BSD-3-Clause
+# --quiet's one result line of the programs other than identify and select
+# (those are in output_cli_test.sh and select_cli_test.sh): the line is the
+# last on stdout without --quiet and the only one with it, its figures are
+# the JSON's, and the files written are byte-identical either way. The case
+# is 6D (position + orientation): FIGAROH's UR10e measurements.
+#
+#   tests/quiet_cli_test.sh <build/apps dir> <data dir>
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/cli_lib.sh"
+cli_begin "$@"
+
+m="$data/figaroh_ur10e/measurements.csv"
+
+# --- activecal_evaluate ---
+evaluate=("$apps/activecal_evaluate" --robot="$data/ur10e.urdf" --tip_link=tool0
+  --measurements="$m")
+if ! "${evaluate[@]}" --json_out=eval.json >out.txt 2>err.txt; then
+  fail "evaluate runs"; cat err.txt
+fi
+"${evaluate[@]}" --quiet --json_out=eval_quiet.json >qout.txt 2>qerr.txt ||
+  fail "evaluate --quiet runs"
+[ "$(wc -l <qout.txt)" -eq 1 ] && [ ! -s qerr.txt ] &&
+  ok "evaluate --quiet prints one line" ||
+  { fail "evaluate --quiet prints one line"; cat qout.txt qerr.txt; }
+[ "$(tail -1 out.txt)" = "$(cat qout.txt)" ] &&
+  ok "evaluate: the --quiet line is the last line without it" ||
+  { fail "evaluate: the --quiet line is the last line without it"; tail -1 out.txt; }
+cmp -s eval.json eval_quiet.json && ok "evaluate --quiet writes the same JSON" ||
+  fail "evaluate --quiet writes the same JSON"
+# The line's figures are the JSON's (mm and deg, rounded as printed).
+check=$(
+  python3 - eval.json qout.txt <<'PY'
+import json, math, re, sys
+j = json.load(open(sys.argv[1]))
+line = open(sys.argv[2]).read().strip()
+m = re.fullmatch(r"activecal_evaluate: (\d+) measurements, position RMS "
+                 r"([0-9.]+) mm, max ([0-9.]+) mm, orientation RMS ([0-9.]+) deg",
+                 line)
+if not m:
+    print("unexpected line: " + line); sys.exit()
+n, rms, mx, rot = int(m[1]), float(m[2]), float(m[3]), float(m[4])
+bad = []
+if n != j["num_measurements"]: bad.append("count")
+if abs(rms - j["rmse_m"] * 1e3) > 0.6e-4: bad.append("rms")
+if abs(mx - j["max_m"] * 1e3) > 0.6e-4: bad.append("max")
+if abs(rot - math.degrees(j["orientation_rad"]["rms"])) > 0.6e-5: bad.append("rot")
+if rms <= 0 or rot <= 0: bad.append("zero")
+print("ok" if not bad else "mismatch " + " ".join(bad) + ": " + line)
+PY
+)
+[ "$check" = "ok" ] && ok "evaluate's line is the JSON's count, RMS, max, orientation" ||
+  fail "evaluate's line is the JSON's count, RMS, max, orientation ($check)"
+
+# --- activecal_simulate, activecal_compensate, activecal_monte_carlo: on
+# those 23 configurations, 6D (pose) measurements of a perturbed UR10e. ---
+python3 - "$m" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+cols = ["q%d_rad" % j for j in range(1, 7)]
+with open("p.csv", "w") as f:
+    f.write(",".join(cols) + "\n")
+    for r in rows:
+        f.write(",".join(r[c] for c in cols) + "\n")
+PY
+# Runs "$@" here and, with --quiet, in q/ (input paths absolute, output
+# paths relative: the same names in both); checks the one line, that it is
+# the last line without --quiet, and that every listed file is
+# byte-identical.  quiet_pair NAME "FILE..." PROGRAM ARGS...
+mkdir -p q
+quiet_pair() {
+  local name="$1" files="$2" f; shift 2
+  "$@" >"$name.out" 2>"$name.err" || { fail "$name runs"; cat "$name.err"; }
+  (cd q && "$@" --quiet) >"$name.qout" 2>"$name.qerr" ||
+    { fail "$name --quiet runs"; cat "$name.qerr"; }
+  [ "$(wc -l <"$name.qout")" -eq 1 ] && [ ! -s "$name.qerr" ] &&
+    ok "$name --quiet prints one line: $(cat "$name.qout")" ||
+    { fail "$name --quiet prints one line"; cat "$name.qout" "$name.qerr"; }
+  [ "$(tail -1 "$name.out")" = "$(cat "$name.qout")" ] &&
+    ok "$name: the --quiet line is the last line without it" ||
+    { fail "$name: the --quiet line is the last line without it"; tail -1 "$name.out"; }
+  for f in $files; do
+    cmp -s "$f" "q/$f" && ok "$name --quiet writes the same $f" ||
+      fail "$name --quiet writes the same $f"
+  done
+}
+quiet_pair simulate "m.csv true.yaml" "$apps/activecal_simulate" \
+  --robot="$data/ur10e.urdf" --tip_link=tool0 --poses_csv="$PWD/p.csv" --type=pose \
+  --perturb_m=0.001 --perturb_rad=0.001 --seed=1 --true_model_out=true.yaml \
+  --out=m.csv
+rows=$(grep -vc '^#\|^type' m.csv)
+[ "$(cat simulate.qout)" = "activecal_simulate: wrote $rows pose measurements of 'ur10e' to m.csv" ] &&
+  [ "$rows" -eq 23 ] && ok "simulate's line: the 23 rows of the CSV" ||
+  fail "simulate's line: the $rows rows of the CSV"
+
+# The nominal robot as a robot file (perturbed by 1e-12), the true one
+# the program is compensated for.
+"$apps/activecal_simulate" --robot="$data/ur10e.urdf" --tip_link=tool0 \
+  --poses_csv=p.csv --perturb_m=1e-12 --perturb_rad=1e-12 \
+  --true_model_out=nominal.yaml --out=nominal.csv >/dev/null 2>&1 ||
+  fail "the nominal UR10e as a robot file"
+quiet_pair compensate "comp.csv comp.json" "$apps/activecal_compensate" \
+  --robot="$PWD/true.yaml" --nominal="$PWD/nominal.yaml" --poses_csv="$PWD/p.csv" \
+  --match=pose --out=comp.csv --json_out=comp.json
+check=$(
+  python3 - comp.json compensate.qout <<'PY'
+import json, math, re, sys
+j = json.load(open(sys.argv[1]))
+line = open(sys.argv[2]).read().strip()
+m = re.fullmatch(r"activecal_compensate: (\d+) of (\d+) targets converged, max "
+                 r"position error (\S+) mm, max rotation error (\S+) deg", line)
+if not m:
+    print("unexpected line: " + line); sys.exit()
+bad = []
+if int(m[1]) != j["num_converged"] or int(m[2]) != j["num_targets"]: bad.append("counts")
+if abs(float(m[3]) - j["max_position_error_m"] * 1e3) > 6e-3 * abs(float(m[3])): bad.append("position")
+if abs(float(m[4]) - math.degrees(j["max_rotation_error_rad"])) > 6e-3 * abs(float(m[4])): bad.append("rotation")
+print("ok" if not bad else "mismatch " + " ".join(bad) + ": " + line)
+PY
+)
+[ "$check" = "ok" ] && ok "compensate's line is the JSON's counts and max errors" ||
+  fail "compensate's line is the JSON's counts and max errors ($check)"
+
+# Position measurements identify the joint offsets (not the full set).
+"$apps/activecal_simulate" --robot="$data/ur10e.urdf" --tip_link=tool0 \
+  --poses_csv=p.csv --perturb_m=0.001 --perturb_rad=0.001 --parameter_set=offsets \
+  --true_model_out=offsets.yaml --out=offsets.csv >/dev/null 2>&1 ||
+  fail "a UR10e with perturbed offsets"
+quiet_pair monte_carlo "" "$apps/activecal_monte_carlo" \
+  --robot="$PWD/offsets.yaml" --poses_csv="$PWD/p.csv" --trials=20 --threads=1 \
+  --json_out=mc.json
+# The JSON is the same but for its "timing" (seconds of this run).
+strip_timing() { sed '/"timing": {/,/}/d' "$1"; }
+[ -s mc.json ] && [ "$(strip_timing mc.json)" = "$(strip_timing q/mc.json)" ] &&
+  ok "monte_carlo --quiet writes the same mc.json (but for its timing)" ||
+  fail "monte_carlo --quiet writes the same mc.json (but for its timing)"
+check=$(
+  python3 - mc.json monte_carlo.qout <<'PY'
+import json, re, sys
+j = json.load(open(sys.argv[1]))
+line = open(sys.argv[2]).read().strip()
+m = re.fullmatch(r"activecal_monte_carlo: (\d+) trials \((\d+) failed\), log det "
+                 r"ratio (\S+) \(expected (\S+)\), (\S+)% within 2 std", line)
+if not m:
+    print("unexpected line: " + line); sys.exit()
+bad = []
+if int(m[1]) != j["trials"] or int(m[2]) != j["failed"]: bad.append("counts")
+if abs(float(m[3]) - j["log_det_ratio"]) > 0.6e-4: bad.append("log det")
+if abs(float(m[4]) - j["expected_log_det_ratio"]) > 0.6e-4: bad.append("expected")
+if abs(float(m[5]) - 100 * j["fraction_within_2_std"]) > 0.06: bad.append("within")
+print("ok" if not bad else "mismatch " + " ".join(bad) + ": " + line)
+PY
+)
+[ "$check" = "ok" ] && ok "monte_carlo's line is the JSON's trials, log det ratios, fraction" ||
+  fail "monte_carlo's line is the JSON's trials, log det ratios, fraction ($check)"
+
+cli_end
