@@ -15,25 +15,35 @@ cli_begin "$@"
 
 m="$data/figaroh_ur10e/measurements.csv"
 
+# Runs "$@" here and, with --quiet, in q/ (input paths absolute, output
+# paths relative: the same names in both); checks the one line, that it is
+# the last line without --quiet, and that every listed file is
+# byte-identical.  quiet_pair NAME "FILE..." PROGRAM ARGS...
+mkdir -p q
+quiet_pair() {
+  local name="$1" files="$2" f; shift 2
+  "$@" >"$name.out" 2>"$name.err" || { fail "$name runs"; cat "$name.err"; }
+  (cd q && "$@" --quiet) >"$name.qout" 2>"$name.qerr" ||
+    { fail "$name --quiet runs"; cat "$name.qerr"; }
+  [ "$(wc -l <"$name.qout")" -eq 1 ] && [ ! -s "$name.qerr" ] &&
+    ok "$name --quiet prints one line: $(cat "$name.qout")" ||
+    { fail "$name --quiet prints one line"; cat "$name.qout" "$name.qerr"; }
+  [ "$(tail -1 "$name.out")" = "$(cat "$name.qout")" ] &&
+    ok "$name: the --quiet line is the last line without it" ||
+    { fail "$name: the --quiet line is the last line without it"; tail -1 "$name.out"; }
+  for f in $files; do
+    cmp -s "$f" "q/$f" && ok "$name --quiet writes the same $f" ||
+      fail "$name --quiet writes the same $f"
+  done
+}
+
 # --- activecal_evaluate ---
-evaluate=("$apps/activecal_evaluate" --robot="$data/ur10e.urdf" --tip_link=tool0
-  --measurements="$m")
-if ! "${evaluate[@]}" --json_out=eval.json >out.txt 2>err.txt; then
-  fail "evaluate runs"; cat err.txt
-fi
-"${evaluate[@]}" --quiet --json_out=eval_quiet.json >qout.txt 2>qerr.txt ||
-  fail "evaluate --quiet runs"
-[ "$(wc -l <qout.txt)" -eq 1 ] && [ ! -s qerr.txt ] &&
-  ok "evaluate --quiet prints one line" ||
-  { fail "evaluate --quiet prints one line"; cat qout.txt qerr.txt; }
-[ "$(tail -1 out.txt)" = "$(cat qout.txt)" ] &&
-  ok "evaluate: the --quiet line is the last line without it" ||
-  { fail "evaluate: the --quiet line is the last line without it"; tail -1 out.txt; }
-cmp -s eval.json eval_quiet.json && ok "evaluate --quiet writes the same JSON" ||
-  fail "evaluate --quiet writes the same JSON"
+quiet_pair evaluate "eval.json" "$apps/activecal_evaluate" \
+  --robot="$data/ur10e.urdf" --tip_link=tool0 --measurements="$m" \
+  --json_out=eval.json
 # The line's figures are the JSON's (mm and deg, rounded as printed).
 check=$(
-  python3 - eval.json qout.txt <<'PY'
+  python3 - eval.json evaluate.qout <<'PY'
 import json, math, re, sys
 j = json.load(open(sys.argv[1]))
 line = open(sys.argv[2]).read().strip()
@@ -66,27 +76,6 @@ with open("p.csv", "w") as f:
     for r in rows:
         f.write(",".join(r[c] for c in cols) + "\n")
 PY
-# Runs "$@" here and, with --quiet, in q/ (input paths absolute, output
-# paths relative: the same names in both); checks the one line, that it is
-# the last line without --quiet, and that every listed file is
-# byte-identical.  quiet_pair NAME "FILE..." PROGRAM ARGS...
-mkdir -p q
-quiet_pair() {
-  local name="$1" files="$2" f; shift 2
-  "$@" >"$name.out" 2>"$name.err" || { fail "$name runs"; cat "$name.err"; }
-  (cd q && "$@" --quiet) >"$name.qout" 2>"$name.qerr" ||
-    { fail "$name --quiet runs"; cat "$name.qerr"; }
-  [ "$(wc -l <"$name.qout")" -eq 1 ] && [ ! -s "$name.qerr" ] &&
-    ok "$name --quiet prints one line: $(cat "$name.qout")" ||
-    { fail "$name --quiet prints one line"; cat "$name.qout" "$name.qerr"; }
-  [ "$(tail -1 "$name.out")" = "$(cat "$name.qout")" ] &&
-    ok "$name: the --quiet line is the last line without it" ||
-    { fail "$name: the --quiet line is the last line without it"; tail -1 "$name.out"; }
-  for f in $files; do
-    cmp -s "$f" "q/$f" && ok "$name --quiet writes the same $f" ||
-      fail "$name --quiet writes the same $f"
-  done
-}
 quiet_pair simulate "m.csv true.yaml" "$apps/activecal_simulate" \
   --robot="$data/ur10e.urdf" --tip_link=tool0 --poses_csv="$PWD/p.csv" --type=pose \
   --perturb_m=0.001 --perturb_rad=0.001 --seed=1 --true_model_out=true.yaml \
