@@ -81,11 +81,14 @@ sanitize() {
   # numeric path hundreds of times (cross-validation curves, Monte Carlo
   # sweeps, rounding sweeps, a 90-pose compensation loop, simulate's long
   # session, the learned residual's five-case keep/drop sweep: 13.6 s in
-  # Release, the suite's slowest gtest). Under ASan they took 36% of the suite's time (measured at
+  # Release, the suite's slowest gtest; output_cli_test's two single-thread
+  # 117,649-pose selections and two model-selection fits, 236 s under ASan,
+  # a test of what is printed). Under ASan they took 36% of the suite's time (measured at
   # 4bc84cc, -j2: 1,940 s of 5,349 s) while lighter tests run the same code
   # under the sanitizers: ModelSelectionTest.EachRuleChoosesByItsThreshold,
   # the other SelectDesignPool and Compensation tests, cli_test (simulate,
-  # monte_carlo), compensate_cli_test and the other LearnedResidual tests.
+  # monte_carlo), compensate_cli_test, the other LearnedResidual tests and
+  # quiet_cli_test (identify's printing with and without --quiet).
   local heavy=(plots_test
     ModelSelectionTest.CrossValidationKeepsTheMinimumOfItsCurve
     IdentifiabilityTest.RoundedRobotFilesKeepTheSameParametersAndConverge
@@ -95,7 +98,8 @@ sanitize() {
     MonteCarloTest.SameResultForAnyThreadCount
     CompensationTest.PumaLoopReachesThePredictedAccuracy
     LearnedResidual.KeptExactlyWhenASmoothNonGeometricErrorIsThere
-    simulate_cli_test)
+    simulate_cli_test
+    output_cli_test)
   local skip
   skip="^($(IFS='|'; echo "${heavy[*]}"))\$"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
