@@ -58,6 +58,9 @@ DEFINE_string(solver, "both",
               "The IK comparison's solvers: both, activecal or kdl.");
 DEFINE_bool(compensation, true, "Run the compensation cases.");
 DEFINE_string(starts, "both", "The IK comparison's starts: both, near or far.");
+DEFINE_int32(ik_restarts, -1,
+             "The IK comparison's InverseKinematicsOptions::restarts (-1: the "
+             "default).");
 
 namespace activecal {
 namespace {
@@ -187,6 +190,7 @@ int CompareWithKdl(const RobotModel& model) {
     options.match = IkMatch::kPose;
     options.position_tolerance_m = 1e-9;
     options.rotation_tolerance_rad = 1e-9;
+    if (FLAGS_ik_restarts >= 0) options.restarts = FLAGS_ik_restarts;
     Eigen::Matrix<double, 6, 1> weights;
     weights.setOnes();
     KDL::ChainIkSolverPos_LMA lma(chain, weights, 1e-9, 500);
