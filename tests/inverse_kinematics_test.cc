@@ -524,6 +524,55 @@ TEST(InverseKinematicsTest, WholeTurnsOnRangesOfTwoAndFourPiAndContinuous) {
   }
 }
 
+// The threshold of the whole-turn rule: a range of a whole period or more
+// lets the runs through the limits (the solution turned back inside), a
+// range just under it keeps them. On both sides of the threshold the answer
+// is the same equivalent inside the limits; where the range leaves a gap
+// and the only solution is in it, the status is `limit`, naming the joint.
+TEST(InverseKinematicsTest, ARangeJustUnderAWholeTurnKeepsItsLimits) {
+  struct Case {
+    const char* what;
+    double lo, hi, start, angle;
+    IkStatus status;
+    double expected;  // the joint value returned when reached
+  };
+  const Case cases[] = {
+      {"exactly 2 pi", -M_PI, M_PI, M_PI - 0.01, M_PI + 0.02,
+       IkStatus::kConverged, -M_PI + 0.02},
+      {"2 pi less 1e-9", -M_PI + 1e-9, M_PI, M_PI - 0.01, M_PI + 0.02,
+       IkStatus::kConverged, -M_PI + 0.02},
+      {"2 pi less 1e-6", -M_PI + 1e-6, M_PI, M_PI - 0.01, M_PI + 0.02,
+       IkStatus::kConverged, -M_PI + 0.02},
+      // The gap (pi, pi + 0.05) holds the only solution: not reachable
+      // inside the limits.
+      {"2 pi less 0.05, solution in the gap", -M_PI + 0.05, M_PI, M_PI - 0.01,
+       M_PI + 0.02, IkStatus::kLimit, 0.0},
+      // Just past the gap: the equivalent a turn lower is inside.
+      {"2 pi less 0.05, solution past the gap", -M_PI + 0.05, M_PI,
+       M_PI - 0.01, M_PI + 0.06, IkStatus::kConverged, -M_PI + 0.06},
+  };
+  for (const Case& c : cases) {
+    const RobotModel arm = PlanarArm(1, c.lo, c.hi);
+    Eigen::VectorXd angle(1), start(1);
+    angle << c.angle;
+    start << c.start;
+    InverseKinematicsResult result;
+    SolveInverseKinematics(arm, arm.nominal, TargetAt(arm, arm.nominal, angle),
+                           start, InverseKinematicsOptions(), &result);
+    EXPECT_EQ(result.status, c.status)
+        << c.what << ": " << IkStatusName(result.status) << ": "
+        << result.message;
+    EXPECT_TRUE(InsideLimits(arm, result.joints)) << c.what;
+    if (c.status == IkStatus::kConverged) {
+      EXPECT_NEAR(result.joints[0], c.expected, 1e-8) << c.what;
+      EXPECT_LE(result.position_error_m, 1e-9) << c.what;
+    } else {
+      EXPECT_NE(result.message.find("L1"), std::string::npos)
+          << c.what << ": " << result.message;
+    }
+  }
+}
+
 // The joint change is weighted: a heavy joint moves less. A planar 4-link
 // arm has spare joints for a point (3 equations, 4 joints): its closest
 // solution moves joint 1 less when joint 1 weighs more, and the result is
