@@ -548,8 +548,8 @@ TEST(InverseKinematicsTest, ARangeJustUnderAWholeTurnKeepsItsLimits) {
       {"2 pi less 0.05, solution in the gap", -M_PI + 0.05, M_PI, M_PI - 0.01,
        M_PI + 0.02, IkStatus::kLimit, 0.0},
       // Just past the gap: the equivalent a turn lower is inside.
-      {"2 pi less 0.05, solution past the gap", -M_PI + 0.05, M_PI,
-       M_PI - 0.01, M_PI + 0.06, IkStatus::kConverged, -M_PI + 0.06},
+      {"2 pi less 0.05, solution past the gap", -M_PI + 0.05, M_PI, M_PI - 0.01,
+       M_PI + 0.06, IkStatus::kConverged, -M_PI + 0.06},
   };
   for (const Case& c : cases) {
     const RobotModel arm = PlanarArm(1, c.lo, c.hi);
