@@ -438,6 +438,7 @@ int Main() {
   }
   double tour_before_s = 0.0, tour_after_s = 0.0;
   int tours = 0, blocked_moves = 0;
+  nlohmann::json blocked_list = nlohmann::json::array();
   auto order_batch = [&](const BatchRequest& request,
                          std::vector<int64_t>* batch, std::string* why) {
     std::vector<int64_t> fixed, fresh;
@@ -472,6 +473,15 @@ int Main() {
     tour_before_s += tour.time_before_s;
     tour_after_s += tour.time_after_s;
     blocked_moves += static_cast<int>(tour.blocked_moves.size());
+    {
+      std::vector<int64_t> tour_run;
+      for (int k : tour.order) tour_run.push_back(fresh[k]);
+      for (nlohmann::json b : app::BlockedMovesJson(
+               tour.blocked_moves, tour.blocked_reasons, tour_run)) {
+        b["batch"] = tours;
+        blocked_list.push_back(b);
+      }
+    }
     ++tours;
     *batch = fixed;
     batch->insert(batch->end(), run.begin(), run.end());
@@ -590,20 +600,30 @@ int Main() {
   if (ordered) {
     // Summed over the batches' tours (the moves between batches not
     // counted).
+    const nlohmann::json moves = app::MovesCheckedJson(with_cell, cell);
     const std::string checked =
-        with_cell ? ", " + std::to_string(blocked_moves) + " blocked moves left"
-                  : " (moves not checked for collisions: no --cell)";
+        moves["moves_checked"].get<bool>()
+            ? ", " + std::to_string(blocked_moves) + " blocked moves left"
+            : " (moves not checked for collisions: " +
+                  moves["moves_not_checked"].get<std::string>() + ")";
     std::printf(
         "  --order=shortest: %d batch tours, estimated motion time %.4g s "
         "-> %.4g s%s\n",
         tours, tour_before_s, tour_after_s, checked.c_str());
+    const std::string note =
+        app::AssumedVelocityNote(model, tour_options.velocity_limits);
+    if (!note.empty()) {
+      std::printf("  --order=shortest: note: %s\n", note.c_str());
+    }
     j["order"] = "shortest";
     j["tour"] = {{"batches", tours},
                  {"motion_time_before_s", tour_before_s},
                  {"motion_time_after_s", tour_after_s},
-                 {"moves_checked", with_cell},
                  {"resolution_deg", FLAGS_order_resolution_deg},
-                 {"blocked_moves", blocked_moves}};
+                 {"blocked_moves", blocked_moves},
+                 {"blocked", blocked_list}};
+    j["tour"].update(moves);
+    if (!note.empty()) j["tour"]["velocity_note"] = note;
   }
   if (with_cell) {
     // The preprocess, and the targets each measured pose sees.
@@ -693,5 +713,5 @@ int main(int argc, char** argv) {
       "  activecal_active --target_rms_m=5e-5 --compare --json_out=loop.json\n"
       "  activecal_active --driver=\"activecal_sim_cell --seed=7\" "
       "--session=run1   (then --resume after a crash)");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

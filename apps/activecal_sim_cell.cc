@@ -448,6 +448,7 @@ int Main() {
         " (nominal values and the cell's true values)";
     app::WriteTextOrDie(FLAGS_truth_out,
                         RobotFileText(model, model.nominal, options));
+    app::CommitOutputsOrDie();  // read while the cell serves
   }
   Cell cell(model, truth, cell_setup.checker.get());
   int status = 0;
@@ -495,5 +496,5 @@ int main(int argc, char** argv) {
       "a crash on demand (--die_after).\n"
       "  activecal_active --driver=\"activecal_sim_cell --seed=3 "
       "--not_visible_fraction=0.1\" --session=run1");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }
