@@ -103,6 +103,11 @@ DEFINE_string(controller, "",
 namespace activecal {
 namespace {
 
+// Every marker of `model` as a marker mask (at most 32).
+uint32_t AllMarkers(const RobotModel& model) {
+  return model.num_markers() >= 32 ? ~0u : (1u << model.num_markers()) - 1;
+}
+
 nlohmann::json Finite(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
 }
@@ -315,13 +320,30 @@ int Main() {
   if (urdf || !FLAGS_parameter_set.empty()) {
     // Reduced to what the poses the loop may design separate, each
     // measuring the targets it sees when they are the markers.
+    // Several markers otherwise: each pose measures every one (the driver
+    // is asked for all), so the reduction counts every marker's rows
+    // (marker 0's alone held the others' offsets fixed).
     const bool masked =
         with_cell && CellTargetsAreMarkers(*cell.checker, model);
-    model = WithFreeSet(
-        model, app::ReducedParameterSetOrDie(
-                   model, urdf,
-                   with_cell ? feasibility.FeasibleJoints(joints) : joints,
-                   masked ? &feasibility.targets_seen : nullptr));
+    const Eigen::MatrixXd reduction_joints =
+        with_cell ? feasibility.FeasibleJoints(joints) : joints;
+    std::vector<uint32_t> every_marker;
+    if (!masked && model.num_markers() > 1) {
+      every_marker.assign(reduction_joints.rows(), AllMarkers(model));
+    }
+    // The loop starts at the reduction's point: a marker at the tip
+    // frame's origin (no --frames) moved ~1 mm off the last axis, where the
+    // kept parameters are separated. At the exact nominal the UR10e's
+    // first batch was singular for them ("round 0: no restart produced a
+    // non-singular design").
+    Eigen::VectorXd point;
+    model = WithFreeSet(model, app::ReducedParameterSetOrDie(
+                                   model, urdf, reduction_joints,
+                                   masked ? &feasibility.targets_seen
+                                   : every_marker.empty() ? nullptr
+                                                          : &every_marker,
+                                   &point));
+    model.nominal = point;
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
       model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
@@ -346,6 +368,11 @@ int Main() {
         options.marker_masks.push_back(v.targets_seen);
       }
     }
+  }
+  // Several markers, each measured at every pose: every marker's rows in
+  // the design (without masks a pose's block is marker 0's).
+  if (options.marker_masks.empty() && model.num_markers() > 1) {
+    options.marker_masks.assign(joints.rows(), AllMarkers(model));
   }
   std::string error;
   if (!options.IsValid(&error)) {

@@ -409,11 +409,11 @@ int Main() {
   if (urdf || !FLAGS_parameter_set.empty()) {
     const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
     const Eigen::MatrixXd joints = lattice.AllJointValues();
-    // The cell's targets as the markers: the simulated robot's truth is
-    // every marker's, each measured at every pose of the lattice.
+    // Several markers (the cell's targets, or a frames file's): the
+    // simulated robot's truth is every marker's, each measured at every
+    // pose of the lattice (marker 0's alone held the others' offsets).
     std::vector<uint32_t> every_marker;
-    if (cell_setup.checker &&
-        CellTargetsAreMarkers(*cell_setup.checker, model)) {
+    if (model.num_markers() > 1) {
       every_marker.assign(joints.rows(), model.num_markers() >= 32
                                              ? ~0u
                                              : (1u << model.num_markers()) - 1);

@@ -266,11 +266,15 @@ void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
 // (ReduceForPool, calibration/pool_reduction.h: at most 2,000 of them,
 // evenly spaced). seen_masks: null, marker 0 at every pose; otherwise
 // the markers seen at each row (a cell's targets_seen). Prints the
-// parameters held fixed; dies when nothing is left to identify.
-// (app_parameter_set.cc)
+// parameters held fixed; dies when nothing is left to identify. point:
+// when not null, the analysis point (PoolReduction::point: the nominal, a
+// marker at the tip frame's origin moved to a generic point ~1 mm away),
+// where the kept set is separated: linearise there (a design at the exact
+// nominal can be singular for it). (app_parameter_set.cc)
 FreeSet ReducedParameterSetOrDie(
     const RobotModel& model, bool urdf_robot, const Eigen::MatrixXd& joints,
-    const std::vector<uint32_t>* seen_masks = nullptr);
+    const std::vector<uint32_t>* seen_masks = nullptr,
+    Eigen::VectorXd* point = nullptr);
 
 }  // namespace app
 }  // namespace activecal
