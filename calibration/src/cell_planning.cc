@@ -28,9 +28,14 @@ std::string FeasibleNote(const CellChecker& checker,
       reason == RejectionReason::kObstacle) {
     return note + "; " + counts.CollisionDiagnosis(checker);
   }
-  return note + "; most often (" + std::to_string(counts.rejected[best]) +
-         " of " + std::to_string(counts.num_checked) +
-         " poses): " + RejectionReasonLabel(reason);
+  note += "; most often (" + std::to_string(counts.rejected[best]) + " of " +
+          std::to_string(counts.num_checked) +
+          " poses): " + RejectionReasonLabel(reason);
+  // A pair that rejected every pose reaching its check is the blocker
+  // still (the earlier checks only came first).
+  const std::string diagnosis = counts.CollisionDiagnosis(checker);
+  if (diagnosis.rfind("every pose", 0) == 0) note += "; " + diagnosis;
+  return note;
 }
 
 PoolFilter CellPoolFilter(const CellChecker& checker,
