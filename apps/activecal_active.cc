@@ -103,6 +103,11 @@ DEFINE_string(controller, "",
 namespace activecal {
 namespace {
 
+// Every marker of `model` as a marker mask (at most 32).
+uint32_t AllMarkers(const RobotModel& model) {
+  return model.num_markers() >= 32 ? ~0u : (1u << model.num_markers()) - 1;
+}
+
 nlohmann::json Finite(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
 }
@@ -315,13 +320,30 @@ int Main() {
   if (urdf || !FLAGS_parameter_set.empty()) {
     // Reduced to what the poses the loop may design separate, each
     // measuring the targets it sees when they are the markers.
+    // Several markers otherwise: each pose measures every one (the driver
+    // is asked for all), so the reduction counts every marker's rows
+    // (marker 0's alone held the others' offsets fixed).
     const bool masked =
         with_cell && CellTargetsAreMarkers(*cell.checker, model);
-    model = WithFreeSet(
-        model, app::ReducedParameterSetOrDie(
-                   model, urdf,
-                   with_cell ? feasibility.FeasibleJoints(joints) : joints,
-                   masked ? &feasibility.targets_seen : nullptr));
+    const Eigen::MatrixXd reduction_joints =
+        with_cell ? feasibility.FeasibleJoints(joints) : joints;
+    std::vector<uint32_t> every_marker;
+    if (!masked && model.num_markers() > 1) {
+      every_marker.assign(reduction_joints.rows(), AllMarkers(model));
+    }
+    // The loop starts at the reduction's point: a marker at the tip
+    // frame's origin (no --frames) moved ~1 mm off the last axis, where the
+    // kept parameters are separated. At the exact nominal the UR10e's
+    // first batch was singular for them ("round 0: no restart produced a
+    // non-singular design").
+    Eigen::VectorXd point;
+    model = WithFreeSet(model, app::ReducedParameterSetOrDie(
+                                   model, urdf, reduction_joints,
+                                   masked ? &feasibility.targets_seen
+                                   : every_marker.empty() ? nullptr
+                                                          : &every_marker,
+                                   &point));
+    model.nominal = point;
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
       model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
@@ -346,6 +368,11 @@ int Main() {
         options.marker_masks.push_back(v.targets_seen);
       }
     }
+  }
+  // Several markers, each measured at every pose: every marker's rows in
+  // the design (without masks a pose's block is marker 0's).
+  if (options.marker_masks.empty() && model.num_markers() > 1) {
+    options.marker_masks.assign(joints.rows(), AllMarkers(model));
   }
   std::string error;
   if (!options.IsValid(&error)) {
@@ -438,6 +465,7 @@ int Main() {
   }
   double tour_before_s = 0.0, tour_after_s = 0.0;
   int tours = 0, blocked_moves = 0;
+  nlohmann::json blocked_list = nlohmann::json::array();
   auto order_batch = [&](const BatchRequest& request,
                          std::vector<int64_t>* batch, std::string* why) {
     std::vector<int64_t> fixed, fresh;
@@ -472,6 +500,15 @@ int Main() {
     tour_before_s += tour.time_before_s;
     tour_after_s += tour.time_after_s;
     blocked_moves += static_cast<int>(tour.blocked_moves.size());
+    {
+      std::vector<int64_t> tour_run;
+      for (int k : tour.order) tour_run.push_back(fresh[k]);
+      for (nlohmann::json b : app::BlockedMovesJson(
+               tour.blocked_moves, tour.blocked_reasons, tour_run)) {
+        b["batch"] = tours;
+        blocked_list.push_back(b);
+      }
+    }
     ++tours;
     *batch = fixed;
     batch->insert(batch->end(), run.begin(), run.end());
@@ -590,20 +627,30 @@ int Main() {
   if (ordered) {
     // Summed over the batches' tours (the moves between batches not
     // counted).
+    const nlohmann::json moves = app::MovesCheckedJson(with_cell, cell);
     const std::string checked =
-        with_cell ? ", " + std::to_string(blocked_moves) + " blocked moves left"
-                  : " (moves not checked for collisions: no --cell)";
+        moves["moves_checked"].get<bool>()
+            ? ", " + std::to_string(blocked_moves) + " blocked moves left"
+            : " (moves not checked for collisions: " +
+                  moves["moves_not_checked"].get<std::string>() + ")";
     std::printf(
         "  --order=shortest: %d batch tours, estimated motion time %.4g s "
         "-> %.4g s%s\n",
         tours, tour_before_s, tour_after_s, checked.c_str());
+    const std::string note =
+        app::AssumedVelocityNote(model, tour_options.velocity_limits);
+    if (!note.empty()) {
+      std::printf("  --order=shortest: note: %s\n", note.c_str());
+    }
     j["order"] = "shortest";
     j["tour"] = {{"batches", tours},
                  {"motion_time_before_s", tour_before_s},
                  {"motion_time_after_s", tour_after_s},
-                 {"moves_checked", with_cell},
                  {"resolution_deg", FLAGS_order_resolution_deg},
-                 {"blocked_moves", blocked_moves}};
+                 {"blocked_moves", blocked_moves},
+                 {"blocked", blocked_list}};
+    j["tour"].update(moves);
+    if (!note.empty()) j["tour"]["velocity_note"] = note;
   }
   if (with_cell) {
     // The preprocess, and the targets each measured pose sees.
@@ -693,5 +740,5 @@ int main(int argc, char** argv) {
       "  activecal_active --target_rms_m=5e-5 --compare --json_out=loop.json\n"
       "  activecal_active --driver=\"activecal_sim_cell --seed=7\" "
       "--session=run1   (then --resume after a crash)");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

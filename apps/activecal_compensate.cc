@@ -306,18 +306,46 @@ int Main() {
   }
   if (!summary.AllConverged()) {
     // Not bad input: the files are complete, each target with its status.
+    // A target refused by the cell converged: it collides (or leaves a
+    // joint margin), it is not a failure of the inverse kinematics.
     size_t first = 0;
     while (summary.results[first].status == IkStatus::kConverged) ++first;
     const InverseKinematicsResult& r = summary.results[first];
-    std::fprintf(
-        stderr,
-        "activecal_compensate: %d of %zu targets did not converge, "
-        "written with their status to %s; the first, pose_index "
-        "%lld, is %s: %s\n",
-        static_cast<int>(summary.results.size()) - summary.num_converged,
-        summary.results.size(), FLAGS_out.c_str(),
-        static_cast<long long>(labels[first]), IkStatusName(r.status),
-        r.message.c_str());
+    const int failed =
+        static_cast<int>(summary.results.size()) - summary.num_converged;
+    const int not_converged = failed - summary.num_collision;
+    std::string what;
+    if (summary.num_collision == 0) {
+      what = std::to_string(failed) + " of " +
+             std::to_string(summary.results.size()) +
+             " targets did not converge";
+    } else {
+      what = std::to_string(summary.num_collision) + " of " +
+             std::to_string(summary.results.size()) +
+             " targets converged but are refused by the cell";
+      if (not_converged > 0) {
+        what += " and " + std::to_string(not_converged) + " did not converge";
+      }
+    }
+    std::string first_text;
+    if (r.status == IkStatus::kCollision) {
+      const std::string self = "self-collision";
+      if (r.message.rfind("obstacle ", 0) == 0) {
+        first_text = "collides with " + r.message;
+      } else if (r.message.rfind(self, 0) == 0) {
+        first_text = "collides with itself" + r.message.substr(self.size());
+      } else {
+        first_text = "is refused by the cell: " + r.message;
+      }
+    } else {
+      first_text =
+          std::string("is ") + IkStatusName(r.status) + ": " + r.message;
+    }
+    std::fprintf(stderr,
+                 "activecal_compensate: %s, written with their status to %s; "
+                 "the first, pose_index %lld, %s\n",
+                 what.c_str(), FLAGS_out.c_str(),
+                 static_cast<long long>(labels[first]), first_text.c_str());
     return 2;
   }
   return 0;
@@ -340,5 +368,5 @@ int main(int argc, char** argv) {
       "activecal_compensate --robot=cal.urdf --tip_link=tool0 "
       "--frames=frames.yaml --targets_csv=path.csv --match=pose "
       "--out=path_joints.csv");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

@@ -559,5 +559,5 @@ int main(int argc, char** argv) {
       "--measurements=validation.csv --json_out=evaluation.json\n  "
       "activecal_evaluate --robot=cal.urdf --tip_link=tool0 "
       "--frames=frames.yaml --measurements=session2.csv");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

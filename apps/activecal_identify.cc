@@ -627,5 +627,5 @@ int main(int argc, char** argv) {
       "report.\n  activecal_identify --robot=data/puma560.yaml "
       "--measurements=measurements.csv --validation_fraction=0.2 "
       "--model_out=calibrated.yaml --json_out=report.json");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

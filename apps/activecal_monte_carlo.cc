@@ -148,5 +148,5 @@ int main(int argc, char** argv) {
       "design and compares the empirical covariance of the estimates with "
       "the predicted sigma^2 (J^T J)^-1.\n  activecal_monte_carlo "
       "--trials=1000 --noise_m=0.01 --json_out=monte_carlo.json");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

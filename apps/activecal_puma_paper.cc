@@ -431,5 +431,5 @@ int main(int argc, char** argv) {
       "Algorithm', end to end on the PUMA 560 and prints the results beside "
       "the paper's figures. Writes CSV/JSON for Figs. 2-6 to --out_dir.\n"
       "  activecal_puma_paper --seed=1");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

@@ -137,6 +137,12 @@ DEFINE_string(cell, "",
 DEFINE_string(rejected_csv, "",
               "With --cell: write each rejected pose here (poses CSV with "
               "reason, obstacle and detail columns).");
+DEFINE_bool(cell_efficiency, true,
+            "With --cell and the D criterion: also design from an "
+            "unconstrained pool of the feasible pool's size (the same "
+            "--pool draw, or Sobol, over the full joint limits, no checks) "
+            "and report the D-efficiency lost to the cell, (det ratio)^(1/p) "
+            "(JSON cell_d_efficiency).");
 DEFINE_string(order, "none",
               "none: the poses in the design's order; shortest: a short "
               "tour in joint space (time at the URDF's velocity limits, "
@@ -554,6 +560,74 @@ int Main() {
                     : select.message);
     }
   }
+  // The D-efficiency lost to the cell: the design's det against that of the
+  // same design problem on an unconstrained pool of the same size.
+  nlohmann::json cell_efficiency_json;
+  std::string cell_efficiency_line;  // printed after the design's report
+  if (with_cell && FLAGS_cell_efficiency && !task && !with_target &&
+      !with_prior) {
+    const JointSampling free_sampling =
+        sampled ? sampling : JointSampling::kSobol;
+    Eigen::MatrixXd free_joints;
+    std::string error;
+    if (!SampleJointValues(model, free_sampling, pool_joints.rows(), FLAGS_seed,
+                           &free_joints, &error)) {
+      app::Fail("--cell_efficiency: the unconstrained pool: " + error);
+    }
+    SelectionPoolOptions free_options = pool_options;
+    free_options.filter = nullptr;
+    free_options.kept_marker_masks = nullptr;
+    free_options.progress = nullptr;
+    RobotModel free_model = model;
+    CandidatePool free_pool;
+    SelectionPoolSummary free_summary;
+    SelectDesignOptions free_design = options;
+    free_design.num_poses = static_cast<int>(select.selection.design.size());
+    free_design.certificate = false;
+    free_design.approximate_progress = nullptr;
+    free_design.restarts_progress = nullptr;
+    SelectDesignSummary free_select;
+    const RowMatrixXd no_prior(0, pool.num_parameters());
+    if (!BuildSelectionPool(&free_model, free_joints, free_options, &free_pool,
+                            &free_summary)) {
+      cell_efficiency_line =
+          "  D-efficiency lost to the cell: not computed: the unconstrained "
+          "pool: " +
+          free_summary.message + "\n";
+    } else if (free_pool.num_parameters() != pool.num_parameters()) {
+      cell_efficiency_line =
+          "  D-efficiency lost to the cell: not computed: the unconstrained "
+          "pool identifies " +
+          std::to_string(free_pool.num_parameters()) +
+          " parameters, the feasible pool " +
+          std::to_string(pool.num_parameters()) + "\n";
+    } else if (!SelectDesign(free_pool, TaskMatrix(free_pool), no_prior,
+                             free_design, &free_select)) {
+      app::Fail("--cell_efficiency: the unconstrained design: " +
+                free_select.message);
+    } else {
+      const int p = static_cast<int>(pool.num_parameters());
+      const double log10_cell = select.selection.log10_det();
+      const double log10_free = free_select.selection.log10_det();
+      const double efficiency = std::pow(10.0, (log10_cell - log10_free) / p);
+      cell_efficiency_json = {
+          {"d_efficiency", efficiency},
+          {"log10_det_cell", log10_cell},
+          {"log10_det_unconstrained", log10_free},
+          {"num_parameters", p},
+          {"unconstrained_pool", sampled ? FLAGS_pool : "sobol"},
+          {"unconstrained_pool_size", free_joints.rows()}};
+      char line[256];
+      std::snprintf(
+          line, sizeof(line),
+          "  D-efficiency lost to the cell: %.4f = 10^((%.4f - %.4f) / %d) "
+          "against an unconstrained %s pool of %lld poses\n",
+          efficiency, log10_cell, log10_free, p,
+          (sampled ? FLAGS_pool.c_str() : "sobol"),
+          static_cast<long long>(free_joints.rows()));
+      cell_efficiency_line = line;
+    }
+  }
   // The order to run the design in.
   TourSummary tour;
   const bool ordered = FLAGS_order == "shortest";
@@ -620,17 +694,16 @@ int Main() {
   }
   std::printf("  Jacobians of %lld poses: %.3f s\n",
               static_cast<long long>(pool.size()), jacobian_seconds);
+  std::printf("%s", cell_efficiency_line.c_str());
   if (ordered) {
     std::printf("  %s", tour.BriefReport().c_str());
-    bool assumed = false;
-    for (double v : velocity_limits) assumed = assumed || !(v > 0);
-    if (assumed) {
-      std::printf(
-          "  (joints without a velocity limit in the robot's file are "
-          "taken at 1 rad/s or 1 m/s)\n");
-    }
-    if (!with_cell) {
-      std::printf("  (moves not checked for collisions: no --cell)\n");
+    const std::string note = app::AssumedVelocityNote(model, velocity_limits);
+    if (!note.empty())
+      std::printf("  --order=shortest: note: %s\n", note.c_str());
+    const nlohmann::json checked = app::MovesCheckedJson(with_cell, cell);
+    if (!checked["moves_checked"].get<bool>()) {
+      std::printf("  (moves not checked for collisions: %s)\n",
+                  checked["moves_not_checked"].get<std::string>().c_str());
     }
     for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
       std::printf(
@@ -697,6 +770,9 @@ int Main() {
       // The preprocess: what the cell kept and why the rest went.
       j["cell"] = FLAGS_cell;
       j["drawn_pool_size"] = drawn_pool_size;
+      if (!cell_efficiency_json.is_null()) {
+        j["cell_d_efficiency"] = cell_efficiency_json;
+      }
       j.update(CellPoolJson(cell.cell, feasibility));
       if (!cell.cell.targets.empty()) {
         nlohmann::json seen = nlohmann::json::array();
@@ -717,20 +793,23 @@ int Main() {
           {"seconds", measurable_summary.seconds}};
     }
     if (ordered) {
-      nlohmann::json blocked = nlohmann::json::array();
-      for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
-        blocked.push_back({{"from", tour.blocked_moves[b]},
-                           {"to", tour.blocked_moves[b] + 1},
-                           {"reason", tour.blocked_reasons[b]}});
+      std::vector<int64_t> run;
+      for (int64_t i : summary.design) {
+        run.push_back(labels.empty() ? i : labels[i]);
       }
       j["order"] = "shortest";
-      j["tour"] = {{"motion_time_before_s", tour.time_before_s},
-                   {"motion_time_after_s", tour.time_after_s},
-                   {"velocities", tour.velocities},
-                   {"moves_checked", with_cell},
-                   {"resolution_deg", FLAGS_order_resolution_deg},
-                   {"blocked_moves", blocked},
-                   {"blocked_moves_before", tour.blocked_before}};
+      j["tour"] = {
+          {"motion_time_before_s", tour.time_before_s},
+          {"motion_time_after_s", tour.time_after_s},
+          {"velocities", tour.velocities},
+          {"resolution_deg", FLAGS_order_resolution_deg},
+          {"blocked_moves", tour.blocked_moves.size()},
+          {"blocked", app::BlockedMovesJson(tour.blocked_moves,
+                                            tour.blocked_reasons, run)},
+          {"blocked_moves_before", tour.blocked_before}};
+      j["tour"].update(app::MovesCheckedJson(with_cell, cell));
+      const std::string note = app::AssumedVelocityNote(model, velocity_limits);
+      if (!note.empty()) j["tour"]["velocity_note"] = note;
     }
     j["criterion"] = task ? "task_rms" : "d";
     j["num_poses"] = summary.design.size();
@@ -835,5 +914,5 @@ int main(int argc, char** argv) {
       "poses already measured. The robot is --robot (default: the Sun & "
       "Hollerbach PUMA 560).\n  activecal_select --algorithm=fedorov "
       "--seed=1 --json_out=design.json --poses_csv=poses.csv");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

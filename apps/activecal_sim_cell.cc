@@ -409,11 +409,11 @@ int Main() {
   if (urdf || !FLAGS_parameter_set.empty()) {
     const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
     const Eigen::MatrixXd joints = lattice.AllJointValues();
-    // The cell's targets as the markers: the simulated robot's truth is
-    // every marker's, each measured at every pose of the lattice.
+    // Several markers (the cell's targets, or a frames file's): the
+    // simulated robot's truth is every marker's, each measured at every
+    // pose of the lattice (marker 0's alone held the others' offsets).
     std::vector<uint32_t> every_marker;
-    if (cell_setup.checker &&
-        CellTargetsAreMarkers(*cell_setup.checker, model)) {
+    if (model.num_markers() > 1) {
       every_marker.assign(joints.rows(), model.num_markers() >= 32
                                              ? ~0u
                                              : (1u << model.num_markers()) - 1);
@@ -448,6 +448,7 @@ int Main() {
         " (nominal values and the cell's true values)";
     app::WriteTextOrDie(FLAGS_truth_out,
                         RobotFileText(model, model.nominal, options));
+    app::CommitOutputsOrDie();  // read while the cell serves
   }
   Cell cell(model, truth, cell_setup.checker.get());
   int status = 0;
@@ -495,5 +496,5 @@ int main(int argc, char** argv) {
       "a crash on demand (--die_after).\n"
       "  activecal_active --driver=\"activecal_sim_cell --seed=3 "
       "--not_visible_fraction=0.1\" --session=run1");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

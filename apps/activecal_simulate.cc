@@ -254,5 +254,5 @@ int main(int argc, char** argv) {
       "  activecal_simulate --robot=data/ur10e.urdf --tip_link=tool0 "
       "--poses_csv=poses.csv --perturb_m=0.001 --perturb_rad=0.001 "
       "--seed=1 --true_model_out=true.yaml --out=measurements.csv");
-  return activecal::Main();
+  return activecal::app::Finish(activecal::Main());
 }

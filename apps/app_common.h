@@ -64,6 +64,27 @@ RobotDescription LoadRobotOrDie();
 CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
                          RobotDescription* robot);
 
+// What a tour's moves were checked for collisions against, for the JSON's
+// `tour`: {"moves_checked": true} with a cell and robot collision geometry,
+// else {"moves_checked": false, "moves_not_checked": "no --cell" | "no
+// collision geometry"} (the robot file, e.g. activecal_simulate
+// --true_model_out's YAML, has none: nothing in the cell can be hit).
+nlohmann::json MovesCheckedJson(bool with_cell, const CellSetup& cell);
+
+// For a motion-time estimate at `velocity_limits` (RobotVelocityLimits; <= 0:
+// the file gives none): "" when every joint has a limit, else the note
+// "joints 1, 2 have no velocity limit in the robot's file: taken at 1 rad/s
+// (1 m/s prismatic) for the motion-time estimate".
+std::string AssumedVelocityNote(const RobotModel& model,
+                                const std::vector<double>& velocity_limits);
+
+// The blocked moves of a tour as the JSON's list: {"from", "to" (places in
+// `run`, the tour's order), "from_pose_index", "to_pose_index" (run's
+// entries), "reason"}.
+nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
+                                const std::vector<std::string>& reasons,
+                                const std::vector<int64_t>& run);
+
 // The parameter set of --parameter_set (default: full for a URDF robot,
 // file otherwise). Dies on an unknown name. (app_parameter_set.cc)
 ParameterSet ParameterSetOrDie(bool urdf_robot);
@@ -139,14 +160,23 @@ void PrintResult(const std::string& line);
 // scripts whether or not progress is printed).
 void PrintProgress(const std::string& line);
 
-// The writers below go through io/output_files.h (a temporary file beside
-// the path, renamed over it: a failure never leaves a half-written file).
+// The program's outputs are one set (io/output_files.h): WriteTextOrDie and
+// WriteJsonOrDie write the file to a temporary beside its path and keep it
+// pending; Finish (the end of main) or CommitOutputsOrDie renames every
+// pending file over its path, and Fail removes them, so that a run that
+// fails writes nothing, and one that succeeds writes everything.
 void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 // Dies with "--<flag>: cannot write '<path>' ..." unless a file can be
-// created beside `path` (empty: nothing to check): checked before the work,
-// so that one output is not written while another fails after it.
+// created beside `path` (empty: nothing to check; a directory is refused):
+// checked before the work. Removes stale temporaries of `path` left by a
+// killed run.
 void CheckWritableOrDie(const std::string& path, const std::string& flag);
 void WriteTextOrDie(const std::string& path, const std::string& text);
+// Renames every pending output over its path now (e.g. a file another
+// process must read while this one still runs).
+void CommitOutputsOrDie();
+// The end of main: commits the pending outputs and returns `status`.
+int Finish(int status);
 
 // The lattice over the model with `levels` values per joint, its one-turn
 // joints noted on stdout. Dies with a message on bad input or when a pool
@@ -236,11 +266,15 @@ void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
 // (ReduceForPool, calibration/pool_reduction.h: at most 2,000 of them,
 // evenly spaced). seen_masks: null, marker 0 at every pose; otherwise
 // the markers seen at each row (a cell's targets_seen). Prints the
-// parameters held fixed; dies when nothing is left to identify.
-// (app_parameter_set.cc)
+// parameters held fixed; dies when nothing is left to identify. point:
+// when not null, the analysis point (PoolReduction::point: the nominal, a
+// marker at the tip frame's origin moved to a generic point ~1 mm away),
+// where the kept set is separated: linearise there (a design at the exact
+// nominal can be singular for it). (app_parameter_set.cc)
 FreeSet ReducedParameterSetOrDie(
     const RobotModel& model, bool urdf_robot, const Eigen::MatrixXd& joints,
-    const std::vector<uint32_t>* seen_masks = nullptr);
+    const std::vector<uint32_t>* seen_masks = nullptr,
+    Eigen::VectorXd* point = nullptr);
 
 }  // namespace app
 }  // namespace activecal

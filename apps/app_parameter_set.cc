@@ -39,7 +39,8 @@ ParameterSet ParameterSetOrDie(bool urdf_robot) {
 
 FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
                                  const Eigen::MatrixXd& joints,
-                                 const std::vector<uint32_t>* seen_masks) {
+                                 const std::vector<uint32_t>* seen_masks,
+                                 Eigen::VectorXd* point) {
   const ParameterSet set = ParameterSetOrDie(urdf_robot);
   PoolReductionOptions options;
   options.evenly_spaced = true;
@@ -52,6 +53,7 @@ FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
     std::printf("  --parameter_set=%s: %s held fixed: %s\n",
                 ParameterSetToString(set), d.name.c_str(), d.reason.c_str());
   }
+  if (point != nullptr) *point = reduction.point;
   return reduction.free;
 }
 

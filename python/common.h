@@ -42,6 +42,7 @@
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/cell_setup.h"
+#include "activecal/cell/tour.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/lattice.h"
@@ -246,17 +247,23 @@ struct Robot {
   RobotDescription description;
   std::string path;  // "" for the built-in PUMA 560
   bool urdf = false;
-  UrdfChainOptions chain;  // URDF: the chain's ends given to load_robot
+  UrdfChainOptions chain;    // URDF: the chain's ends given to load_robot
+  bool with_frames = false;  // load_robot's frames= gave the markers
   const RobotModel& model() const { return description.model; }
 };
 using RobotPtr = std::shared_ptr<Robot>;
 
 // design.cc: the cell of the kwarg cell= (a path; None or absent: null),
-// set up by the library (SetUpCell) on the robot as loaded, its markers
-// kept; the notes of the setup appended to *notes. A ValueError
-// "cell: <file>:<line>:<col>: <field>: ..." for a bad cell file.
+// set up by the library (SetUpCell) on the robot as loaded; with
+// targets_as_markers the cell's targets become the markers of *described
+// (a copy of the robot's description; may be null when not wanted), as the
+// programs do without --frames. The notes of the setup appended to *notes.
+// A ValueError "cell: <file>:<line>:<col>: <field>: ..." for a bad cell
+// file.
 std::unique_ptr<CellSetup> CellArg(const Robot& robot, const py::kwargs& kwargs,
-                                   std::vector<std::string>* notes);
+                                   std::vector<std::string>* notes,
+                                   bool targets_as_markers = false,
+                                   RobotDescription* described = nullptr);
 
 inline Eigen::VectorXd ParametersArg(const Robot& robot,
                                      const py::object& obj) {
@@ -355,6 +362,10 @@ struct DesignResult {
   TargetSizeSummary target;
   int num_measured = 0;
   bool single_precision = false;  // the pool's storage
+  // With cell=: feasible_poses, rejected, targets_seen (as
+  // activecal_select --cell's JSON); with order="shortest": tour. Null
+  // members are None.
+  nlohmann::json cell_info = nlohmann::json::object();
 };
 
 struct EstimateResult {

@@ -11,19 +11,22 @@ namespace activecal {
 namespace python {
 
 std::unique_ptr<CellSetup> CellArg(const Robot& robot, const py::kwargs& kwargs,
-                                   std::vector<std::string>* notes) {
+                                   std::vector<std::string>* notes,
+                                   bool targets_as_markers,
+                                   RobotDescription* described) {
   if (!kwargs.contains("cell") || kwargs["cell"].is_none()) return nullptr;
   CellSetupOptions options;
   options.cell_path = PathArg(kwargs["cell"]);
   options.robot_path = robot.path;
   options.chain = robot.chain;
-  options.targets_as_markers = false;
+  options.targets_as_markers = targets_as_markers;
   auto setup = std::make_unique<CellSetup>();
   RobotDescription description = robot.description;
   std::string error;
   if (!SetUpCell(options, &description, setup.get(), &error)) {
     Fail("cell: " + error);
   }
+  if (described != nullptr) *described = std::move(description);
   for (const std::string& note : setup->notes) {
     notes->push_back("cell: note: " + note);
   }
@@ -44,14 +47,25 @@ std::shared_ptr<DesignResult> SelectPy(
     double noise_m, const py::object& task_poses, const py::object& measured,
     const py::object& target_rms_m, int num_threads, const py::object& progress,
     const py::kwargs& kwargs) {
-  NoUnknownOptions("select", kwargs, {"cell"});
+  NoUnknownOptions("select", kwargs, {"cell", "order"});
   Progress bridge(progress);
   auto result = std::make_shared<DesignResult>();
-  RobotModel model = robot.model();
-  // The cell (kwarg cell=path): its checks on this robot, its markers as
-  // loaded (load_robot's frames=); the cell's targets decide what is seen.
+  // The cell (kwarg cell=path): its checks on this robot; its targets are
+  // the markers unless load_robot's frames= gave them, as activecal_select
+  // --cell without --frames.
+  RobotDescription described;
   const std::unique_ptr<CellSetup> cell =
-      CellArg(robot, kwargs, &result->notes);
+      CellArg(robot, kwargs, &result->notes, !robot.with_frames, &described);
+  RobotModel model = cell ? described.model : robot.model();
+  // order= (kwarg): "none" (default) or "shortest" (a short tour, as
+  // activecal_select --order=shortest; with a cell every move checked).
+  std::string order = "none";
+  if (kwargs.contains("order") && !kwargs["order"].is_none()) {
+    order = py::str(kwargs["order"]);
+  }
+  if (order != "none" && order != "shortest") {
+    Fail("order must be 'none' or 'shortest', got '" + order + "'");
+  }
   const MeasurementType type =
       MeasurementTypeArg(measurement, false, "measurement");
 
@@ -308,7 +322,55 @@ std::shared_ptr<DesignResult> SelectPy(
     result->joint_angles.row(k) = pool_joints.row(i);
     result->pose_indices.push_back(labels.empty() ? i : labels[i]);
   }
+  if (order == "shortest") {
+    // The design as a short tour, as activecal_select --order=shortest
+    // (1 deg steps).
+    TourOptions o;
+    o.velocity_limits = RobotVelocityLimits(robot.path, robot.chain, model);
+    o.resolution_rad = M_PI / 180.0;
+    o.resolution_m = 1e-3;
+    o.check_moves = cell != nullptr;
+    TourSummary tour;
+    if (!OrderTour(cell ? cell->checker.get() : nullptr, result->joint_angles,
+                   o, &tour)) {
+      Fail("order='shortest': " + tour.message);
+    }
+    const std::vector<int64_t> design = summary.design;
+    const Eigen::MatrixXd joints = result->joint_angles;
+    const std::vector<int64_t> labels_before = result->pose_indices;
+    for (size_t k = 0; k < design.size(); ++k) {
+      summary.design[k] = design[tour.order[k]];
+      result->joint_angles.row(k) = joints.row(tour.order[k]);
+      result->pose_indices[k] = labels_before[tour.order[k]];
+    }
+    nlohmann::json blocked = nlohmann::json::array();
+    for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
+      const int k = tour.blocked_moves[b];
+      blocked.push_back({{"from", k},
+                         {"to", k + 1},
+                         {"from_pose_index", result->pose_indices[k]},
+                         {"to_pose_index", result->pose_indices[k + 1]},
+                         {"reason", tour.blocked_reasons[b]}});
+    }
+    result->cell_info["tour"] = {{"motion_time_before_s", tour.time_before_s},
+                                 {"motion_time_after_s", tour.time_after_s},
+                                 {"velocities", tour.velocities},
+                                 {"resolution_deg", 1.0},
+                                 {"blocked_moves", tour.blocked_moves.size()},
+                                 {"blocked", blocked},
+                                 {"blocked_moves_before", tour.blocked_before}};
+  }
   if (cell) {
+    // As activecal_select --cell's JSON.
+    result->cell_info.update(CellPoolJson(cell->cell, feasibility));
+    if (!cell->cell.targets.empty()) {
+      nlohmann::json seen = nlohmann::json::array();
+      for (int64_t i : summary.design) {
+        seen.push_back(
+            TargetsSeenJson(cell->cell, feasibility.targets_seen[i]));
+      }
+      result->cell_info["targets_seen"] = seen;
+    }
     // pool_rows: rows of the pool given, not of the feasible one.
     for (int64_t& i : summary.design) i = feasibility.feasible[i];
   }

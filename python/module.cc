@@ -11,6 +11,17 @@
 using namespace activecal;
 using namespace activecal::python;
 
+namespace {
+
+// DesignResult::cell_info[key] as Python (through json.loads: exact for
+// the JSON's numbers and nesting); None when absent.
+py::object CellInfo(const DesignResult& d, const char* key) {
+  if (!d.cell_info.contains(key)) return py::none();
+  return py::module_::import("json").attr("loads")(d.cell_info[key].dump());
+}
+
+}  // namespace
+
 PYBIND11_MODULE(_activecal, m) {
   m.doc() =
       "activecal: robot kinematic calibration (C++ core, pybind11 "
@@ -314,6 +325,26 @@ PYBIND11_MODULE(_activecal, m) {
           },
           "The chosen poses' rows in the pool")
       .def_property_readonly(
+          "feasible_poses",
+          [](const DesignResult& d) { return CellInfo(d, "feasible_poses"); },
+          "With cell=: the poses of the pool the cell allows (an int, as "
+          "activecal_select --cell's JSON); None without a cell")
+      .def_property_readonly(
+          "rejected",
+          [](const DesignResult& d) { return CellInfo(d, "rejected"); },
+          "With cell=: the poses rejected per reason, a dict as the CLI's "
+          "JSON ('obstacle' a dict per obstacle); None without a cell")
+      .def_property_readonly(
+          "targets_seen",
+          [](const DesignResult& d) { return CellInfo(d, "targets_seen"); },
+          "With cell=: per chosen pose, the names of the cell's targets it "
+          "sees (the markers measured there); None without targets")
+      .def_property_readonly(
+          "tour", [](const DesignResult& d) { return CellInfo(d, "tour"); },
+          "With order='shortest': the tour (motion_time_before_s, "
+          "motion_time_after_s, velocities, blocked_moves (a count), "
+          "blocked (a list), ... as the CLI's JSON); None otherwise")
+      .def_property_readonly(
           "log10_det",
           [](const DesignResult& d) { return d.summary.log10_det(); })
       .def_property_readonly("oi",
@@ -472,7 +503,11 @@ PYBIND11_MODULE(_activecal, m) {
         "robot will work, default the pool; measured: Measurements already "
         "made, counted; target_rms_m: the fewest poses meeting it). "
         "cell: a cell file (docs/formats.md): the pool keeps the poses the "
-        "cell can run, as activecal_select --cell (the counts in notes). "
+        "cell can run, as activecal_select --cell (its targets the markers "
+        "unless load_robot's frames= gave them; the counts in notes and in "
+        "feasible_poses, rejected, targets_seen). order: 'none' or "
+        "'shortest' (the design as a short tour, as --order=shortest; the "
+        "Design's tour). "
         "progress: a callable "
         "progress(stage, done, total). The GIL is released while it runs.");
 

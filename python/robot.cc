@@ -24,6 +24,7 @@ RobotPtr LoadRobotPy(const py::object& path_obj, const py::object& base_link,
   robot->path = path;
   robot->urdf = IsUrdfPath(path);
   robot->chain = options.chain;
+  robot->with_frames = !frames.is_none();
   return robot;
 }
 

@@ -1887,6 +1887,40 @@ TEST(RejectionCountsTest, CountsPerReasonObstacleAndPairInFirstSeenOrder) {
   EXPECT_EQ(none.CollisionDiagnosis(f.checker), "");
 }
 
+// No pose left: FeasibleNote names the most frequent reason; the pair to
+// blame only when a collision is that reason (it named a collision when
+// facing away rejected most poses: #24, found by the new-user trial).
+TEST(RejectionCountsTest, FeasibleNoteNamesTheMostFrequentReason) {
+  Fixture f;
+  std::string error;
+  ASSERT_TRUE(MakeChecker(kStickUrdf, StickOverFloor(0.45), &f, &error))
+      << error;
+  // Two poses facing the device (they hit the floor), four facing away.
+  Eigen::MatrixXd joints(6, 2);
+  joints << 0.0, 0.1, 0.1, 0.1, 0.93, 0.1, 0.91, 0.1, -0.93, 0.1, -0.91, 0.1;
+  PoolFilterSummary s;
+  ASSERT_TRUE(FilterPool(f.checker, joints, {}, &s));
+  ASSERT_EQ(s.num_feasible(), 0);
+  ASSERT_EQ(s.rejected[static_cast<int>(RejectionReason::kFacingAway)], 4);
+  ASSERT_EQ(s.rejected[static_cast<int>(RejectionReason::kObstacle)], 2);
+  const std::string note = FeasibleNote(f.checker, s);
+  // Facing away named first; the floor after it, as it rejected every pose
+  // that reached its check.
+  EXPECT_NE(note.find("; most often (4 of 6 poses): target facing away; "
+                      "every pose that reached the obstacle checks (2 of 6): "
+                      "link '"),
+            std::string::npos)
+      << note;
+  // Collisions the most frequent: the pair to blame, as before.
+  Eigen::MatrixXd more(5, 2);
+  more << 0.0, 0.1, 0.1, 0.1, -0.1, 0.1, 0.93, 0.1, -0.93, 0.1;
+  ASSERT_TRUE(FilterPool(f.checker, more, {}, &s));
+  ASSERT_EQ(s.rejected[static_cast<int>(RejectionReason::kObstacle)], 3);
+  EXPECT_NE(FeasibleNote(f.checker, s).find("collides with obstacle 'floor'"),
+            std::string::npos)
+      << FeasibleNote(f.checker, s);
+}
+
 TEST(RejectionCountsTest, EveryPoseAndEveryPosePastTheEarlierChecks) {
   Fixture f;
   std::string error;

@@ -307,9 +307,8 @@ fi
 
 # --- No half-written output: a failing write leaves the old file alone. ---
 echo "keep me" >kept.json
-mkdir -p kept.json.tmp  # the temporary name is taken: the write must fail
-expect_fail "unwritable output" "--json_out: cannot write 'kept.json'" \
-  activecal_identify --json_out=kept.json
+expect_fail "unwritable output" "--model_out: cannot write 'no_such_dir/m.yaml'" \
+  activecal_identify --json_out=kept.json --model_out=no_such_dir/m.yaml
 [ "$(cat kept.json)" = "keep me" ] && echo "ok   [old output kept]" ||
   { echo "FAIL [old output kept]"; failures=$((failures + 1)); }
 

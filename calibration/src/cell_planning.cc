@@ -11,12 +11,31 @@ namespace activecal {
 
 std::string FeasibleNote(const CellChecker& checker,
                          const PoolFilterSummary& summary) {
-  return std::to_string(summary.num_feasible()) + " of " +
-         std::to_string(summary.num_poses) +
-         " poses feasible; rejected: " + summary.CountsText(checker) +
-         (summary.num_feasible() == 0 && summary.counts.num_collisions() > 0
-              ? "; " + summary.counts.CollisionDiagnosis(checker)
-              : std::string());
+  std::string note =
+      std::to_string(summary.num_feasible()) + " of " +
+      std::to_string(summary.num_poses) +
+      " poses feasible; rejected: " + summary.CountsText(checker);
+  const RejectionCounts& counts = summary.counts;
+  if (summary.num_feasible() != 0 || counts.num_rejected() == 0) return note;
+  // None left: name the most frequent reason (the first of equal counts),
+  // and for a collision the pair to blame.
+  int best = 0;
+  for (int r = 1; r < kNumRejectionReasons; ++r) {
+    if (counts.rejected[r] > counts.rejected[best]) best = r;
+  }
+  const RejectionReason reason = static_cast<RejectionReason>(best);
+  if (reason == RejectionReason::kSelfCollision ||
+      reason == RejectionReason::kObstacle) {
+    return note + "; " + counts.CollisionDiagnosis(checker);
+  }
+  note += "; most often (" + std::to_string(counts.rejected[best]) + " of " +
+          std::to_string(counts.num_checked) +
+          " poses): " + RejectionReasonLabel(reason);
+  // A pair that rejected every pose reaching its check is the blocker
+  // still (the earlier checks only came first).
+  const std::string diagnosis = counts.CollisionDiagnosis(checker);
+  if (diagnosis.rfind("every pose", 0) == 0) note += "; " + diagnosis;
+  return note;
 }
 
 PoolFilter CellPoolFilter(const CellChecker& checker,

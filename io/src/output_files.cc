@@ -3,77 +3,176 @@
 
 #include "activecal/io/output_files.h"
 
+#include <dirent.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 namespace activecal {
+namespace {
+
+constexpr char kMark[] = ".activecal-";
+constexpr char kSuffix[] = ".tmp";
+
+bool IsDirectory(const std::string& path) {
+  struct stat info;
+  return stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode);
+}
+
+// The folder and the file name of `path` ("." when it has no folder).
+void SplitPath(const std::string& path, std::string* dir, std::string* base) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) {
+    *dir = ".";
+    *base = path;
+  } else {
+    *dir = slash == 0 ? "/" : path.substr(0, slash);
+    *base = path.substr(slash + 1);
+  }
+}
+
+bool WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return false;
+  out << text;
+  out.flush();
+  return static_cast<bool>(out);
+}
+
+}  // namespace
+
+std::string TemporaryPath(const std::string& path) {
+  return path + kMark + std::to_string(static_cast<long>(getpid())) + kSuffix;
+}
+
+int RemoveStaleTemporaries(const std::string& path) {
+  std::string dir, base;
+  SplitPath(path, &dir, &base);
+  const std::string prefix = base + kMark;
+  const std::string suffix = kSuffix;
+  DIR* folder = opendir(dir.c_str());
+  if (folder == nullptr) return 0;
+  std::vector<std::string> stale;
+  while (const dirent* entry = readdir(folder)) {
+    const std::string name = entry->d_name;
+    if (name.size() <= prefix.size() + suffix.size() ||
+        name.compare(0, prefix.size(), prefix) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      continue;
+    }
+    const std::string digits =
+        name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos ||
+        digits.size() > 9) {
+      continue;
+    }
+    const long pid = std::strtol(digits.c_str(), nullptr, 10);
+    if (pid <= 0 || pid == static_cast<long>(getpid())) continue;
+    // A process that still runs may be writing it.
+    if (kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    stale.push_back(dir + "/" + name);
+  }
+  closedir(folder);
+  int removed = 0;
+  for (const std::string& file : stale) {
+    if (!IsDirectory(file) && std::remove(file.c_str()) == 0) ++removed;
+  }
+  return removed;
+}
+
+bool OutputSet::Add(const std::string& path, const std::string& text,
+                    std::string* error) {
+  if (IsDirectory(path)) {
+    *error = "cannot write '" + path + "': it is a directory";
+    return false;
+  }
+  RemoveStaleTemporaries(path);
+  const std::string tmp = TemporaryPath(path);
+  if (!WriteText(tmp, text)) {
+    std::remove(tmp.c_str());
+    for (size_t k = 0; k < paths_.size(); ++k) {
+      if (paths_[k] == path) {  // its earlier text is gone too
+        paths_.erase(paths_.begin() + k);
+        files_.erase(files_.begin() + k);
+        break;
+      }
+    }
+    *error = "cannot write '" + path + "'";
+    return false;
+  }
+  for (const std::string& known : paths_) {
+    if (known == path) return true;
+  }
+  paths_.push_back(path);
+  files_.push_back(tmp);
+  return true;
+}
+
+bool OutputSet::Commit(std::string* error) {
+  for (const std::string& path : paths_) {
+    if (IsDirectory(path)) {
+      *error = "cannot write '" + path + "': it is a directory";
+      Discard();
+      return false;
+    }
+  }
+  for (size_t k = 0; k < paths_.size(); ++k) {
+    if (std::rename(files_[k].c_str(), paths_[k].c_str()) != 0) {
+      *error = "cannot rename '" + files_[k] + "' to '" + paths_[k] + "'";
+      if (k > 0) {
+        *error += " (" + std::to_string(k) + " of the " +
+                  std::to_string(paths_.size()) +
+                  " outputs were already replaced)";
+      }
+      paths_.erase(paths_.begin(), paths_.begin() + k);
+      files_.erase(files_.begin(), files_.begin() + k);
+      Discard();
+      return false;
+    }
+  }
+  paths_.clear();
+  files_.clear();
+  return true;
+}
+
+void OutputSet::Discard() {
+  for (const std::string& tmp : files_) std::remove(tmp.c_str());
+  paths_.clear();
+  files_.clear();
+}
 
 bool WriteFileAtomically(const std::string& path, const std::string& text,
                          std::string* error) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      *error = "cannot open '" + tmp + "' for writing";
-      return false;
-    }
-    out << text;
-    out.flush();
-    if (!out) {
-      *error = "failed writing '" + tmp + "'";
-      std::remove(tmp.c_str());
-      return false;
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    *error = "cannot rename '" + tmp + "' to '" + path + "'";
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
+  return WriteFilesAtomically({{path, text}}, error);
 }
 
 bool WriteFilesAtomically(const std::vector<OutputFile>& files,
                           std::string* error) {
   for (const OutputFile& file : files) {
-    struct stat info;
-    if (stat(file.path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) {
+    if (IsDirectory(file.path)) {
       *error = "cannot write '" + file.path + "': it is a directory";
       return false;
     }
   }
-  std::vector<std::string> written;
-  auto remove_written = [&] {
-    for (const std::string& tmp : written) std::remove(tmp.c_str());
-  };
+  OutputSet set;
   for (const OutputFile& file : files) {
-    const std::string tmp = file.path + ".tmp";
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) {
-      written.push_back(tmp);
-      out << file.text;
-      out.flush();
-    }
-    if (!out) {
-      remove_written();
-      *error = "cannot write '" + file.path + "'";
-      return false;
-    }
+    if (!set.Add(file.path, file.text, error)) return false;
   }
-  for (size_t k = 0; k < files.size(); ++k) {
-    if (std::rename(written[k].c_str(), files[k].path.c_str()) != 0) {
-      remove_written();
-      *error = "cannot rename '" + written[k] + "' to '" + files[k].path + "'";
-      return false;
-    }
-  }
-  return true;
+  return set.Commit(error);
 }
 
 bool CheckWritable(const std::string& path, std::string* error) {
-  const std::string tmp = path + ".tmp";
+  if (IsDirectory(path)) {
+    *error = "cannot write '" + path + "': it is a directory";
+    return false;
+  }
+  RemoveStaleTemporaries(path);
+  const std::string tmp = TemporaryPath(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::app);
     if (!out) {

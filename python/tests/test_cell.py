@@ -11,9 +11,12 @@ import pytest
 
 import activecal
 
-from conftest import PUMA, SOURCE_DIR
+import json
+
+from conftest import PUMA, SOURCE_DIR, program, run
 
 CELL = str(SOURCE_DIR / "tests" / "data" / "puma_table_cell.yaml")
+TWO = str(SOURCE_DIR / "tests" / "data" / "puma_two_targets_cell.yaml")
 
 
 def feasible_count(design):
@@ -105,3 +108,70 @@ def test_bad_cell_and_unknown_options_are_value_errors(tmp_path):
                              cell=tmp_path / "nothing.yaml")
     with pytest.raises(ValueError, match="unknown option 'cel'"):
         activecal.select(robot, levels=3, num_poses=12, cel=CELL)
+
+
+def cli_select(tmp_path, *flags):
+    out = tmp_path / "design.json"
+    run([program("activecal_select"), f"--robot={PUMA}", "--levels=3",
+         "--num_poses=12", "--restarts=1", "--algorithm=fedorov",
+         f"--json_out={out}", *flags])
+    return json.loads(out.read_text())
+
+
+def test_select_with_cell_plans_the_cells_targets_as_the_cli(tmp_path):
+    # Two reflectors back to back: the cell's targets are the markers (the
+    # robot file's one marker is not planned), each pose's rows those seen.
+    robot = activecal.load_robot(PUMA)
+    design = activecal.select(robot, levels=3, num_poses=12, restarts=1,
+                              algorithm="fedorov", cell=TWO)
+    cli = cli_select(tmp_path, f"--cell={TWO}")
+    assert list(design.free_parameters) == cli["free_parameters"]
+    assert list(design.pose_indices) == cli["pose_indices"]
+    assert design.log10_det == pytest.approx(cli["log10_det"], abs=1e-9)
+
+
+def test_select_with_cell_returns_feasible_rejected_and_targets_seen(tmp_path):
+    robot = activecal.load_robot(PUMA)
+    design = activecal.select(robot, levels=3, num_poses=12, restarts=1,
+                              algorithm="fedorov", cell=TWO)
+    cli = cli_select(tmp_path, f"--cell={TWO}")
+    assert design.feasible_poses == cli["feasible_poses"]
+    assert design.feasible_poses == feasible_count(design)[0]
+    assert design.rejected == cli["rejected"]
+    assert sum(v if isinstance(v, int) else sum(v.values())
+               for v in design.rejected.values()) == 729 - design.feasible_poses
+    assert design.targets_seen == cli["targets_seen"]
+    assert len(design.targets_seen) == 12
+    assert all(seen and set(seen) <= {"front", "back"}
+               for seen in design.targets_seen)
+    # Without a cell: None.
+    free = activecal.select(robot, levels=3, num_poses=12, restarts=1)
+    assert free.feasible_poses is None and free.rejected is None
+    assert free.targets_seen is None and free.tour is None
+
+
+def test_select_order_shortest_is_the_clis_tour(tmp_path):
+    robot = activecal.load_robot(PUMA)
+    plain = activecal.select(robot, levels=3, num_poses=12, restarts=1,
+                             algorithm="fedorov", cell=CELL)
+    design = activecal.select(robot, levels=3, num_poses=12, restarts=1,
+                              algorithm="fedorov", cell=CELL, order="shortest")
+    cli = cli_select(tmp_path, f"--cell={CELL}", "--order=shortest")
+    # The same poses, in the tour's order (the CLI's), rows kept together.
+    assert sorted(design.pose_indices) == sorted(plain.pose_indices)
+    assert list(design.pose_indices) == cli["pose_indices"]
+    assert list(design.pose_indices) != list(plain.pose_indices)
+    where = {int(i): k for k, i in enumerate(plain.pose_indices)}
+    perm = [where[int(i)] for i in design.pose_indices]
+    assert np.array_equal(design.joint_angles, plain.joint_angles[perm])
+    assert np.array_equal(design.pool_rows, np.asarray(plain.pool_rows)[perm])
+    t = design.tour
+    c = cli["tour"]
+    for key in ("motion_time_before_s", "motion_time_after_s"):
+        assert t[key] == pytest.approx(c[key], rel=1e-12)
+    assert t["motion_time_after_s"] <= t["motion_time_before_s"] + 1e-9
+    assert t["blocked_moves"] == c["blocked_moves"] == len(t["blocked"])
+    assert t["blocked"] == c["blocked"]
+    with pytest.raises(ValueError, match="order must be 'none' or 'shortest', "
+                       "got 'fast'"):
+        activecal.select(robot, levels=3, num_poses=12, order="fast")

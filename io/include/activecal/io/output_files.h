@@ -1,16 +1,27 @@
 // Copyright (c) 2026, the activecal authors.
 // SPDX-License-Identifier: BSD-3-Clause
 
-// Writing output files so that a failed run leaves nothing half-written:
-// each file goes to a temporary file beside its path ("<path>.tmp") and is
-// renamed over the path; several files are all written to temporaries
-// before any is renamed, so that a failure to write one leaves none of
-// them (and no temporary file) behind.
+// Writing output files so that a failed run leaves nothing half-written and
+// a set of outputs is all new or all old. Every file of a set is written to
+// a temporary file beside its path ("<path>.activecal-<pid>.tmp", same
+// directory, so that the rename is atomic); only when every one is complete
+// and every path checked are they renamed over their paths, one rename per
+// file. A failure before the renames removes the temporaries and leaves no
+// file of the set changed.
+//
+// What POSIX cannot give: the renames of a set are not one atomic step. A
+// kill -9 (or power loss) between two renames leaves the files renamed so
+// far new, the others old, and the remaining temporaries on disk; the next
+// run writing the same paths removes temporaries of ours whose process is
+// gone (RemoveStaleTemporaries). A kill -9 before the renames leaves every
+// output old (plus temporaries, removed the same way).
 //
 //   std::string error;
 //   if (!CheckWritable("report.json", &error)) ...   // before the work
 //   ...
-//   if (!WriteFilesAtomically({{"a.yaml", a}, {"b.json", b}}, &error)) ...
+//   OutputSet set;
+//   if (!set.Add("a.yaml", a, &error) || !set.Add("b.json", b, &error) ||
+//       !set.Commit(&error)) ...                     // none written
 
 #ifndef ACTIVECAL_IO_OUTPUT_FILES_H_
 #define ACTIVECAL_IO_OUTPUT_FILES_H_
@@ -25,21 +36,61 @@ struct OutputFile {
   std::string text;
 };
 
-// Writes `text` to `path` through "<path>.tmp". False with *error ("cannot
-// open '<path>.tmp' for writing", ...), the old file (if any) kept.
+// The temporary file `path` is written to by this process:
+// "<path>.activecal-<pid>.tmp".
+std::string TemporaryPath(const std::string& path);
+
+// Removes the temporaries "<path>.activecal-<pid>.tmp" beside `path` left
+// by processes that no longer run (a killed earlier run); returns how many.
+// Temporaries of running processes (and other files) are not touched.
+int RemoveStaleTemporaries(const std::string& path);
+
+// A set of output files written together (see above). The destructor
+// removes temporaries not committed.
+class OutputSet {
+ public:
+  OutputSet() = default;
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet() { Discard(); }
+
+  // Writes `text` to the temporary of `path` (removing stale temporaries
+  // of `path` first); `path` itself is not touched. A path added twice
+  // keeps the last text. False with *error ("cannot write '<path>'",
+  // "cannot write '<path>': it is a directory"); the set is then unchanged.
+  bool Add(const std::string& path, const std::string& text,
+           std::string* error);
+
+  // Checks every path (none may have become a directory) and renames every
+  // temporary over its path; the set is then empty. False with *error
+  // ("cannot write '<path>': it is a directory", "cannot rename ..."):
+  // when the check fails nothing is renamed and every temporary removed.
+  bool Commit(std::string* error);
+
+  // Removes every temporary; no path is touched.
+  void Discard();
+
+  bool empty() const { return files_.empty(); }
+
+ private:
+  std::vector<std::string> paths_;
+  std::vector<std::string> files_;  // the temporaries, as paths_
+};
+
+// Writes `text` to `path` through its temporary. False with *error, the old
+// file (if any) kept.
 bool WriteFileAtomically(const std::string& path, const std::string& text,
                          std::string* error);
 
-// Writes every file (see above). Refuses a path that is a directory before
-// writing anything. False with *error ("cannot write '<path>'", "cannot
-// write '<path>': it is a directory", "cannot rename ..."); then no file
-// of `files` was written.
+// Writes every file as one set. False with *error; then no file of
+// `files` was written.
 bool WriteFilesAtomically(const std::vector<OutputFile>& files,
                           std::string* error);
 
-// Whether a file can be created beside `path` (a temporary file is created
-// and removed; `path` itself is not touched). False with *error "cannot
-// write '<path>'".
+// Whether a file can be created beside `path` (its temporary is created and
+// removed; `path` itself is not touched; stale temporaries of `path` are
+// removed). False with *error "cannot write '<path>'" or "cannot write
+// '<path>': it is a directory".
 bool CheckWritable(const std::string& path, std::string* error);
 
 }  // namespace activecal

@@ -1,0 +1,163 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
+// io/output_files.h: a set of outputs is all new or all old, a failure
+// leaves no temporary file, and a killed run's temporaries are removed by
+// the next run writing the same paths (issue #24, item 1 of the remainder).
+
+#include "activecal/io/output_files.h"
+
+#include <dirent.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace activecal {
+namespace {
+
+// A fresh folder under the test's temporary directory.
+std::string MakeFolder(const std::string& name) {
+  const char* tmp = std::getenv("TMPDIR");
+  std::string dir = std::string(tmp ? tmp : "/tmp") + "/activecal_out_" + name +
+                    "_" + std::to_string(getpid());
+  std::string command = "rm -rf '" + dir + "'";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  EXPECT_EQ(mkdir(dir.c_str(), 0755), 0);
+  return dir;
+}
+
+std::set<std::string> Names(const std::string& dir) {
+  std::set<std::string> names;
+  DIR* d = opendir(dir.c_str());
+  while (const dirent* e = readdir(d)) {
+    const std::string n = e->d_name;
+    if (n != "." && n != "..") names.insert(n);
+  }
+  closedir(d);
+  return names;
+}
+
+std::string Read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void Write(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+TEST(OutputSetTest, CommitWritesEveryFileAndLeavesNoTemporary) {
+  const std::string dir = MakeFolder("commit");
+  Write(dir + "/a.csv", "old a");
+  OutputSet set;
+  std::string error;
+  ASSERT_TRUE(set.Add(dir + "/a.csv", "new a", &error)) << error;
+  ASSERT_TRUE(set.Add(dir + "/b.json", "new b", &error)) << error;
+  // Nothing is visible before the commit.
+  EXPECT_EQ(Read(dir + "/a.csv"), "old a");
+  EXPECT_EQ(Names(dir).count("b.json"), 0u);
+  ASSERT_TRUE(set.Commit(&error)) << error;
+  EXPECT_TRUE(set.empty());
+  EXPECT_EQ(Read(dir + "/a.csv"), "new a");
+  EXPECT_EQ(Read(dir + "/b.json"), "new b");
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"a.csv", "b.json"}));
+}
+
+TEST(OutputSetTest, AFailedCommitChangesNoFileOfTheSet) {
+  const std::string dir = MakeFolder("fail");
+  Write(dir + "/poses.csv", "old poses");
+  Write(dir + "/design.json", "old design");
+  OutputSet set;
+  std::string error;
+  ASSERT_TRUE(set.Add(dir + "/poses.csv", "new poses", &error)) << error;
+  ASSERT_TRUE(set.Add(dir + "/rejected.csv", "new rejected", &error));
+  ASSERT_TRUE(set.Add(dir + "/design.json", "new design", &error));
+  // The last output cannot be renamed into any more: it became a folder.
+  ASSERT_EQ(std::remove((dir + "/design.json").c_str()), 0);
+  ASSERT_EQ(mkdir((dir + "/design.json").c_str(), 0755), 0);
+  EXPECT_FALSE(set.Commit(&error));
+  EXPECT_EQ(error, "cannot write '" + dir + "/design.json': it is a directory");
+  // The first two were not renamed either, and no temporary is left.
+  EXPECT_EQ(Read(dir + "/poses.csv"), "old poses");
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"poses.csv", "design.json"}));
+  EXPECT_TRUE(set.empty());
+}
+
+TEST(OutputSetTest, DiscardAndTheDestructorRemoveTheTemporaries) {
+  const std::string dir = MakeFolder("discard");
+  std::string error;
+  {
+    OutputSet set;
+    ASSERT_TRUE(set.Add(dir + "/a.csv", "a", &error));
+    EXPECT_EQ(Names(dir).size(), 1u);  // the temporary
+    EXPECT_EQ(*Names(dir).begin(),
+              "a.csv.activecal-" + std::to_string(getpid()) + ".tmp");
+  }
+  EXPECT_TRUE(Names(dir).empty());
+  // A path that cannot be written: the error, the set unchanged.
+  OutputSet set;
+  EXPECT_FALSE(set.Add(dir + "/no_such_dir/a.csv", "a", &error));
+  EXPECT_EQ(error, "cannot write '" + dir + "/no_such_dir/a.csv'");
+  EXPECT_TRUE(set.empty());
+  EXPECT_TRUE(Names(dir).empty());
+}
+
+TEST(OutputSetTest, StaleTemporariesOfDeadProcessesAreRemoved) {
+  const std::string dir = MakeFolder("stale");
+  // A process that has exited: its pid is free (until reused).
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  const std::string dead = dir + "/poses.csv.activecal-" +
+                           std::to_string(static_cast<long>(child)) + ".tmp";
+  // One of a process that runs (the test's parent), and other names.
+  const std::string alive = dir + "/poses.csv.activecal-" +
+                            std::to_string(static_cast<long>(getppid())) +
+                            ".tmp";
+  const std::string other = dir + "/poses.csv.tmp";
+  const std::string other_path = dir + "/design.json.activecal-" +
+                                 std::to_string(static_cast<long>(child)) +
+                                 ".tmp";
+  for (const std::string& f : {dead, alive, other, other_path}) Write(f, "x");
+  std::string error;
+  ASSERT_TRUE(CheckWritable(dir + "/poses.csv", &error)) << error;
+  std::set<std::string> names = Names(dir);
+  EXPECT_EQ(names.count(dead.substr(dir.size() + 1)), 0u);
+  EXPECT_EQ(names.count(alive.substr(dir.size() + 1)), 1u);
+  EXPECT_EQ(names.count(other.substr(dir.size() + 1)), 1u);
+  EXPECT_EQ(names.count(other_path.substr(dir.size() + 1)), 1u);
+  // Writing design.json removes its own.
+  OutputSet set;
+  ASSERT_TRUE(set.Add(dir + "/design.json", "d", &error));
+  ASSERT_TRUE(set.Commit(&error));
+  names = Names(dir);
+  EXPECT_EQ(names.count(other_path.substr(dir.size() + 1)), 0u);
+  EXPECT_EQ(names.size(), 3u);  // alive, other, design.json
+}
+
+TEST(OutputSetTest, WriteFilesAtomicallyWritesAllOrNone) {
+  const std::string dir = MakeFolder("all");
+  std::string error;
+  EXPECT_FALSE(WriteFilesAtomically(
+      {{dir + "/a.yaml", "a"}, {dir + "/missing/b.json", "b"}}, &error));
+  EXPECT_TRUE(Names(dir).empty());
+  EXPECT_TRUE(WriteFilesAtomically({{dir + "/a.yaml", "a"}}, &error));
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"a.yaml"}));
+  EXPECT_FALSE(CheckWritable(dir, &error));
+  EXPECT_EQ(error, "cannot write '" + dir + "': it is a directory");
+}
+
+}  // namespace
+}  // namespace activecal
