@@ -291,13 +291,13 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
   EXPECT_FALSE(ParseCommandedPosesCsv("pose," + joints + "\nP1," + q + "\n",
                                       "f.csv", model, MeasurementsCsvOptions(),
                                       &poses, &error));
-  EXPECT_NE(error.find("f.csv:1: the header has no column 'commanded_x_m'"),
+  EXPECT_NE(error.find("f.csv:1: header: the header has no column 'commanded_x_m'"),
             std::string::npos)
       << error;
   EXPECT_FALSE(ParseCommandedPosesCsv(
       joints + ",commanded_x_m,commanded_y_m,commanded_z_m\n" + q + ",1,2,3\n",
       "g.csv", model, MeasurementsCsvOptions(), &poses, &error));
-  EXPECT_NE(error.find("g.csv:1: the header has no column 'pose'"),
+  EXPECT_NE(error.find("g.csv:1: header: the header has no column 'pose'"),
             std::string::npos)
       << error;
   EXPECT_FALSE(ParseCommandedPosesCsv(
@@ -308,7 +308,7 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
   EXPECT_FALSE(ParseCommandedPosesCsv(
       "pose,commanded_x_m,commanded_y_m\nP1,1,2\n", "i.csv", model,
       MeasurementsCsvOptions(), &poses, &error));
-  EXPECT_NE(error.find("i.csv:1: the header has commanded_x_m,commanded_y_m "
+  EXPECT_NE(error.find("i.csv:1: header: the header has commanded_x_m,commanded_y_m "
                        "but not commanded_z_m"),
             std::string::npos)
       << error;
