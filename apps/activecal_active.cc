@@ -593,6 +593,15 @@ int Main() {
   }
   options.round_callback = [&](const ActiveLoopState& state, std::string* why) {
     PrintRound(state.round - 1, state.rounds.back(), app::Seconds(start_ns));
+    // On stderr, flushed (stdout may sit in a pipe's buffer): a round can
+    // take seconds (a measurement per pose, a selection, a fit).
+    const ActiveRound& a = state.rounds.back();
+    char line[160];
+    std::snprintf(line, sizeof(line),
+                  "round %d done: %d poses, predicted task RMS %.3g m (%.1f s)",
+                  state.round - 1, a.num_poses, a.predicted_task_rms_m,
+                  app::Seconds(start_ns));
+    app::PrintProgress(line);
     return !session || session->SaveState(state, why);
   };
   ActiveLoopSummary summary;

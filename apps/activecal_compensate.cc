@@ -29,7 +29,9 @@ DEFINE_string(nominal, "",
               "(YAML, or URDF with the same --base_link/--tip_link as "
               "--robot). --frames applies to it too: the markers are "
               "metrology, as the base (replaced by --robot's). Required "
-              "with --poses_csv.");
+              "with --poses_csv; with --targets_csv optional, to report the "
+              "size of the correction (the nominal model's error at the "
+              "compensated joints).");
 DEFINE_string(poses_csv, "",
               "The program as joint targets (a poses CSV, docs/formats.md), "
               "taught or computed with --nominal.");
@@ -158,12 +160,16 @@ int Main() {
   CompensationSummary summary;
   std::vector<int64_t> labels;
   Eigen::MatrixXd starts;
-  if (!FLAGS_poses_csv.empty()) {
-    if (FLAGS_nominal.empty()) {
-      app::Fail(
-          "--poses_csv needs --nominal: the model the program was "
-          "taught with");
-    }
+  // The nominal model (with --poses_csv, what the program means; with
+  // --targets_csv, optional: the size of the correction).
+  RobotDescription nominal;
+  Eigen::VectorXd meaning;
+  if (!FLAGS_poses_csv.empty() && FLAGS_nominal.empty()) {
+    app::Fail(
+        "--poses_csv needs --nominal: the model the program was "
+        "taught with");
+  }
+  if (!FLAGS_nominal.empty()) {
     RobotLoadOptions load;
     load.chain.base_link = FLAGS_base_link;
     load.chain.tip_link = FLAGS_tip_link;
@@ -174,13 +180,16 @@ int Main() {
     // --robot's sat at the frames' marker: nominal == calibrated moved the
     // joints by up to 0.6 rad.
     load.frames_path = FLAGS_frames;
-    RobotDescription nominal;
     if (!LoadRobot(FLAGS_nominal, load, &nominal, &error)) {
       app::Fail("--nominal: " + error);
     }
     if (!CheckSameChain(model, nominal.model, &error)) {
       app::Fail("--robot and --nominal: " + error);
     }
+    meaning = ProgramMeaningParameters(model, model.nominal, nominal.model,
+                                       nominal.model.nominal);
+  }
+  if (!FLAGS_poses_csv.empty()) {
     PoseList program;
     if (!ReadPosesCsv(FLAGS_poses_csv, model, /*reject_duplicates=*/false,
                       &program, &error)) {
@@ -220,6 +229,17 @@ int Main() {
   // the targets reached by the hybrid model.
   const CorrectionRounds rounds = ApplyLearnedCorrection(
       model, model.nominal, robot.learned_correction, options, &summary);
+  // The size of the correction: the nominal model's pose at the
+  // compensated joints against the targets (the error compensation
+  // removes); without --nominal (Cartesian targets) there is no nominal
+  // to measure it with.
+  const bool with_rotation = options.ik.match == IkMatch::kPose;
+  const bool has_correction = !FLAGS_nominal.empty();
+  const CorrectionSize correction =
+      has_correction
+          ? MeasureCorrection(nominal.model, meaning, options.ik.marker,
+                              with_rotation, summary)
+          : CorrectionSize();
   app::WriteTextOrDie(FLAGS_out,
                       CompensatedPosesCsvText(model, labels, summary));
   std::printf("%s", summary.BriefReport().c_str());
@@ -230,6 +250,18 @@ int Main() {
         "are of the corrected model\n",
         robot.learned_correction.num_features(), rounds.rounds,
         rounds.last_change_m);
+  }
+  if (has_correction) {
+    std::printf(
+        "correction (the nominal model at the compensated joints against "
+        "the targets): position max %.3f mm, RMS %.3f mm",
+        correction.max_position_m * 1e3, correction.rms_position_m * 1e3);
+    if (with_rotation) {
+      std::printf("; rotation max %.4f deg, RMS %.4f deg",
+                  correction.max_rotation_rad * 180.0 / M_PI,
+                  correction.rms_rotation_rad * 180.0 / M_PI);
+    }
+    std::printf("\n");
   }
   std::printf("wrote %zu compensated targets to %s\n", summary.results.size(),
               FLAGS_out.c_str());
@@ -251,8 +283,22 @@ int Main() {
     j["num_iteration_cap"] = summary.num_iteration_cap;
     j["num_collision"] = summary.num_collision;
     if (!FLAGS_cell.empty()) j["cell"] = FLAGS_cell;
-    j["max_position_error_m"] = summary.max_position_error_m;
-    j["max_rotation_error_rad"] = summary.max_rotation_error_rad;
+    // The inverse kinematics' residual of the calibrated model at its own
+    // solution (about 0 when converged), and the size of the correction.
+    j["max_ik_residual_m"] = summary.max_position_error_m;
+    j["max_ik_residual_rad"] = summary.max_rotation_error_rad;
+    if (has_correction) {
+      nlohmann::json c = {{"num_targets", correction.num_targets},
+                          {"max_position_m", correction.max_position_m},
+                          {"rms_position_m", correction.rms_position_m}};
+      if (with_rotation) {
+        c["max_rotation_rad"] = correction.max_rotation_rad;
+        c["rms_rotation_rad"] = correction.rms_rotation_rad;
+      }
+      j["correction"] = c;
+    } else {
+      j["correction"] = nullptr;
+    }
     j["max_joint_change"] = summary.max_joint_change;
     j["rms_joint_change"] = summary.rms_joint_change;
     j["message"] = summary.message;
@@ -289,19 +335,27 @@ int Main() {
   }
   {
     // The one-line result (what --quiet prints): the JSON's num_converged,
-    // num_targets, max_position_error_m (in mm) and, matching poses,
-    // max_rotation_error_rad (in deg).
+    // num_targets, correction (mm, deg) and max_ik_residual_m (mm).
     char result[256];
-    std::snprintf(result, sizeof(result),
-                  "%s: %d of %zu targets converged, max position error %.3g mm",
+    std::snprintf(result, sizeof(result), "%s: %d of %zu targets converged",
                   app::ProgramName().c_str(), summary.num_converged,
-                  summary.results.size(), summary.max_position_error_m * 1e3);
+                  summary.results.size());
     std::string line = result;
-    if (options.ik.match == IkMatch::kPose) {
-      std::snprintf(result, sizeof(result), ", max rotation error %.3g deg",
-                    summary.max_rotation_error_rad * 180.0 / M_PI);
+    if (has_correction) {
+      std::snprintf(
+          result, sizeof(result), ", correction max %.3f mm, RMS %.3f mm",
+          correction.max_position_m * 1e3, correction.rms_position_m * 1e3);
       line += result;
+      if (with_rotation) {
+        std::snprintf(result, sizeof(result), ", max %.4f deg, RMS %.4f deg",
+                      correction.max_rotation_rad * 180.0 / M_PI,
+                      correction.rms_rotation_rad * 180.0 / M_PI);
+        line += result;
+      }
     }
+    std::snprintf(result, sizeof(result), ", IK residual max %.3g mm",
+                  summary.max_position_error_m * 1e3);
+    line += result;
     app::PrintResult(line);
   }
   if (!summary.AllConverged()) {

@@ -7,6 +7,7 @@
 
 #include <gflags/gflags.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -242,7 +243,12 @@ Iso9283CyclesSummary Iso9283OrDie(const RobotModel& model,
   Iso9283CyclesSummary iso;
   if (!EvaluateIso9283Cycles(model, parameters, measurements, lines, commanded,
                              &iso)) {
-    app::Fail("--iso9283: " + FLAGS_measurements + ": " + iso.message);
+    // "<file>:<line>: <field>: ..." when the message names a line.
+    const bool at_line =
+        !iso.message.empty() &&
+        std::isdigit(static_cast<unsigned char>(iso.message[0]));
+    app::Fail("--iso9283: " + FLAGS_measurements + (at_line ? ":" : ": ") +
+              iso.message);
   }
   return iso;
 }

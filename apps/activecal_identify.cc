@@ -478,7 +478,16 @@ int Main() {
   }
 
   CalibrationSummary summary;
-  Calibrate(model, all, options, &summary);
+  {
+    // The model selection's splits (training set and folds) as they
+    // finish, once it has run 2 s.
+    app::ProgressLine splits(
+        "model selection: splits fitted (the training set and each fold)");
+    options.selection_progress = splits.callback();
+    Calibrate(model, all, options, &summary);
+    // Later fits (the --rotation_weight note's) outlive the line.
+    options.selection_progress = nullptr;
+  }
   CalibrationTextOptions text;
   text.program = app::ProgramName();
   text.angle_unit = robot.angle_unit;

@@ -12,6 +12,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -407,6 +408,20 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
   return j;
 }
 
+// kProgressAfterNs, or ACTIVECAL_PROGRESS_AFTER_S (seconds, >= 0) when set:
+// 0 prints every update (what the tests of the lines use).
+static int64_t ProgressAfterNs() {
+  static const int64_t after = [] {
+    const char* text = std::getenv("ACTIVECAL_PROGRESS_AFTER_S");
+    if (text == nullptr || *text == '\0') return kProgressAfterNs;
+    char* end = nullptr;
+    const double s = std::strtod(text, &end);
+    if (*end != '\0' || !(s >= 0) || s > 1e6) return kProgressAfterNs;
+    return static_cast<int64_t>(s * 1e9);
+  }();
+  return after;
+}
+
 ProgressLine::ProgressLine(std::string label)
     : label_(std::move(label)), tty_(isatty(2)), start_ns_(NowNs()) {}
 
@@ -423,10 +438,11 @@ void ProgressLine::Update(int64_t done, int64_t total) {
   std::lock_guard<std::mutex> lock(mutex_);
   const int64_t now = NowNs();
   // Nothing in the first kProgressAfterNs: a short step prints no line.
-  if (now - start_ns_ < kProgressAfterNs) return;
+  const int64_t after = ProgressAfterNs();
+  if (now - start_ns_ < after) return;
   // On a terminal the line is rewritten 5 times a second; in a file or a
-  // pipe a new line every 2 s, and the last one.
-  const int64_t every = tty_ ? 200000000 : kProgressAfterNs;
+  // pipe a new line every 2 s (the threshold), and the last one.
+  const int64_t every = tty_ ? std::min<int64_t>(200000000, after) : after;
   if (done < total && printed_ && now - last_ns_ < every) return;
   if (done >= total && !tty_ && finished_) return;
   last_ns_ = now;

@@ -215,7 +215,9 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
 // step prints nothing), flushed as it is written: on a terminal rewritten
 // in place at most 5 times a second; in a file or a pipe one line every
 // 2 s and the last one. Never with --quiet; never on stdout (what scripts
-// read stays the same). Thread-safe.
+// read stays the same). Thread-safe. The environment variable
+// ACTIVECAL_PROGRESS_AFTER_S replaces the 2 s (0: every update a line, as
+// tests/progress_cli_test.sh runs it).
 inline constexpr int64_t kProgressAfterNs = 2000000000;
 class ProgressLine {
  public:

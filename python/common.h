@@ -538,6 +538,10 @@ py::dict Stats(const ErrorStatistics& s);
 
 py::dict EvaluatePy(const Robot& robot, const Measurements& measurements,
                     const py::object& parameters);
+// The ISO 9283 figures of a cycles file (activecal_evaluate --iso9283):
+// the JSON's "iso9283" object as a dict.
+py::object Iso9283Py(const Robot& robot, const std::string& path,
+                     const py::object& parameters);
 
 // compensate.cc: compensate.
 std::shared_ptr<CompensationResult> CompensatePy(

@@ -3,7 +3,11 @@
 
 // The Python module `activecal`: identify and evaluate.
 
+#include <cctype>
+
 #include "activecal/calibration/defaults.h"
+#include "activecal/calibration/iso9283_cycles.h"
+#include "activecal/io/csv_files.h"
 #include "common.h"
 
 namespace activecal {
@@ -168,6 +172,40 @@ py::dict EvaluatePy(const Robot& robot, const Measurements& measurements,
   d["distance_errors_m"] = py::array(py::cast(s.distance_errors_m));
   d["report"] = s.BriefReport();
   return d;
+}
+
+py::object Iso9283Py(const Robot& robot, const std::string& path,
+                     const py::object& parameters) {
+  const Eigen::VectorXd p = ParametersArg(robot, parameters);
+  const RobotModel& model = robot.model();
+  // As activecal_evaluate --iso9283 (--iso9283_registration=robot): the
+  // measurements file with its cycle columns, read by the same readers.
+  std::vector<Measurement> items;
+  MeasurementsCsvReport report;
+  std::vector<CommandedPose> commanded;
+  Iso9283CyclesSummary summary;
+  std::string error;
+  {
+    py::gil_scoped_release release;
+    if (ReadMeasurementsCsv(path, model, MeasurementsCsvOptions(), &items,
+                            &report, &error) &&
+        ReadCommandedPosesCsv(path, model, MeasurementsCsvOptions(), &commanded,
+                              &error)) {
+      if (!EvaluateIso9283Cycles(model, p, items, report.lines, commanded,
+                                 &summary)) {
+        // "<file>:<line>: <field>: ..." when the message names a line.
+        const bool at_line =
+            !summary.message.empty() &&
+            std::isdigit(static_cast<unsigned char>(summary.message[0]));
+        error = path + (at_line ? ":" : ": ") + summary.message;
+      }
+    }
+  }
+  if (!error.empty()) Fail(error);
+  // The CLI's JSON "iso9283" object, as Python values.
+  nlohmann::json j = summary.Json();
+  j["registration"] = "robot";
+  return py::module_::import("json").attr("loads")(j.dump());
 }
 
 }  // namespace python

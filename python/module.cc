@@ -774,6 +774,15 @@ PYBIND11_MODULE(_activecal, m) {
         py::arg("parameters") = py::none(),
         "The errors of a model (robot's nominal, or `parameters`) on "
         "measurements, no fitting: a dict of statistics (m, rad).");
+  m.def("iso9283", &Iso9283Py, py::arg("robot"), py::arg("path"),
+        py::arg("parameters") = py::none(),
+        "ISO 9283 pose accuracy and repeatability of the cycles in the "
+        "measurements CSV `path` (pose label and commanded_* columns, "
+        "docs/iso9283.md), in the base frame of the model (robot's nominal, "
+        "or `parameters`): the dict activecal_evaluate --iso9283 writes "
+        "under 'iso9283' in --json_out, the same numbers (poses[i].without "
+        "/ .with: ap_p_m, rp_l_m, ap_abc_rad, ...). Bad input is a "
+        "ValueError naming file, line and field.");
 
   BindExport(m);
   BindReport(m);

@@ -242,14 +242,14 @@ head -10 measurements_yaml.csv >nine.csv
 expect_fail "zero degrees of freedom" "27 measurement rows for 27 free parameters leave 0 degrees of freedom" \
   activecal_identify --measurements=nine.csv
 printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n' >dup.csv
-expect_fail "duplicate pool poses" "dup.csv:3: duplicate pose: the same joint values as line 2" \
+expect_fail "duplicate pool poses" "dup.csv:3: row: duplicate pose: the same joint values as line 2" \
   activecal_select --pool_csv=dup.csv --num_poses=1
 # Issue 26: two pool rows of the same label were accepted silently.
 printf 'pose_index,q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n4,0,0,0,0,0,0\n5,10,0,0,0,0,0\n4,20,0,0,0,0,0\n' >duplabel.csv
 expect_fail "duplicate pool labels" "--pool_csv: duplabel.csv:4: pose_index: 4 is also the label of line 2 (the labels of a pool name its poses, each once)" \
   activecal_select --pool_csv=duplabel.csv --num_poses=1
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,400\n' >range.csv
-expect_fail "joint out of range" "range.csv:2: joint 6 (L6) value 6.98132 rad (400 deg) is outside its range [-176, 356] deg" \
+expect_fail "joint out of range" "range.csv:2: row: joint 6 (L6) value 6.98132 rad (400 deg) is outside its range [-176, 356] deg" \
   activecal_simulate --poses_csv=range.csv --out=x.csv
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0\n10,0,0,0,0,0\n10,0,0,0,0,0\n' >same.csv
 expect_fail "distance between identical poses" "--type=distance: poses 2 and 3 of same.csv (data rows) are identical" \
@@ -258,10 +258,10 @@ printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n0,0,0,0,0,0\n0,0,0,0,0,-60\n0
 expect_fail "distance between coinciding points" "measurement 1: its two poses put the measured point at the same place" \
   activecal_simulate --poses_csv=turn6.csv --out=x.csv --type=distance
 printf 'type,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m,q1_rad_2,q2_rad_2,q3_rad_2,q4_rad_2,q5_rad_2,q6_rad_2,distance_m\ndistance,0,0,0,0,0,0,,,,0,0,0,0,0,0,0.5\n' >samed.csv
-expect_fail "measured distance between identical poses" "samed.csv:2: a distance between two identical poses" \
+expect_fail "measured distance between identical poses" "samed.csv:2: row: a distance between two identical poses" \
   activecal_identify --measurements=samed.csv
 printf 'q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg\n' >empty.csv
-expect_fail "empty pool" "empty.csv:1: no poses after the header" \
+expect_fail "empty pool" "empty.csv:1: header: no poses after the header" \
   activecal_select --pool_csv=empty.csv
 
 # --- Unidentifiable parameters: refused, or fixed with --auto_fix. ---

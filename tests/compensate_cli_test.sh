@@ -272,7 +272,7 @@ else
   fail "targets CSV with joint names (status $tstatus)"; cat ur_t.txt ur_t.err
 fi
 expect_fail "targets CSV column not read, --columns_strict" \
-  "--targets_csv: ur_targets.csv:1: column 'temperature_c' activecal does not read (strict columns" \
+  "--targets_csv: ur_targets.csv:1: header: column 'temperature_c' activecal does not read (strict columns" \
   activecal_compensate --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
   --marker=smr2 --targets_csv=ur_targets.csv --out=x.csv --columns_strict
 
@@ -308,7 +308,7 @@ expect_fail "NaN in a target" "nan.csv:3: y_m: must be finite, got 'nan'" \
   activecal_compensate --robot=calibrated.yaml --targets_csv=nan.csv --out=x.csv
 cut -d, -f1-6 program.csv >five.csv
 expect_fail "program with 5 joints for a 6-joint robot" \
-  "five.csv:1: the header has neither 'q6_rad' nor 'q6_deg' for joint 6" \
+  "five.csv:1: header: the header has neither 'q6_rad' nor 'q6_deg' for joint 6" \
   activecal_compensate --robot=calibrated.yaml --nominal="$puma" --poses_csv=five.csv --out=x.csv
 sed -e '1s/$/,q7_deg/' -e '2,$s/$/,0/' program.csv >seven.csv
 expect_fail "program with 7 joints for a 6-joint robot" \

@@ -1488,35 +1488,35 @@ TEST(TargetsCsvTest, RoundTripsAndNamesBadInput) {
   };
   const std::vector<Case> cases = {
       {"empty", "", "e.csv: empty file: no header line"},
-      {"header only", "x_m,y_m,z_m\n", "e.csv:1: no targets after the header"},
+      {"header only", "x_m,y_m,z_m\n", "e.csv:1: header: no targets after the header"},
       {"no z", "x_m,y_m\n1,2\n",
-       "e.csv:1: the header has x_m,y_m but not z_m (the target point)"},
-      {"no point", "q1_rad\n1\n", "e.csv:1: the header has no column 'x_m'"},
+       "e.csv:1: header: the header has x_m,y_m but not z_m (the target point)"},
+      {"no point", "q1_rad\n1\n", "e.csv:1: header: the header has no column 'x_m'"},
       {"NaN", "x_m,y_m,z_m\n1,nan,3\n",
        "e.csv:2: y_m: must be finite, got 'nan'"},
       {"inf", "x_m,y_m,z_m\n1,2,inf\n", "e.csv:2: z_m: must be finite"},
       {"short row", "x_m,y_m,z_m\n1,2\n",
-       "e.csv:2: expected 3 fields as in the header, got 2"},
+       "e.csv:2: row: expected 3 fields as in the header, got 2"},
       {"part of a rotation", "x_m,y_m,z_m,rx_rad\n1,2,3,0\n",
-       "e.csv:1: the header has rx_rad but not ry_rad"},
+       "e.csv:1: header: the header has rx_rad but not ry_rad"},
       {"rotation angle > pi", "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad\n1,2,3,4,0,0\n",
-       "e.csv:2: the rotation vector has angle 4 rad > pi"},
+       "e.csv:2: row: the rotation vector has angle 4 rad > pi"},
       {"some joints", "x_m,y_m,z_m,q1_rad\n1,2,3,0\n",
-       "e.csv:1: the header has joint columns for joint 1 but not for joint "
+       "e.csv:1: header: the header has joint columns for joint 1 but not for joint "
        "2 ('q2_rad' or 'q2_deg'): give every joint or none"},
       {"joint the robot lacks",
        "x_m,y_m,z_m,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,q7_rad\n"
        "1,2,3,0,0,0,0,0,0,0\n",
-       "e.csv:1: column 'q7_rad' is for joint 7, but robot "
+       "e.csv:1: header: column 'q7_rad' is for joint 7, but robot "
        "'puma560_sun_hollerbach' has 6 joints"},
       {"joint outside limits",
        "x_m,y_m,z_m,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad\n"
        "1,2,3,0,0,3,0,0,0\n",
-       "e.csv:2: start joints: joint 3 (L3) value 3 rad"},
+       "e.csv:2: row: start joints: joint 3 (L3) value 3 rad"},
       {"bad label", "pose_index,x_m,y_m,z_m\n-1,1,2,3\n",
        "e.csv:2: pose_index: expected an integer >= 0, got -1"},
       {"duplicate column", "x_m,y_m,z_m,x_m\n1,2,3,4\n",
-       "e.csv:1: header names column 'x_m' twice"},
+       "e.csv:1: header: header names column 'x_m' twice"},
   };
   for (const Case& c : cases) {
     EXPECT_FALSE(ParseTargetsCsv(c.text, "e.csv", puma, &back, &error))

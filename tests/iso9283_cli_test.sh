@@ -165,7 +165,7 @@ if bad:
 EOF
 
 # Bad input: one line, status 1, nothing written.
-expect_fail "a pose of one cycle" "pose 'lonely' has 1 cycle" activecal_evaluate \
+expect_fail "a pose of one cycle" "one_cycle.csv:2: pose: 'lonely' has 1 cycle" activecal_evaluate \
   "${robot[@]}" --measurements=one_cycle.csv --iso9283 --json_out=bad1.json
 expect_fail "no commanded_z_m" "the header has commanded_x_m,commanded_y_m but not commanded_z_m" \
   activecal_evaluate "${robot[@]}" --measurements=no_z.csv --iso9283 --json_out=bad2.json
@@ -214,5 +214,55 @@ expect_fail "cube out of reach" "--iso9283_cube: P1 at (5600.0, 200.0, 500.0) mm
 for f in bad5.csv bad6.csv; do
   [ -e "$f" ] && fail "$f written" || ok "$f not written"
 done
+
+
+# The cube's poses, each run 3 times, simulated and evaluated directly:
+# activecal_simulate carries the pose label and the commanded pose of each
+# row to its measurement, so evaluate --iso9283 reads its output with no
+# join. The robot is the nominal one (perturbed by 1e-12) with 20 um /
+# 20 urad noise: each pose's AP is the mean of 3 cycles' noise (a row's
+# commanded pose carried to another row would be 100s of mm off), RP_l the
+# noise's scale.
+"$py" - <<'EOF'
+lines = [l for l in open("cube.csv") if l.strip() and not l.startswith("#")]
+open("cube3.csv", "w").write(lines[0] + "".join(l for l in lines[1:] for _ in range(3)))
+EOF
+"$apps/activecal_simulate" "${robot[@]}" --poses_csv=cube3.csv --type=pose \
+  --perturb_m=1e-12 --perturb_rad=1e-12 --noise_m=0.00002 --rotation_noise_rad=0.00002 \
+  --seed=7 --out=sim_cycles.csv >sim.out 2>sim.err &&
+  ok "simulate reads the cube's poses CSV" || { fail "simulate reads the cube's poses CSV"; cat sim.err; }
+"$apps/activecal_evaluate" "${robot[@]}" --measurements=sim_cycles.csv --iso9283 \
+  --before=none --json_out=sim_iso.json >sim_eval.out 2>sim_eval.err &&
+  ok "evaluate --iso9283 reads simulate's output directly" ||
+  { fail "evaluate --iso9283 reads simulate's output directly"; cat sim_eval.err; }
+"$py" - <<'EOF' && ok "simulated cycles: 5 poses of 3 cycles, each row's commanded pose the cube's, AP at the noise" ||
+import csv, json, sys
+cube = list(csv.DictReader(l for l in open("cube.csv") if not l.startswith("#")))
+rows = list(csv.DictReader(l for l in open("sim_cycles.csv") if not l.startswith("#")))
+keys = ["commanded_%s" % k for k in ("x_m", "y_m", "z_m", "qw", "qx", "qy", "qz")]
+bad = []
+if len(rows) != 15: bad.append("%d rows" % len(rows))
+for i, r in enumerate(rows[:15]):
+    c = cube[i // 3]
+    if r.get("pose") != c["pose"]: bad.append("row %d: pose %s" % (i, r.get("pose"))); continue
+    # The quaternion's sign is free (q and -q are one rotation).
+    dot = sum(float(r[k]) * float(c[k]) for k in keys[3:])
+    for k in keys:
+        s = (1 if dot >= 0 else -1) if k[10] == "q" else 1
+        if abs(float(r[k]) - s * float(c[k])) > 1e-12: bad.append("row %d: %s" % (i, k))
+try:
+    poses = json.load(open("sim_iso.json"))["iso9283"]["poses"]
+except Exception as e:
+    poses = []; bad.append("no ISO JSON: %s" % e)
+if [p["pose"] for p in poses] != ["P1", "P2", "P3", "P4", "P5"]: bad.append("labels")
+for p in poses:
+    w = p["without"]
+    if p["num_cycles"] != 3: bad.append("%s: %d cycles" % (p["pose"], p["num_cycles"]))
+    if not w["ap_p_m"] < 1e-4: bad.append("%s: AP_p %g m" % (p["pose"], w["ap_p_m"]))
+    if not 1e-6 < w["rp_l_m"] < 3e-4: bad.append("%s: RP_l %g m" % (p["pose"], w["rp_l_m"]))
+if bad:
+    print(bad[:5]); sys.exit(1)
+EOF
+  fail "simulated cycles: 5 poses of 3 cycles, each row's commanded pose the cube's, AP at the noise"
 
 cli_end

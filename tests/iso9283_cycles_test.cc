@@ -197,7 +197,7 @@ TEST(Iso9283CyclesTest, BadCycles) {
   one.commanded[0].pose = "lonely";
   EXPECT_FALSE(EvaluateIso9283Cycles(model, truth, one.measurements, one.lines,
                                      one.commanded, &summary));
-  EXPECT_NE(summary.message.find("line 2: pose 'lonely' has 1 cycle"),
+  EXPECT_NE(summary.message.find("2: pose: 'lonely' has 1 cycle"),
             std::string::npos)
       << summary.message;
   // A pose row without a commanded orientation.
@@ -206,7 +206,7 @@ TEST(Iso9283CyclesTest, BadCycles) {
   EXPECT_FALSE(EvaluateIso9283Cycles(model, truth, no_rotation.measurements,
                                      no_rotation.lines, no_rotation.commanded,
                                      &summary));
-  EXPECT_NE(summary.message.find("line 5: pose 'P1': a 6D pose row without"),
+  EXPECT_NE(summary.message.find("5: pose: 'P1': a 6D pose row without"),
             std::string::npos)
       << summary.message;
   // Two commanded poses under one label.
@@ -214,7 +214,7 @@ TEST(Iso9283CyclesTest, BadCycles) {
   moved.commanded[4].position.x() += 1e-3;
   EXPECT_FALSE(EvaluateIso9283Cycles(model, truth, moved.measurements,
                                      moved.lines, moved.commanded, &summary));
-  EXPECT_NE(summary.message.find("line 6: pose 'P1' (first line 2): a "
+  EXPECT_NE(summary.message.find("6: pose: 'P1' (first line 2): a "
                                  "commanded pose other"),
             std::string::npos)
       << summary.message;
@@ -291,13 +291,13 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
   EXPECT_FALSE(ParseCommandedPosesCsv("pose," + joints + "\nP1," + q + "\n",
                                       "f.csv", model, MeasurementsCsvOptions(),
                                       &poses, &error));
-  EXPECT_NE(error.find("f.csv:1: the header has no column 'commanded_x_m'"),
+  EXPECT_NE(error.find("f.csv:1: header: the header has no column 'commanded_x_m'"),
             std::string::npos)
       << error;
   EXPECT_FALSE(ParseCommandedPosesCsv(
       joints + ",commanded_x_m,commanded_y_m,commanded_z_m\n" + q + ",1,2,3\n",
       "g.csv", model, MeasurementsCsvOptions(), &poses, &error));
-  EXPECT_NE(error.find("g.csv:1: the header has no column 'pose'"),
+  EXPECT_NE(error.find("g.csv:1: header: the header has no column 'pose'"),
             std::string::npos)
       << error;
   EXPECT_FALSE(ParseCommandedPosesCsv(
@@ -308,7 +308,7 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
   EXPECT_FALSE(ParseCommandedPosesCsv(
       "pose,commanded_x_m,commanded_y_m\nP1,1,2\n", "i.csv", model,
       MeasurementsCsvOptions(), &poses, &error));
-  EXPECT_NE(error.find("i.csv:1: the header has commanded_x_m,commanded_y_m "
+  EXPECT_NE(error.find("i.csv:1: header: the header has commanded_x_m,commanded_y_m "
                        "but not commanded_z_m"),
             std::string::npos)
       << error;

@@ -76,7 +76,7 @@ expect_ok "device columns: one note" \
   "activecal_evaluate: note: extra.csv: ignored 2 columns activecal does not read: temperature_C, target" \
   activecal_evaluate --measurements=extra.csv
 expect_fail "--columns_strict" \
-  "--measurements: extra.csv:1: columns 'temperature_C', 'target' activecal does not read (strict columns: every column must be one activecal reads)" \
+  "--measurements: extra.csv:1: header: columns 'temperature_C', 'target' activecal does not read (strict columns: every column must be one activecal reads)" \
   activecal_evaluate --measurements=extra.csv --columns_strict
 awk -F, -v OFS=, 'NR==1{print $0, "distance_m"; next} {print $0, (NR == 6 ? 0.5 : "")}' \
   m.csv >shifted.csv
@@ -140,11 +140,11 @@ expect_fail "a length beyond any device's reach" \
   activecal_evaluate --measurements=huge.csv
 tr ',' ';' <m.csv >semicolons.csv
 expect_fail "semicolons" \
-  "--measurements: semicolons.csv:1: the fields are separated by ';', not ','" \
+  "--measurements: semicolons.csv:1: header: the fields are separated by ';', not ','" \
   activecal_evaluate --measurements=semicolons.csv
 sed '1s/x_m,y_m,z_m/x_mm,y_m,z_m/' m.csv >mixed.csv
 expect_fail "metres and millimetres mixed" \
-  "mixed.csv:1: the header has y_m,z_m but not x_m (the measured point)" \
+  "mixed.csv:1: header: the header has y_m,z_m but not x_m (the measured point)" \
   activecal_evaluate --measurements=mixed.csv
 awk -F, -v OFS=, 'NR==1{print $0, "u95_mm"; next} {print $0, (NR == 8 ? -0.1 : 0.05)}' m.csv >u95.csv
 expect_fail "negative U95" "u95.csv:8: u95_mm: a standard deviation must be > 0, got -0.1" \

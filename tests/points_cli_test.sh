@@ -120,10 +120,10 @@ printf 'distances:\n  - {from: hole_0, to: hole_1, distance_m: -0.05}\n' >negati
 printf 'distances:\n  - {from: hole_0, to: hole_1, distance_m: 0.05}\nplanes: []\n' >key.yaml
 (head -1 train.csv; sed -n 2p train.csv | sed 's/,,,$/,0.1,0.2,0.3/'
  sed -n '3,$p' train.csv) >coordinates.csv
-expect_fail "point of one row" "one.csv:77: point 'lonely' has one row only" \
+expect_fail "point of one row" "one.csv:77: row: point 'lonely' has one row only" \
   activecal_identify "${robot[@]}" --measurements=one.csv --json_out=o.json
 expect_fail "distance to an unknown point" \
-  "nowhere.yaml:2: a known distance to point 'nowhere', which no type=point row" \
+  "nowhere.yaml:2: distances[0].to: a known distance to point 'nowhere', which no type=point row" \
   activecal_identify "${robot[@]}" --measurements=train.csv \
   --points=nowhere.yaml --json_out=o.json
 expect_fail "negative distance" \
@@ -141,10 +141,10 @@ expect_fail "cv with points" "model_selection=cv is not supported with fixed-poi
   activecal_identify "${robot[@]}" --measurements=train.csv \
   --model_selection=cv --json_out=o.json
 expect_fail "evaluate: distance to an unknown point" \
-  "nowhere.yaml:2: a known distance to point 'nowhere'" \
+  "nowhere.yaml:2: distances[0].to: a known distance to point 'nowhere'" \
   activecal_evaluate --robot=cal.yaml --measurements=test.csv \
   --points=nowhere.yaml --json_out=o.json
-expect_fail "evaluate: point of one row" "one.csv:77: point 'lonely' has one row only" \
+expect_fail "evaluate: point of one row" "one.csv:77: row: point 'lonely' has one row only" \
   activecal_evaluate --robot=cal.yaml --measurements=one.csv --json_out=o.json
 expect_fail "evaluate: negative distance" \
   "negative.yaml:2:5: distances[0].distance_m: must be > 0" \

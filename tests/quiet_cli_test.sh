@@ -4,8 +4,9 @@
 # --quiet's one result line of the programs other than identify and select
 # (those are in output_cli_test.sh and select_cli_test.sh): the line is the
 # last on stdout without --quiet and the only one with it, its figures are
-# the JSON's, and the files written are byte-identical either way. The case
-# is 6D (position + orientation): FIGAROH's UR10e measurements.
+# the JSON's and of a plausible size, and the files written are
+# byte-identical either way. The case is 6D (position + orientation): pose
+# measurements of a perturbed UR10e at FIGAROH's 23 configurations.
 #
 #   tests/quiet_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
@@ -37,9 +38,32 @@ quiet_pair() {
   done
 }
 
-# --- activecal_evaluate ---
+# --- activecal_simulate, activecal_compensate, activecal_monte_carlo: on
+# those 23 configurations, 6D (pose) measurements of a perturbed UR10e. ---
+python3 - "$m" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+cols = ["q%d_rad" % j for j in range(1, 7)]
+with open("p.csv", "w") as f:
+    f.write(",".join(cols) + "\n")
+    for r in rows:
+        f.write(",".join(r[c] for c in cols) + "\n")
+PY
+quiet_pair simulate "m.csv true.yaml" "$apps/activecal_simulate" \
+  --robot="$data/ur10e.urdf" --tip_link=tool0 --poses_csv="$PWD/p.csv" --type=pose \
+  --perturb_m=0.001 --perturb_rad=0.001 --noise_m=0.00005 --rotation_noise_rad=0.00005 \
+  --seed=1 --true_model_out=true.yaml --out=m.csv
+rows=$(grep -vc '^#\|^type' m.csv)
+[ "$(cat simulate.qout)" = "activecal_simulate: wrote $rows pose measurements of 'ur10e' to m.csv" ] &&
+  [ "$rows" -eq 23 ] && ok "simulate's line: the 23 rows of the CSV" ||
+  fail "simulate's line: the $rows rows of the CSV"
+
+# --- activecal_evaluate: the nominal UR10e on the measurements of the
+# perturbed one (1 mm / 1 mrad): registered to the robot, the RMS is the
+# model error, mm-level (FIGAROH's file read as a UR10e is 1.6 m off: not a
+# figure a person would check). ---
 quiet_pair evaluate "eval.json" "$apps/activecal_evaluate" \
-  --robot="$data/ur10e.urdf" --tip_link=tool0 --measurements="$m" \
+  --robot="$data/ur10e.urdf" --tip_link=tool0 --measurements="$PWD/m.csv" \
   --json_out=eval.json
 # The line's figures are the JSON's (mm and deg, rounded as printed).
 check=$(
@@ -58,60 +82,61 @@ if n != j["num_measurements"]: bad.append("count")
 if abs(rms - j["rmse_m"] * 1e3) > 0.6e-4: bad.append("rms")
 if abs(mx - j["max_m"] * 1e3) > 0.6e-4: bad.append("max")
 if abs(rot - math.degrees(j["orientation_rad"]["rms"])) > 0.6e-5: bad.append("rot")
-if rms <= 0 or rot <= 0: bad.append("zero")
+# Plausible for a 1 mm / 1 mrad error of a 1.3 m arm after registration.
+if not 0.2 < rms < 10: bad.append("RMS %g mm is not mm-level" % rms)
+if not rms <= mx < 30: bad.append("max %g mm" % mx)
+if not 0.005 < rot < 0.5: bad.append("orientation RMS %g deg" % rot)
 print("ok" if not bad else "mismatch " + " ".join(bad) + ": " + line)
 PY
 )
-[ "$check" = "ok" ] && ok "evaluate's line is the JSON's count, RMS, max, orientation" ||
+[ "$check" = "ok" ] && ok "evaluate's line is the JSON's count, RMS, max, orientation, mm-level: $(cat evaluate.qout)" ||
   fail "evaluate's line is the JSON's count, RMS, max, orientation ($check)"
 
-# --- activecal_simulate, activecal_compensate, activecal_monte_carlo: on
-# those 23 configurations, 6D (pose) measurements of a perturbed UR10e. ---
-python3 - "$m" <<'PY'
-import csv, sys
-rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
-cols = ["q%d_rad" % j for j in range(1, 7)]
-with open("p.csv", "w") as f:
-    f.write(",".join(cols) + "\n")
-    for r in rows:
-        f.write(",".join(r[c] for c in cols) + "\n")
-PY
-quiet_pair simulate "m.csv true.yaml" "$apps/activecal_simulate" \
-  --robot="$data/ur10e.urdf" --tip_link=tool0 --poses_csv="$PWD/p.csv" --type=pose \
-  --perturb_m=0.001 --perturb_rad=0.001 --seed=1 --true_model_out=true.yaml \
-  --out=m.csv
-rows=$(grep -vc '^#\|^type' m.csv)
-[ "$(cat simulate.qout)" = "activecal_simulate: wrote $rows pose measurements of 'ur10e' to m.csv" ] &&
-  [ "$rows" -eq 23 ] && ok "simulate's line: the 23 rows of the CSV" ||
-  fail "simulate's line: the $rows rows of the CSV"
-
-# The nominal robot as a robot file (perturbed by 1e-12), the true one
-# the program is compensated for.
+# The nominal robot as a robot file (perturbed by 1e-12), and the robot
+# calibrated from m.csv (a true.yaml holds the truth in 'true:' entries,
+# its values are the nominal ones: compensating with it changes nothing),
+# which the program is compensated for.
 "$apps/activecal_simulate" --robot="$data/ur10e.urdf" --tip_link=tool0 \
   --poses_csv=p.csv --perturb_m=1e-12 --perturb_rad=1e-12 \
   --true_model_out=nominal.yaml --out=nominal.csv >/dev/null 2>&1 ||
   fail "the nominal UR10e as a robot file"
+"$apps/activecal_identify" --robot="$data/ur10e.urdf" --tip_link=tool0 \
+  --measurements=m.csv --model_out=cal.yaml --quiet >/dev/null ||
+  fail "the UR10e calibrated from m.csv"
 quiet_pair compensate "comp.csv comp.json" "$apps/activecal_compensate" \
-  --robot="$PWD/true.yaml" --nominal="$PWD/nominal.yaml" --poses_csv="$PWD/p.csv" \
+  --robot="$PWD/cal.yaml" --nominal="$PWD/nominal.yaml" --poses_csv="$PWD/p.csv" \
   --match=pose --out=comp.csv --json_out=comp.json
 check=$(
-  python3 - comp.json compensate.qout <<'PY'
+  python3 - comp.json compensate.qout eval.json <<'PY'
 import json, math, re, sys
 j = json.load(open(sys.argv[1]))
 line = open(sys.argv[2]).read().strip()
-m = re.fullmatch(r"activecal_compensate: (\d+) of (\d+) targets converged, max "
-                 r"position error (\S+) mm, max rotation error (\S+) deg", line)
+m = re.fullmatch(r"activecal_compensate: (\d+) of (\d+) targets converged, "
+                 r"correction max (\S+) mm, RMS (\S+) mm, max (\S+) deg, "
+                 r"RMS (\S+) deg, IK residual max (\S+) mm", line)
 if not m:
     print("unexpected line: " + line); sys.exit()
+c = j["correction"]
 bad = []
 if int(m[1]) != j["num_converged"] or int(m[2]) != j["num_targets"]: bad.append("counts")
-if abs(float(m[3]) - j["max_position_error_m"] * 1e3) > 6e-3 * abs(float(m[3])): bad.append("position")
-if abs(float(m[4]) - math.degrees(j["max_rotation_error_rad"])) > 6e-3 * abs(float(m[4])): bad.append("rotation")
+for k, key, scale, tol in [(3, "max_position_m", 1e3, 6e-4), (4, "rms_position_m", 1e3, 6e-4),
+                           (5, "max_rotation_rad", 180 / math.pi, 6e-5),
+                           (6, "rms_rotation_rad", 180 / math.pi, 6e-5)]:
+    if abs(float(m[k]) - c[key] * scale) > tol: bad.append(key)
+if abs(float(m[7]) - j["max_ik_residual_m"] * 1e3) > 6e-3 * abs(float(m[7])): bad.append("residual")
+# The IK residual is ~0 (converged); the correction is the model error the
+# program had: of the size evaluate measured (nominal vs. the same true
+# robot, registered), not 0.
+if not float(m[7]) < 1e-4: bad.append("IK residual not ~0")
+ev = json.load(open(sys.argv[3]))
+if not 0.3 < c["rms_position_m"] / ev["rmse_m"] < 3: bad.append(
+    "correction RMS %g mm vs evaluate's %g mm" % (c["rms_position_m"] * 1e3, ev["rmse_m"] * 1e3))
+if not c["rms_position_m"] <= c["max_position_m"]: bad.append("rms > max")
 print("ok" if not bad else "mismatch " + " ".join(bad) + ": " + line)
 PY
 )
-[ "$check" = "ok" ] && ok "compensate's line is the JSON's counts and max errors" ||
-  fail "compensate's line is the JSON's counts and max errors ($check)"
+[ "$check" = "ok" ] && ok "compensate's line is the JSON's counts, correction and IK residual; the correction is evaluate's error's size" ||
+  fail "compensate's line is the JSON's counts, correction and IK residual ($check)"
 
 # Position measurements identify the joint offsets (not the full set).
 "$apps/activecal_simulate" --robot="$data/ur10e.urdf" --tip_link=tool0 \

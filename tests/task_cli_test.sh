@@ -76,7 +76,7 @@ expect_fail "task algorithm" "--criterion=task_rms: --algorithm must be fedorov,
   --json_out=tp.json >/dev/null && ok "task poses csv" || fail "task poses csv"
 if [ "$(json tp.json "j['num_task_poses']")" = 40 ]; then ok "task poses counted"; else fail "task poses counted"; fi
 printf 'pose_index,q1_rad,q2_rad,q3_rad\n0,0.1,0.2,0.3\n' >three_joints.csv
-expect_fail "task poses for another robot" "--task_poses_csv: three_joints.csv:1: the header has neither" \
+expect_fail "task poses for another robot" "--task_poses_csv: three_joints.csv:1: header: the header has neither" \
   activecal_select --levels=3 --criterion=task_rms --task_poses_csv=three_joints.csv
 printf 'pose_index,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,q7_rad\n0,0.1,0.2,0.3,0,0,0,0\n' >seven_joints.csv
 expect_fail "task poses with a seventh joint" "--task_poses_csv: seven_joints.csv" \

@@ -291,7 +291,7 @@ expect_fail "frames for the built-in PUMA" "--base_link, --tip_link and --frames
 expect_fail "frames for a DH robot" "--frames: frames.yaml:4:7: base: the robot's base is a hayati block, not a 6-DOF frame" \
   activecal_select --robot="$data/puma560.yaml" --frames=frames.yaml
 grep -v '^#' "$m" | cut -d, -f1-6,8- >five_joints.csv
-expect_fail "joint count" "five_joints.csv:1: the header has neither 'q6_rad' nor 'q6_deg' for joint 6" \
+expect_fail "joint count" "five_joints.csv:1: header: the header has neither 'q6_rad' nor 'q6_deg' for joint 6" \
   activecal_evaluate --robot="$data/ur10e.urdf" --tip_link=tool0 --measurements=five_joints.csv
 sed 's/^type,/type,marker,/; s/^pose,/pose,smr2,/' "$m" >markers.csv
 expect_fail "unknown marker" "marker: 'smr2' is not a marker of the model (its markers: tool" \
@@ -301,7 +301,7 @@ expect_fail "unknown parameter set" "--parameter_set must be registration, offse
   --parameter_set=everything
 expect_fail "evaluate without measurements" "--measurements is required" activecal_evaluate
 sed 's/^type,/type,q7_rad,/; s/^pose,/pose,0,/' "$m" >seven.csv
-expect_fail "a joint the robot does not have" "seven.csv:4: column 'q7_rad' is for joint 7, but robot 'ur10e' has 6 joints" \
+expect_fail "a joint the robot does not have" "seven.csv:4: header: column 'q7_rad' is for joint 7, but robot 'ur10e' has 6 joints" \
   activecal_evaluate --robot="$data/ur10e.urdf" --tip_link=tool0 --measurements=seven.csv
 printf '<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/></joint></robot>' >nolimit.urdf
 expect_fail "urdfdom's reason" "nolimit.urdf: not a valid URDF: Joint [j] is of type REVOLUTE but it does not specify limits" \

@@ -415,7 +415,7 @@ bool ActiveSession::ReadLogs(std::string* error) {
       const int64_t pose = fields[0];
       const int64_t seen = fields[2];
       if (logged_.count(pose)) {
-        *error = path + ":" + std::to_string(line) + ": pose " +
+        *error = path + ":" + std::to_string(line) + ": pose_index: pose " +
                  std::to_string(pose) + " is logged twice";
         return false;
       }
@@ -474,8 +474,9 @@ bool ActiveSession::ReadLogs(std::string* error) {
       return false;
     }
     if (logged_.count(e.pose)) {
-      *error = excluded_path + ":" + std::to_string(number) + ": pose " +
-               std::to_string(e.pose) + " is logged twice";
+      *error = excluded_path + ":" + std::to_string(number) +
+               ": pose_index: pose " + std::to_string(e.pose) +
+               " is logged twice";
       return false;
     }
     LoggedAnswer a;

@@ -390,6 +390,7 @@ void Calibrate(const RobotModel& input,
   selection_options.num_threads = options.num_threads;
   selection_options.seed = Random::StreamSeed(options.seed, 3);
   selection_options.identification = fit_options;
+  selection_options.progress = options.selection_progress;
   SelectModel(s.model, start, training, options.selection_validation,
               selection_options, &s.selection);
   if (s.selection.termination_type != TerminationType::kConvergence) {

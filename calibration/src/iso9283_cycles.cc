@@ -19,7 +19,9 @@ bool Fail(const std::string& message, Iso9283CyclesSummary* summary) {
   return false;
 }
 
-std::string LineOf(int line) { return "line " + std::to_string(line); }
+// "<line>": the caller puts the file before it ("cycles.csv:12: pose: ...",
+// the format of every reader).
+std::string LineOf(int line) { return std::to_string(line); }
 
 nlohmann::json Vec(const Eigen::Vector3d& v, double scale = 1.0) {
   return {v.x() * scale, v.y() * scale, v.z() * scale};
@@ -164,26 +166,27 @@ bool EvaluateIso9283Cycles(const RobotModel& model,
     const Measurement& m = measurements[i];
     const int line = lines[i];
     if (++rows_per_line[line] > 1) {
-      return Fail(LineOf(line) +
-                      ": several markers on one row: the ISO 9283 figures "
-                      "are of one measured point per cycle",
-                  summary);
+      return Fail(
+          LineOf(line) +
+              ": marker: several markers on one row: the ISO 9283 figures "
+              "are of one measured point per cycle",
+          summary);
     }
     const auto it = by_line.find(line);
     if (it == by_line.end()) {
-      return Fail(LineOf(line) + ": no commanded pose read for this row",
+      return Fail(LineOf(line) + ": pose: no commanded pose read for this row",
                   summary);
     }
     const CommandedPose& c = *it->second;
     if (m.type == MeasurementType::kDistance) {
-      return Fail(LineOf(line) + ": pose '" + c.pose +
+      return Fail(LineOf(line) + ": type: pose '" + c.pose +
                       "': a distance row: ISO 9283 cycles are position or "
                       "pose measurements",
                   summary);
     }
     const bool pose = m.type == MeasurementType::kPose;
     if (pose && !c.has_rotation) {
-      return Fail(LineOf(line) + ": pose '" + c.pose +
+      return Fail(LineOf(line) + ": pose: '" + c.pose +
                       "': a 6D pose row without a commanded orientation "
                       "(commanded_qw,... or commanded_r11..commanded_r33)",
                   summary);
@@ -202,8 +205,9 @@ bool EvaluateIso9283Cycles(const RobotModel& model,
       groups.push_back(g);
     }
     Group& g = groups[gi->second];
-    const std::string where = LineOf(line) + ": pose '" + c.pose + "' (first " +
-                              LineOf(g.report.first_line) + ")";
+    const std::string where = LineOf(line) + ": pose: '" + c.pose +
+                              "' (first line " + LineOf(g.report.first_line) +
+                              ")";
     if (m.type != g.type) {
       return Fail(where + ": a " + MeasurementTypeName(m.type) + " row among " +
                       MeasurementTypeName(g.type) +
@@ -249,7 +253,7 @@ bool EvaluateIso9283Cycles(const RobotModel& model,
   for (Group& g : groups) {
     std::string error;
     if (g.attained.size() < 2) {
-      return Fail(LineOf(g.report.first_line) + ": pose '" + g.report.pose +
+      return Fail(LineOf(g.report.first_line) + ": pose: '" + g.report.pose +
                       "' has 1 cycle: ISO 9283 needs at least 2 cycles to "
                       "each pose (the standard runs 30)",
                   summary);
@@ -257,7 +261,7 @@ bool EvaluateIso9283Cycles(const RobotModel& model,
     if (!Iso9283Pose(g.report.commanded, g.attained, &g.report.without,
                      &error) ||
         !Iso9283Pose(g.report.commanded, g.predicted, &g.report.with, &error)) {
-      return Fail(LineOf(g.report.first_line) + ": pose '" + g.report.pose +
+      return Fail(LineOf(g.report.first_line) + ": pose: '" + g.report.pose +
                       "': " + error,
                   summary);
     }

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "activecal/core/parallel.h"
@@ -399,6 +400,8 @@ void SelectModel(const RobotModel& model, const Eigen::VectorXd& start,
   // kValidation: why the first refit of the registration to the
   // validation measurements failed (split 0 only, one thread writes it).
   std::string refit_error;
+  std::mutex progress_mutex;
+  int64_t splits_done = 0;
   ParallelFor(num_splits, threads, [&](int64_t begin, int64_t end, int) {
     for (int64_t sp = begin; sp < end; ++sp) {
       Eigen::VectorXd from = start;
@@ -435,6 +438,10 @@ void SelectModel(const RobotModel& model, const Eigen::VectorXd& start,
           }
         }
         ok[task] = good;
+      }
+      if (options.progress) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        options.progress(++splits_done, num_splits);
       }
     }
   });

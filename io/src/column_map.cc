@@ -9,6 +9,7 @@
 #include <set>
 
 #include "activecal/io/csv_files.h"
+#include "line_error.h"
 #include "number_text.h"
 #include "yaml_reader.h"
 
@@ -259,8 +260,9 @@ bool ApplyColumnMap(const ColumnMap& map, const RobotModel& model,
                     const std::string& text, const std::string& source,
                     std::string* out, std::vector<std::string>* notes,
                     std::string* error) {
-  const auto fail = [&](int line, const std::string& what) {
-    *error = source + ":" + std::to_string(line) + ": " + what;
+  const auto fail = [&](int line, const std::string& what,
+                        const char* field = "header") {
+    *error = internal::LineError(source, line, field, what);
     return false;
   };
   for (const ColumnMap::Column& c : map.columns) {
@@ -389,7 +391,7 @@ bool ApplyColumnMap(const ColumnMap& map, const RobotModel& model,
     } else {
       if (!SplitAt(lines[i], delimiter, &fields)) {
         return fail(static_cast<int>(i) + 1,
-                    "a quote is not closed on the line");
+                    "a quote is not closed on the line", "row");
       }
       if (map.decimal == ',') {
         for (std::string& f : fields) f = DecimalPoint(f);
@@ -412,7 +414,8 @@ bool ApplyColumnMap(const ColumnMap& map, const RobotModel& model,
           return fail(static_cast<int>(i) + 1,
                       ColumnMapOrientationText(map) +
                           ": some angles empty, some given (all three or "
-                          "none)");
+                          "none)",
+                      "row");
         }
         if (given == 3) {
           const Eigen::Matrix3d R =

@@ -20,6 +20,7 @@
 #include "activecal/core/kinematics.h"
 #include "activecal/core/point_constraints.h"
 #include "csv_columns.h"
+#include "line_error.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -189,7 +190,12 @@ class Table {
   int header_line() const { return header_line_; }
 
   bool Fail(int line, const std::string& what, std::string* error) const {
-    if (error) *error = source_ + ":" + std::to_string(line) + ": " + what;
+    // The field: the column, when `what` does not start with it, or the
+    // line itself: the header (or, before it is read, the line that was to
+    // be the header), a row.
+    const char* field =
+        header_line_ == 0 || line == header_line_ ? "header" : "row";
+    if (error) *error = internal::LineError(source_, line, field, what);
     return false;
   }
 

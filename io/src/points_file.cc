@@ -151,6 +151,8 @@ bool CheckPointDistanceLabels(const std::vector<Measurement>& measurements,
         if (error) {
           *error = source + ":" +
                    std::to_string(i < lines.size() ? lines[i] : 0) +
+                   ": distances[" + std::to_string(i) + "]." +
+                   (label == &distances[i].point ? "from" : "to") +
                    ": a known distance to point '" + *label +
                    "', which no type=point row of the measurements names";
         }

@@ -8,6 +8,7 @@
 
 #include "activecal/io/csv_files.h"
 #include "csv_columns.h"
+#include "line_error.h"
 #include "number_text.h"
 
 namespace activecal {
@@ -26,7 +27,7 @@ bool ParseTargetsCsv(const std::string& text, const std::string& source,
   }
   auto fail = [&](int row, const std::string& what) {
     if (error) {
-      *error = source + ":" + std::to_string(table.lines[row]) + ": " + what;
+      *error = internal::LineError(source, table.lines[row], "row", what);
     }
     return false;
   };

@@ -6,6 +6,7 @@
 #include <glog/logging.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -190,7 +191,7 @@ std::string CompensationSummary::BriefReport() const {
   if (num_invalid) out << ", " << num_invalid << " invalid";
   if (num_iteration_cap) out << ", " << num_iteration_cap << " iteration_cap";
   if (num_collision) out << ", " << num_collision << " collision";
-  out << "\n  largest error left " << max_position_error_m << " m";
+  out << "\n  largest IK residual " << max_position_error_m << " m";
   if (max_rotation_error_rad > 0)
     out << ", " << max_rotation_error_rad << " rad";
   out << "; joint change: largest of one joint " << max_joint_change
@@ -200,6 +201,41 @@ std::string CompensationSummary::BriefReport() const {
   out << "\n";
   if (!message.empty()) out << "  " << message << "\n";
   return out.str();
+}
+
+CorrectionSize MeasureCorrection(const RobotModel& nominal,
+                                 const Eigen::VectorXd& values, int marker,
+                                 bool with_rotation,
+                                 const CompensationSummary& summary) {
+  CHECK_EQ(summary.targets.size(), summary.results.size());
+  CorrectionSize size;
+  double sum_p2 = 0.0, sum_r2 = 0.0;
+  for (size_t i = 0; i < summary.results.size(); ++i) {
+    const Eigen::VectorXd& q = summary.results[i].joints;
+    const IkTarget& target = summary.targets[i];
+    if (q.size() != nominal.num_joints() || !q.allFinite() ||
+        !target.point.allFinite() || !target.rotation.allFinite()) {
+      continue;
+    }
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    TargetFrame(nominal, values, q, &R, &t, marker);
+    const double p = (t - target.point).norm();
+    const double r =
+        with_rotation
+            ? Eigen::AngleAxisd(target.rotation.transpose() * R).angle()
+            : 0.0;
+    ++size.num_targets;
+    size.max_position_m = std::max(size.max_position_m, p);
+    size.max_rotation_rad = std::max(size.max_rotation_rad, r);
+    sum_p2 += p * p;
+    sum_r2 += r * r;
+  }
+  if (size.num_targets > 0) {
+    size.rms_position_m = std::sqrt(sum_p2 / size.num_targets);
+    size.rms_rotation_rad = std::sqrt(sum_r2 / size.num_targets);
+  }
+  return size;
 }
 
 void CompensateProgram(const RobotModel& calibrated,

@@ -45,7 +45,7 @@ def test_same_program_as_the_program(puma, calibrated, tmp_path):
     assert c.status == [t["status"] for t in expected["targets"]]
     np.testing.assert_array_equal(
         c.joint_angles, np.array([t["joints"] for t in expected["targets"]]))
-    assert c.max_position_error_m == expected["max_position_error_m"]
+    assert c.max_position_error_m == expected["max_ik_residual_m"]
     assert c.max_joint_change == expected["max_joint_change"]
     mine = tmp_path / "mine.csv"
     c.save(str(mine))

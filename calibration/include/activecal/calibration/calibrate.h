@@ -94,7 +94,10 @@ struct CalibrationOptions {
   ModelSelectionMethod model_selection = ModelSelectionMethod::kAuto;
   SelectionRule selection_rule = SelectionRule::kMostWithinOneSe;
   ParameterRanking selection_ranking = ParameterRanking::kSignificance;
-  int num_folds = 5;    // kCrossValidation, >= 2
+  int num_folds = 5;  // kCrossValidation, >= 2
+  // The model selection's progress (ModelSelectionOptions::progress: the
+  // splits fitted). Empty: none.
+  ProgressCallback selection_progress;
   int num_threads = 0;  // of model selection; <= 0: all hardware threads
   // kValidation's held-out poses (e.g. another session); with no other
   // method.

@@ -79,7 +79,8 @@ struct Iso9283CyclesSummary {
   nlohmann::json Json() const;
 };
 
-// False (summary->ok false, one line in message naming the line and the
+// False (summary->ok false, one line in message, "<line>: <field>: ..."
+// for the caller to put the file before, naming the line and the
 // label) for a label with one cycle, a distance row, a row of several
 // markers (the wide form), cycles of one label of different markers or
 // types, a 6D pose row without a commanded orientation, or sizes that do

@@ -115,6 +115,10 @@ struct ModelSelectionOptions {
   // Of every fit. The curve's fits skip the covariance and stop at
   // relative tolerances of at most 1e-9 (the RMS needs no more).
   IdentificationOptions identification;
+  // Called as each split (the whole training set, then each fold, in the
+  // order they finish) has fitted the whole curve: done of total splits,
+  // done counting up 1, 2, ... (calls are serialized). Empty: none.
+  ProgressCallback progress;
 
   bool IsValid(std::string* error) const;
 };

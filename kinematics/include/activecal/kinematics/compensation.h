@@ -90,9 +90,11 @@ struct CompensationSummary {
   int num_invalid = 0;
   int num_iteration_cap = 0;
   int num_collision = 0;  // converged, refused by options.check
-  // Over the targets: largest position error (m) and rotation error (rad)
-  // left, largest change of any joint (rad or m), RMS of the per-target
-  // Euclidean joint change.
+  // Over the targets: the inverse kinematics' largest residual, position
+  // (m) and rotation (rad), of the calibrated model at its own solution
+  // (about 0 when every target converged: not an accuracy figure, see
+  // MeasureCorrection for the size of the correction); largest change of
+  // any joint (rad or m), RMS of the per-target Euclidean joint change.
   double max_position_error_m = 0.0;
   double max_rotation_error_rad = 0.0;
   double max_joint_change = 0.0;
@@ -113,6 +115,23 @@ struct CompensationSummary {
 // the results, e.g. corrected_compensation.h).
 void SummarizeCompensation(const CompensationOptions& options,
                            CompensationSummary* summary);
+
+// The size of a compensation: how far the nominal model (at `values`, for a
+// program the meaning parameters, ProgramMeaningParameters) puts the marker
+// `marker` at the compensated joints from each target, i.e. the error the
+// compensation removes, over the targets whose result is finite. Rotation:
+// the angle of the relative rotation (0 unless `with_rotation`).
+struct CorrectionSize {
+  int num_targets = 0;  // the targets counted
+  double max_position_m = 0.0;
+  double rms_position_m = 0.0;
+  double max_rotation_rad = 0.0;
+  double rms_rotation_rad = 0.0;
+};
+CorrectionSize MeasureCorrection(const RobotModel& nominal,
+                                 const Eigen::VectorXd& values, int marker,
+                                 bool with_rotation,
+                                 const CompensationSummary& summary);
 
 // Compensates a joint program (one configuration per row, SI units) taught
 // with `nominal`, for the robot described by `calibrated` (see the top of
