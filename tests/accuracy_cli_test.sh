@@ -12,10 +12,6 @@ set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/cli_lib.sh"
 cli_begin "$@"
-# No progress lines (identify's model selection prints one once it has
-# run 2 s, before a late error such as an unwritable --selection_plot):
-# the bad-input cases below count the lines on stderr.
-export ACTIVECAL_PROGRESS_AFTER_S=1000000
 
 m="$data/figaroh_ur10e/measurements.csv"
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)

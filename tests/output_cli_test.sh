@@ -116,6 +116,8 @@ echo "$note" | grep -q "weighted 1 m/rad and 22 parameters kept" &&
   ok "--rotation_weight note: $note" ||
   { fail "--rotation_weight note"; tail -5 out1.txt; }
 
+# (The default delay, not cli_begin's.)
+unset ACTIVECAL_PROGRESS_AFTER_S
 # --- Progress lines: on stderr once a step has run 2 s (here a file, not a
 # terminal), flushed as they happen; none on a short run; none with --quiet.
 # One thread: the 117,649-pose PUMA lattice's 16 Fedorov restarts take
