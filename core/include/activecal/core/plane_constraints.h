@@ -28,8 +28,9 @@
 // about the normal. Nor can planes see the scale: all lengths scaled by s
 // about the base's origin move the touches of a plane by the same amount
 // along its normal, (s - 1) (d + r), absorbed by its offset (unless one
-// plane is touched with balls of different radii). So a label needs at
-// least three rows not on a line.
+// plane is touched with balls of different radii, which separate it only
+// by (s - 1) times their difference). So a label needs at least three
+// rows not on a line.
 
 #ifndef ACTIVECAL_CORE_PLANE_CONSTRAINTS_H_
 #define ACTIVECAL_CORE_PLANE_CONSTRAINTS_H_
