@@ -116,6 +116,21 @@ nlohmann::json PointsJson(const EvaluationSummary& s) {
   return points;
 }
 
+// The planes (type=plane rows): each one refitted (unit normal, offset:
+// n . x = d) and its flatness, the statistics of its rows' |distance|.
+nlohmann::json PlanesJson(const EvaluationSummary& s) {
+  nlohmann::json planes = nlohmann::json::array();
+  for (size_t k = 0; k < s.plane_labels.size(); ++k) {
+    const Eigen::Vector4d& p = s.plane_parameters[k];
+    nlohmann::json e = StatisticsJson(s.plane_flatness[k]);
+    e["label"] = s.plane_labels[k];
+    e["normal"] = {p[0], p[1], p[2]};
+    e["offset_m"] = p[3];
+    planes.push_back(e);
+  }
+  return planes;
+}
+
 // The measurements of one posture group.
 std::vector<Measurement> Subset(const std::vector<Measurement>& all,
                                 const std::vector<PostureGroup>& groups,
@@ -453,6 +468,13 @@ int Main() {
                             {"type", MeasurementTypeName(m.type)},
                             {"marker", m.marker + 1}};
       if (m.type == MeasurementType::kPoint) row["point"] = m.point;
+      if (m.type == MeasurementType::kPlane) {
+        row["plane"] = m.plane;
+        row["probe_radius_m"] = m.probe_radius_m;
+        row["plane_distance_m"] = summary.plane_errors_m[i];
+        rows.push_back(row);
+        continue;
+      }
       if (m.type == MeasurementType::kPointDistance) {
         row["points"] = {m.point, m.point2};
       }
@@ -471,6 +493,7 @@ int Main() {
     }
     j["errors"] = rows;
     if (!summary.point_labels.empty()) j["points"] = PointsJson(summary);
+    if (!summary.plane_labels.empty()) j["planes"] = PlanesJson(summary);
     if (have_before) {
       j["before"] = ReportJson(before);
       j["before"]["kind"] = before_kind;

@@ -41,6 +41,16 @@ std::string PointSpreadText(const EvaluationSummary& summary) {
                   s.mean * 1e3, s.rms * 1e3, s.max * 1e3);
     text += line;
   }
+  for (size_t k = 0; k < summary.plane_labels.size(); ++k) {
+    const ErrorStatistics& s = summary.plane_flatness[k];
+    const Eigen::Vector4d& p = summary.plane_parameters[k];
+    std::snprintf(line, sizeof(line),
+                  "  plane %s (%d rows, refitted: normal %.6f, %.6f, %.6f, "
+                  "offset %.6f m): flatness RMS %.3f mm, max %.3f mm\n",
+                  summary.plane_labels[k].c_str(), s.count, p[0], p[1], p[2],
+                  p[3], s.rms * 1e3, s.max * 1e3);
+    text += line;
+  }
   return text;
 }
 

@@ -377,8 +377,8 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
        "m.csv:1: header: the header has no column 'type'"},
       {"no rows", h, "m.csv:1: header: no measurements after the header"},
       {"bad type", h + "laser,0,0,0.1,0,1,2,3,,,,,,,,\n",
-       "m.csv:2: type: expected position, pose, distance or point, got "
-       "'laser'"},
+       "m.csv:2: type: expected position, pose, distance, point or plane, "
+       "got 'laser'"},
       {"missing point", h + "position,0,0,0.1,0,1,,3,,,,,,,,\n",
        "m.csv:2: y_m: empty"},
       {"value a type does not have", h + "position,0,0,0.1,0,1,2,3,,,,,,,,4\n",

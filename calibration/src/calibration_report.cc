@@ -284,6 +284,40 @@ std::string FixedPointsText(const IdentificationSummary& id) {
   return table.ToString();
 }
 
+// The planes' identified parameters (type=plane rows): plane.<label>.n
+// (the unit normal, its std the two tangent angles' in mrad) and
+// plane.<label>.d (the offset, n . x = d); empty without planes.
+std::string PlanesText(const IdentificationSummary& id) {
+  if (id.plane_labels.empty()) return "";
+  TextTable table({{"plane"},
+                   {"unit"},
+                   {"estimate", ColumnAlign::kRight},
+                   {"std", ColumnAlign::kRight},
+                   {"std", ColumnAlign::kRight},
+                   {"in"}});
+  const bool have_std = id.plane_standard_deviations.size() ==
+                        3 * static_cast<Eigen::Index>(id.plane_labels.size());
+  for (size_t k = 0; k < id.plane_labels.size(); ++k) {
+    const Eigen::Vector4d p = id.plane_parameters.segment<4>(4 * k);
+    const Eigen::Vector3d sd =
+        have_std
+            ? Eigen::Vector3d(id.plane_standard_deviations.segment<3>(3 * k))
+            : Eigen::Vector3d::Zero();
+    table.AddRow(
+        {"plane." + id.plane_labels[k] + ".n", "1",
+         FormatNumber("%.6f", p[0]) + ", " + FormatNumber("%.6f", p[1]) + ", " +
+             FormatNumber("%.6f", p[2]),
+         FormatNumber("%.6f", sd[0]) + ", " + FormatNumber("%.6f", sd[1]),
+         FormatNumber("%.3f", 1e3 * sd[0]) + ", " +
+             FormatNumber("%.3f", 1e3 * sd[1]),
+         "mrad"});
+    table.AddRow({"plane." + id.plane_labels[k] + ".d", "m",
+                  FormatNumber("%.6f", p[3]), FormatNumber("%.6f", sd[2]),
+                  FormatNumber("%.3f", 1e3 * sd[2]), "mm"});
+  }
+  return table.ToString();
+}
+
 }  // namespace
 
 std::string CalibrationResultText(const CalibrationSummary& s,
@@ -348,7 +382,7 @@ std::string CalibrationResultText(const CalibrationSummary& s,
     }
     table.AddRow(row);
   }
-  std::string text = table.ToString() + FixedPointsText(id);
+  std::string text = table.ToString() + FixedPointsText(id) + PlanesText(id);
   const std::string fit = id.BriefReport();
   text += "\n" + fit;
   if (has_truth) {
@@ -520,6 +554,26 @@ std::string CalibrationJson(const CalibrationSummary& s,
     }
     j["points"] = points;
     j["points_covariance"] = MatrixJson(id.point_covariance);
+  }
+  if (!id.plane_labels.empty()) {
+    // The planes (base frame): unit normal, offset (n . x = d, m), the std
+    // of the normal's two tangent angles (rad) and of the offset (m).
+    nlohmann::json planes = nlohmann::json::array();
+    for (size_t k = 0; k < id.plane_labels.size(); ++k) {
+      const Eigen::Vector4d p = id.plane_parameters.segment<4>(4 * k);
+      nlohmann::json e = {{"label", id.plane_labels[k]},
+                          {"normal", {p[0], p[1], p[2]}},
+                          {"offset_m", p[3]}};
+      if (id.plane_standard_deviations.size() >=
+          3 * static_cast<Eigen::Index>(k + 1)) {
+        e["normal_std_rad"] = {id.plane_standard_deviations[3 * k],
+                               id.plane_standard_deviations[3 * k + 1]};
+        e["offset_std_m"] = id.plane_standard_deviations[3 * k + 2];
+      }
+      planes.push_back(e);
+    }
+    j["planes"] = planes;
+    j["planes_covariance"] = MatrixJson(id.plane_covariance);
   }
   j["correlation"] = MatrixJson(id.correlation);
   j["covariance"] = MatrixJson(id.covariance);

@@ -34,6 +34,8 @@ int MeasurementDimension(MeasurementType type) {
       return 3;
     case MeasurementType::kPointDistance:
       return 1;
+    case MeasurementType::kPlane:
+      return 1;
   }
   return 0;
 }
@@ -50,14 +52,17 @@ const char* MeasurementTypeName(MeasurementType type) {
       return "point";
     case MeasurementType::kPointDistance:
       return "point_distance";
+    case MeasurementType::kPlane:
+      return "plane";
   }
   return "unknown";
 }
 
 bool ParseMeasurementType(const std::string& name, MeasurementType* type) {
-  for (MeasurementType t : {MeasurementType::kPosition, MeasurementType::kPose,
-                            MeasurementType::kDistance, MeasurementType::kPoint,
-                            MeasurementType::kPointDistance}) {
+  for (MeasurementType t :
+       {MeasurementType::kPosition, MeasurementType::kPose,
+        MeasurementType::kDistance, MeasurementType::kPoint,
+        MeasurementType::kPointDistance, MeasurementType::kPlane}) {
     if (name == MeasurementTypeName(t)) {
       *type = t;
       return true;
@@ -138,6 +143,13 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
       break;
     case MeasurementType::kPointDistance:
       break;  // checked above
+    case MeasurementType::kPlane:
+      if (m.plane.empty()) {
+        msg << "a plane row needs a plane label";
+      } else if (!std::isfinite(m.probe_radius_m) || m.probe_radius_m < 0) {
+        msg << "probe radius must be finite and >= 0, got " << m.probe_radius_m;
+      }
+      break;
   }
   if (msg.tellp() == 0) return true;
   if (error) *error = msg.str();

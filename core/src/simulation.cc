@@ -93,6 +93,7 @@ bool SimulateMeasurements(const RobotModel& model,
       case MeasurementType::kPointDistance:
         m.distance += noise.position_m * random.Gaussian();
         break;
+      case MeasurementType::kPlane:
       case MeasurementType::kPoint:
         // No measured value: where the marker sat about the point is in
         // the joints the plan gives (ReachPoint, point_reach.h).

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
 
 namespace activecal {
@@ -79,6 +80,41 @@ void EvaluatePointRows(const RobotModel& model,
   }
 }
 
+// The plane rows of EvaluateModel: each plane refitted, the rows' signed
+// distances from it and the flatness per plane.
+bool EvaluatePlaneRows(const RobotModel& model,
+                       const Eigen::VectorXd& parameters,
+                       const std::vector<Measurement>& measurements,
+                       EvaluationSummary* summary, std::string* error) {
+  const std::vector<std::string> labels = PlaneLabels(measurements);
+  if (labels.empty()) return true;
+  if (!CheckPlaneLabels(measurements, error) ||
+      !FitPlanes(model, parameters, measurements, labels,
+                 &summary->plane_parameters, error)) {
+    return false;
+  }
+  std::vector<std::vector<double>> flatness(labels.size());
+  std::vector<double> all;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    const Measurement& m = measurements[i];
+    if (m.type != MeasurementType::kPlane) continue;
+    const size_t k = static_cast<size_t>(
+        std::find(labels.begin(), labels.end(), m.plane) - labels.begin());
+    const double e = PlaneResidual(
+        summary->plane_parameters[k],
+        MeasuredPoint(model, parameters, m.joints, m.marker), m.probe_radius_m);
+    summary->plane_errors_m[i] = e;
+    flatness[k].push_back(std::abs(e));
+    all.push_back(std::abs(e));
+  }
+  summary->plane_labels = labels;
+  for (const std::vector<double>& f : flatness) {
+    summary->plane_flatness.push_back(ComputeErrorStatistics(f));
+  }
+  summary->plane = ComputeErrorStatistics(all);
+  return true;
+}
+
 }  // namespace
 
 bool EvaluateModel(const RobotModel& model, const Eigen::VectorXd& parameters,
@@ -108,6 +144,7 @@ bool EvaluateCorrectedModel(const RobotModel& model,
   summary->position_errors.assign(n, Eigen::Vector3d::Zero());
   summary->rotation_errors_rad.assign(n, 0.0);
   summary->distance_errors_m.assign(n, 0.0);
+  summary->plane_errors_m.assign(n, 0.0);
   std::vector<double> positions, rotations, distances;
   Eigen::Vector3d squares = Eigen::Vector3d::Zero(), sum = squares;
   for (int i = 0; i < n; ++i) {
@@ -144,6 +181,10 @@ bool EvaluateCorrectedModel(const RobotModel& model,
   }
   EvaluatePointRows(model, parameters, measurements, summary, &positions,
                     &squares, &sum, &distances);
+  if (!EvaluatePlaneRows(model, parameters, measurements, summary, &error)) {
+    summary->message = error;
+    return false;
+  }
   summary->position = ComputeErrorStatistics(positions);
   if (!positions.empty()) {
     summary->rmse_xyz_m = (squares / positions.size()).cwiseSqrt();

@@ -6,6 +6,8 @@
 #include <ceres/ceres.h>
 #include <ceres/covariance.h>
 #include <ceres/manifold.h>
+#include <ceres/product_manifold.h>
+#include <ceres/sphere_manifold.h>
 #include <glog/logging.h>
 
 #include <Eigen/SVD>
@@ -17,6 +19,7 @@
 #include <memory>
 #include <sstream>
 
+#include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/joint_error_jacobian.h"
@@ -482,11 +485,15 @@ void Identify(const RobotModel& model,
           "joint error terms with fixed-point rows are not supported");
     }
     if (!CheckPointLabels(measurements, &error)) return user_failure(error);
+    if (!CheckPlaneLabels(measurements, &error)) return user_failure(error);
     summary->point_labels = PointLabels(measurements);
+    summary->plane_labels = PlaneLabels(measurements);
   }
   const int num_point_values =
       3 * static_cast<int>(summary->point_labels.size());
-  const int p = summary->num_free + num_terms + num_point_values;
+  const int num_planes = static_cast<int>(summary->plane_labels.size());
+  const int p =
+      summary->num_free + num_terms + num_point_values + 3 * num_planes;
   // Identifiability at the starting point, before any solving (this also
   // checks every measurement).
   Eigen::MatrixXd stacked;
@@ -563,6 +570,23 @@ void Identify(const RobotModel& model,
         MeanPointPositions(model, initial, measurements, summary->point_labels);
     for (size_t k = 0; k < mean.size(); ++k) points.segment<3>(3 * k) = mean[k];
   }
+  // The planes start at the planes fitted to the predicted touches
+  // (plane_constraints.h: the normal's sign is kept from there).
+  Eigen::VectorXd planes(4 * num_planes);
+  if (num_planes > 0) {
+    std::vector<Eigen::Vector4d> fitted;
+    if (!FitPlanes(model, initial, measurements, summary->plane_labels, &fitted,
+                   &error)) {
+      return user_failure(error);
+    }
+    for (int k = 0; k < num_planes; ++k) planes.segment<4>(4 * k) = fitted[k];
+  }
+  const Eigen::VectorXd start_planes = planes;
+  auto plane_block = [&](const std::string& label) {
+    const auto& labels = summary->plane_labels;
+    return planes.data() + 4 * (std::find(labels.begin(), labels.end(), label) -
+                                labels.begin());
+  };
   auto point_block = [&](const std::string& label) {
     const auto& labels = summary->point_labels;
     return points.data() + 3 * (std::find(labels.begin(), labels.end(), label) -
@@ -573,7 +597,9 @@ void Identify(const RobotModel& model,
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     cost_blocks.push_back(blocks);
-    if (m.type == MeasurementType::kPoint) {
+    if (m.type == MeasurementType::kPlane) {
+      cost_blocks.back().push_back(plane_block(m.plane));
+    } else if (m.type == MeasurementType::kPoint) {
       cost_blocks.back().push_back(point_block(m.point));
     } else if (m.type == MeasurementType::kPointDistance) {
       cost_blocks.back().push_back(point_block(m.point));
@@ -636,6 +662,15 @@ void Identify(const RobotModel& model,
   for (int k = 0; k < num_point_values; k += 3) {
     free_blocks.push_back(points.data() + k);
   }
+  for (int k = 0; k < num_planes; ++k) {
+    // The unit normal on the sphere, the offset free (plane_constraints.h).
+    problem.SetManifold(
+        planes.data() + 4 * k,
+        new ceres::ProductManifold<ceres::SphereManifold<3>,
+                                   ceres::EuclideanManifold<1>>(
+            ceres::SphereManifold<3>(), ceres::EuclideanManifold<1>()));
+    free_blocks.push_back(planes.data() + 4 * k);
+  }
   const Eigen::VectorXd r0 = RawResiduals(costs, cost_blocks);
   summary->initial_residual_norms = BlockNorms(measurements, r0);
   summary->initial_rms_m = Rms(summary->initial_residual_norms);
@@ -651,6 +686,31 @@ void Identify(const RobotModel& model,
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solve(solver_options, &problem, &summary->solver_summary);
+  // A plane whose normal the solver turned over (a step of pi on the
+  // sphere, from a start far off): with one probe radius r on the plane,
+  // (-n, -d - 2 r) is the same fit with every residual negated, and the
+  // normal's sign says on which side the probe is (plane_constraints.h):
+  // put it back to the start's side.
+  for (int k = 0; k < num_planes; ++k) {
+    double* plane = planes.data() + 4 * k;
+    if (Eigen::Map<const Eigen::Vector3d>(plane).dot(
+            start_planes.segment<3>(4 * k)) >= 0) {
+      continue;
+    }
+    double radius = -1.0;
+    bool one_radius = true;
+    for (const Measurement& m : measurements) {
+      if (m.type != MeasurementType::kPlane ||
+          m.plane != summary->plane_labels[k]) {
+        continue;
+      }
+      if (radius >= 0 && m.probe_radius_m != radius) one_radius = false;
+      radius = m.probe_radius_m;
+    }
+    if (!one_radius) continue;
+    for (int a = 0; a < 3; ++a) plane[a] = -plane[a];
+    plane[3] = -plane[3] - 2 * radius;
+  }
   const ceres::Solver::Summary& ss = summary->solver_summary;
   // Not iterations.size() - 1, which is -1 when Ceres stops before its
   // first iteration.
@@ -660,6 +720,7 @@ void Identify(const RobotModel& model,
   summary->joint_errors.values = theta;
   summary->residuals = RawResiduals(costs, cost_blocks);
   summary->point_coordinates = points;
+  summary->plane_parameters = planes;
   summary->residual_norms = BlockNorms(measurements, summary->residuals);
   summary->rms_m = Rms(summary->residual_norms);
   OutlierStatistics(measurements, summary->residuals,
@@ -721,7 +782,7 @@ void Identify(const RobotModel& model,
     return fail("the solver failed: " + ss.message);
   }
   if (!summary->parameters.allFinite() || !theta.allFinite() ||
-      !points.allFinite()) {
+      !points.allFinite() || !planes.allFinite()) {
     return fail("the solver produced non-finite estimates");
   }
 
@@ -759,10 +820,16 @@ void Identify(const RobotModel& model,
   const int g = summary->num_free;
   summary->covariance = full_covariance.topLeftCorner(g, g);
   if (num_point_values > 0) {
-    summary->point_covariance =
-        full_covariance.bottomRightCorner(num_point_values, num_point_values);
+    summary->point_covariance = full_covariance.block(
+        g + num_terms, g + num_terms, num_point_values, num_point_values);
     summary->point_standard_deviations =
         summary->point_covariance.diagonal().cwiseSqrt();
+  }
+  if (num_planes > 0) {
+    summary->plane_covariance =
+        full_covariance.bottomRightCorner(3 * num_planes, 3 * num_planes);
+    summary->plane_standard_deviations =
+        summary->plane_covariance.diagonal().cwiseSqrt();
   }
   if (num_terms > 0) {
     summary->term_covariance = full_covariance;

@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
 #include "csv_columns.h"
 #include "line_error.h"
@@ -922,6 +923,17 @@ bool MeasurementsReader::ResolveHeader(std::string* error) {
   if (table_.Has("marker")) known_["marker"] = 1;
   // A fixed point's label (type=point rows).
   if (table_.Has("point")) known_["point"] = 1;
+  // A touched plane's label and the probe ball's radius (type=plane rows).
+  for (const char* c : {"plane", "probe_radius_m", "probe_radius_mm"}) {
+    if (table_.Has(c)) known_[c] = 1;
+  }
+  if (table_.Has("probe_radius_m") && table_.Has("probe_radius_mm")) {
+    return table_.Fail(table_.header_line(),
+                       "the probe radius is given both as probe_radius_m and "
+                       "as probe_radius_mm: a file holds one representation "
+                       "of each quantity",
+                       error);
+  }
   // The commanded poses of ISO 9283 cycles (ParseCommandedPosesCsv reads
   // them): known, so neither a note nor an error of strict columns.
   if (table_.Has("pose")) known_["pose"] = 1;
@@ -1145,8 +1157,8 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
     if (!ParseMeasurementType(type, &m.type)) {
       return table_.Fail(
           row.line,
-          "type: expected position, pose, distance or point, got '" + type +
-              "'",
+          "type: expected position, pose, distance, point or plane, got '" +
+              type + "'",
           error);
     }
   } else {
@@ -1202,13 +1214,50 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
         error);
   }
   if (point) m.point = row.fields[table_.Column("point")];
+  // A touch of a plane: its label, no coordinates, optionally the probe
+  // ball's radius.
+  const bool plane = m.type == MeasurementType::kPlane;
+  const bool plane_labelled =
+      table_.Has("plane") && !table_.Empty(row, "plane");
+  if (plane && !plane_labelled) {
+    return table_.Fail(row.line,
+                       "plane: a plane row needs the label of the plane it "
+                       "touched (column 'plane')",
+                       error);
+  }
+  if (!plane && plane_labelled) {
+    return table_.Fail(
+        row.line,
+        "plane: a " + type + " measurement has no such value; leave it empty",
+        error);
+  }
+  if (plane) m.plane = row.fields[table_.Column("plane")];
+  for (const char* c : {"probe_radius_m", "probe_radius_mm"}) {
+    if (!table_.Has(c) || table_.Empty(row, c)) continue;
+    if (!plane) {
+      return table_.Fail(row.line,
+                         std::string(c) + ": a " + type +
+                             " measurement has no such value; leave it empty",
+                         error);
+    }
+    double r = 0.0;
+    if (!table_.Number(row, c, &r, error)) return false;
+    if (!(r >= 0) || !std::isfinite(r)) {
+      return table_.Fail(row.line,
+                         std::string(c) +
+                             ": a probe radius must be >= 0, got " +
+                             ShortestText(r),
+                         error);
+    }
+    m.probe_radius_m = std::string(c) == "probe_radius_mm" ? r / 1e3 : r;
+  }
   double v[4];
   if (wide_.empty() &&
-      !ReadForm(row, PositionForms(), position_, !distance && !point,
+      !ReadForm(row, PositionForms(), position_, !distance && !point && !plane,
                 "a measured point", type, v, nullptr, error)) {
     return false;
   }
-  if (wide_.empty() && !distance && !point)
+  if (wide_.empty() && !distance && !point && !plane)
     m.position = Eigen::Vector3d(v[0], v[1], v[2]);
   if (!ReadForm(row, OrientationForms(), orientation_, pose, "an orientation",
                 type, v, nullptr, error)) {
@@ -1397,6 +1446,12 @@ bool MeasurementsReader::Read(std::vector<Measurement>* out,
   std::string why;
   if (!CheckPointLabels(measurements, &why)) {
     // "measurement <i>: ...": the row's line instead.
+    const size_t colon = why.find(": ");
+    const int i = std::stoi(why.substr(std::string("measurement ").size()));
+    return table_.Fail(lines[i], why.substr(colon + 2), error);
+  }
+  // Planes: each touched three times at least.
+  if (!CheckPlaneLabels(measurements, &why)) {
     const size_t colon = why.find(": ");
     const int i = std::stoi(why.substr(std::string("measurement ").size()));
     return table_.Fail(lines[i], why.substr(colon + 2), error);
@@ -1615,9 +1670,10 @@ std::string MeasurementsCsvText(const RobotModel& model,
                                 const MeasurementsCsvFormat& format) {
   bool any_pose = false, any_distance = false, any_marker = false;
   bool any_iso = false, any_axes = false, any_sigma_rad = false;
-  bool any_point = false;
+  bool any_point = false, any_plane = false;
   for (const Measurement& m : measurements) {
     any_pose |= m.type == MeasurementType::kPose;
+    any_plane |= m.type == MeasurementType::kPlane;
     any_point |= m.type == MeasurementType::kPoint;
     any_distance |= m.type == MeasurementType::kDistance;
     any_marker |= m.marker != 0;
@@ -1655,6 +1711,7 @@ std::string MeasurementsCsvText(const RobotModel& model,
   std::ostringstream out;
   out << "type";
   if (any_point) out << ",point";
+  if (any_plane) out << ",plane,probe_radius" << lu;
   if (any_marker) out << ",marker";
   for (int j = 0; j < nj; ++j) out << "," << joint_column(j);
   out << ",x" << lu << ",y" << lu << ",z" << lu;
@@ -1672,13 +1729,19 @@ std::string MeasurementsCsvText(const RobotModel& model,
   for (const Measurement& m : measurements) {
     out << MeasurementTypeName(m.type);
     if (any_point) out << "," << m.point;
+    if (any_plane) {
+      const bool plane = m.type == MeasurementType::kPlane;
+      out << "," << m.plane << ","
+          << (plane ? ShortestText(m.probe_radius_m * length) : "");
+    }
     if (any_marker)
       out << "," << model.block_name(model.marker_block(m.marker));
     for (int j = 0; j < nj; ++j) out << "," << joint_value(m.joints, j);
     const bool distance = m.type == MeasurementType::kDistance;
     const bool pose = m.type == MeasurementType::kPose;
     // A fixed point's row has no coordinates (they are unknowns).
-    const bool no_point = distance || m.type == MeasurementType::kPoint;
+    const bool no_point = distance || m.type == MeasurementType::kPoint ||
+                          m.type == MeasurementType::kPlane;
     for (int k = 0; k < 3; ++k) {
       out << "," << (no_point ? "" : ShortestText(m.position[k] * length));
     }

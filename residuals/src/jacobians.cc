@@ -12,6 +12,7 @@
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
+#include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
 #include "activecal/core/point_jacobian.h"
 #include "activecal/residuals/measurement_residual.h"
@@ -41,9 +42,10 @@ class JacobianEvaluator {
   }
 
   // Writes the dimension() x num_free Jacobian, row-major, to `jacobian`
-  // and, if not null, the residuals to `residuals`.
+  // and, if not null, the residuals to `residuals`. A plane row needs its
+  // plane's 4 values (n, d) in `plane`.
   bool Evaluate(const Measurement& measurement, double* jacobian,
-                double* residuals = nullptr) {
+                double* residuals = nullptr, const double* plane = nullptr) {
     const RobotModel& m = *model_;
     const int rows = measurement.dimension();
     std::unique_ptr<ceres::CostFunction> cost(
@@ -61,6 +63,11 @@ class JacobianEvaluator {
     const double zero_point[3] = {0.0, 0.0, 0.0};
     if (measurement.type == MeasurementType::kPoint) {
       blocks.push_back(zero_point);
+      jacobian_ptrs_.resize(m.num_blocks() + 1, nullptr);
+    }
+    if (measurement.type == MeasurementType::kPlane) {
+      if (plane == nullptr) return false;
+      blocks.push_back(plane);
       jacobian_ptrs_.resize(m.num_blocks() + 1, nullptr);
     }
     if (jacobian) {
@@ -144,8 +151,22 @@ bool EliminatedPointJacobian(const RobotModel& model,
     return static_cast<int>(std::find(labels.begin(), labels.end(), label) -
                             labels.begin());
   };
+  // Planes: fitted to the predicted touches; 3 columns each (a tangent
+  // step of the normal, the offset), after the points'.
+  const std::vector<std::string> plane_labels = PlaneLabels(measurements);
+  std::vector<Eigen::Vector4d> planes;
+  if (!FitPlanes(model, parameters, measurements, plane_labels, &planes,
+                 error)) {
+    return false;
+  }
+  auto plane_index = [&](const std::string& label) {
+    return static_cast<int>(
+        std::find(plane_labels.begin(), plane_labels.end(), label) -
+        plane_labels.begin());
+  };
   const int p = model.num_free();
-  const int num_c = 3 * static_cast<int>(labels.size());
+  const int num_points_c = 3 * static_cast<int>(labels.size());
+  const int num_c = num_points_c + 3 * static_cast<int>(plane_labels.size());
   JacobianEvaluator evaluator(std::make_shared<const RobotModel>(model),
                               parameters, rotation_weight);
   std::vector<int> point_rows;  // rows that involve the coordinates
@@ -164,7 +185,19 @@ bool EliminatedPointJacobian(const RobotModel& model,
       ReachPoint(model, parameters, m.marker, centre[label_index(m.point)],
                  &m.joints);
     }
-    if (!evaluator.Evaluate(m, J->data() + row * p)) {
+    const double* plane = nullptr;
+    if (m.type == MeasurementType::kPlane) {
+      // The same for a touch: the nearest joints at which the model puts
+      // the probe's centre at its radius from the fitted plane.
+      const Eigen::Vector4d& pl = planes[plane_index(m.plane)];
+      const Eigen::Vector3d c =
+          MeasuredPoint(model, parameters, m.joints, m.marker);
+      ReachPoint(model, parameters, m.marker,
+                 c - PlaneResidual(pl, c, m.probe_radius_m) * pl.head<3>(),
+                 &m.joints);
+      plane = pl.data();
+    }
+    if (!evaluator.Evaluate(m, J->data() + row * p, nullptr, plane)) {
       if (error) {
         *error = "measurement " + std::to_string(i) +
                  (m.type == MeasurementType::kDistance
@@ -183,6 +216,18 @@ bool EliminatedPointJacobian(const RobotModel& model,
         jc_rows.push_back(r);
         point_rows.push_back(row + a);
       }
+    } else if (m.type == MeasurementType::kPlane) {
+      const int k = plane_index(m.plane);
+      const Eigen::Vector4d& pl = planes[k];
+      const Eigen::Matrix<double, 3, 2> basis = PlaneTangentBasis(pl.head<3>());
+      const Eigen::Vector3d c =
+          MeasuredPoint(model, parameters, m.joints, m.marker);
+      Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(num_c);
+      r[num_points_c + 3 * k] = basis.col(0).dot(c);
+      r[num_points_c + 3 * k + 1] = basis.col(1).dot(c);
+      r[num_points_c + 3 * k + 2] = -1.0;
+      jc_rows.push_back(r);
+      point_rows.push_back(row);
     } else if (m.type == MeasurementType::kPointDistance) {
       const int a = label_index(m.point), b = label_index(m.point2);
       const Eigen::Vector3d d = centre[a] - centre[b];
@@ -290,6 +335,12 @@ bool MeasurementErrors(const RobotModel& model,
     return centre[std::find(labels.begin(), labels.end(), label) -
                   labels.begin()];
   };
+  const std::vector<std::string> plane_labels = PlaneLabels(measurements);
+  std::vector<Eigen::Vector4d> planes;
+  if (!FitPlanes(model, parameters, measurements, plane_labels, &planes,
+                 error)) {
+    return false;
+  }
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     if (m.type == MeasurementType::kPoint) {
@@ -301,6 +352,15 @@ bool MeasurementErrors(const RobotModel& model,
     if (m.type == MeasurementType::kPointDistance) {
       (*norms)[i] = std::abs((centre_of(m.point) - centre_of(m.point2)).norm() -
                              m.distance);
+      continue;
+    }
+    if (m.type == MeasurementType::kPlane) {
+      const Eigen::Vector4d& pl =
+          planes[std::find(plane_labels.begin(), plane_labels.end(), m.plane) -
+                 plane_labels.begin()];
+      (*norms)[i] = std::abs(PlaneResidual(
+          pl, MeasuredPoint(model, parameters, m.joints, m.marker),
+          m.probe_radius_m));
       continue;
     }
     double r[6];

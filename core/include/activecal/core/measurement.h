@@ -36,11 +36,17 @@ enum class MeasurementType {
   // A known distance between fixed points `point` and `point2` (no
   // joints): 1 row (m), |c(point) - c(point2)| - distance.
   kPointDistance,
+  // The marker touched the unknown plane `plane` (a label), with a probe
+  // ball of radius probe_radius_m whose centre is the marker: 1 row (m),
+  // n . p - d - probe_radius_m, the plane (n, d) an extra parameter block
+  // of 4 (unit normal n, offset d; 3 degrees of freedom,
+  // plane_constraints.h).
+  kPlane,
 };
 
-// Rows of the residual and of the Jacobian: 3, 6, 1, 3 or 1.
+// Rows of the residual and of the Jacobian: 3, 6, 1, 3, 1 or 1.
 int MeasurementDimension(MeasurementType type);
-// "position", "pose", "distance", "point", "point_distance".
+// "position", "pose", "distance", "point", "point_distance", "plane".
 const char* MeasurementTypeName(MeasurementType type);
 // Parses a name above; false if unknown.
 bool ParseMeasurementType(const std::string& name, MeasurementType* type);
@@ -60,6 +66,11 @@ struct Measurement {
   // Point: the fixed point's label; point distance: its two points' labels.
   std::string point;
   std::string point2;
+  // Plane: the touched plane's label, and the probe radius (m, >= 0): the
+  // marker (the probe ball's centre) lies at this signed distance from the
+  // plane, on the side its normal points to.
+  std::string plane;
+  double probe_radius_m = 0.0;
   // The marker (measured point) of the model this measurement sees,
   // 0-based; a distance is between two positions of the same marker.
   int marker = 0;
@@ -72,10 +83,12 @@ struct Measurement {
   double sigma_rad = 0.0;
 
   int dimension() const { return MeasurementDimension(type); }
-  // True for the rows whose residual involves fixed-point coordinates.
+  // True for the rows whose residual involves constraint parameters that
+  // are not the model's: fixed-point coordinates or a plane.
   bool involves_points() const {
     return type == MeasurementType::kPoint ||
-           type == MeasurementType::kPointDistance;
+           type == MeasurementType::kPointDistance ||
+           type == MeasurementType::kPlane;
   }
 };
 

@@ -62,6 +62,19 @@ struct EvaluationSummary {
   std::vector<std::string> point_labels;
   std::vector<Eigen::Vector3d> point_coordinates;
   std::vector<ErrorStatistics> point_spread;
+  // Planes (type=plane rows, plane_constraints.h): refitted to these
+  // measurements alone (FitPlane: the least-squares plane of the predicted
+  // probe centres at their radii), the model's parameters as given. Per
+  // measurement: a plane row's signed distance from its refitted plane
+  // minus its probe radius (m; else 0). Per label (PlaneLabels order): the
+  // refitted plane (n, d) and the flatness, the statistics of |distance|
+  // of its rows (RMS, max); `plane` over all plane rows. Not in `position`
+  // nor `distance`.
+  std::vector<double> plane_errors_m;
+  std::vector<std::string> plane_labels;
+  std::vector<Eigen::Vector4d> plane_parameters;
+  std::vector<ErrorStatistics> plane_flatness;
+  ErrorStatistics plane;
 
   std::string BriefReport() const;
 };

@@ -220,6 +220,15 @@ struct IdentificationSummary {
   Eigen::VectorXd point_coordinates;
   Eigen::VectorXd point_standard_deviations;
   Eigen::MatrixXd point_covariance;
+  // Planes (plane rows, plane_constraints.h): their labels (PlaneLabels
+  // order) and identified planes, 4 values each (unit normal n, offset d:
+  // n . x = d, m), with 3 standard deviations each: of the normal's two
+  // tangent directions (rad; Ceres's SphereManifold basis at n) and of d
+  // (m). plane_covariance: the tangent-space covariance (3 per plane).
+  std::vector<std::string> plane_labels;
+  Eigen::VectorXd plane_parameters;
+  Eigen::VectorXd plane_standard_deviations;
+  Eigen::MatrixXd plane_covariance;
   // Per measurement: the norm of its residual rows at start and at the
   // estimate (m; a 6D pose's rotation rows weighted).
   Eigen::VectorXd initial_residual_norms;

@@ -55,7 +55,11 @@ bool MeasurementJacobian(const RobotModel& model,
 // consistent as at the solution; then the coordinates' columns are
 // projected out of the rows that involve them. What is left is the
 // information the rows carry about the model: a label's single row none;
-// a base frame moved with the points none (its columns are zero).
+// a base frame moved with the points none (its columns are zero). Planes
+// (plane rows, plane_constraints.h) the same way: each fitted to its
+// touches at `parameters` (FitPlanes), each touch moved to the nearest
+// joints that put it on that plane, the plane's 3 tangent-space columns
+// (two of the normal, the offset) projected out.
 bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
                      const std::vector<Measurement>& measurements,
                      double rotation_weight_m_per_rad,
@@ -65,7 +69,8 @@ bool StackedJacobian(const RobotModel& model, const Eigen::VectorXd& parameters,
 // measurement_residual.h), at `parameters`. A point row: the distance of
 // its predicted point from the mean predicted point of its label among
 // `measurements`; a point distance: the error of the distance between
-// those means.
+// those means; a plane row: |n . p - d - radius| from the plane fitted to
+// its label's touches.
 bool MeasurementErrors(const RobotModel& model,
                        const Eigen::VectorXd& parameters,
                        const std::vector<Measurement>& measurements,

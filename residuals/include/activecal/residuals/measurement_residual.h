@@ -15,6 +15,10 @@
 //                          after the model's)
 //   point_distance 1 row (m): |c1 - c2| - known distance (two extra
 //                          blocks of 3; the model's blocks have no effect)
+//   plane     1 row (m):   n . p - d - probe radius, (n, d) the plane's
+//                          block of 4 after the model's (unit normal n,
+//                          offset d; Ceres keeps n on the sphere with
+//                          PlaneManifold, plane_constraints.h)
 //
 // The rotation weight puts the orientation rows on the same scale as the
 // position rows; set it to sigma_position / sigma_rotation of the device so
@@ -119,14 +123,24 @@ class MeasurementResidual {
         residuals[0] = d.norm() - T(m_.distance);
         return true;
       }
+      case MeasurementType::kPlane: {
+        const Vector3<T> p =
+            MeasuredPoint<T>(*model_, blocks, m_.joints.data(), m_.marker);
+        const T* plane = blocks[model_->num_blocks()];
+        residuals[0] = plane[0] * p[0] + plane[1] * p[1] + plane[2] * p[2] -
+                       plane[3] - T(m_.probe_radius_m);
+        return true;
+      }
     }
     return false;
   }
 
-  // The parameter blocks of fixed points (3 each) a measurement of `type`
-  // takes after the model's: 1 for a point, 2 for a point distance.
+  // The parameter blocks of fixed points (3 each) or planes (4) a
+  // measurement of `type` takes after the model's: 1 for a point or a
+  // plane, 2 for a point distance.
   static int NumPointBlocks(MeasurementType type) {
     return type == MeasurementType::kPoint           ? 1
+           : type == MeasurementType::kPlane         ? 1
            : type == MeasurementType::kPointDistance ? 2
                                                      : 0;
   }
@@ -146,7 +160,9 @@ class MeasurementResidual {
     for (int b = 0; b < m.num_blocks(); ++b) {
       cost->AddParameterBlock(m.block_size(b));
     }
-    for (int k = 0; k < extra; ++k) cost->AddParameterBlock(3);
+    for (int k = 0; k < extra; ++k) {
+      cost->AddParameterBlock(type == MeasurementType::kPlane ? 4 : 3);
+    }
     cost->SetNumResiduals(rows);
     return cost;
   }
