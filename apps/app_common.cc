@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "activecal/calibration/selection_pool.h"
@@ -211,6 +212,17 @@ int Finish(int status) {
 
 void CheckWritableOrDie(const std::string& path, const std::string& flag) {
   if (path.empty()) return;
+  // The outputs checked so far, by flag: two flags on one file would have
+  // the second's text replace the first's (OutputSet refuses it, but only
+  // after the work).
+  static auto* checked = new std::vector<std::pair<std::string, std::string>>();
+  for (const auto& [known_flag, known_path] : *checked) {
+    if (known_flag != flag && SameOutputFile(known_path, path)) {
+      Fail("--" + flag + ": '" + path + "' is the file of --" + known_flag +
+           " ('" + known_path + "'): two outputs cannot share a file");
+    }
+  }
+  checked->emplace_back(flag, path);
   std::string error;
   if (!CheckWritable(path, &error)) Fail("--" + flag + ": " + error);
 }

@@ -114,4 +114,26 @@ echo partial >set_r.csv.activecal-999999998.tmp
   { fail "select after a killed run"; cat set.err; ls; }
 
 
+# Two outputs on one file (the same path, or two spellings of it): refused,
+# nothing written (they shared one temporary: the second rename found it
+# gone, and the run failed with one output replaced). active checks its
+# outputs before the work and names both flags; select's --json_out is
+# refused when it is written, before any rename.
+rm -f same.csv ./*.tmp
+"$apps/activecal_select" --robot="$puma" --pool=sobol --pool_size=300 --num_poses=12 \
+  --algorithm=fedorov --restarts=1 --threads=2 --poses_csv=same.csv --json_out=./same.csv \
+  >same.out 2>same.err
+st=$?
+[ $st -eq 1 ] && [ ! -e same.csv ] && ! ls ./*.tmp >/dev/null 2>&1 && [ "$(wc -l <same.err)" -eq 1 ] &&
+  grep -q "cannot write './same.csv': it is the same file as 'same.csv', which is already an output of this run" same.err &&
+  ok "select: --json_out on --poses_csv's file refused, nothing written" ||
+  { fail "select, two outputs on one file (status $st)"; cat same.err; ls; }
+"$apps/activecal_active" "${loop[@]}" --json_out=same.json --program_out=./same.json \
+  >same.out 2>same.err
+st=$?
+[ $st -eq 1 ] && [ ! -e same.json ] && [ "$(wc -l <same.err)" -eq 1 ] &&
+  grep -q "error: --json_out: 'same.json' is the file of --program_out ('./same.json')" same.err &&
+  ok "active: --json_out on --program_out's file refused before the work" ||
+  { fail "active, two outputs on one file (status $st)"; cat same.err; ls; }
+
 cli_end
