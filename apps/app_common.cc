@@ -197,7 +197,12 @@ void PrintProgress(const std::string& line) {
 
 void WriteTextOrDie(const std::string& path, const std::string& text) {
   std::string error;
-  if (!PendingOutputs().Add(path, text, &error)) Fail(error);
+  if (!AddOutput(path, text, &error)) Fail(error);
+}
+
+bool AddOutput(const std::string& path, const std::string& text,
+               std::string* error) {
+  return PendingOutputs().Add(path, text, error);
 }
 
 void CommitOutputsOrDie() {

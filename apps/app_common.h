@@ -172,6 +172,9 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 // killed run.
 void CheckWritableOrDie(const std::string& path, const std::string& flag);
 void WriteTextOrDie(const std::string& path, const std::string& text);
+// WriteTextOrDie's pending write, false with *error instead of dying.
+bool AddOutput(const std::string& path, const std::string& text,
+               std::string* error);
 // Renames every pending output over its path now (e.g. a file another
 // process must read while this one still runs).
 void CommitOutputsOrDie();

@@ -76,12 +76,17 @@ bool RunGnuplot(const std::string& script, const std::string& png_path,
     *error = "gnuplot failed" + (first.empty() ? "" : ": " + first);
     return false;
   }
-  if (std::rename(tmp.c_str(), png_path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    *error = "cannot write " + png_path;
-    return false;
+  // The figure joins the program's outputs (app_common.h): renamed over
+  // png_path with the others at the end, removed if the program fails.
+  std::string png;
+  {
+    std::ifstream figure(tmp, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << figure.rdbuf();
+    png = bytes.str();
   }
-  return true;
+  std::remove(tmp.c_str());
+  return AddOutput(png_path, png, error);
 }
 
 void PlotOrNote(const std::string& script, const std::string& png_path,

@@ -136,4 +136,21 @@ st=$?
   ok "active: --json_out on --program_out's file refused before the work" ||
   { fail "active, two outputs on one file (status $st)"; cat same.err; ls; }
 
+# A plot is one of the outputs: evaluate --plot with a --report_html it
+# cannot write fails having written no figure (gnuplot's PNG was renamed
+# over --plot at once, before the report failed).
+if command -v gnuplot >/dev/null; then
+  "$apps/activecal_select" --robot="$puma" --pool=sobol --pool_size=300 --num_poses=20 \
+    --algorithm=fedorov --restarts=1 --threads=2 --poses_csv=ev_p.csv >/dev/null 2>&1 &&
+    "$apps/activecal_simulate" --robot="$puma" --poses_csv=ev_p.csv --noise_m=0.0005 \
+      --out=ev_m.csv >/dev/null 2>&1 || fail "select + simulate for evaluate"
+  "$apps/activecal_evaluate" --robot="$puma" --measurements=ev_m.csv --plot=ev.png \
+    --json_out=ev.json --report_html=no_such_dir/ev.html >ev.out 2>ev.err
+  st=$?
+  [ $st -eq 1 ] && [ ! -e ev.png ] && [ ! -e ev.json ] && ! ls ./*.tmp >/dev/null 2>&1 &&
+    grep -q "cannot write 'no_such_dir/ev.html'" ev.err &&
+    ok "evaluate: a failed run leaves no --plot figure" ||
+    { fail "evaluate --plot on a failed run (status $st)"; cat ev.err; ls; }
+fi
+
 cli_end
