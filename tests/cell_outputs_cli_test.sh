@@ -153,4 +153,26 @@ if command -v gnuplot >/dev/null; then
     { fail "evaluate --plot on a failed run (status $st)"; cat ev.err; ls; }
 fi
 
+# sim_cell --truth_out is committed before the cell serves (the client reads
+# it): a --listen that is bad or whose port is taken fails before it, and
+# nothing is written.
+"$apps/activecal_sim_cell" --robot="$puma" --perturb_m=0.001 --truth_out=truth.yaml \
+  --listen=abc </dev/null >sc.out 2>sc.err
+st=$?
+[ $st -eq 1 ] && [ ! -e truth.yaml ] && grep -q "error: --listen must be PORT or HOST:PORT, got 'abc'" sc.err &&
+  ok "sim_cell: a bad --listen writes no --truth_out" ||
+  { fail "sim_cell --listen=abc (status $st)"; cat sc.err; ls; }
+python3 - "$apps/activecal_sim_cell" "$puma" <<'PY' && [ ! -e truth.yaml ] &&
+import socket, subprocess, sys
+s = socket.socket()
+s.bind(("127.0.0.1", 0))
+s.listen()
+r = subprocess.run([sys.argv[1], "--robot=" + sys.argv[2], "--perturb_m=0.001",
+                    "--truth_out=truth.yaml", "--listen=%d" % s.getsockname()[1]],
+                   stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=20)
+assert r.returncode == 1 and "--listen: listen on 127.0.0.1:" in r.stderr, (r.returncode, r.stderr)
+PY
+  ok "sim_cell: a --listen port in use writes no --truth_out" ||
+  { fail "sim_cell --listen on a taken port"; ls; }
+
 cli_end
