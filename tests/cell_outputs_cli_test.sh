@@ -6,7 +6,8 @@
 # a table), what the tour's moves were checked against and the velocities
 # assumed, blocked moves a count and a list in both programs, and a
 # program's outputs written all or nothing (stale temporaries of a killed
-# run removed by the next).
+# run removed by the next; two outputs on one file refused; a plot one of
+# the outputs; sim_cell's --listen opened before --truth_out is written).
 #
 #   tests/cell_outputs_cli_test.sh <build/apps dir> <data dir> <tests/data dir>
 set -uo pipefail
@@ -126,14 +127,14 @@ rm -f same.csv ./*.tmp
 st=$?
 [ $st -eq 1 ] && [ ! -e same.csv ] && ! ls ./*.tmp >/dev/null 2>&1 && [ "$(wc -l <same.err)" -eq 1 ] &&
   grep -q "cannot write './same.csv': it is the same file as 'same.csv', which is already an output of this run" same.err &&
-  ok "select: --json_out on --poses_csv's file refused, nothing written" ||
+  ok "two outputs on one file: select's --json_out on --poses_csv's file refused, nothing written" ||
   { fail "select, two outputs on one file (status $st)"; cat same.err; ls; }
 "$apps/activecal_active" "${loop[@]}" --json_out=same.json --program_out=./same.json \
   >same.out 2>same.err
 st=$?
 [ $st -eq 1 ] && [ ! -e same.json ] && [ "$(wc -l <same.err)" -eq 1 ] &&
   grep -q "error: --json_out: 'same.json' is the file of --program_out ('./same.json')" same.err &&
-  ok "active: --json_out on --program_out's file refused before the work" ||
+  ok "two outputs on one file: active's --json_out on --program_out's refused before the work" ||
   { fail "active, two outputs on one file (status $st)"; cat same.err; ls; }
 
 # A plot is one of the outputs: evaluate --plot with a --report_html it
@@ -144,12 +145,13 @@ if command -v gnuplot >/dev/null; then
     --algorithm=fedorov --restarts=1 --threads=2 --poses_csv=ev_p.csv >/dev/null 2>&1 &&
     "$apps/activecal_simulate" --robot="$puma" --poses_csv=ev_p.csv --noise_m=0.0005 \
       --out=ev_m.csv >/dev/null 2>&1 || fail "select + simulate for evaluate"
+  echo partial >ev.png.activecal-999999997.tmp  # a killed run's figure
   "$apps/activecal_evaluate" --robot="$puma" --measurements=ev_m.csv --plot=ev.png \
     --json_out=ev.json --report_html=no_such_dir/ev.html >ev.out 2>ev.err
   st=$?
   [ $st -eq 1 ] && [ ! -e ev.png ] && [ ! -e ev.json ] && ! ls ./*.tmp >/dev/null 2>&1 &&
     grep -q "cannot write 'no_such_dir/ev.html'" ev.err &&
-    ok "evaluate: a failed run leaves no --plot figure" ||
+    ok "evaluate: a failed run leaves no --plot figure (nor a killed run's)" ||
     { fail "evaluate --plot on a failed run (status $st)"; cat ev.err; ls; }
 fi
 
