@@ -578,6 +578,23 @@ int Main() {
     free_options.filter = nullptr;
     free_options.kept_marker_masks = nullptr;
     free_options.progress = nullptr;
+    // The cell's targets as the markers: the cell's pool measures those a
+    // pose sees; unconstrained, every one is seen at every pose (marker 0's
+    // rows alone would leave the others' information out). The masks go
+    // with a filter that keeps every row.
+    std::vector<uint32_t> every_marker;
+    if (pool_options.kept_marker_masks != nullptr) {
+      const int markers = model.num_markers();
+      every_marker.assign(free_joints.rows(),
+                          markers >= 32 ? ~0u : (1u << markers) - 1);
+      free_options.filter = [](const Eigen::MatrixXd& joints,
+                               std::vector<int64_t>* kept, std::string*) {
+        kept->resize(joints.rows());
+        for (int64_t i = 0; i < joints.rows(); ++i) (*kept)[i] = i;
+        return true;
+      };
+      free_options.kept_marker_masks = &every_marker;
+    }
     RobotModel free_model = model;
     CandidatePool free_pool;
     SelectionPoolSummary free_summary;

@@ -57,6 +57,27 @@ for name, expect_one in (("e1", True), ("e2", False)):
     assert int(m.group(4)) == p and int(m.group(5)) == e["unconstrained_pool_size"]
 PY
 
+# The cell's targets as the markers (two reflectors back to back): the
+# unconstrained design measures every target at every pose, so that the
+# figure does not depend on the order the cell file lists them in (it was
+# measured with the first target's rows only: 0.9309 listed front first).
+two="$tdata/puma_two_targets_cell.yaml"
+{ sed '/^targets:/,$d' "$two"; echo "targets:"; grep "name: back" "$two"; grep "name: front" "$two"; } >two_swapped.yaml
+for c in two two_swapped; do
+  f="$two"; [ $c = two_swapped ] && f=two_swapped.yaml
+  "$apps/activecal_select" --robot="$puma" --cell="$f" --levels=3 --num_poses=12 \
+    --algorithm=fedorov --restarts=1 --threads=2 --json_out=$c.json >$c.out 2>$c.err ||
+    { fail "select, $c"; cat $c.err; }
+done
+python3 - <<'PY' && ok "D-efficiency with several targets: every target in the unconstrained design, whatever their order" || fail "cell D-efficiency, several targets"
+import json
+a = json.load(open("two.json"))["cell_d_efficiency"]
+b = json.load(open("two_swapped.json"))["cell_d_efficiency"]
+assert abs(a["log10_det_unconstrained"] - b["log10_det_unconstrained"]) < 1e-9, (a, b)
+assert abs(a["d_efficiency"] - b["d_efficiency"]) < 1e-9, (a, b)
+assert 0 < a["d_efficiency"] < 1, a
+PY
+
 # --- moves_checked says what was checked: a robot file without collision
 # geometry (as activecal_simulate --true_model_out writes) checks none; the
 # velocity limits missing, the 1 rad/s assumed is said once; blocked moves a
