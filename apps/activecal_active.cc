@@ -503,7 +503,7 @@ int Main() {
     {
       std::vector<int64_t> tour_run;
       for (int k : tour.order) tour_run.push_back(fresh[k]);
-      for (nlohmann::json b : app::BlockedMovesJson(
+      for (nlohmann::json b : BlockedMovesJson(
                tour.blocked_moves, tour.blocked_reasons, tour_run)) {
         b["batch"] = tours;
         blocked_list.push_back(b);
@@ -627,7 +627,7 @@ int Main() {
   if (ordered) {
     // Summed over the batches' tours (the moves between batches not
     // counted).
-    const nlohmann::json moves = app::MovesCheckedJson(with_cell, cell);
+    const nlohmann::json moves = MovesCheckedJson(with_cell, cell);
     const std::string checked =
         moves["moves_checked"].get<bool>()
             ? ", " + std::to_string(blocked_moves) + " blocked moves left"
@@ -638,7 +638,7 @@ int Main() {
         "-> %.4g s%s\n",
         tours, tour_before_s, tour_after_s, checked.c_str());
     const std::string note =
-        app::AssumedVelocityNote(model, tour_options.velocity_limits);
+        AssumedVelocityNote(model, tour_options.velocity_limits);
     if (!note.empty()) {
       std::printf("  --order=shortest: note: %s\n", note.c_str());
     }

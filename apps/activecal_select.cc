@@ -714,10 +714,10 @@ int Main() {
   std::printf("%s", cell_efficiency_line.c_str());
   if (ordered) {
     std::printf("  %s", tour.BriefReport().c_str());
-    const std::string note = app::AssumedVelocityNote(model, velocity_limits);
+    const std::string note = AssumedVelocityNote(model, velocity_limits);
     if (!note.empty())
       std::printf("  --order=shortest: note: %s\n", note.c_str());
-    const nlohmann::json checked = app::MovesCheckedJson(with_cell, cell);
+    const nlohmann::json checked = MovesCheckedJson(with_cell, cell);
     if (!checked["moves_checked"].get<bool>()) {
       std::printf("  (moves not checked for collisions: %s)\n",
                   checked["moves_not_checked"].get<std::string>().c_str());
@@ -815,17 +815,16 @@ int Main() {
         run.push_back(labels.empty() ? i : labels[i]);
       }
       j["order"] = "shortest";
-      j["tour"] = {
-          {"motion_time_before_s", tour.time_before_s},
-          {"motion_time_after_s", tour.time_after_s},
-          {"velocities", tour.velocities},
-          {"resolution_deg", FLAGS_order_resolution_deg},
-          {"blocked_moves", tour.blocked_moves.size()},
-          {"blocked", app::BlockedMovesJson(tour.blocked_moves,
-                                            tour.blocked_reasons, run)},
-          {"blocked_moves_before", tour.blocked_before}};
-      j["tour"].update(app::MovesCheckedJson(with_cell, cell));
-      const std::string note = app::AssumedVelocityNote(model, velocity_limits);
+      j["tour"] = {{"motion_time_before_s", tour.time_before_s},
+                   {"motion_time_after_s", tour.time_after_s},
+                   {"velocities", tour.velocities},
+                   {"resolution_deg", FLAGS_order_resolution_deg},
+                   {"blocked_moves", tour.blocked_moves.size()},
+                   {"blocked", BlockedMovesJson(tour.blocked_moves,
+                                                tour.blocked_reasons, run)},
+                   {"blocked_moves_before", tour.blocked_before}};
+      j["tour"].update(MovesCheckedJson(with_cell, cell));
+      const std::string note = AssumedVelocityNote(model, velocity_limits);
       if (!note.empty()) j["tour"]["velocity_note"] = note;
     }
     j["criterion"] = task ? "task_rms" : "d";
