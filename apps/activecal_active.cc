@@ -27,6 +27,7 @@
 #include "activecal/calibration/active_loop.h"
 #include "activecal/calibration/active_session.h"
 #include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/cell/pool_filter.h"
 #include "activecal/cell/tour.h"
@@ -102,11 +103,6 @@ DEFINE_string(controller, "",
 
 namespace activecal {
 namespace {
-
-// Every marker of `model` as a marker mask (at most 32).
-uint32_t AllMarkers(const RobotModel& model) {
-  return model.num_markers() >= 32 ? ~0u : (1u << model.num_markers()) - 1;
-}
 
 nlohmann::json Finite(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
@@ -329,7 +325,7 @@ int Main() {
         with_cell ? feasibility.FeasibleJoints(joints) : joints;
     std::vector<uint32_t> every_marker;
     if (!masked && model.num_markers() > 1) {
-      every_marker.assign(reduction_joints.rows(), AllMarkers(model));
+      every_marker.assign(reduction_joints.rows(), EveryMarkerMask(model));
     }
     // The loop starts at the reduction's point: a marker at the tip
     // frame's origin (no --frames) moved ~1 mm off the last axis, where the
@@ -372,7 +368,7 @@ int Main() {
   // Several markers, each measured at every pose: every marker's rows in
   // the design (without masks a pose's block is marker 0's).
   if (options.marker_masks.empty() && model.num_markers() > 1) {
-    options.marker_masks.assign(joints.rows(), AllMarkers(model));
+    options.marker_masks.assign(joints.rows(), EveryMarkerMask(model));
   }
   std::string error;
   if (!options.IsValid(&error)) {

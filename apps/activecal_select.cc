@@ -584,9 +584,7 @@ int Main() {
     // with a filter that keeps every row.
     std::vector<uint32_t> every_marker;
     if (pool_options.kept_marker_masks != nullptr) {
-      const int markers = model.num_markers();
-      every_marker.assign(free_joints.rows(),
-                          markers >= 32 ? ~0u : (1u << markers) - 1);
+      every_marker.assign(free_joints.rows(), EveryMarkerMask(model));
       free_options.filter = [](const Eigen::MatrixXd& joints,
                                std::vector<int64_t>* kept, std::string*) {
         kept->resize(joints.rows());

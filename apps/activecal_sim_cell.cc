@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
@@ -414,9 +415,7 @@ int Main() {
     // pose of the lattice (marker 0's alone held the others' offsets).
     std::vector<uint32_t> every_marker;
     if (model.num_markers() > 1) {
-      every_marker.assign(joints.rows(), model.num_markers() >= 32
-                                             ? ~0u
-                                             : (1u << model.num_markers()) - 1);
+      every_marker.assign(joints.rows(), EveryMarkerMask(model));
     }
     model =
         WithFreeSet(model, app::ReducedParameterSetOrDie(
