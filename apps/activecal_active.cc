@@ -27,6 +27,7 @@
 #include "activecal/calibration/active_loop.h"
 #include "activecal/calibration/active_session.h"
 #include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/cell/pool_filter.h"
 #include "activecal/cell/tour.h"
@@ -102,11 +103,6 @@ DEFINE_string(controller, "",
 
 namespace activecal {
 namespace {
-
-// Every marker of `model` as a marker mask (at most 32).
-uint32_t AllMarkers(const RobotModel& model) {
-  return model.num_markers() >= 32 ? ~0u : (1u << model.num_markers()) - 1;
-}
 
 nlohmann::json Finite(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
@@ -329,7 +325,7 @@ int Main() {
         with_cell ? feasibility.FeasibleJoints(joints) : joints;
     std::vector<uint32_t> every_marker;
     if (!masked && model.num_markers() > 1) {
-      every_marker.assign(reduction_joints.rows(), AllMarkers(model));
+      every_marker.assign(reduction_joints.rows(), EveryMarkerMask(model));
     }
     // The loop starts at the reduction's point: a marker at the tip
     // frame's origin (no --frames) moved ~1 mm off the last axis, where the
@@ -372,7 +368,7 @@ int Main() {
   // Several markers, each measured at every pose: every marker's rows in
   // the design (without masks a pose's block is marker 0's).
   if (options.marker_masks.empty() && model.num_markers() > 1) {
-    options.marker_masks.assign(joints.rows(), AllMarkers(model));
+    options.marker_masks.assign(joints.rows(), EveryMarkerMask(model));
   }
   std::string error;
   if (!options.IsValid(&error)) {
@@ -503,7 +499,7 @@ int Main() {
     {
       std::vector<int64_t> tour_run;
       for (int k : tour.order) tour_run.push_back(fresh[k]);
-      for (nlohmann::json b : app::BlockedMovesJson(
+      for (nlohmann::json b : BlockedMovesJson(
                tour.blocked_moves, tour.blocked_reasons, tour_run)) {
         b["batch"] = tours;
         blocked_list.push_back(b);
@@ -636,7 +632,7 @@ int Main() {
   if (ordered) {
     // Summed over the batches' tours (the moves between batches not
     // counted).
-    const nlohmann::json moves = app::MovesCheckedJson(with_cell, cell);
+    const nlohmann::json moves = MovesCheckedJson(with_cell, cell);
     const std::string checked =
         moves["moves_checked"].get<bool>()
             ? ", " + std::to_string(blocked_moves) + " blocked moves left"
@@ -647,7 +643,7 @@ int Main() {
         "-> %.4g s%s\n",
         tours, tour_before_s, tour_after_s, checked.c_str());
     const std::string note =
-        app::AssumedVelocityNote(model, tour_options.velocity_limits);
+        AssumedVelocityNote(model, tour_options.velocity_limits);
     if (!note.empty()) {
       std::printf("  --order=shortest: note: %s\n", note.c_str());
     }

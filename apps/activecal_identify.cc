@@ -616,7 +616,10 @@ int Main() {
     }
     outputs.push_back({FLAGS_report_html, RenderHtml(report)});
   }
-  if (!WriteFilesAtomically(outputs, &error)) app::Fail(error);
+  // One set with --selection_plot's figure: all written, or none.
+  for (const OutputFile& file : outputs)
+    app::WriteTextOrDie(file.path, file.text);
+  app::CommitOutputsOrDie();
   std::printf("%s", urdf_note.c_str());
   app::PrintResult(app::ProgramName() + ": " + CalibrationResultLine(summary));
   return 0;

@@ -578,6 +578,21 @@ int Main() {
     free_options.filter = nullptr;
     free_options.kept_marker_masks = nullptr;
     free_options.progress = nullptr;
+    // The cell's targets as the markers: the cell's pool measures those a
+    // pose sees; unconstrained, every one is seen at every pose (marker 0's
+    // rows alone would leave the others' information out). The masks go
+    // with a filter that keeps every row.
+    std::vector<uint32_t> every_marker;
+    if (pool_options.kept_marker_masks != nullptr) {
+      every_marker.assign(free_joints.rows(), EveryMarkerMask(model));
+      free_options.filter = [](const Eigen::MatrixXd& joints,
+                               std::vector<int64_t>* kept, std::string*) {
+        kept->resize(joints.rows());
+        for (int64_t i = 0; i < joints.rows(); ++i) (*kept)[i] = i;
+        return true;
+      };
+      free_options.kept_marker_masks = &every_marker;
+    }
     RobotModel free_model = model;
     CandidatePool free_pool;
     SelectionPoolSummary free_summary;
@@ -697,10 +712,10 @@ int Main() {
   std::printf("%s", cell_efficiency_line.c_str());
   if (ordered) {
     std::printf("  %s", tour.BriefReport().c_str());
-    const std::string note = app::AssumedVelocityNote(model, velocity_limits);
+    const std::string note = AssumedVelocityNote(model, velocity_limits);
     if (!note.empty())
       std::printf("  --order=shortest: note: %s\n", note.c_str());
-    const nlohmann::json checked = app::MovesCheckedJson(with_cell, cell);
+    const nlohmann::json checked = MovesCheckedJson(with_cell, cell);
     if (!checked["moves_checked"].get<bool>()) {
       std::printf("  (moves not checked for collisions: %s)\n",
                   checked["moves_not_checked"].get<std::string>().c_str());
@@ -798,17 +813,16 @@ int Main() {
         run.push_back(labels.empty() ? i : labels[i]);
       }
       j["order"] = "shortest";
-      j["tour"] = {
-          {"motion_time_before_s", tour.time_before_s},
-          {"motion_time_after_s", tour.time_after_s},
-          {"velocities", tour.velocities},
-          {"resolution_deg", FLAGS_order_resolution_deg},
-          {"blocked_moves", tour.blocked_moves.size()},
-          {"blocked", app::BlockedMovesJson(tour.blocked_moves,
-                                            tour.blocked_reasons, run)},
-          {"blocked_moves_before", tour.blocked_before}};
-      j["tour"].update(app::MovesCheckedJson(with_cell, cell));
-      const std::string note = app::AssumedVelocityNote(model, velocity_limits);
+      j["tour"] = {{"motion_time_before_s", tour.time_before_s},
+                   {"motion_time_after_s", tour.time_after_s},
+                   {"velocities", tour.velocities},
+                   {"resolution_deg", FLAGS_order_resolution_deg},
+                   {"blocked_moves", tour.blocked_moves.size()},
+                   {"blocked", BlockedMovesJson(tour.blocked_moves,
+                                                tour.blocked_reasons, run)},
+                   {"blocked_moves_before", tour.blocked_before}};
+      j["tour"].update(MovesCheckedJson(with_cell, cell));
+      const std::string note = AssumedVelocityNote(model, velocity_limits);
       if (!note.empty()) j["tour"]["velocity_note"] = note;
     }
     j["criterion"] = task ? "task_rms" : "d";

@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "activecal/calibration/cell_planning.h"
+#include "activecal/calibration/pool_builder.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
@@ -414,9 +415,7 @@ int Main() {
     // pose of the lattice (marker 0's alone held the others' offsets).
     std::vector<uint32_t> every_marker;
     if (model.num_markers() > 1) {
-      every_marker.assign(joints.rows(), model.num_markers() >= 32
-                                             ? ~0u
-                                             : (1u << model.num_markers()) - 1);
+      every_marker.assign(joints.rows(), EveryMarkerMask(model));
     }
     model =
         WithFreeSet(model, app::ReducedParameterSetOrDie(
@@ -440,6 +439,26 @@ int Main() {
       app::Fail("--" + error);
     }
   }
+  // --listen's socket before --truth_out is written: a run that fails
+  // writes nothing.
+  std::unique_ptr<TcpListener> listener;
+  std::string host = "127.0.0.1";
+  if (!FLAGS_listen.empty()) {
+    std::string port = FLAGS_listen;
+    const size_t colon = FLAGS_listen.rfind(':');
+    if (colon != std::string::npos) {
+      host = FLAGS_listen.substr(0, colon);
+      port = FLAGS_listen.substr(colon + 1);
+    }
+    if (port.empty() || port.find_first_not_of("0123456789") != port.npos) {
+      app::Fail("--listen must be PORT or HOST:PORT, got '" + FLAGS_listen +
+                "'");
+    }
+    std::string error;
+    if (!TcpListener::Listen(host, std::stoi(port), &listener, &error)) {
+      app::Fail("--listen: " + error);
+    }
+  }
   if (!FLAGS_truth_out.empty()) {
     RobotFileOptions options;
     options.true_parameters = truth;
@@ -452,29 +471,16 @@ int Main() {
   }
   Cell cell(model, truth, cell_setup.checker.get());
   int status = 0;
-  if (FLAGS_listen.empty()) {
+  if (!listener) {
     LineChannel channel(STDIN_FILENO, g_protocol_out);
     cell.Serve(&channel, &status);
     return status;
-  }
-  std::string host = "127.0.0.1", port = FLAGS_listen;
-  const size_t colon = FLAGS_listen.rfind(':');
-  if (colon != std::string::npos) {
-    host = FLAGS_listen.substr(0, colon);
-    port = FLAGS_listen.substr(colon + 1);
-  }
-  if (port.empty() || port.find_first_not_of("0123456789") != port.npos) {
-    app::Fail("--listen must be PORT or HOST:PORT, got '" + FLAGS_listen + "'");
-  }
-  std::unique_ptr<TcpListener> listener;
-  std::string error;
-  if (!TcpListener::Listen(host, std::stoi(port), &listener, &error)) {
-    app::Fail("--listen: " + error);
   }
   std::fprintf(stderr, "activecal_sim_cell: listening on %s:%d\n", host.c_str(),
                listener->port());
   for (;;) {
     std::unique_ptr<LineChannel> channel;
+    std::string error;
     if (!listener->Accept(&channel, &error)) app::Fail(error);
     if (!cell.Serve(channel.get(), &status)) return status;
   }

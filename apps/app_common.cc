@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "activecal/calibration/selection_pool.h"
@@ -197,7 +198,12 @@ void PrintProgress(const std::string& line) {
 
 void WriteTextOrDie(const std::string& path, const std::string& text) {
   std::string error;
-  if (!PendingOutputs().Add(path, text, &error)) Fail(error);
+  if (!AddOutput(path, text, &error)) Fail(error);
+}
+
+bool AddOutput(const std::string& path, const std::string& text,
+               std::string* error) {
+  return PendingOutputs().Add(path, text, error);
 }
 
 void CommitOutputsOrDie() {
@@ -212,6 +218,17 @@ int Finish(int status) {
 
 void CheckWritableOrDie(const std::string& path, const std::string& flag) {
   if (path.empty()) return;
+  // The outputs checked so far, by flag: two flags on one file would have
+  // the second's text replace the first's (OutputSet refuses it, but only
+  // after the work).
+  static auto* checked = new std::vector<std::pair<std::string, std::string>>();
+  for (const auto& [known_flag, known_path] : *checked) {
+    if (known_flag != flag && SameOutputFile(known_path, path)) {
+      Fail("--" + flag + ": '" + path + "' is the file of --" + known_flag +
+           " ('" + known_path + "'): two outputs cannot share a file");
+    }
+  }
+  checked->emplace_back(flag, path);
   std::string error;
   if (!CheckWritable(path, &error)) Fail("--" + flag + ": " + error);
 }
@@ -251,52 +268,6 @@ CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
     std::printf("  --cell: note: %s\n", note.c_str());
   }
   return cell;
-}
-
-nlohmann::json MovesCheckedJson(bool with_cell, const CellSetup& cell) {
-  bool geometry = false;
-  for (const CollisionBody& body : cell.collision.bodies) {
-    geometry = geometry || !body.shapes.empty();
-  }
-  if (with_cell && geometry) return {{"moves_checked", true}};
-  return {
-      {"moves_checked", false},
-      {"moves_not_checked", with_cell ? "no collision geometry" : "no --cell"}};
-}
-
-std::string AssumedVelocityNote(const RobotModel& model,
-                                const std::vector<double>& velocity_limits) {
-  std::string joints;
-  int count = 0;
-  bool prismatic = false;
-  for (size_t j = 0; j < velocity_limits.size(); ++j) {
-    if (velocity_limits[j] > 0) continue;
-    joints += (count++ ? ", " : "") + std::to_string(j + 1);
-    prismatic =
-        prismatic || (j < model.links.size() &&
-                      model.links[j].joint_type == JointType::kPrismatic);
-  }
-  if (count == 0) return "";
-  return std::string(count == 1 ? "joint " : "joints ") + joints +
-         (count == 1 ? " has" : " have") +
-         " no velocity limit in the robot's file: taken at 1 rad/s" +
-         (prismatic ? " (1 m/s prismatic)" : "") +
-         " for the motion-time estimate";
-}
-
-nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
-                                const std::vector<std::string>& reasons,
-                                const std::vector<int64_t>& run) {
-  nlohmann::json list = nlohmann::json::array();
-  for (size_t b = 0; b < blocked_moves.size(); ++b) {
-    const int k = blocked_moves[b];
-    list.push_back({{"from", k},
-                    {"to", k + 1},
-                    {"from_pose_index", run[k]},
-                    {"to_pose_index", run[k + 1]},
-                    {"reason", b < reasons.size() ? reasons[b] : ""}});
-  }
-  return list;
 }
 
 RobotDescription LoadRobotOrDie() {

@@ -64,27 +64,6 @@ RobotDescription LoadRobotOrDie();
 CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
                          RobotDescription* robot);
 
-// What a tour's moves were checked for collisions against, for the JSON's
-// `tour`: {"moves_checked": true} with a cell and robot collision geometry,
-// else {"moves_checked": false, "moves_not_checked": "no --cell" | "no
-// collision geometry"} (the robot file, e.g. activecal_simulate
-// --true_model_out's YAML, has none: nothing in the cell can be hit).
-nlohmann::json MovesCheckedJson(bool with_cell, const CellSetup& cell);
-
-// For a motion-time estimate at `velocity_limits` (RobotVelocityLimits; <= 0:
-// the file gives none): "" when every joint has a limit, else the note
-// "joints 1, 2 have no velocity limit in the robot's file: taken at 1 rad/s
-// (1 m/s prismatic) for the motion-time estimate".
-std::string AssumedVelocityNote(const RobotModel& model,
-                                const std::vector<double>& velocity_limits);
-
-// The blocked moves of a tour as the JSON's list: {"from", "to" (places in
-// `run`, the tour's order), "from_pose_index", "to_pose_index" (run's
-// entries), "reason"}.
-nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
-                                const std::vector<std::string>& reasons,
-                                const std::vector<int64_t>& run);
-
 // The parameter set of --parameter_set (default: full for a URDF robot,
 // file otherwise). Dies on an unknown name. (app_parameter_set.cc)
 ParameterSet ParameterSetOrDie(bool urdf_robot);
@@ -172,6 +151,9 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 // killed run.
 void CheckWritableOrDie(const std::string& path, const std::string& flag);
 void WriteTextOrDie(const std::string& path, const std::string& text);
+// WriteTextOrDie's pending write, false with *error instead of dying.
+bool AddOutput(const std::string& path, const std::string& text,
+               std::string* error);
 // Renames every pending output over its path now (e.g. a file another
 // process must read while this one still runs).
 void CommitOutputsOrDie();

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "activecal/io/output_files.h"
 #include "app_common.h"
 
 namespace activecal {
@@ -33,7 +34,9 @@ std::string GnuplotData(const std::string& name,
 
 bool RunGnuplot(const std::string& script, const std::string& png_path,
                 std::string* error) {
-  const std::string tmp = png_path + ".tmp";
+  // The set's temporary name (removed by a later run if this one is
+  // killed while gnuplot draws: RemoveStaleTemporaries).
+  const std::string tmp = TemporaryPath(png_path);
   const std::string log = png_path + ".gnuplot.log";
   // The output path is quoted for gnuplot; refuse quotes in it.
   if (png_path.find_first_of("'\"\n") != std::string::npos) {
@@ -76,12 +79,17 @@ bool RunGnuplot(const std::string& script, const std::string& png_path,
     *error = "gnuplot failed" + (first.empty() ? "" : ": " + first);
     return false;
   }
-  if (std::rename(tmp.c_str(), png_path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    *error = "cannot write " + png_path;
-    return false;
+  // The figure joins the program's outputs (app_common.h): renamed over
+  // png_path with the others at the end, removed if the program fails.
+  std::string png;
+  {
+    std::ifstream figure(tmp, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << figure.rdbuf();
+    png = bytes.str();
   }
-  return true;
+  std::remove(tmp.c_str());
+  return AddOutput(png_path, png, error);
 }
 
 void PlotOrNote(const std::string& script, const std::string& png_path,

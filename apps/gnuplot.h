@@ -23,9 +23,9 @@ std::string GnuplotData(const std::string& name,
                         const std::vector<std::vector<double>>& rows);
 
 // Runs `script` through gnuplot (PNG terminal and output set before it)
-// and writes the figure to `png_path` atomically: drawn to a temporary
-// file beside it, then renamed. False with *error (gnuplot's first line)
-// on failure.
+// and adds the figure to the program's outputs (AddOutput, app_common.h:
+// written to `png_path` with the others when the program ends well, not at
+// all when it fails). False with *error (gnuplot's first line) on failure.
 bool RunGnuplot(const std::string& script, const std::string& png_path,
                 std::string* error);
 

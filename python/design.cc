@@ -343,22 +343,19 @@ std::shared_ptr<DesignResult> SelectPy(
       result->joint_angles.row(k) = joints.row(tour.order[k]);
       result->pose_indices[k] = labels_before[tour.order[k]];
     }
-    nlohmann::json blocked = nlohmann::json::array();
-    for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
-      const int k = tour.blocked_moves[b];
-      blocked.push_back({{"from", k},
-                         {"to", k + 1},
-                         {"from_pose_index", result->pose_indices[k]},
-                         {"to_pose_index", result->pose_indices[k + 1]},
-                         {"reason", tour.blocked_reasons[b]}});
-    }
-    result->cell_info["tour"] = {{"motion_time_before_s", tour.time_before_s},
-                                 {"motion_time_after_s", tour.time_after_s},
-                                 {"velocities", tour.velocities},
-                                 {"resolution_deg", 1.0},
-                                 {"blocked_moves", tour.blocked_moves.size()},
-                                 {"blocked", blocked},
-                                 {"blocked_moves_before", tour.blocked_before}};
+    nlohmann::json& t = result->cell_info["tour"];
+    t = {{"motion_time_before_s", tour.time_before_s},
+         {"motion_time_after_s", tour.time_after_s},
+         {"velocities", tour.velocities},
+         {"resolution_deg", 1.0},
+         {"blocked_moves", tour.blocked_moves.size()},
+         {"blocked", BlockedMovesJson(tour.blocked_moves, tour.blocked_reasons,
+                                      result->pose_indices)},
+         {"blocked_moves_before", tour.blocked_before}};
+    t.update(cell ? MovesCheckedJson(true, *cell)
+                  : MovesCheckedJson(false, CellSetup(), "no cell="));
+    const std::string note = AssumedVelocityNote(model, o.velocity_limits);
+    if (!note.empty()) t["velocity_note"] = note;
   }
   if (cell) {
     // As activecal_select --cell's JSON.

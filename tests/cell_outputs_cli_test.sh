@@ -6,7 +6,8 @@
 # a table), what the tour's moves were checked against and the velocities
 # assumed, blocked moves a count and a list in both programs, and a
 # program's outputs written all or nothing (stale temporaries of a killed
-# run removed by the next).
+# run removed by the next; two outputs on one file refused; a plot one of
+# the outputs; sim_cell's --listen opened before --truth_out is written).
 #
 #   tests/cell_outputs_cli_test.sh <build/apps dir> <data dir> <tests/data dir>
 set -uo pipefail
@@ -54,6 +55,27 @@ for name, expect_one in (("e1", True), ("e2", False)):
     assert m, lines[0]
     assert float(m.group(1)) == round(e["d_efficiency"], 4), (lines[0], e)
     assert int(m.group(4)) == p and int(m.group(5)) == e["unconstrained_pool_size"]
+PY
+
+# The cell's targets as the markers (two reflectors back to back): the
+# unconstrained design measures every target at every pose, so that the
+# figure does not depend on the order the cell file lists them in (it was
+# measured with the first target's rows only: 0.9309 listed front first).
+two="$tdata/puma_two_targets_cell.yaml"
+{ sed '/^targets:/,$d' "$two"; echo "targets:"; grep "name: back" "$two"; grep "name: front" "$two"; } >two_swapped.yaml
+for c in two two_swapped; do
+  f="$two"; [ $c = two_swapped ] && f=two_swapped.yaml
+  "$apps/activecal_select" --robot="$puma" --cell="$f" --levels=3 --num_poses=12 \
+    --algorithm=fedorov --restarts=1 --threads=2 --json_out=$c.json >$c.out 2>$c.err ||
+    { fail "select, $c"; cat $c.err; }
+done
+python3 - <<'PY' && ok "D-efficiency with several targets: every target in the unconstrained design, whatever their order" || fail "cell D-efficiency, several targets"
+import json
+a = json.load(open("two.json"))["cell_d_efficiency"]
+b = json.load(open("two_swapped.json"))["cell_d_efficiency"]
+assert abs(a["log10_det_unconstrained"] - b["log10_det_unconstrained"]) < 1e-9, (a, b)
+assert abs(a["d_efficiency"] - b["d_efficiency"]) < 1e-9, (a, b)
+assert 0 < a["d_efficiency"] < 1, a
 PY
 
 # --- moves_checked says what was checked: a robot file without collision
@@ -113,5 +135,67 @@ echo partial >set_r.csv.activecal-999999998.tmp
   ok "the next run writes all three and removes the stale temporaries" ||
   { fail "select after a killed run"; cat set.err; ls; }
 
+
+# Two outputs on one file (the same path, or two spellings of it): refused,
+# nothing written (they shared one temporary: the second rename found it
+# gone, and the run failed with one output replaced). active checks its
+# outputs before the work and names both flags; select's --json_out is
+# refused when it is written, before any rename.
+rm -f same.csv ./*.tmp
+"$apps/activecal_select" --robot="$puma" --pool=sobol --pool_size=300 --num_poses=12 \
+  --algorithm=fedorov --restarts=1 --threads=2 --poses_csv=same.csv --json_out=./same.csv \
+  >same.out 2>same.err
+st=$?
+[ $st -eq 1 ] && [ ! -e same.csv ] && ! ls ./*.tmp >/dev/null 2>&1 && [ "$(wc -l <same.err)" -eq 1 ] &&
+  grep -q "cannot write './same.csv': it is the same file as 'same.csv', which is already an output of this run" same.err &&
+  ok "two outputs on one file: select's --json_out on --poses_csv's file refused, nothing written" ||
+  { fail "select, two outputs on one file (status $st)"; cat same.err; ls; }
+"$apps/activecal_active" "${loop[@]}" --json_out=same.json --program_out=./same.json \
+  >same.out 2>same.err
+st=$?
+[ $st -eq 1 ] && [ ! -e same.json ] && [ "$(wc -l <same.err)" -eq 1 ] &&
+  grep -q "error: --json_out: 'same.json' is the file of --program_out ('./same.json')" same.err &&
+  ok "two outputs on one file: active's --json_out on --program_out's refused before the work" ||
+  { fail "active, two outputs on one file (status $st)"; cat same.err; ls; }
+
+# A plot is one of the outputs: evaluate --plot with a --report_html it
+# cannot write fails having written no figure (gnuplot's PNG was renamed
+# over --plot at once, before the report failed).
+if command -v gnuplot >/dev/null; then
+  "$apps/activecal_select" --robot="$puma" --pool=sobol --pool_size=300 --num_poses=20 \
+    --algorithm=fedorov --restarts=1 --threads=2 --poses_csv=ev_p.csv >/dev/null 2>&1 &&
+    "$apps/activecal_simulate" --robot="$puma" --poses_csv=ev_p.csv --noise_m=0.0005 \
+      --out=ev_m.csv >/dev/null 2>&1 || fail "select + simulate for evaluate"
+  echo partial >ev.png.activecal-999999997.tmp  # a killed run's figure
+  "$apps/activecal_evaluate" --robot="$puma" --measurements=ev_m.csv --plot=ev.png \
+    --json_out=ev.json --report_html=no_such_dir/ev.html >ev.out 2>ev.err
+  st=$?
+  [ $st -eq 1 ] && [ ! -e ev.png ] && [ ! -e ev.json ] && ! ls ./*.tmp >/dev/null 2>&1 &&
+    grep -q "cannot write 'no_such_dir/ev.html'" ev.err &&
+    ok "evaluate: a failed run leaves no --plot figure (nor a killed run's)" ||
+    { fail "evaluate --plot on a failed run (status $st)"; cat ev.err; ls; }
+fi
+
+# sim_cell --truth_out is committed before the cell serves (the client reads
+# it): a --listen that is bad or whose port is taken fails before it, and
+# nothing is written.
+"$apps/activecal_sim_cell" --robot="$puma" --perturb_m=0.001 --truth_out=truth.yaml \
+  --listen=abc </dev/null >sc.out 2>sc.err
+st=$?
+[ $st -eq 1 ] && [ ! -e truth.yaml ] && grep -q "error: --listen must be PORT or HOST:PORT, got 'abc'" sc.err &&
+  ok "sim_cell: a bad --listen writes no --truth_out" ||
+  { fail "sim_cell --listen=abc (status $st)"; cat sc.err; ls; }
+python3 - "$apps/activecal_sim_cell" "$puma" <<'PY' && [ ! -e truth.yaml ] &&
+import socket, subprocess, sys
+s = socket.socket()
+s.bind(("127.0.0.1", 0))
+s.listen()
+r = subprocess.run([sys.argv[1], "--robot=" + sys.argv[2], "--perturb_m=0.001",
+                    "--truth_out=truth.yaml", "--listen=%d" % s.getsockname()[1]],
+                   stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=20)
+assert r.returncode == 1 and "--listen: listen on 127.0.0.1:" in r.stderr, (r.returncode, r.stderr)
+PY
+  ok "sim_cell: a --listen port in use writes no --truth_out" ||
+  { fail "sim_cell --listen on a taken port"; ls; }
 
 cli_end

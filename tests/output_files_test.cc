@@ -159,5 +159,39 @@ TEST(OutputSetTest, WriteFilesAtomicallyWritesAllOrNone) {
   EXPECT_EQ(error, "cannot write '" + dir + "': it is a directory");
 }
 
+// Two outputs of one run on one file (a flag given the path of another, or
+// "a.csv" and "./a.csv"): the second is refused before it is written, so
+// that the run fails having written nothing (the two spellings shared one
+// temporary: the first rename moved it, the second found it gone, and the
+// run failed with one of its outputs already replaced).
+TEST(OutputSetTest, TwoOutputsOnOneFileAreRefused) {
+  const std::string dir = MakeFolder("same");
+  Write(dir + "/a.csv", "old a");
+  OutputSet set;
+  std::string error;
+  ASSERT_TRUE(set.Add(dir + "/a.csv", "poses", &error)) << error;
+  EXPECT_FALSE(set.Add(dir + "/a.csv", "design", &error));
+  EXPECT_EQ(error, "cannot write '" + dir +
+                       "/a.csv': it is already an output of this run (two "
+                       "outputs cannot share a file)");
+  EXPECT_FALSE(set.Add(dir + "/./a.csv", "design", &error));
+  EXPECT_EQ(error, "cannot write '" + dir +
+                       "/./a.csv': it is the same file as '" + dir +
+                       "/a.csv', which is already an output of this run (two "
+                       "outputs cannot share a file)");
+  mkdir((dir + "/sub").c_str(), 0755);
+  EXPECT_FALSE(set.Add(dir + "/sub/../a.csv", "design", &error));
+  // The refused ones changed nothing: the first is still pending.
+  EXPECT_EQ(Read(dir + "/a.csv"), "old a");
+  ASSERT_TRUE(set.Add(dir + "/b.csv", "b", &error)) << error;
+  ASSERT_TRUE(set.Commit(&error)) << error;
+  EXPECT_EQ(Read(dir + "/a.csv"), "poses");
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"a.csv", "b.csv", "sub"}));
+  // WriteFilesAtomically: nothing written.
+  EXPECT_FALSE(WriteFilesAtomically(
+      {{dir + "/c.yaml", "c"}, {dir + "/./c.yaml", "c2"}}, &error));
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"a.csv", "b.csv", "sub"}));
+}
+
 }  // namespace
 }  // namespace activecal

@@ -159,4 +159,50 @@ CellCompensationCheck(const CellChecker& checker) {
   };
 }
 
+nlohmann::json MovesCheckedJson(bool with_cell, const CellSetup& cell,
+                                const std::string& no_cell) {
+  bool geometry = false;
+  for (const CollisionBody& body : cell.collision.bodies) {
+    geometry = geometry || !body.shapes.empty();
+  }
+  if (with_cell && geometry) return {{"moves_checked", true}};
+  return {{"moves_checked", false},
+          {"moves_not_checked", with_cell ? "no collision geometry" : no_cell}};
+}
+
+std::string AssumedVelocityNote(const RobotModel& model,
+                                const std::vector<double>& velocity_limits) {
+  std::string joints;
+  int count = 0;
+  bool prismatic = false;
+  for (size_t j = 0; j < velocity_limits.size(); ++j) {
+    if (velocity_limits[j] > 0) continue;
+    joints += (count++ ? ", " : "") + std::to_string(j + 1);
+    prismatic =
+        prismatic || (j < model.links.size() &&
+                      model.links[j].joint_type == JointType::kPrismatic);
+  }
+  if (count == 0) return "";
+  return std::string(count == 1 ? "joint " : "joints ") + joints +
+         (count == 1 ? " has" : " have") +
+         " no velocity limit in the robot's file: taken at 1 rad/s" +
+         (prismatic ? " (1 m/s prismatic)" : "") +
+         " for the motion-time estimate";
+}
+
+nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
+                                const std::vector<std::string>& reasons,
+                                const std::vector<int64_t>& run) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t b = 0; b < blocked_moves.size(); ++b) {
+    const int k = blocked_moves[b];
+    list.push_back({{"from", k},
+                    {"to", k + 1},
+                    {"from_pose_index", run[k]},
+                    {"to_pose_index", run[k + 1]},
+                    {"reason", b < reasons.size() ? reasons[b] : ""}});
+  }
+  return list;
+}
+
 }  // namespace activecal

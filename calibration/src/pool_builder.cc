@@ -135,8 +135,7 @@ bool CheckMarkerMasks(const RobotModel& model, const Eigen::MatrixXd& joints,
              std::to_string(model.num_markers());
     return false;
   }
-  const uint32_t all =
-      model.num_markers() == 32 ? ~0u : (1u << model.num_markers()) - 1u;
+  const uint32_t all = EveryMarkerMask(model);
   for (size_t i = 0; i < masks.size(); ++i) {
     if ((masks[i] & all) == 0) {
       *error = "pool pose " + std::to_string(i) + ": no marker seen";
@@ -390,6 +389,10 @@ bool BuildCandidatePool(const RobotModel& input,
   }
   return CandidatePool::Create(std::move(stacked), block_rows, pool,
                                &summary->message);
+}
+
+uint32_t EveryMarkerMask(const RobotModel& model) {
+  return model.num_markers() >= 32 ? ~0u : (1u << model.num_markers()) - 1u;
 }
 
 }  // namespace activecal

@@ -36,6 +36,21 @@ void SplitPath(const std::string& path, std::string* dir, std::string* base) {
   }
 }
 
+// The directory entry `path` names: its folder resolved (realpath: "./a"
+// and "a", or a folder reached through a symbolic link, are one entry),
+// then its file name. Two paths with the same entry are one output: their
+// temporaries are one file and the second rename would find it gone.
+std::string EntryOf(const std::string& path) {
+  std::string dir, base;
+  SplitPath(path, &dir, &base);
+  char* resolved = realpath(dir.c_str(), nullptr);
+  if (resolved != nullptr) {
+    dir = resolved;
+    std::free(resolved);
+  }
+  return dir + "/" + base;
+}
+
 bool WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) return false;
@@ -45,6 +60,10 @@ bool WriteText(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
+
+bool SameOutputFile(const std::string& a, const std::string& b) {
+  return EntryOf(a) == EntryOf(b);
+}
 
 std::string TemporaryPath(const std::string& path) {
   return path + kMark + std::to_string(static_cast<long>(getpid())) + kSuffix;
@@ -91,22 +110,22 @@ bool OutputSet::Add(const std::string& path, const std::string& text,
     *error = "cannot write '" + path + "': it is a directory";
     return false;
   }
+  for (const std::string& known : paths_) {
+    if (!SameOutputFile(known, path)) continue;
+    *error =
+        "cannot write '" + path + "': " +
+        (known == path ? std::string("it is")
+                       : "it is the same file as '" + known + "', which is") +
+        " already an output of this run (two outputs cannot share a "
+        "file)";
+    return false;
+  }
   RemoveStaleTemporaries(path);
   const std::string tmp = TemporaryPath(path);
   if (!WriteText(tmp, text)) {
     std::remove(tmp.c_str());
-    for (size_t k = 0; k < paths_.size(); ++k) {
-      if (paths_[k] == path) {  // its earlier text is gone too
-        paths_.erase(paths_.begin() + k);
-        files_.erase(files_.begin() + k);
-        break;
-      }
-    }
     *error = "cannot write '" + path + "'";
     return false;
-  }
-  for (const std::string& known : paths_) {
-    if (known == path) return true;
   }
   paths_.push_back(path);
   files_.push_back(tmp);

@@ -172,6 +172,16 @@ def test_select_order_shortest_is_the_clis_tour(tmp_path):
     assert t["motion_time_after_s"] <= t["motion_time_before_s"] + 1e-9
     assert t["blocked_moves"] == c["blocked_moves"] == len(t["blocked"])
     assert t["blocked"] == c["blocked"]
+    # The CLI's tour, key for key: what the moves were checked against and
+    # the velocities assumed (the PUMA's file gives none).
+    assert set(t) == set(c), set(t) ^ set(c)
+    assert t["moves_checked"] is c["moves_checked"] is True
+    assert t["velocity_note"] == c["velocity_note"]
+    assert "taken at 1 rad/s" in t["velocity_note"]
+    bare = activecal.select(robot, levels=3, num_poses=12, restarts=1,
+                            algorithm="fedorov", order="shortest").tour
+    assert bare["moves_checked"] is False
+    assert bare["moves_not_checked"] == "no cell="
     with pytest.raises(ValueError, match="order must be 'none' or 'shortest', "
                        "got 'fast'"):
         activecal.select(robot, levels=3, num_poses=12, order="fast")

@@ -29,6 +29,7 @@
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/cell_checker.h"
 #include "activecal/cell/cell_file.h"
+#include "activecal/cell/cell_setup.h"
 #include "activecal/cell/pool_filter.h"
 #include "activecal/core/robot_model.h"
 
@@ -96,6 +97,32 @@ std::string PosesCsvWithTargets(const std::string& poses_csv, const Cell& cell,
 // outlive the check; the check is for one thread at a time.
 std::function<bool(const Eigen::VectorXd& joints, std::string* reason)>
 CellCompensationCheck(const CellChecker& checker);
+
+// The programs' and the Python module's tour JSON (activecal_select,
+// activecal_active --order=shortest; select(order="shortest")).
+//
+// What a tour's moves were checked for collisions against, for the JSON's
+// `tour`: {"moves_checked": true} with a cell and robot collision geometry,
+// else {"moves_checked": false, "moves_not_checked": "no --cell" | "no
+// collision geometry"} (no_cell: the Python module's "no cell="; the robot
+// file, e.g. activecal_simulate
+// --true_model_out's YAML, has none: nothing in the cell can be hit).
+nlohmann::json MovesCheckedJson(bool with_cell, const CellSetup& cell,
+                                const std::string& no_cell = "no --cell");
+
+// For a motion-time estimate at `velocity_limits` (RobotVelocityLimits; <= 0:
+// the file gives none): "" when every joint has a limit, else the note
+// "joints 1, 2 have no velocity limit in the robot's file: taken at 1 rad/s
+// (1 m/s prismatic) for the motion-time estimate".
+std::string AssumedVelocityNote(const RobotModel& model,
+                                const std::vector<double>& velocity_limits);
+
+// The blocked moves of a tour as the JSON's list: {"from", "to" (places in
+// `run`, the tour's order), "from_pose_index", "to_pose_index" (run's
+// entries), "reason"}.
+nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
+                                const std::vector<std::string>& reasons,
+                                const std::vector<int64_t>& run);
 
 }  // namespace activecal
 

@@ -75,6 +75,10 @@ struct CandidatePoolOptions {
   std::vector<uint32_t> marker_masks;
 };
 
+// The marker mask with every marker of `model` (its first 32): a pose
+// that measures them all (CandidatePoolOptions::marker_masks).
+uint32_t EveryMarkerMask(const RobotModel& model);
+
 struct CandidatePoolSummary {
   std::string message;                    // why it failed
   IdentifiabilityReport identifiability;  // of the pool, before any fixing

@@ -45,6 +45,10 @@ std::string TemporaryPath(const std::string& path);
 // Temporaries of running processes (and other files) are not touched.
 int RemoveStaleTemporaries(const std::string& path);
 
+// Whether `a` and `b` name one directory entry ("a.csv", "./a.csv", or
+// through a folder's symbolic link): one output file.
+bool SameOutputFile(const std::string& a, const std::string& b);
+
 // A set of output files written together (see above). The destructor
 // removes temporaries not committed.
 class OutputSet {
@@ -55,9 +59,12 @@ class OutputSet {
   ~OutputSet() { Discard(); }
 
   // Writes `text` to the temporary of `path` (removing stale temporaries
-  // of `path` first); `path` itself is not touched. A path added twice
-  // keeps the last text. False with *error ("cannot write '<path>'",
-  // "cannot write '<path>': it is a directory"); the set is then unchanged.
+  // of `path` first); `path` itself is not touched. False with *error
+  // ("cannot write '<path>'", "cannot write '<path>': it is a directory",
+  // "cannot write '<path>': it is [the same file as '<other>', which is]
+  // already an output of this run ...": a path added twice, or two
+  // spellings of one file, "a.csv" and "./a.csv"); the set is then
+  // unchanged.
   bool Add(const std::string& path, const std::string& text,
            std::string* error);
 
