@@ -168,7 +168,7 @@ PY
 status=$?
 link=$(cat table_link 2>/dev/null)
 [ "$status" -eq 2 ] &&
-  grep -q "1 of 2 targets converged but are refused by the cell, written with their status to comp.csv; the first, pose_index [0-9]*, collides with obstacle table ($link)" comp.err &&
+  grep -q "1 of 2 targets are not converged, written with their status to comp.csv: 1 collision (the first, target 1, pose_index [0-9]*: obstacle table ($link))" comp.err &&
   ! grep -q "did not converge" comp.err &&
   ok "compensate --cell: the pose through the table is a collision (status 2)" ||
   { fail "compensate --cell (status $status)"; cat comp.err; }
@@ -190,7 +190,7 @@ sed 's/joint_margin_deg: 0/joint_margin_deg: 3/; s/offset_m: 0.3/offset_m: -5/' 
   "$cell" >margin.yaml
 "$apps/activecal_compensate" --robot="$puma" --nominal="$puma" \
   --poses_csv=program.csv --cell=margin.yaml --out=m.csv >m.out 2>m.err
-grep -q "converged but are refused by the cell, written with their status to m.csv; the first, pose_index [0-9]*, is refused by the cell: joint margin (L[1-6])" m.err &&
+grep -q "targets are not converged, written with their status to m.csv: [12] collision (the first, target [01], pose_index [0-9]*: joint margin (L[1-6]))" m.err &&
   ok "compensate --cell: a joint margin left is a collision too" ||
   { fail "compensate --cell joint margin"; cat m.err; }
 
