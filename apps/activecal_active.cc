@@ -386,7 +386,14 @@ int Main() {
   if (!FLAGS_session.empty()) {
     RobotFileOptions robot_text;
     robot_text.true_parameters = truth;
+    // The cell decides which poses may be designed: "none", or its file
+    // by content. First: its targets are the robot's markers, so a change
+    // of the targets alone changes robot_hash too, and the cell is what to
+    // name.
     SessionIdentity identity = {
+        {"cell", with_cell ? FLAGS_cell + " (hash " +
+                                 std::to_string(Fnv1a(cell_text)) + ")"
+                           : "none"},
         {"robot", model.name},
         {"robot_hash", std::to_string(Fnv1a(
                            RobotFileText(model, model.nominal, robot_text)))},
@@ -400,12 +407,7 @@ int Main() {
         {"seed", std::to_string(FLAGS_seed)},
         {"nominal_error_scale", Text(FLAGS_nominal_error_scale)},
     };
-    // The cell decides which poses may be designed: "none", or its
-    // file's content.
     identity.push_back({"order", FLAGS_order});
-    identity.push_back({"cell", with_cell ? "with content hash " +
-                                                std::to_string(Fnv1a(cell_text))
-                                          : "none"});
     if (!ActiveSession::Open(FLAGS_session, FLAGS_resume, model, identity,
                              &session, &error)) {
       app::Fail(error);
