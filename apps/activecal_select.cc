@@ -546,6 +546,37 @@ int Main() {
     num_measured = static_cast<int>(measured.size());
   }
   const bool with_prior = prior.rows() > 0;
+  // Several targets as the markers: a pose gives the rows of the targets it
+  // sees only, so the pool's block rows overstate what --num_poses poses
+  // give. The most the best --num_poses feasible poses can give, up front
+  // as for one target (the exchange algorithms would otherwise return a
+  // design of more poses, greedy fail on the first singular step).
+  if (pool_options.kept_marker_masks != nullptr &&
+      gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default &&
+      model.num_markers() > 0 && FLAGS_num_poses > 0) {
+    const int rows_per_target = pool.block_rows() / model.num_markers();
+    std::vector<int> rows;
+    for (uint32_t mask : feasibility.targets_seen) {
+      rows.push_back(rows_per_target * __builtin_popcount(mask));
+    }
+    std::sort(rows.begin(), rows.end(), std::greater<int>());
+    int64_t equations = prior.rows();
+    for (size_t k = 0;
+         k < rows.size() && k < static_cast<size_t>(FLAGS_num_poses); ++k) {
+      equations += rows[k];
+    }
+    if (equations < pool.num_parameters()) {
+      const int most = rows.empty() ? 0 : rows[0] / rows_per_target;
+      app::Fail(std::to_string(FLAGS_num_poses) + " poses give " +
+                std::to_string(equations) + " equations, fewer than the " +
+                std::to_string(pool.num_parameters()) +
+                " parameters: every such design is singular (a feasible "
+                "pose sees at most " +
+                std::to_string(most) + " of the " +
+                std::to_string(model.num_markers()) + " targets" +
+                (with_prior ? "; with --measured_csv's rows" : "") + ")");
+    }
+  }
 
   SelectDesignSummary select;
   {
