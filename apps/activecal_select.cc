@@ -211,8 +211,13 @@ int Main() {
   if (FLAGS_order != "none" && FLAGS_order != "shortest") {
     app::Fail("--order must be none or shortest, got '" + FLAGS_order + "'");
   }
-  if (!(FLAGS_order_resolution_deg > 0)) {
-    app::Fail("--order_resolution_deg must be > 0");
+  if (!(FLAGS_order_resolution_deg > 0 && FLAGS_order_resolution_deg <= 10)) {
+    // Coarser steps check little more than the end points of a move.
+    app::Fail("--order_resolution_deg must be in (0, 10], got " +
+              gflags::GetCommandLineFlagInfoOrDie("order_resolution_deg")
+                  .current_value +
+              ": a move is checked at joint steps of at most this many "
+              "degrees; coarser steps check little more than its end points");
   }
   if (!FLAGS_rejected_csv.empty() && FLAGS_cell.empty()) {
     app::Fail("--rejected_csv needs --cell");
@@ -727,15 +732,16 @@ int Main() {
               static_cast<long long>(pool.size()), jacobian_seconds);
   std::printf("%s", cell_efficiency_line.c_str());
   if (ordered) {
-    std::printf("  %s", tour.BriefReport().c_str());
+    const nlohmann::json checked = app::MovesCheckedJson(with_cell, cell);
+    std::printf(
+        "  %s",
+        tour.BriefReport(checked["moves_checked"].get<bool>()
+                             ? std::string()
+                             : checked["moves_not_checked"].get<std::string>())
+            .c_str());
     const std::string note = app::AssumedVelocityNote(model, velocity_limits);
     if (!note.empty())
       std::printf("  --order=shortest: note: %s\n", note.c_str());
-    const nlohmann::json checked = app::MovesCheckedJson(with_cell, cell);
-    if (!checked["moves_checked"].get<bool>()) {
-      std::printf("  (moves not checked for collisions: %s)\n",
-                  checked["moves_not_checked"].get<std::string>().c_str());
-    }
     for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
       std::printf(
           "  warning: the move from pose %d to pose %d is blocked: %s\n",
