@@ -154,12 +154,14 @@ int Main() {
   if (cell.checker && cell.collision_source.empty()) {
     // A "converged" row must mean checked: without geometry the cell could
     // only check the joint margins.
-    app::Fail("--cell: neither --robot=" + FLAGS_robot +
-              (FLAGS_nominal.empty() ? std::string()
-                                     : " nor --nominal=" + FLAGS_nominal) +
-              " has collision geometry (<collision> in a URDF, collision: "
-              "in a robot file): the cell's collision checks cannot be "
-              "made; give the nominal URDF with --nominal");
+    app::Fail("--cell: " +
+              (FLAGS_nominal.empty()
+                   ? "--robot=" + FLAGS_robot + " has no collision geometry"
+                   : "neither --robot=" + FLAGS_robot + " nor --nominal=" +
+                         FLAGS_nominal + " has collision geometry") +
+              " (<collision> in a URDF, collision: in a robot file): the "
+              "cell's collision checks cannot be made; give the nominal "
+              "URDF with --nominal");
   }
   if (cell.checker) options.check = CellCompensationCheck(*cell.checker);
   options.ik.marker = model.MarkerIndex(FLAGS_marker);
