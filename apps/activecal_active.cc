@@ -270,8 +270,13 @@ int Main() {
   if (FLAGS_order != "none" && FLAGS_order != "shortest") {
     app::Fail("--order must be none or shortest, got '" + FLAGS_order + "'");
   }
-  if (!(FLAGS_order_resolution_deg > 0)) {
-    app::Fail("--order_resolution_deg must be > 0");
+  if (!(FLAGS_order_resolution_deg > 0 && FLAGS_order_resolution_deg <= 10)) {
+    // Coarser steps check little more than the end points of a move.
+    app::Fail("--order_resolution_deg must be in (0, 10], got " +
+              gflags::GetCommandLineFlagInfoOrDie("order_resolution_deg")
+                  .current_value +
+              ": a move is checked at joint steps of at most this many "
+              "degrees; coarser steps check little more than its end points");
   }
   if (FLAGS_resume && FLAGS_session.empty()) {
     app::Fail("--resume continues a --session: name its directory");
@@ -382,7 +387,14 @@ int Main() {
   if (!FLAGS_session.empty()) {
     RobotFileOptions robot_text;
     robot_text.true_parameters = truth;
+    // The cell decides which poses may be designed: "none", or its file
+    // by content. First: its targets are the robot's markers, so a change
+    // of the targets alone changes robot_hash too, and the cell is what to
+    // name.
     SessionIdentity identity = {
+        {"cell", with_cell ? FLAGS_cell + " (hash " +
+                                 std::to_string(Fnv1a(cell_text)) + ")"
+                           : "none"},
         {"robot", model.name},
         {"robot_hash", std::to_string(Fnv1a(
                            RobotFileText(model, model.nominal, robot_text)))},
@@ -396,12 +408,7 @@ int Main() {
         {"seed", std::to_string(FLAGS_seed)},
         {"nominal_error_scale", Text(FLAGS_nominal_error_scale)},
     };
-    // The cell decides which poses may be designed: "none", or its
-    // file's content.
     identity.push_back({"order", FLAGS_order});
-    identity.push_back({"cell", with_cell ? "with content hash " +
-                                                std::to_string(Fnv1a(cell_text))
-                                          : "none"});
     if (!ActiveSession::Open(FLAGS_session, FLAGS_resume, model, identity,
                              &session, &error)) {
       app::Fail(error);

@@ -75,7 +75,9 @@ DEFINE_string(cell, "",
               "configuration that leaves a joint margin or collides (with "
               "itself or an obstacle, closer than the clearances) gets "
               "status collision, the first reason in its message. Checked "
-              "on the calibrated model (--robot).");
+              "on the calibrated model (--robot), with --robot's collision "
+              "geometry, or --nominal's when --robot's file has none (a "
+              "--model_out YAML); refused when neither has any.");
 
 namespace activecal {
 namespace {
@@ -150,7 +152,19 @@ int Main() {
       FLAGS_cell.empty()
           ? CellSetup()
           : app::SetUpCellOrDie(FLAGS_cell, /*targets_as_markers=*/false,
-                                &robot);
+                                &robot, FLAGS_nominal);
+  if (cell.checker && cell.collision_source.empty()) {
+    // A "converged" row must mean checked: without geometry the cell could
+    // only check the joint margins.
+    app::Fail("--cell: " +
+              (FLAGS_nominal.empty()
+                   ? "--robot=" + FLAGS_robot + " has no collision geometry"
+                   : "neither --robot=" + FLAGS_robot + " nor --nominal=" +
+                         FLAGS_nominal + " has collision geometry") +
+              " (<collision> in a URDF, collision: in a robot file): the "
+              "cell's collision checks cannot be made; give the nominal "
+              "URDF with --nominal");
+  }
   if (cell.checker) options.check = CellCompensationCheck(*cell.checker);
   options.ik.marker = model.MarkerIndex(FLAGS_marker);
   if (options.ik.marker < 0) {
@@ -282,7 +296,10 @@ int Main() {
     j["num_invalid"] = summary.num_invalid;
     j["num_iteration_cap"] = summary.num_iteration_cap;
     j["num_collision"] = summary.num_collision;
-    if (!FLAGS_cell.empty()) j["cell"] = FLAGS_cell;
+    if (!FLAGS_cell.empty()) {
+      j["cell"] = FLAGS_cell;
+      j["collision_geometry"] = cell.collision_source;
+    }
     // The inverse kinematics' residual of the calibrated model at its own
     // solution (about 0 when converged), and the size of the correction.
     j["max_ik_residual_m"] = summary.max_position_error_m;
@@ -360,46 +377,15 @@ int Main() {
   }
   if (!summary.AllConverged()) {
     // Not bad input: the files are complete, each target with its status.
-    // A target refused by the cell converged: it collides (or leaves a
-    // joint margin), it is not a failure of the inverse kinematics.
-    size_t first = 0;
-    while (summary.results[first].status == IkStatus::kConverged) ++first;
-    const InverseKinematicsResult& r = summary.results[first];
-    const int failed =
-        static_cast<int>(summary.results.size()) - summary.num_converged;
-    const int not_converged = failed - summary.num_collision;
-    std::string what;
-    if (summary.num_collision == 0) {
-      what = std::to_string(failed) + " of " +
-             std::to_string(summary.results.size()) +
-             " targets did not converge";
-    } else {
-      what = std::to_string(summary.num_collision) + " of " +
-             std::to_string(summary.results.size()) +
-             " targets converged but are refused by the cell";
-      if (not_converged > 0) {
-        what += " and " + std::to_string(not_converged) + " did not converge";
-      }
-    }
-    std::string first_text;
-    if (r.status == IkStatus::kCollision) {
-      const std::string self = "self-collision";
-      if (r.message.rfind("obstacle ", 0) == 0) {
-        first_text = "collides with " + r.message;
-      } else if (r.message.rfind(self, 0) == 0) {
-        first_text = "collides with itself" + r.message.substr(self.size());
-      } else {
-        first_text = "is refused by the cell: " + r.message;
-      }
-    } else {
-      first_text =
-          std::string("is ") + IkStatusName(r.status) + ": " + r.message;
-    }
-    std::fprintf(stderr,
-                 "activecal_compensate: %s, written with their status to %s; "
-                 "the first, pose_index %lld, %s\n",
-                 what.c_str(), FLAGS_out.c_str(),
-                 static_cast<long long>(labels[first]), first_text.c_str());
+    // The same counts as the summary's message, each first also by its
+    // pose_index (a target refused by the cell converged, but is not to
+    // be run: it is counted under collision, not converged).
+    const std::string text = summary.NotConvergedText(labels);
+    const size_t colon = text.find(':');
+    std::fprintf(
+        stderr, "activecal_compensate: %s, written with their status to %s%s\n",
+        text.substr(0, colon).c_str(), FLAGS_out.c_str(),
+        text.substr(colon).c_str());
     return 2;
   }
   return 0;

@@ -211,8 +211,13 @@ int Main() {
   if (FLAGS_order != "none" && FLAGS_order != "shortest") {
     app::Fail("--order must be none or shortest, got '" + FLAGS_order + "'");
   }
-  if (!(FLAGS_order_resolution_deg > 0)) {
-    app::Fail("--order_resolution_deg must be > 0");
+  if (!(FLAGS_order_resolution_deg > 0 && FLAGS_order_resolution_deg <= 10)) {
+    // Coarser steps check little more than the end points of a move.
+    app::Fail("--order_resolution_deg must be in (0, 10], got " +
+              gflags::GetCommandLineFlagInfoOrDie("order_resolution_deg")
+                  .current_value +
+              ": a move is checked at joint steps of at most this many "
+              "degrees; coarser steps check little more than its end points");
   }
   if (!FLAGS_rejected_csv.empty() && FLAGS_cell.empty()) {
     app::Fail("--rejected_csv needs --cell");
@@ -546,6 +551,37 @@ int Main() {
     num_measured = static_cast<int>(measured.size());
   }
   const bool with_prior = prior.rows() > 0;
+  // Several targets as the markers: a pose gives the rows of the targets it
+  // sees only, so the pool's block rows overstate what --num_poses poses
+  // give. The most the best --num_poses feasible poses can give, up front
+  // as for one target (the exchange algorithms would otherwise return a
+  // design of more poses, greedy fail on the first singular step).
+  if (pool_options.kept_marker_masks != nullptr &&
+      gflags::GetCommandLineFlagInfoOrDie("target_rms_m").is_default &&
+      model.num_markers() > 0 && FLAGS_num_poses > 0) {
+    const int rows_per_target = pool.block_rows() / model.num_markers();
+    std::vector<int> rows;
+    for (uint32_t mask : feasibility.targets_seen) {
+      rows.push_back(rows_per_target * __builtin_popcount(mask));
+    }
+    std::sort(rows.begin(), rows.end(), std::greater<int>());
+    int64_t equations = prior.rows();
+    for (size_t k = 0;
+         k < rows.size() && k < static_cast<size_t>(FLAGS_num_poses); ++k) {
+      equations += rows[k];
+    }
+    if (equations < pool.num_parameters()) {
+      const int most = rows.empty() ? 0 : rows[0] / rows_per_target;
+      app::Fail(std::to_string(FLAGS_num_poses) + " poses give " +
+                std::to_string(equations) + " equations, fewer than the " +
+                std::to_string(pool.num_parameters()) +
+                " parameters: every such design is singular (a feasible "
+                "pose sees at most " +
+                std::to_string(most) + " of the " +
+                std::to_string(model.num_markers()) + " targets" +
+                (with_prior ? "; with --measured_csv's rows" : "") + ")");
+    }
+  }
 
   SelectDesignSummary select;
   {
@@ -711,15 +747,16 @@ int Main() {
               static_cast<long long>(pool.size()), jacobian_seconds);
   std::printf("%s", cell_efficiency_line.c_str());
   if (ordered) {
-    std::printf("  %s", tour.BriefReport().c_str());
+    const nlohmann::json checked = MovesCheckedJson(with_cell, cell);
+    std::printf(
+        "  %s",
+        tour.BriefReport(checked["moves_checked"].get<bool>()
+                             ? std::string()
+                             : checked["moves_not_checked"].get<std::string>())
+            .c_str());
     const std::string note = AssumedVelocityNote(model, velocity_limits);
     if (!note.empty())
       std::printf("  --order=shortest: note: %s\n", note.c_str());
-    const nlohmann::json checked = MovesCheckedJson(with_cell, cell);
-    if (!checked["moves_checked"].get<bool>()) {
-      std::printf("  (moves not checked for collisions: %s)\n",
-                  checked["moves_not_checked"].get<std::string>().c_str());
-    }
     for (size_t b = 0; b < tour.blocked_moves.size(); ++b) {
       std::printf(
           "  warning: the move from pose %d to pose %d is blocked: %s\n",

@@ -254,8 +254,10 @@ JointLattice MakeLatticeOrDie(const RobotModel& model, int levels,
 }
 
 CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
-                         RobotDescription* robot) {
+                         RobotDescription* robot,
+                         const std::string& collision_fallback) {
   CellSetupOptions options;
+  options.collision_fallback_path = collision_fallback;
   options.cell_path = cell_path;
   options.robot_path = FLAGS_robot;
   options.chain.base_link = FLAGS_base_link;

@@ -61,8 +61,11 @@ RobotDescription LoadRobotOrDie();
 // the markers when targets_as_markers. Prints the setup's notes
 // ("  --cell: note: ..."); dies with "--cell: <file>:<line>:<col>: <field>:
 // ..." on errors.
+// collision_fallback: a file of the same chain whose collision geometry is
+// used when --robot's file has none (CellSetupOptions).
 CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
-                         RobotDescription* robot);
+                         RobotDescription* robot,
+                         const std::string& collision_fallback = "");
 
 // The parameter set of --parameter_set (default: full for a URDF robot,
 // file otherwise). Dies on an unknown name. (app_parameter_set.cc)

@@ -198,4 +198,19 @@ PY
   ok "sim_cell: a --listen port in use writes no --truth_out" ||
   { fail "sim_cell --listen on a taken port"; ls; }
 
+# --order_resolution_deg coarser than 10 deg checks little more than the
+# end points: refused; without --cell the tour line says why no move is
+# checked.
+for prog in activecal_select activecal_active; do
+  expect_fail "$prog --order_resolution_deg=45" \
+    "--order_resolution_deg must be in (0, 10], got 45: a move is checked at joint steps of at most this many degrees" \
+    $prog --robot="$puma" --levels=3 --order=shortest --cell="$cell" \
+    --order_resolution_deg=45
+done
+"$apps/activecal_select" --robot="$puma" --levels=3 --num_poses=10 \
+  --order=shortest --poses_csv=nocell.csv >nocell.out 2>&1 &&
+  grep -q "tour: 10 poses, estimated motion time .*; no --cell: moves not checked" nocell.out &&
+  ! grep -q "moves checked" nocell.out &&
+  ok "select --order=shortest without --cell: says the moves are not checked" ||
+  { fail "select --order=shortest without --cell"; cat nocell.out; }
 cli_end

@@ -110,5 +110,34 @@ expect_fail "max_draws without the measurable pool" \
 expect_fail "negative max_draws" "--max_draws must be >= 0, got -1" \
   activecal_select "${ur10e[@]}" --max_draws=-1
 
+# Two targets facing apart (z and x, 25 deg acceptance): each feasible pose
+# sees one, 3 equations, so 10 poses give 30 for the 34 parameters. Every
+# algorithm refuses up front, counting the rows the poses give (not 6 per
+# pose): fedorov returned 12 poses, greedy a false singular-start message.
+cat >apart.yaml <<'EOF'
+joint_margin_deg: 5
+clearance_m: 0.03
+self_clearance_m: 0.01
+obstacles:
+  - {name: table, type: plane, normal: [0, 0, 1], offset_m: 0.0}
+device: {type: laser_tracker, xyz_m: [2.5, -0.5, 1.2], range_m: [1.5, 5.0]}
+targets:
+  - {name: front, xyz_m: [0, 0, 0.05], normal: [0, 0, 1], acceptance_deg: 25}
+  - {name: side, xyz_m: [0.06, 0, 0.02], normal: [1, 0, 0], acceptance_deg: 25}
+EOF
+for algorithm in fedorov detmax greedy; do
+  expect_error "select --algorithm=$algorithm, targets seen one at a time" \
+    "10 poses give 30 equations, fewer than the 34 parameters: every such design is singular (a feasible pose sees at most 1 of the 2 targets)" \
+    activecal_select --robot="$data/kuka_iiwa14.urdf" --cell=apart.yaml \
+    --pool=sobol --pool_size=4096 --num_poses=10 --algorithm=$algorithm \
+    --threads=2 --poses_csv=apart.csv
+done
+"$apps/activecal_select" --robot="$data/kuka_iiwa14.urdf" --cell=apart.yaml \
+  --pool=sobol --pool_size=4096 --num_poses=12 --algorithm=fedorov \
+  --threads=2 --poses_csv=apart.csv \
+  --json_out=apart.json >apart.out 2>&1 &&
+  python3 -c "import json; assert json.load(open('apart.json'))['num_poses'] == 12" &&
+  ok "... 12 poses (36 equations) are designed" || { fail "select 12 poses"; cat apart.out; }
+
 echo "$failures failure(s)"
 [ "$failures" -eq 0 ]

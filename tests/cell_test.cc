@@ -821,7 +821,25 @@ TEST(CellFileTest, EveryBadInputNamesLineAndField) {
        "cell.yaml:2:5: obstacles[0].radius_m: missing"},
       {"obstacles:\n  - {name: w, type: sphere, radius_m: 1}\n"
        "  - {name: w, type: sphere, radius_m: 1}\n",
-       "cell.yaml:3:12: obstacles[1].name: 'w' names two obstacles"},
+       "cell.yaml:3:12: obstacles[1].name: duplicate name 'w' (also at line "
+       "2)"},
+      // A duplicate target name: this file's line and field (not the
+      // markers the targets become), also against a default name.
+      {"device: {type: laser_tracker, xyz_m: [2, 0, 1]}\n"
+       "targets:\n"
+       "  - {name: front, xyz_m: [0, 0, 0], normal: [0, 0, 1], "
+       "acceptance_deg: 30}\n"
+       "  - {name: front, xyz_m: [0, 0, 1], normal: [0, 0, 1], "
+       "acceptance_deg: 30}\n",
+       "cell.yaml:4:12: targets[1].name: duplicate name 'front' (also at line "
+       "3)"},
+      {"device: {type: laser_tracker, xyz_m: [2, 0, 1]}\n"
+       "targets:\n"
+       "  - {xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 30}\n"
+       "  - {name: target1, xyz_m: [0, 0, 1], normal: [0, 0, 1], "
+       "acceptance_deg: 30}\n",
+       "cell.yaml:4:12: targets[1].name: duplicate name 'target1' (also at "
+       "line 3)"},
       {"obstacles:\n  - {name: w, type: cylinder, radius_m: 1, length_m: 1, "
        "rpy_rad: [0, 0, 0], quaternion_xyzw: [0, 0, 0, 1]}\n",
        "quaternion_xyzw: give rpy_rad or quaternion_xyzw, not both"},

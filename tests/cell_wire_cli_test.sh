@@ -99,8 +99,28 @@ PY
 expect_fail "active --order=fast" "--order must be none or shortest, got 'fast'" \
   activecal_active "${loop[@]}" --order=fast
 # The same session with another cell (or none) is not continued.
-expect_fail "active --resume without the cell" "was made with cell with content hash" \
+expect_fail "active --resume without the cell" "--session: 's' was made with cell $cell (hash " \
   activecal_active "${loop[@]}" --session=s --resume
+# Another cell: both files named, each with its hash.
+sed 's/clearance_m: 0.02/clearance_m: 0.03/' "$cell" >changed.yaml
+expect_fail "active --resume with a changed cell" \
+  "this run's cell changed.yaml differs (hash " \
+  activecal_active "${loop[@]}" --cell=changed.yaml --session=s --resume
+grep -qF "session s was made with cell $cell (hash " err.txt &&
+  ok "... naming the session's cell" || { fail "resume: the session's cell"; cat err.txt; }
+# Only a target moved: the targets are the robot's markers, so the robot's
+# hash changed too; the cell is what is named.
+{ cat "$cell"; printf '%s\n' "device: {type: laser_tracker, xyz_m: [2.5, 0, 0.5]}" \
+    "targets:" "  - {name: a, xyz_m: [0, 0, 0.05], normal: [1, 0, 0], acceptance_deg: 60}" \
+    "  - {name: b, xyz_m: [0.05, 0, 0], normal: [1, 0, 0], acceptance_deg: 60}"; } >targets.yaml
+sed 's/xyz_m: \[0.05, 0, 0\]/xyz_m: [0.06, 0, 0]/' targets.yaml >moved.yaml
+"$apps/activecal_active" "${loop[@]}" --max_rounds=1 --cell=targets.yaml \
+  --session=t >t.out 2>&1
+[ -e t/session.json ] || { fail "active --cell=targets.yaml: no session"; cat t.out; }
+expect_fail "active --resume with a target moved" \
+  "session t was made with cell targets.yaml (hash " \
+  activecal_active "${loop[@]}" --max_rounds=1 --cell=moved.yaml --session=t \
+  --resume
 # A cell that leaves no pose: one line with the counts, nothing written.
 sed 's/offset_m: 0.3/offset_m: 5.0/' "$cell" >all.yaml
 expect_fail "active --cell keeping no pose" \
@@ -168,7 +188,7 @@ PY
 status=$?
 link=$(cat table_link 2>/dev/null)
 [ "$status" -eq 2 ] &&
-  grep -q "1 of 2 targets converged but are refused by the cell, written with their status to comp.csv; the first, pose_index [0-9]*, collides with obstacle table ($link)" comp.err &&
+  grep -q "1 of 2 targets are not converged, written with their status to comp.csv: 1 collision (the first, target 1, pose_index [0-9]*: obstacle table ($link))" comp.err &&
   ! grep -q "did not converge" comp.err &&
   ok "compensate --cell: the pose through the table is a collision (status 2)" ||
   { fail "compensate --cell (status $status)"; cat comp.err; }
@@ -190,7 +210,7 @@ sed 's/joint_margin_deg: 0/joint_margin_deg: 3/; s/offset_m: 0.3/offset_m: -5/' 
   "$cell" >margin.yaml
 "$apps/activecal_compensate" --robot="$puma" --nominal="$puma" \
   --poses_csv=program.csv --cell=margin.yaml --out=m.csv >m.out 2>m.err
-grep -q "converged but are refused by the cell, written with their status to m.csv; the first, pose_index [0-9]*, is refused by the cell: joint margin (L[1-6])" m.err &&
+grep -q "targets are not converged, written with their status to m.csv: [12] collision (the first, target [01], pose_index [0-9]*: joint margin (L[1-6]))" m.err &&
   ok "compensate --cell: a joint margin left is a collision too" ||
   { fail "compensate --cell joint margin"; cat m.err; }
 

@@ -42,7 +42,7 @@ status=$?
 # Some targets of a program that spans the whole joint ranges need a joint
 # beyond its limit on the real robot: exit 2, one line, files complete.
 if [ "$status" -eq 2 ] && [ "$(wc -l <comp.err)" -eq 1 ] &&
-  grep -q "targets did not converge, written with their status to comp.csv; the first, pose_index" comp.err; then
+  grep -q "targets are not converged, written with their status to comp.csv: [0-9]* limit (the first, target [0-9]*, pose_index [0-9]*: " comp.err; then
   ok "compensate: exit 2 and one line when some targets fail: $(cut -c1-90 comp.err)"
 else
   fail "compensate exit status $status"; cat comp.err
@@ -282,7 +282,7 @@ printf 'pose_index,x_m,y_m,z_m\n7,0.3,19.9,0.2\n8,5,30,2\n' >far.csv
   --out=far_out.csv --json_out=far.json >/dev/null 2>far.err
 fstatus=$?
 if [ "$fstatus" -eq 2 ] && [ "$(wc -l <far.err)" -eq 1 ] &&
-  grep -q "pose_index 8, is unreachable: out of reach" far.err &&
+  grep -q "1 unreachable (the first, target 1, pose_index 8: out of reach" far.err &&
   python3 -c "
 import json, csv
 j = json.load(open('far.json'))['targets']

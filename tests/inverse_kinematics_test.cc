@@ -1138,10 +1138,18 @@ TEST(CompensationTest, FailedTargetsAreCountedAndReported) {
   EXPECT_EQ(summary.num_unreachable, 1);
   EXPECT_EQ(summary.num_invalid, 1);
   EXPECT_EQ(summary.termination_type, TerminationType::kFailure);
-  EXPECT_NE(summary.message.find("2 of 3 targets did not converge; the first, "
-                                 "target 1, is unreachable"),
+  // Per status, the first of each by its target index.
+  EXPECT_NE(summary.message.find("2 of 3 targets are not converged: 1 "
+                                 "unreachable (the first, target 1: "),
             std::string::npos)
       << summary.message;
+  EXPECT_NE(summary.message.find(", 1 invalid (the first, target 2: "),
+            std::string::npos)
+      << summary.message;
+  EXPECT_NE(summary.NotConvergedText({7, 8, 9}).find(
+                "1 invalid (the first, target 2, pose_index 9: "),
+            std::string::npos)
+      << summary.NotConvergedText({7, 8, 9});
   EXPECT_FALSE(summary.AllConverged());
 }
 
@@ -1183,8 +1191,14 @@ TEST(CompensationTest, ConfigurationsTheCheckRefusesAreCollisions) {
   EXPECT_EQ(summary.num_collision, 1);
   EXPECT_EQ(summary.num_unreachable, 1);
   EXPECT_EQ(summary.termination_type, TerminationType::kFailure);
-  EXPECT_NE(summary.message.find("2 of 3 targets did not converge; the first, "
-                                 "target 1, is collision: obstacle table (L6)"),
+  // One count per status, each with its own first: the collision is not
+  // the first "not converged" of the unreachable ones.
+  EXPECT_NE(summary.message.find("2 of 3 targets are not converged: 1 "
+                                 "unreachable (the first, target 2: "),
+            std::string::npos)
+      << summary.message;
+  EXPECT_NE(summary.message.find(", 1 collision (the first, target 1: "
+                                 "obstacle table (L6))"),
             std::string::npos)
       << summary.message;
   EXPECT_NE(summary.BriefReport().find("1 collision"), std::string::npos)

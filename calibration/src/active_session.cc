@@ -23,6 +23,27 @@ using nlohmann::json;
 
 namespace {
 
+// A session identity value "<file> (hash <h>)" (SessionIdentity): true
+// with the two parts. A session made before the file was named stored
+// "with content hash <h>": its file reads "(not recorded)".
+bool HashedFile(const std::string& value, std::string* file,
+                std::string* hash) {
+  const std::string old_form = "with content hash ";
+  if (value.rfind(old_form, 0) == 0) {
+    *file = "(not recorded)";
+    *hash = value.substr(old_form.size());
+    return true;
+  }
+  const std::string mark = " (hash ";
+  const size_t at = value.rfind(mark);
+  if (at == std::string::npos || value.empty() || value.back() != ')') {
+    return false;
+  }
+  *file = value.substr(0, at);
+  *hash = value.substr(at + mark.size(), value.size() - 1 - (at + mark.size()));
+  return !file->empty() && !hash->empty();
+}
+
 constexpr int kSessionFormat = 1;
 
 std::string Errno() { return std::strerror(errno); }
@@ -350,6 +371,18 @@ bool ActiveSession::Open(const std::string& dir, bool resume,
         return false;
       }
       const std::string was = stored[key].get<std::string>();
+      std::string was_label, was_hash, label, hash;
+      if (HashedFile(was, &was_label, &was_hash) &&
+          HashedFile(value, &label, &hash)) {
+        // A file by its content: moved or renamed, the same.
+        if (was_hash == hash) continue;
+        *error = "session " + dir + " was made with " + key + " " + was_label +
+                 " (hash " + was_hash + "); this run's " + key + " " + label +
+                 " differs (hash " + hash +
+                 "): a session continues with the robot and options it was "
+                 "made with (or start a new --session)";
+        return false;
+      }
       if (was != value) {
         *error = where + " was made with " + key + " " + was +
                  ", this run has " + value +

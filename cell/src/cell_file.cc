@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -70,14 +71,18 @@ class CellParser : public internal::YamlReader {
       if (!obstacles.IsSequence()) {
         return Fail(obstacles.Mark(), "obstacles", "expected a list");
       }
-      std::set<std::string> names;
+      // Name -> the line (1-based) of its first use.
+      std::map<std::string, int> names;
       for (size_t i = 0; i < obstacles.size(); ++i) {
         const std::string field = "obstacles[" + std::to_string(i) + "]";
         Obstacle o;
         if (!ParseObstacle(obstacles[i], field, &o)) return false;
-        if (!names.insert(o.name).second) {
-          return Fail(obstacles[i]["name"].Mark(), field + ".name",
-                      "'" + o.name + "' names two obstacles");
+        const YAML::Mark mark = obstacles[i]["name"].Mark();
+        const auto [it, fresh] = names.emplace(o.name, mark.line + 1);
+        if (!fresh) {
+          return Fail(mark, field + ".name",
+                      "duplicate name '" + o.name + "' (also at line " +
+                          std::to_string(it->second) + ")");
         }
         cell->obstacles.push_back(std::move(o));
       }
@@ -96,12 +101,21 @@ class CellParser : public internal::YamlReader {
             targets.Mark(), "targets",
             "at most 32 targets, got " + std::to_string(targets.size()));
       }
+      std::map<std::string, int> names;
       for (size_t i = 0; i < targets.size(); ++i) {
         CellTarget t;
         t.name = "target" + std::to_string(i + 1);
-        if (!ParseTarget(targets[i], "targets[" + std::to_string(i) + "]",
-                         &t)) {
-          return false;
+        const std::string field = "targets[" + std::to_string(i) + "]";
+        if (!ParseTarget(targets[i], field, &t)) return false;
+        // Before the targets become markers (whose reader would name the
+        // markers' list, not this file's line).
+        const YAML::Mark mark =
+            targets[i]["name"] ? targets[i]["name"].Mark() : targets[i].Mark();
+        const auto [it, fresh] = names.emplace(t.name, mark.line + 1);
+        if (!fresh) {
+          return Fail(mark, field + ".name",
+                      "duplicate name '" + t.name + "' (also at line " +
+                          std::to_string(it->second) + ")");
         }
         cell->targets.push_back(t);
       }

@@ -123,6 +123,33 @@ bool SetUpCell(const CellSetupOptions& options, RobotDescription* robot,
                                  robot->model, &setup->collision, error)) {
     return false;
   }
+  setup->collision_source =
+      setup->collision.num_shapes() > 0 ? options.robot_path : std::string();
+  if (setup->collision.num_shapes() == 0 &&
+      !options.collision_fallback_path.empty()) {
+    RobotCollisionModel fallback;
+    if (!LoadRobotCollision(options.collision_fallback_path, options.chain,
+                            robot->model, &fallback, error)) {
+      return false;
+    }
+    if (fallback.num_shapes() > 0) {
+      // Keep the robot's own velocity limits where its file gives them.
+      for (size_t j = 0; j < fallback.velocity_limits.size() &&
+                         j < setup->collision.velocity_limits.size();
+           ++j) {
+        if (setup->collision.velocity_limits[j] > 0) {
+          fallback.velocity_limits[j] = setup->collision.velocity_limits[j];
+        }
+      }
+      setup->collision = std::move(fallback);
+      setup->collision_source = options.collision_fallback_path;
+      setup->notes.push_back(
+          (options.robot_path.empty() ? std::string("the robot")
+                                      : options.robot_path) +
+          " has no collision geometry: that of " +
+          options.collision_fallback_path + " (the same chain) is used");
+    }
+  }
   if (setup->collision.num_shapes() == 0) {
     setup->notes.push_back(
         "the robot has no collision geometry (<collision> in its URDF, "

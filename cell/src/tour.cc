@@ -76,8 +76,16 @@ bool MoveIsFree(const CellChecker& checker, const Eigen::VectorXd& a,
   return true;
 }
 
-std::string TourSummary::BriefReport() const {
+std::string TourSummary::BriefReport(const std::string& not_checked) const {
   char line[320];
+  if (!not_checked.empty()) {
+    std::snprintf(line, sizeof(line),
+                  "tour: %zu poses, estimated motion time %.4g s -> %.4g s; "
+                  "%s: moves not checked, %.3g s\n",
+                  order.size(), time_before_s, time_after_s,
+                  not_checked.c_str(), seconds);
+    return line;
+  }
   std::snprintf(line, sizeof(line),
                 "tour: %zu poses, estimated motion time %.4g s -> %.4g s; "
                 "%lld moves checked (%lld configurations), %zu blocked "

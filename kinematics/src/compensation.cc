@@ -90,12 +90,7 @@ void Summarize(const Eigen::MatrixXd& starts,
     return;
   }
   summary->termination_type = TerminationType::kFailure;
-  const InverseKinematicsResult& r = summary->results[first_failure];
-  summary->message = std::to_string(n - summary->num_converged) + " of " +
-                     std::to_string(n) +
-                     " targets did not converge; the first, target " +
-                     std::to_string(first_failure) + ", is " +
-                     IkStatusName(r.status) + ": " + r.message;
+  summary->message = summary->NotConvergedText();
 }
 
 void UserFailure(const std::string& message, CompensationSummary* summary) {
@@ -179,6 +174,35 @@ void SummarizeCompensation(const CompensationOptions& options,
 
 bool CompensationSummary::AllConverged() const {
   return termination_type == TerminationType::kConvergence;
+}
+
+std::string CompensationSummary::NotConvergedText(
+    const std::vector<int64_t>& labels) const {
+  const int n = static_cast<int>(results.size());
+  if (num_converged == n) return "";
+  std::string text = std::to_string(n - num_converged) + " of " +
+                     std::to_string(n) + " targets are not converged:";
+  const IkStatus order[] = {IkStatus::kSingular,     IkStatus::kLimit,
+                            IkStatus::kUnreachable,  IkStatus::kInvalid,
+                            IkStatus::kIterationCap, IkStatus::kCollision};
+  bool any = false;
+  for (IkStatus status : order) {
+    int count = 0, first = -1;
+    for (int i = 0; i < n; ++i) {
+      if (results[i].status != status) continue;
+      if (count++ == 0) first = i;
+    }
+    if (count == 0) continue;
+    text += std::string(any ? ", " : " ") + std::to_string(count) + " " +
+            IkStatusName(status) + " (the first, target " +
+            std::to_string(first);
+    if (static_cast<int>(labels.size()) == n) {
+      text += ", pose_index " + std::to_string(labels[first]);
+    }
+    text += ": " + results[first].message + ")";
+    any = true;
+  }
+  return text;
 }
 
 std::string CompensationSummary::BriefReport() const {

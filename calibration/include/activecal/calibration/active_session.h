@@ -50,6 +50,10 @@ namespace activecal {
 
 // What must be the same to continue a session: (name, value) pairs, e.g.
 // ("seed", "1"), ("robot", the robot file's text hash), in a fixed order.
+// A value "<file> (hash <h>)" is a file by its content: it matches on <h>
+// alone (the file moved or renamed is the same), and a difference names
+// both files: "session S was made with cell a.yaml (hash 1713...); this
+// run's cell b.yaml differs (hash 1365...)".
 using SessionIdentity = std::vector<std::pair<std::string, std::string>>;
 
 class ActiveSession {

@@ -35,6 +35,11 @@ struct CellSetupOptions {
   // collision geometry.
   std::string robot_path;
   UrdfChainOptions chain;
+  // Another file of the same chain (URDF or robot YAML) whose collision
+  // geometry is used when robot_path has none (a calibrated robot YAML
+  // written by activecal_identify --model_out carries none; the nominal
+  // URDF it was calibrated from does). Empty: none.
+  std::string collision_fallback_path;
   // Replace the robot's markers by the cell's targets (their points, zero
   // orientation; names and count the targets'): what to do when no frames
   // file gives the markers.
@@ -44,6 +49,10 @@ struct CellSetupOptions {
 struct CellSetup {
   Cell cell;
   RobotCollisionModel collision;
+  // The file the collision geometry came from: robot_path, or
+  // collision_fallback_path when robot_path had none; empty when there is
+  // no collision geometry (self-collision and obstacles are not checked).
+  std::string collision_source;
   std::unique_ptr<CellChecker> checker;
   // Lines worth printing: "the robot has no collision geometry: ...",
   // "self_clearance_m 0.05: links forearm_link and wrist_2_link are never

@@ -64,7 +64,10 @@ struct TourSummary {
   std::vector<double> velocities;  // the velocities used, per joint
   double seconds = 0.0;
 
-  std::string BriefReport() const;
+  // One line. With `not_checked` (why the moves were not checked, e.g.
+  // "no --cell"), it says so in place of the counts of moves checked:
+  // "...; no --cell: moves not checked, ...".
+  std::string BriefReport(const std::string& not_checked = "") const;
 };
 
 // The estimated time of the move a -> b (s).

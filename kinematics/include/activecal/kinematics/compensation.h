@@ -105,6 +105,14 @@ struct CompensationSummary {
   Eigen::MatrixXd starts;
 
   bool AllConverged() const;
+  // The targets that are not converged, per status, the first of each by
+  // its target index (0-based, input order), with its message:
+  // "2 of 3 targets are not converged: 1 unreachable (the first, target 1:
+  // out of reach ...), 1 collision (the first, target 2: obstacle table
+  // (L6))". With `labels` (one per target, e.g. the program's pose_index)
+  // each first also gets ", pose_index <label>". Empty when all converged.
+  std::string NotConvergedText(
+      const std::vector<int64_t>& labels = std::vector<int64_t>()) const;
   // A paragraph: counts per status, errors left, joint changes, time.
   std::string BriefReport() const;
 };
