@@ -99,7 +99,7 @@ PY
 (head -3 touches.csv; grep ',plane_1,' touches.csv; grep ',plane_2,' touches.csv) >two.csv
 sed '1s/^type,plane,/type,surface,/' touches.csv >nolabel.csv
 sed '2s/,0\.003,/,-0.003,/' touches.csv >negative.csv
-expect_fail "plane of two rows" "two.csv:2: plane 'plane_0' has 2 rows only" \
+expect_fail "plane of two rows" "two.csv:2: row: plane 'plane_0' has 2 rows only" \
   activecal_identify "${robot[@]}" --measurements=two.csv --json_out=o.json
 expect_fail "plane rows without a plane column" \
   "nolabel.csv:2: plane: a plane row needs the label of the plane it touched (column 'plane')" \
@@ -107,7 +107,7 @@ expect_fail "plane rows without a plane column" \
 expect_fail "negative probe radius" \
   "negative.csv:2: probe_radius_m: a probe radius must be >= 0, got -0.003" \
   activecal_identify "${robot[@]}" --measurements=negative.csv --json_out=o.json
-expect_fail "evaluate: plane of two rows" "two.csv:2: plane 'plane_0' has 2 rows only" \
+expect_fail "evaluate: plane of two rows" "two.csv:2: row: plane 'plane_0' has 2 rows only" \
   activecal_evaluate --robot=cal.yaml --measurements=two.csv --json_out=o.json
 [ ! -e o.json ] && ok "failed runs wrote nothing" || fail "failed runs wrote nothing"
 
