@@ -400,10 +400,11 @@ TEST(ColumnMapTest, BadColumnsAreNamedInOneLine) {
                        header),
             "data.csv:1: a: not in the header (column map map.yaml:1: "
             "orientation.columns)");
-  EXPECT_EQ(ApplyError("decimal: \",\"\n", "# comment\nq1_rad,q2_rad\n0,0\n"),
-            "data.csv:2: header: the column map map.yaml has decimal ',' and the "
-            "header's delimiter is ',' (detected): a decimal comma needs "
-            "another delimiter");
+  EXPECT_EQ(
+      ApplyError("decimal: \",\"\n", "# comment\nq1_rad,q2_rad\n0,0\n"),
+      "data.csv:2: header: the column map map.yaml has decimal ',' and the "
+      "header's delimiter is ',' (detected): a decimal comma needs "
+      "another delimiter");
   EXPECT_EQ(ApplyError("orientation: {convention: ZYZ, intrinsic: false, "
                        "unit: rad, columns: [A, B, C]}\n",
                        "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,x_m,y_m,z_m,"

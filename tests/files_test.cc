@@ -247,7 +247,8 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
       {"empty", "", "p.csv: empty file: no header line"},
       {"header only", h, "p.csv:1: header: no poses after the header"},
       {"missing joint", "q1_rad,q2_rad,q3_m\n0,0,0.1\n",
-       "p.csv:1: header: the header has neither 'q4_rad' nor 'q4_deg' for joint 4"},
+       "p.csv:1: header: the header has neither 'q4_rad' nor 'q4_deg' for "
+       "joint 4"},
       {"short row", h + "0,0,0.1,0\n0,0,0.1\n",
        "p.csv:3: row: expected 4 fields as in the header, got 3"},
       {"not a number", h + "0,zero,0.1,0\n",
@@ -255,7 +256,8 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
       {"NaN", h + "0,nan,0.1,0\n", "p.csv:2: q2_rad: must be finite"},
       {"empty field", h + "0,,0.1,0\n", "p.csv:2: q2_rad: empty"},
       {"out of range", h + "0,0,0.5,0\n",
-       "p.csv:2: row: joint 3 (L3) value 0.5 m is outside its range [0, 0.4] m"},
+       "p.csv:2: row: joint 3 (L3) value 0.5 m is outside its range [0, 0.4] "
+       "m"},
       {"duplicate", h + "0,0,0.1,0\n0.1,0,0.1,0\n0,0,0.1,0\n",
        "p.csv:4: row: duplicate pose: the same joint values as line 2"},
       {"disagreeing units",
@@ -369,7 +371,8 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
       "q1_rad_2,q2_rad_2,q3_m_2,q4_rad_2,distance_m\n";
   const std::vector<BadCsv> cases = {
       {"no type column, no point", "q1_rad,q2_rad,q3_m,q4_rad\n0,0,0.1,0\n",
-       "m.csv:1: header: a position row needs a measured point: the header has none "
+       "m.csv:1: header: a position row needs a measured point: the header has "
+       "none "
        "of x_m,y_m,z_m; x_mm,y_mm,z_mm"},
       {"distance columns without a type column",
        "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,q1_rad_2,q2_rad_2,q3_m_2,"
@@ -385,13 +388,15 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
        "m.csv:2: distance_m: a position measurement has no such value"},
       {"pose without rotation columns",
        "type,q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m\npose,0,0,0.1,0,1,2,3\n",
-       "m.csv:1: header: a pose row needs an orientation: the header has none of "
+       "m.csv:1: header: a pose row needs an orientation: the header has none "
+       "of "
        "rx_rad,ry_rad,rz_rad; qw,qx,qy,qz"},
       {"rotation angle above pi", h + "pose,0,0,0.1,0,1,2,3,4,0,0,,,,,\n",
        "m.csv:2: row: measured rotation vector has angle 4 rad > pi"},
       {"second pose out of range",
        h + "distance,0,0,0.1,0,,,,,,,0,0,0.9,0,0.5\n",
-       "m.csv:2: row: second pose: q3_m_2: 0.9 m is 0.5 m beyond joint 3 (L3)'s "
+       "m.csv:2: row: second pose: q3_m_2: 0.9 m is 0.5 m beyond joint 3 "
+       "(L3)'s "
        "range [0, 0.4] m, more than the tolerance of 0.01 m"},
       {"negative distance", h + "distance,0,0,0.1,0,,,,,,,0,0,0.1,1,-0.5\n",
        "m.csv:2: row: measured distance must be finite and >= 0, got -0.5"},
@@ -667,8 +672,9 @@ TEST(MeasurementFormatsTest, QuaternionAndRpyFollowTheirConventions) {
                     sign * norm * quat.x(), sign * norm * quat.y(),
                     sign * norm * quat.z());
       EXPECT_FALSE(ParseMeasurementsCsv(head + row, "m.csv", m, &out, &error));
-      EXPECT_NE(error.find("m.csv:2: row: qw,qx,qy,qz: the quaternion's norm is "),
-                std::string::npos)
+      EXPECT_NE(
+          error.find("m.csv:2: row: qw,qx,qy,qz: the quaternion's norm is "),
+          std::string::npos)
           << error;
       EXPECT_NE(error.find("not 1 (to 0.001): not a unit quaternion"),
                 std::string::npos)
@@ -935,7 +941,8 @@ TEST(MeasurementFormatsTest, UncertaintyColumns) {
        h + "distance,0,0,0.1,0,,,,,,,0,0,0.2,0,0.5,,1,1,1,\n",
        "m.csv:2: sigma_x_m: a distance measurement has no such value"},
       {"two sigmas in a row", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,1,1,1,1,\n",
-       "m.csv:2: row: sigma_m and sigma_x_m,sigma_y_m,sigma_z_m: the row gives its "
+       "m.csv:2: row: sigma_m and sigma_x_m,sigma_y_m,sigma_z_m: the row gives "
+       "its "
        "standard deviation twice"},
       {"part of the axes", h + "position,0,0,0.1,0,1,2,3,,,,,,,,,,1,,1,\n",
        "m.csv:2: sigma_y_m: empty, but the row gives the rest of "
@@ -943,11 +950,13 @@ TEST(MeasurementFormatsTest, UncertaintyColumns) {
       {"U95 beside sigma",
        "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,u95_m,sigma_m\n0,0,0.1,0,1,2,3,1,"
        "\n",
-       "m.csv:1: header: the standard deviation is given both as sigma_m and as u95_m"},
+       "m.csv:1: header: the standard deviation is given both as sigma_m and "
+       "as u95_m"},
       {"sigma in m beside axes in mm",
        "q1_rad,q2_rad,q3_m,q4_rad,x_m,y_m,z_m,sigma_m,sigma_x_mm,sigma_y_mm,"
        "sigma_z_mm\n0,0,0.1,0,1,2,3,1,,,\n",
-       "m.csv:1: header: the standard deviation is given both as sigma_m and as "
+       "m.csv:1: header: the standard deviation is given both as sigma_m and "
+       "as "
        "sigma_x_mm,sigma_y_mm,sigma_z_mm"},
   };
   for (const BadCsv& c : cases) {
@@ -1007,31 +1016,38 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
   const std::string j = "q1_rad,q2_rad,q3_m,q4_rad,";
   const std::vector<BadCsv> cases = {
       {"joint names mixed", "q1_rad,joint2_rad,q3_m,q4_rad,x_m,y_m,z_m\n",
-       "n.csv:1: header: joints are named both q<j> ('q1_rad') and by joint name "
+       "n.csv:1: header: joints are named both q<j> ('q1_rad') and by joint "
+       "name "
        "('joint2_rad'): a file uses one of the two"},
       {"metres and millimetres", j + "x_m,y_m,z_m,x_mm,y_mm,z_mm\n",
-       "n.csv:1: header: the measured point is given both as x_m,y_m,z_m and as "
+       "n.csv:1: header: the measured point is given both as x_m,y_m,z_m and "
+       "as "
        "x_mm,y_mm,z_mm: a file holds one representation of each quantity"},
       {"part of a form", j + "x_mm,y_mm\n",
-       "n.csv:1: header: the header has x_mm,y_mm but not z_mm (the measured point)"},
+       "n.csv:1: header: the header has x_mm,y_mm but not z_mm (the measured "
+       "point)"},
       {"rotation vector and quaternion",
        j + "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,qw,qx,qy,qz\n",
-       "n.csv:1: header: the orientation is given both as rx_rad,ry_rad,rz_rad and as "
+       "n.csv:1: header: the orientation is given both as rx_rad,ry_rad,rz_rad "
+       "and as "
        "qw,qx,qy,qz"},
       {"rpy in rad and deg",
        j + "x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,roll_deg,pitch_deg,"
            "yaw_deg\n",
-       "n.csv:1: header: the orientation is given both as roll_rad,pitch_rad,yaw_rad "
+       "n.csv:1: header: the orientation is given both as "
+       "roll_rad,pitch_rad,yaw_rad "
        "and as roll_deg,pitch_deg,yaw_deg"},
       {"distance in m and mm",
        "type," + j + "x_m,y_m,z_m,distance_m,distance_mm\n",
        "n.csv:1: header: the distance is given both as distance_m and as "
        "distance_mm"},
       {"wide and long point", j + "x_m,y_m,z_m,x1_m,y1_m,z1_m\n",
-       "n.csv:1: header: the measured point is given both as x_m,y_m,z_m and as "
+       "n.csv:1: header: the measured point is given both as x_m,y_m,z_m and "
+       "as "
        "numbered markers (x1_m, ...)"},
       {"wide in m and mm", j + "x1_m,y1_m,z1_m,x2_mm,y2_mm,z2_mm\n",
-       "n.csv:1: header: marker positions are given both in m and in mm ('x2_mm')"},
+       "n.csv:1: header: marker positions are given both in m and in mm "
+       "('x2_mm')"},
       {"wide marker the model lacks", j + "x1_m,y1_m,z1_m,x3_m,y3_m,z3_m\n",
        "n.csv:1: header: column 'x3_m' is for marker 3, but the model has 2 "
        "marker(s)"},
@@ -1040,7 +1056,8 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
       {"wide marker without z", j + "x1_m,y1_m,z1_m,x2_m,y2_m\n",
        "n.csv:1: header: marker 2 has no column 'z2_m'"},
       {"wide with a marker column", "marker," + j + "x1_m,y1_m,z1_m\n",
-       "n.csv:1: header: a 'marker' column and numbered marker columns (x1_m, ...)"},
+       "n.csv:1: header: a 'marker' column and numbered marker columns (x1_m, "
+       "...)"},
       {"wide pose row",
        "type," + j +
            "x1_m,y1_m,z1_m,rx_rad,ry_rad,rz_rad\npose,0,0,0,0,1,2,3,"
@@ -1135,17 +1152,20 @@ TEST(TargetsCsvTest, ReadsWhatTheMeasurementsCsvReads) {
   const std::vector<BadCsv> cases = {
       {"joint names mixed",
        "x_m,y_m,z_m,q1_rad,joint2_rad,q3_m,q4_rad\n1,2,3,0,0,0,0\n",
-       "t.csv:1: header: joints are named both q<j> ('q1_rad') and by joint name "
+       "t.csv:1: header: joints are named both q<j> ('q1_rad') and by joint "
+       "name "
        "('joint2_rad'): a file uses one of the two"},
       {"quaternion not unit", "x_m,y_m,z_m,qw,qx,qy,qz\n1,2,3,1,1,0,0\n",
        "t.csv:2: row: qw,qx,qy,qz: the quaternion's norm is 1.41421, not 1"},
       {"two orientations",
        "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,qw,qx,qy,qz\n1,2,3,0,0,0,1,0,0,0\n",
-       "t.csv:1: header: the orientation is given both as rx_rad,ry_rad,rz_rad and "
+       "t.csv:1: header: the orientation is given both as rx_rad,ry_rad,rz_rad "
+       "and "
        "as qw,qx,qy,qz"},
       {"a joint missing by name",
        "x_m,y_m,z_m,joint1_rad,joint2_rad,joint4_rad\n1,2,3,0,0,0\n",
-       "t.csv:1: header: the header has joint columns for joint 1 but not for joint 3 "
+       "t.csv:1: header: the header has joint columns for joint 1 but not for "
+       "joint 3 "
        "('joint3_m' or 'joint3_mm'): give every joint or none"},
       {"implausible length", "x_mm,y_mm,z_mm\n1e12,0,0\n",
        "t.csv:2: x_mm: 1e+12 mm is more than 1000 km"},
@@ -1175,16 +1195,18 @@ TEST(PosesCsvTest, JointsByJointName) {
   EXPECT_DOUBLE_EQ(poses.joints(0, 2), 0.05);
   EXPECT_FALSE(ParsePosesCsv("q1_rad,joint2_rad,q3_m,q4_rad\n0,0,0,0\n",
                              "p.csv", m, false, &poses, &error));
-  EXPECT_NE(error.find("p.csv:1: header: joints are named both q<j> ('q1_rad') and "
-                       "by joint name ('joint2_rad')"),
-            std::string::npos)
+  EXPECT_NE(
+      error.find("p.csv:1: header: joints are named both q<j> ('q1_rad') and "
+                 "by joint name ('joint2_rad')"),
+      std::string::npos)
       << error;
   EXPECT_FALSE(ParsePosesCsv("joint1_rad,joint2_rad,joint4_rad\n0,0,0\n",
                              "p.csv", m, false, &poses, &error));
-  EXPECT_NE(error.find("p.csv:1: header: the header has neither 'q3_m' nor 'q3_mm' "
-                       "for joint 3, nor 'joint3_m' or 'joint3_mm' (its "
-                       "joint name)"),
-            std::string::npos)
+  EXPECT_NE(
+      error.find("p.csv:1: header: the header has neither 'q3_m' nor 'q3_mm' "
+                 "for joint 3, nor 'joint3_m' or 'joint3_mm' (its "
+                 "joint name)"),
+      std::string::npos)
       << error;
 }
 
@@ -1243,17 +1265,20 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
       {"tabs", "joint1_rad\tjoint2_rad\tjoint3_m\tjoint4_rad\tx_m\n",
        "s.csv:1: header: the fields are separated by tabs, not ','"},
       {"a quote not closed", j + "x_m,y_m,z_m\n0.1,0.2,\"0.05,0.3,1,2,3\n",
-       "s.csv:2: row: field 3: the quote opened there is not closed on the line"},
+       "s.csv:2: row: field 3: the quote opened there is not closed on the "
+       "line"},
       {"text after a closing quote",
        j + "x_m,y_m,z_m\n0.1,\"0.2\"5,0.05,0.3,1,2,3\n",
        "s.csv:2: row: field 2: text after the closing quote"},
       {"UTF-16 (a NUL byte after each ASCII one)",
        std::string("\xFF\xFEj\0o\0i\0n\0t\0\x31\0", 14),
-       "s.csv:1: header: the file holds NUL bytes: not UTF-8 or ASCII text (UTF-16? "
+       "s.csv:1: header: the file holds NUL bytes: not UTF-8 or ASCII text "
+       "(UTF-16? "
        "save it as UTF-8 CSV)"},
       {"a joint under neither name",
        "joint1_rad,joint2_rad,joint3_m,x_m,y_m,z_m\n",
-       "s.csv:1: header: the header has neither 'q4_rad' nor 'q4_deg' for joint 4, "
+       "s.csv:1: header: the header has neither 'q4_rad' nor 'q4_deg' for "
+       "joint 4, "
        "nor 'joint4_rad' or 'joint4_deg' (its joint name)"},
   };
   for (const BadCsv& c : cases) {
@@ -1290,7 +1315,8 @@ TEST(MeasurementFormatsTest, NamelessEmptyColumnsAndImplausibleLengths) {
   const std::vector<BadCsv> cases = {
       {"a value under no name",
        j + "x_m,y_m,z_m,\n0.1,0.2,0.05,0.3,1,2,3,\n0.1,0.2,0.05,0.3,1,2,3,7\n",
-       "e.csv:3: row: column 8 has no name in the header, but a value here ('7')"},
+       "e.csv:3: row: column 8 has no name in the header, but a value here "
+       "('7')"},
       {"a point beyond any device's reach",
        j + "x_mm,y_mm,z_mm\n0.1,0.2,0.05,0.3,1e200,2,3\n",
        "e.csv:2: x_mm: 1e+200 mm is more than 1000 km: a corrupt cell or a "

@@ -1502,10 +1502,13 @@ TEST(TargetsCsvTest, RoundTripsAndNamesBadInput) {
   };
   const std::vector<Case> cases = {
       {"empty", "", "e.csv: empty file: no header line"},
-      {"header only", "x_m,y_m,z_m\n", "e.csv:1: header: no targets after the header"},
+      {"header only", "x_m,y_m,z_m\n",
+       "e.csv:1: header: no targets after the header"},
       {"no z", "x_m,y_m\n1,2\n",
-       "e.csv:1: header: the header has x_m,y_m but not z_m (the target point)"},
-      {"no point", "q1_rad\n1\n", "e.csv:1: header: the header has no column 'x_m'"},
+       "e.csv:1: header: the header has x_m,y_m but not z_m (the target "
+       "point)"},
+      {"no point", "q1_rad\n1\n",
+       "e.csv:1: header: the header has no column 'x_m'"},
       {"NaN", "x_m,y_m,z_m\n1,nan,3\n",
        "e.csv:2: y_m: must be finite, got 'nan'"},
       {"inf", "x_m,y_m,z_m\n1,2,inf\n", "e.csv:2: z_m: must be finite"},
@@ -1516,7 +1519,8 @@ TEST(TargetsCsvTest, RoundTripsAndNamesBadInput) {
       {"rotation angle > pi", "x_m,y_m,z_m,rx_rad,ry_rad,rz_rad\n1,2,3,4,0,0\n",
        "e.csv:2: row: the rotation vector has angle 4 rad > pi"},
       {"some joints", "x_m,y_m,z_m,q1_rad\n1,2,3,0\n",
-       "e.csv:1: header: the header has joint columns for joint 1 but not for joint "
+       "e.csv:1: header: the header has joint columns for joint 1 but not for "
+       "joint "
        "2 ('q2_rad' or 'q2_deg'): give every joint or none"},
       {"joint the robot lacks",
        "x_m,y_m,z_m,q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad,q7_rad\n"

@@ -291,8 +291,9 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
   EXPECT_FALSE(ParseCommandedPosesCsv("pose," + joints + "\nP1," + q + "\n",
                                       "f.csv", model, MeasurementsCsvOptions(),
                                       &poses, &error));
-  EXPECT_NE(error.find("f.csv:1: header: the header has no column 'commanded_x_m'"),
-            std::string::npos)
+  EXPECT_NE(
+      error.find("f.csv:1: header: the header has no column 'commanded_x_m'"),
+      std::string::npos)
       << error;
   EXPECT_FALSE(ParseCommandedPosesCsv(
       joints + ",commanded_x_m,commanded_y_m,commanded_z_m\n" + q + ",1,2,3\n",
@@ -308,9 +309,10 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
   EXPECT_FALSE(ParseCommandedPosesCsv(
       "pose,commanded_x_m,commanded_y_m\nP1,1,2\n", "i.csv", model,
       MeasurementsCsvOptions(), &poses, &error));
-  EXPECT_NE(error.find("i.csv:1: header: the header has commanded_x_m,commanded_y_m "
-                       "but not commanded_z_m"),
-            std::string::npos)
+  EXPECT_NE(
+      error.find("i.csv:1: header: the header has commanded_x_m,commanded_y_m "
+                 "but not commanded_z_m"),
+      std::string::npos)
       << error;
 }
 
