@@ -237,6 +237,12 @@ CorrectionSize MeasureCorrection(const RobotModel& nominal,
   for (size_t i = 0; i < summary.results.size(); ++i) {
     const Eigen::VectorXd& q = summary.results[i].joints;
     const IkTarget& target = summary.targets[i];
+    // A target the calibrated model does not reach: the nominal model's
+    // miss there holds the inverse kinematics' miss, not the correction.
+    const IkStatus status = summary.results[i].status;
+    if (status != IkStatus::kConverged && status != IkStatus::kSingular) {
+      continue;
+    }
     if (q.size() != nominal.num_joints() || !q.allFinite() ||
         !target.point.allFinite() || !target.rotation.allFinite()) {
       continue;

@@ -127,7 +127,9 @@ void SummarizeCompensation(const CompensationOptions& options,
 // The size of a compensation: how far the nominal model (at `values`, for a
 // program the meaning parameters, ProgramMeaningParameters) puts the marker
 // `marker` at the compensated joints from each target, i.e. the error the
-// compensation removes, over the targets whose result is finite. Rotation:
+// compensation removes, over the targets the calibrated model reaches
+// (status converged or singular; a cell's refusal after the solve is a
+// collision and not counted). Rotation:
 // the angle of the relative rotation (0 unless `with_rotation`).
 struct CorrectionSize {
   int num_targets = 0;  // the targets counted
