@@ -267,17 +267,7 @@ int Main() {
         "--compare simulates one-shot designs from the true values: not "
         "with --driver");
   }
-  if (FLAGS_order != "none" && FLAGS_order != "shortest") {
-    app::Fail("--order must be none or shortest, got '" + FLAGS_order + "'");
-  }
-  if (!(FLAGS_order_resolution_deg > 0 && FLAGS_order_resolution_deg <= 10)) {
-    // Coarser steps check little more than the end points of a move.
-    app::Fail("--order_resolution_deg must be in (0, 10], got " +
-              gflags::GetCommandLineFlagInfoOrDie("order_resolution_deg")
-                  .current_value +
-              ": a move is checked at joint steps of at most this many "
-              "degrees; coarser steps check little more than its end points");
-  }
+  app::CheckTourFlagsOrDie(FLAGS_order, FLAGS_order_resolution_deg);
   if (FLAGS_resume && FLAGS_session.empty()) {
     app::Fail("--resume continues a --session: name its directory");
   }

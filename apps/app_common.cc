@@ -216,6 +216,20 @@ int Finish(int status) {
   return status;
 }
 
+void CheckTourFlagsOrDie(const std::string& order, double resolution_deg) {
+  if (order != "none" && order != "shortest") {
+    Fail("--order must be none or shortest, got '" + order + "'");
+  }
+  if (!(resolution_deg > 0 && resolution_deg <= 10)) {
+    // Coarser steps check little more than the end points of a move.
+    Fail("--order_resolution_deg must be in (0, 10], got " +
+         gflags::GetCommandLineFlagInfoOrDie("order_resolution_deg")
+             .current_value +
+         ": a move is checked at joint steps of at most this many degrees; "
+         "coarser steps check little more than its end points");
+  }
+}
+
 void CheckWritableOrDie(const std::string& path, const std::string& flag) {
   if (path.empty()) return;
   // The outputs checked so far, by flag: two flags on one file would have

@@ -153,6 +153,10 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json);
 // checked before the work. Removes stale temporaries of `path` left by a
 // killed run.
 void CheckWritableOrDie(const std::string& path, const std::string& flag);
+// The tour flags of select and active: dies with one line unless --order is
+// none or shortest and --order_resolution_deg is in (0, 10] (the value
+// named as the user wrote it).
+void CheckTourFlagsOrDie(const std::string& order, double resolution_deg);
 void WriteTextOrDie(const std::string& path, const std::string& text);
 // WriteTextOrDie's pending write, false with *error instead of dying.
 bool AddOutput(const std::string& path, const std::string& text,
