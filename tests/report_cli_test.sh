@@ -33,6 +33,13 @@ if "$apps/activecal_evaluate" --robot=cal.urdf --tip_link=tool0 \
   --frames=frames.yaml --measurements="$m" --nominal_robot="$data/ur10e.urdf" \
   --json_out=eval.json --report_html=eval.html >eval.txt 2>eval.err; then
   ok "evaluate UR10e with --report_html"
+  # It estimates no parameter: a sentence, not a table of its header only.
+  if grep -q 'class="parameters"' eval.html ||
+    ! grep -q 'No parameters were estimated here' eval.html; then
+    fail "evaluate's report: no empty parameters table"
+  else
+    ok "evaluate's report: no empty parameters table"
+  fi
 else
   fail "evaluate UR10e with --report_html"; cat eval.err
 fi

@@ -409,10 +409,17 @@ std::string RenderHtml(const HtmlReport& r) {
          "range (extrapolation).</p>\n";
     for (const ReportErrors& e : r.groups) h += ErrorsTable(e);
   }
-  h += "<h2 id=\"parameters\">Parameters</h2>\n<table "
-       "class=\"parameters\">\n<tr><th>parameter</th><th>unit</th>"
-       "<th>nominal</th><th>estimate</th><th>correction</th><th>std</th>"
-       "</tr>\n";
+  h += "<h2 id=\"parameters\">Parameters</h2>\n";
+  // An evaluation of a given model estimates none: a sentence, not a
+  // table of its header alone.
+  if (r.parameters.empty()) {
+    h += "<p class=\"no-parameters\">No parameters were estimated here: the "
+         "model was evaluated as given.</p>\n";
+  } else {
+    h += "<table class=\"parameters\">\n<tr><th>parameter</th><th>unit</th>"
+         "<th>nominal</th><th>estimate</th><th>correction</th><th>std</th>"
+         "</tr>\n";
+  }
   for (const ReportParameter& p : r.parameters) {
     const double scale = 1e3;
     h +=
@@ -425,7 +432,7 @@ std::string RenderHtml(const HtmlReport& r) {
              scale * (p.estimate - p.nominal)) +
         Cell("parameter." + p.name + ".std", p.std, scale * p.std) + "</tr>\n";
   }
-  h += "</table>\n";
+  if (!r.parameters.empty()) h += "</table>\n";
   if (r.correlation.rows() > 1 &&
       r.correlation.rows() == static_cast<int>(r.parameters.size())) {
     std::vector<std::string> names;
