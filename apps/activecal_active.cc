@@ -725,6 +725,20 @@ int Main() {
                            "the poses activecal_active measured, in order");
   }
   if (!ok) app::Fail(summary.message + kept);
+  // The result line (all that --quiet prints).
+  const double predicted = summary.rounds.empty()
+                               ? HUGE_VAL
+                               : summary.rounds.back().predicted_task_rms_m;
+  char result[256];
+  std::snprintf(result, sizeof(result),
+                "activecal_active: %s after %d round%s, %d poses measured, "
+                "predicted task RMS %.4g mm (target %.4g mm)",
+                TerminationTypeToString(summary.termination_type),
+                static_cast<int>(summary.rounds.size()),
+                summary.rounds.size() == 1 ? "" : "s",
+                static_cast<int>(summary.measured.size()), 1e3 * predicted,
+                1e3 * FLAGS_target_rms_m);
+  app::PrintResult(result);
   return 0;
 }
 

@@ -143,6 +143,26 @@ PY
   --poses_csv=p.csv --perturb_m=0.001 --perturb_rad=0.001 --parameter_set=offsets \
   --true_model_out=offsets.yaml --out=offsets.csv >/dev/null 2>&1 ||
   fail "a UR10e with perturbed offsets"
+# --- activecal_active: the built-in PUMA loop, simulated. ---
+quiet_pair active "loop.json" "$apps/activecal_active" --levels=3 \
+  --target_rms_m=5e-4 --json_out=loop.json
+python3 - active.qout loop.json <<'PY' &&
+import json, re, sys
+line = open(sys.argv[1]).read().strip()
+j = json.load(open(sys.argv[2]))
+m = re.fullmatch(r"activecal_active: (\w+) after (\d+) rounds?, (\d+) poses "
+                 r"measured, predicted task RMS (\S+) mm \(target (\S+) mm\)", line)
+assert m, line
+assert m.group(1) == j["termination_type"], (m.group(1), j["termination_type"])
+assert int(m.group(2)) == len(j["rounds"])
+assert int(m.group(3)) == len(j["measured_pose_indices"])
+predicted = j["rounds"][-1]["predicted_task_rms_m"]
+assert abs(float(m.group(4)) - 1e3 * predicted) <= 1e-3 * 1e3 * predicted
+assert float(m.group(4)) <= float(m.group(5)) == 1e3 * j["target_rms_m"]
+PY
+  ok "active's line: the JSON's termination, rounds, poses and predicted RMS" ||
+  fail "active's line: the JSON's termination, rounds, poses and predicted RMS"
+
 quiet_pair monte_carlo "" "$apps/activecal_monte_carlo" \
   --robot="$PWD/offsets.yaml" --poses_csv="$PWD/p.csv" --trials=20 --threads=1 \
   --json_out=mc.json
