@@ -31,29 +31,10 @@
 #include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
+#include "constraint_test_util.h"
 
 namespace activecal {
 namespace {
-
-RobotModel LoadShipped(const std::string& file, const std::string& tip) {
-  UrdfChainOptions chain;
-  chain.tip_link = tip;
-  RobotDescription robot;
-  std::string error;
-  EXPECT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + file, chain,
-                            &robot, &error))
-      << error;
-  RobotModel m = robot.model;
-  // A stylus ball off the flange.
-  m.nominal.segment(m.block_offset(m.marker_block(0)), 3) << 0.02, -0.01, 0.1;
-  return m;
-}
-
-std::set<std::string> Names(const std::vector<HeldParameter>& held) {
-  std::set<std::string> names;
-  for (const HeldParameter& h : held) names.insert(h.name);
-  return names;
-}
 
 Eigen::Vector4d Plane(const Eigen::Vector3d& n, double d) {
   Eigen::Vector4d p;
@@ -73,7 +54,7 @@ std::vector<Eigen::Vector4d> SingularPlanes() {
 }
 
 TEST(PlaneConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
-  const RobotModel model = LoadShipped("kuka_iiwa14.urdf", "flange");
+  const RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
   auto shared = std::make_shared<const RobotModel>(model);
   const ceres::ProductManifold<ceres::SphereManifold<3>,
                                ceres::EuclideanManifold<1>>
@@ -245,7 +226,7 @@ PlaneSession Session(const RobotModel& model, const Eigen::VectorXd& values,
 }
 
 TEST(PlaneConstraintsTest, ReductionHoldsWhatPlanesCannotSee) {
-  const RobotModel model = LoadShipped("ur10e.urdf", "tool0");
+  const RobotModel model = LoadShippedWithBall("ur10e.urdf", "tool0");
   auto reduce = [&](const std::vector<Measurement>& data, FreeSet* free) {
     Eigen::VectorXd point = model.nominal;
     std::vector<HeldParameter> held;
@@ -259,9 +240,9 @@ TEST(PlaneConstraintsTest, ReductionHoldsWhatPlanesCannotSee) {
   std::vector<Measurement> positions = three.rows;
   for (Measurement& m : positions) m.type = MeasurementType::kPosition;
   FreeSet free_pos, free_three, free_ball, free_one;
-  const std::set<std::string> pos = Names(reduce(positions, &free_pos));
+  const std::set<std::string> pos = HeldNameSet(reduce(positions, &free_pos));
   const std::vector<HeldParameter> held_three = reduce(three.rows, &free_three);
-  const std::set<std::string> th = Names(held_three);
+  const std::set<std::string> th = HeldNameSet(held_three);
   // Three planes with a sharp tip: the base's 6 (each plane's offset and
   // normal absorb its translation and rotation) and one length (the scale
   // about the corner: each plane maps to itself), beyond what positions at
@@ -289,12 +270,12 @@ TEST(PlaneConstraintsTest, ReductionHoldsWhatPlanesCannotSee) {
   // Two balls, 3 and 8 mm, on every plane: the offsets cannot absorb both,
   // the length is free again; the base still held.
   const PlaneSession ball = Session(model, model.nominal, 3, 20, 0.005, 5);
-  EXPECT_EQ(Names(reduce(ball.rows, &free_ball)), th);
+  EXPECT_EQ(HeldNameSet(reduce(ball.rows, &free_ball)), th);
   PlaneSession balls = Session(model, model.nominal, 3, 10, 0.003, 5);
   const PlaneSession big = Session(model, model.nominal, 3, 10, 0.008, 50);
   balls.rows.insert(balls.rows.end(), big.rows.begin(), big.rows.end());
   FreeSet free_balls;
-  const std::set<std::string> bl = Names(reduce(balls.rows, &free_balls));
+  const std::set<std::string> bl = HeldNameSet(reduce(balls.rows, &free_balls));
   EXPECT_EQ(bl.count(extra[0]), 0u) << extra[0];
   for (const char* b : {"B.x", "B.y", "B.z", "B.rx", "B.ry", "B.rz"}) {
     EXPECT_EQ(bl.count(b), 1u) << b;
@@ -305,7 +286,7 @@ TEST(PlaneConstraintsTest, ReductionHoldsWhatPlanesCannotSee) {
   // the table is not seen (at least the two translations across the table
   // of the first link's frame, which positions determine).
   const PlaneSession one = Session(model, model.nominal, 1, 60, 0.0, 5);
-  const std::set<std::string> on = Names(reduce(one.rows, &free_one));
+  const std::set<std::string> on = HeldNameSet(reduce(one.rows, &free_one));
   for (const std::string& name : th) EXPECT_EQ(on.count(name), 1u) << name;
   EXPECT_LE(free_one.size() + 2, free_three.size());
 }
@@ -313,7 +294,7 @@ TEST(PlaneConstraintsTest, ReductionHoldsWhatPlanesCannotSee) {
 // The fit at each singular plane: touches of the arm with its tool's
 // offset unknown (0.5 mm off the truth), the plane recovered.
 TEST(PlaneConstraintsTest, FitRecoversPlanesAtSingularPoints) {
-  RobotModel model = LoadShipped("kuka_iiwa14.urdf", "flange");
+  RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
   // Free: the ball's offset only (3), which touches of one plane with
   // varied orientations determine.
   for (int i = 0; i < model.num_parameters(); ++i) model.SetFree(i, false);
@@ -345,7 +326,7 @@ TEST(PlaneConstraintsTest, FitRecoversPlanesAtSingularPoints) {
 // is the RMS and max of their distances to the refitted plane, no more
 // than to the true plane.
 TEST(PlaneConstraintsTest, EvaluationRefitsThePlaneAndReportsFlatness) {
-  const RobotModel model = LoadShipped("ur10e.urdf", "tool0");
+  const RobotModel model = LoadShippedWithBall("ur10e.urdf", "tool0");
   const Eigen::Vector4d plane = Plane({0, 0, 1}, 0.2);
   std::vector<Measurement> rows =
       SimulatePlaneTouches(model, model.nominal, "table", plane, 0.0, 16, 9);
@@ -399,7 +380,7 @@ namespace {
 // other configurations, after the best rigid registration onto the truth
 // (the planes' gauge has no base frame).
 TEST(PlaneConstraintsTest, SimulatedUr10eAgainstTracker) {
-  const RobotModel model = LoadShipped("ur10e.urdf", "tool0");
+  const RobotModel model = LoadShippedWithBall("ur10e.urdf", "tool0");
   Eigen::VectorXd truth;
   std::string error;
   // Every parameter of the full set moved (the base too: the fixture's

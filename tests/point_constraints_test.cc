@@ -25,29 +25,10 @@
 #include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/measurement_residual.h"
+#include "constraint_test_util.h"
 
 namespace activecal {
 namespace {
-
-RobotModel LoadShipped(const std::string& file, const std::string& tip) {
-  UrdfChainOptions chain;
-  chain.tip_link = tip;
-  RobotDescription robot;
-  std::string error;
-  EXPECT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + file, chain,
-                            &robot, &error))
-      << error;
-  RobotModel m = robot.model;
-  // A ball off the flange.
-  m.nominal.segment(m.block_offset(m.marker_block(0)), 3) << 0.02, -0.01, 0.1;
-  return m;
-}
-
-std::set<std::string> Names(const std::vector<HeldParameter>& held) {
-  std::set<std::string> names;
-  for (const HeldParameter& h : held) names.insert(h.name);
-  return names;
-}
 
 // `per_point` configurations at each of `num_points` sockets the robot at
 // `truth` reaches (point_simulation.h), placements off by `placement_m` per
@@ -70,7 +51,7 @@ std::vector<Measurement> PointRows(const RobotModel& model,
 }
 
 TEST(PointConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
-  const RobotModel model = LoadShipped("kuka_iiwa14.urdf", "flange");
+  const RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
   auto shared = std::make_shared<const RobotModel>(model);
   Measurement m;
   m.type = MeasurementType::kPoint;
@@ -127,7 +108,7 @@ TEST(PointConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
 }
 
 TEST(PointConstraintsTest, KnownDistanceResidualAndJacobian) {
-  const RobotModel model = LoadShipped("ur10e.urdf", "tool0");
+  const RobotModel model = LoadShippedWithBall("ur10e.urdf", "tool0");
   auto shared = std::make_shared<const RobotModel>(model);
   Measurement m;
   m.type = MeasurementType::kPointDistance;
@@ -189,7 +170,7 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
   for (const Arm& arm :
        {Arm{"ur10e.urdf", "tool0"}, Arm{"kuka_iiwa14.urdf", "flange"}}) {
     SCOPED_TRACE(arm.file);
-    const RobotModel model = LoadShipped(arm.file, arm.tip);
+    const RobotModel model = LoadShippedWithBall(arm.file, arm.tip);
     std::vector<Eigen::Vector3d> truth_points;
     const std::vector<Measurement> rows =
         PointRows(model, model.nominal, 3, 20, 0.0, 7, &truth_points);
@@ -208,7 +189,8 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
     FreeSet free_pos, free_pts, free_dist;
     const std::vector<HeldParameter> held_pos = reduce(positions, &free_pos);
     const std::vector<HeldParameter> held_pts = reduce(rows, &free_pts);
-    const std::set<std::string> pos = Names(held_pos), pts = Names(held_pts);
+    const std::set<std::string> pos = HeldNameSet(held_pos),
+                                pts = HeldNameSet(held_pts);
     for (const char* b : {"B.x", "B.y", "B.z", "B.rx", "B.ry", "B.rz"}) {
       EXPECT_EQ(pos.count(b), 0u) << b;
       EXPECT_EQ(pts.count(b), 1u) << b;
@@ -238,7 +220,8 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
     d.point2 = "hole_1";
     d.distance = (truth_points[0] - truth_points[1]).norm();
     with_distance.push_back(d);
-    const std::set<std::string> dist = Names(reduce(with_distance, &free_dist));
+    const std::set<std::string> dist =
+        HeldNameSet(reduce(with_distance, &free_dist));
     EXPECT_EQ(dist.count(extra[0]), 0u) << extra[0];
     EXPECT_EQ(free_dist.size(), free_pts.size() + 1);
   }
@@ -249,7 +232,7 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
 // placements repeatable to 0.02 mm. Converges; every identified parameter
 // and point within 4 standard deviations of the truth.
 TEST(PointConstraintsTest, FitOnSimulatedArmRecoversTruth) {
-  const RobotModel model = LoadShipped("kuka_iiwa14.urdf", "flange");
+  const RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
   std::vector<Eigen::Vector3d> points;
   // The held set, from configurations of the nominal arm (structural).
   const std::vector<Measurement> plan =
@@ -341,7 +324,7 @@ TEST(PointConstraintsTest, PointsFileReadsDistances) {
 // Evaluation refits the points: each row's error is about the mean of its
 // label's predicted points, the known distance's error that of the means.
 TEST(PointConstraintsTest, EvaluationRefitsThePoints) {
-  const RobotModel model = LoadShipped("kuka_iiwa14.urdf", "flange");
+  const RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
   std::vector<Eigen::Vector3d> points;
   std::vector<Measurement> rows =
       PointRows(model, model.nominal, 2, 6, 1e-4, 5, &points);
