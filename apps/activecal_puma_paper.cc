@@ -418,6 +418,17 @@ int Main() {
                  {"eae_seconds", eae.seconds},
                  {"total_seconds", total_seconds}};
   app::WriteJsonOrDie(Path("paper_run.json"), j);
+  app::CommitOutputsOrDie();
+  // The run in one line: the last of stdout, and all that --quiet prints.
+  char result[320];
+  std::snprintf(result, sizeof(result),
+                "%s: exchange-add-exchange OI %.5f (paper %.5f), OID ratio to "
+                "the best random design %.0f (paper %.0f); %d of %d "
+                "identified errors within 2 std; files in %s/",
+                app::ProgramName().c_str(), eae_idx.oi, kPaperEaeOi,
+                std::pow(10.0, ratio_log10), kPaperEaeOid / kPaperRandomOid,
+                within2, p, FLAGS_out_dir.c_str());
+  app::PrintResult(result);
   return 0;
 }
 

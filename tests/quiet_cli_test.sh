@@ -191,4 +191,32 @@ PY
 [ "$check" = "ok" ] && ok "monte_carlo's line is the JSON's trials, log det ratios, fraction" ||
   fail "monte_carlo's line is the JSON's trials, log det ratios, fraction ($check)"
 
+# --- activecal_puma_paper: the paper's run, 500 random designs. The line's
+# OI, OID ratio and count within 2 std are the JSON's and the CSV's. ---
+quiet_pair puma_paper "po/identification.csv po/eae_history.csv" \
+  "$apps/activecal_puma_paper" --random_designs=500 --certificate=false --out_dir=po
+check=$(
+  python3 - po/paper_run.json po/identification.csv puma_paper.qout <<'PY'
+import csv, json, math, re, sys
+j = json.load(open(sys.argv[1]))
+rows = list(csv.DictReader(open(sys.argv[2])))
+line = open(sys.argv[3]).read().strip()
+m = re.fullmatch(r"activecal_puma_paper: exchange-add-exchange OI (\S+) \(paper 0\.11798\), "
+                 r"OID ratio to the best random design (\d+) \(paper 58306\); (\d+) of (\d+) "
+                 r"identified errors within 2 std; files in po/", line)
+if not m:
+    print("unexpected line: " + line); sys.exit()
+bad = []
+if abs(float(m[1]) - j["eae"]["indices"]["oi"]) > 0.6e-5: bad.append("OI")
+ratio = 10 ** (j["eae"]["log10_det"] - j["random"]["log10_det"])
+if abs(int(m[2]) - ratio) > 0.5 + 1e-9 * ratio: bad.append("ratio %g" % ratio)
+within = sum(abs(float(r["error"])) <= 2 * float(r["std"]) for r in rows)
+if int(m[3]) != within or int(m[4]) != len(rows): bad.append("within")
+if not 0 < within <= len(rows) or len(rows) != 27: bad.append("count")
+print("ok" if not bad else "mismatch " + " ".join(bad) + ": " + line)
+PY
+)
+[ "$check" = "ok" ] && ok "puma_paper's line is the JSON's OI and OID ratio, the CSV's errors" ||
+  fail "puma_paper's line is the JSON's OI and OID ratio, the CSV's errors ($check)"
+
 cli_end
