@@ -69,92 +69,16 @@ namespace activecal {
 namespace {
 
 // The ISO 9283 cycle columns of --poses_csv (activecal_select
-// --iso9283_cube writes them: pose, commanded_x_m, ..., commanded_qw, ...),
-// read by the ISO 9283 reader, one entry per data row; empty when its
-// header has no 'pose' column.
+// --iso9283_cube writes them), one entry per data row; empty without them.
 std::vector<CommandedPose> CommandedPosesOrDie(const RobotModel& model) {
   std::string text, error;
-  if (!ReadTextFile(FLAGS_poses_csv, &text, &error)) {
-    app::Fail("--poses_csv: " + error);
-  }
-  std::istringstream in(text);
-  std::string line;
-  bool has_pose = false;
-  while (std::getline(in, line)) {
-    const size_t first = line.find_first_not_of(" \t\r\xEF\xBB\xBF");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream header(line);
-    std::string name;
-    while (std::getline(header, name, ',')) {
-      const size_t b = name.find_first_not_of(" \t\r\"\xEF\xBB\xBF");
-      const size_t e = name.find_last_not_of(" \t\r\"");
-      if (b != std::string::npos && name.substr(b, e - b + 1) == "pose") {
-        has_pose = true;
-      }
-    }
-    break;
-  }
   std::vector<CommandedPose> commanded;
-  if (has_pose &&
-      !ParseCommandedPosesCsv(text, FLAGS_poses_csv, model,
-                              MeasurementsCsvOptions(), &commanded, &error)) {
+  if (!ReadTextFile(FLAGS_poses_csv, &text, &error) ||
+      !ParseCommandedPosesIfAny(text, FLAGS_poses_csv, model,
+                                MeasurementsCsvOptions(), &commanded, &error)) {
     app::Fail("--poses_csv: " + error);
   }
   return commanded;
-}
-
-// A CSV field: quoted when it holds a separator or a quote.
-std::string CsvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-// `text` (MeasurementsCsvText of measurements i = 0, 1, ...) with the
-// cycle columns of commanded[row_of[i]] appended to each data row: pose,
-// commanded_x_m,y,z and, when the file had an orientation, commanded_qw..qz.
-std::string WithCommandedColumns(const std::string& text,
-                                 const std::vector<CommandedPose>& commanded,
-                                 const std::vector<int>& row_of) {
-  bool rotation = false;
-  for (const CommandedPose& c : commanded) rotation |= c.has_rotation;
-  std::istringstream in(text);
-  std::string line, out;
-  bool header = true;
-  size_t i = 0;
-  char number[64];
-  auto add = [&](double v) {
-    std::snprintf(number, sizeof(number), ",%.17g", v);
-    out += number;
-  };
-  while (std::getline(in, line)) {
-    out += line;
-    if (!line.empty() && line[0] != '#') {
-      if (header) {
-        out += ",pose,commanded_x_m,commanded_y_m,commanded_z_m";
-        if (rotation) {
-          out += ",commanded_qw,commanded_qx,commanded_qy,commanded_qz";
-        }
-        header = false;
-      } else {
-        CHECK_LT(i, row_of.size());
-        const CommandedPose& c = commanded[row_of[i++]];
-        out += "," + CsvField(c.pose);
-        for (int k = 0; k < 3; ++k) add(c.position[k]);
-        if (rotation) {
-          const Eigen::Quaterniond q(c.rotation);
-          add(q.w());
-          add(q.x());
-          add(q.y());
-          add(q.z());
-        }
-      }
-    }
-    out += "\n";
-  }
-  CHECK_EQ(i, row_of.size());
-  return out;
 }
 
 // A flag's value as gflags holds it ("0.001", "-1").
@@ -314,7 +238,7 @@ int Main() {
   if (!commanded.empty()) {
     CHECK_EQ(commanded.size(), static_cast<size_t>(poses.joints.rows()));
     CHECK_EQ(row_of.size(), measurements.size());
-    text = WithCommandedColumns(text, commanded, row_of);
+    text = WithCommandedPoseColumns(text, commanded, row_of);
   }
   std::vector<OutputFile> outputs = {{FLAGS_out, text}};
   if (!FLAGS_true_model_out.empty()) {

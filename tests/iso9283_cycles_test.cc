@@ -316,6 +316,70 @@ TEST(Iso9283CyclesTest, CommandedColumns) {
       << error;
 }
 
+TEST(Iso9283CyclesTest, CommandedColumnsWrittenAreReadBack) {
+  // activecal_simulate carries a poses file's cycle columns to the
+  // measurements it writes: each row gets its pose's label and commanded
+  // pose, and both readers read the file back.
+  const RobotModel model = Puma560PaperModel();
+  std::vector<Measurement> measurements(3);
+  for (int i = 0; i < 3; ++i) {
+    measurements[i].joints = Eigen::VectorXd::Constant(6, 0.1 * i);
+    measurements[i].position = Eigen::Vector3d(i, -0.5, 0.25);
+  }
+  std::vector<CommandedPose> commanded(2);
+  commanded[0].pose = "P1";
+  commanded[0].position = Eigen::Vector3d(1.0 / 3, 0.2, -0.7);
+  commanded[1].pose = "P \"2\", left";  // a comma and quotes: quoted
+  commanded[1].position = Eigen::Vector3d(-1.25, 1e-9, 2.0);
+  commanded[1].has_rotation = true;
+  commanded[1].rotation =
+      Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, -2, 0.5).normalized())
+          .toRotationMatrix();
+  const std::vector<int> row_of = {1, 0, 1};
+  const std::string text = WithCommandedPoseColumns(
+      MeasurementsCsvText(model, measurements), commanded, row_of);
+  std::vector<CommandedPose> back;
+  std::string error;
+  ASSERT_TRUE(ParseCommandedPosesCsv(text, "m.csv", model,
+                                     MeasurementsCsvOptions(), &back, &error))
+      << error;
+  ASSERT_EQ(back.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    const CommandedPose& c = commanded[row_of[i]];
+    EXPECT_EQ(back[i].pose, c.pose);
+    EXPECT_EQ(back[i].position, c.position);  // %.17g: exact
+    // Every row has an orientation once one pose has: P1's is identity.
+    EXPECT_TRUE(back[i].has_rotation);
+    EXPECT_LT((back[i].rotation - c.rotation).cwiseAbs().maxCoeff(), 1e-15);
+  }
+  std::vector<Measurement> read;
+  ASSERT_TRUE(ParseMeasurementsCsv(text, "m.csv", model, &read, &error))
+      << error;
+  ASSERT_EQ(read.size(), 3u);
+  EXPECT_EQ(read[2].position, measurements[2].position);
+  // A poses file without the columns: none, and no error; with them (a
+  // byte-order mark, a comment, a quoted header name): read.
+  const std::string joints = "q1_rad,q2_rad,q3_rad,q4_rad,q5_rad,q6_rad";
+  ASSERT_TRUE(ParseCommandedPosesIfAny("# poses\n" + joints + "\n0,0,0,0,0,0\n",
+                                       "p.csv", model, {}, &back, &error));
+  EXPECT_TRUE(back.empty());
+  ASSERT_TRUE(ParseCommandedPosesIfAny(
+      "\xEF\xBB\xBF# cube\n\"pose\"," + joints +
+          ",commanded_x_m,commanded_y_m,commanded_z_m\nP3,0,0,0,0,0,0,1,2,3\n",
+      "c.csv", model, {}, &back, &error))
+      << error;
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].pose, "P3");
+  EXPECT_EQ(back[0].position, Eigen::Vector3d(1, 2, 3));
+  // With a 'pose' column the file must be a cycles file.
+  EXPECT_FALSE(ParseCommandedPosesIfAny("pose," + joints + "\nP1,0,0,0,0,0,0\n",
+                                        "f.csv", model, {}, &back, &error));
+  EXPECT_NE(error.find("f.csv:1: header: the header has no column "
+                       "'commanded_x_m'"),
+            std::string::npos)
+      << error;
+}
+
 TEST(Iso9283CyclesTest, MeasurementsReaderKnowsTheColumns) {
   // The commanded columns are neither noted nor refused as unknown.
   const RobotModel model = Puma560PaperModel();

@@ -3,6 +3,8 @@
 
 #include "activecal/io/csv_files.h"
 
+#include <glog/logging.h>
+
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -1979,6 +1981,89 @@ bool ReadCommandedPosesCsv(const std::string& path, const RobotModel& model,
   std::string text;
   return ReadTextFile(path, &text, error) &&
          ParseCommandedPosesCsv(text, path, model, options, poses, error);
+}
+
+bool ParseCommandedPosesIfAny(const std::string& text,
+                              const std::string& source,
+                              const RobotModel& model,
+                              const MeasurementsCsvOptions& options,
+                              std::vector<CommandedPose>* poses,
+                              std::string* error) {
+  poses->clear();
+  std::istringstream in(text);
+  std::string line;
+  bool has_pose = false;
+  while (std::getline(in, line)) {
+    const size_t first = line.find_first_not_of(" \t\r\xEF\xBB\xBF");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream header(line);
+    std::string name;
+    while (std::getline(header, name, ',')) {
+      const size_t b = name.find_first_not_of(" \t\r\"\xEF\xBB\xBF");
+      const size_t e = name.find_last_not_of(" \t\r\"");
+      if (b != std::string::npos && name.substr(b, e - b + 1) == "pose") {
+        has_pose = true;
+      }
+    }
+    break;
+  }
+  return !has_pose ||
+         ParseCommandedPosesCsv(text, source, model, options, poses, error);
+}
+
+namespace {
+
+// A CSV field: quoted when it holds a separator or a quote.
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::string WithCommandedPoseColumns(
+    const std::string& text, const std::vector<CommandedPose>& commanded,
+    const std::vector<int>& row_of) {
+  bool rotation = false;
+  for (const CommandedPose& c : commanded) rotation |= c.has_rotation;
+  std::istringstream in(text);
+  std::string line, out;
+  bool header = true;
+  size_t i = 0;
+  char number[64];
+  auto add = [&](double v) {
+    std::snprintf(number, sizeof(number), ",%.17g", v);
+    out += number;
+  };
+  while (std::getline(in, line)) {
+    out += line;
+    if (!line.empty() && line[0] != '#') {
+      if (header) {
+        out += ",pose,commanded_x_m,commanded_y_m,commanded_z_m";
+        if (rotation) {
+          out += ",commanded_qw,commanded_qx,commanded_qy,commanded_qz";
+        }
+        header = false;
+      } else {
+        CHECK_LT(i, row_of.size());
+        const CommandedPose& c = commanded[row_of[i++]];
+        out += "," + CsvField(c.pose);
+        for (int k = 0; k < 3; ++k) add(c.position[k]);
+        if (rotation) {
+          const Eigen::Quaterniond q(c.rotation);
+          add(q.w());
+          add(q.x());
+          add(q.y());
+          add(q.z());
+        }
+      }
+    }
+    out += "\n";
+  }
+  CHECK_EQ(i, row_of.size());
+  return out;
 }
 
 }  // namespace activecal

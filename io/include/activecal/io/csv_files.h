@@ -208,6 +208,27 @@ bool ReadCommandedPosesCsv(const std::string& path, const RobotModel& model,
                            std::vector<CommandedPose>* poses,
                            std::string* error);
 
+// The same for a poses file that may carry the cycle columns (a 'pose'
+// column, as activecal_select --iso9283_cube writes them): true with *poses
+// empty when the header (its first line that is neither blank nor a
+// comment) has no 'pose' column.
+bool ParseCommandedPosesIfAny(const std::string& text,
+                              const std::string& source,
+                              const RobotModel& model,
+                              const MeasurementsCsvOptions& options,
+                              std::vector<CommandedPose>* poses,
+                              std::string* error);
+
+// `text` (MeasurementsCsvText of measurements i = 0, 1, ...) with the
+// cycle columns of commanded[row_of[i]] appended to each data row: pose
+// (quoted when it holds a comma or a quote), commanded_x_m, _y_m, _z_m and,
+// when any commanded pose has an orientation, commanded_qw..qz (%.17g), so
+// that the ISO 9283 reader reads the file back. row_of holds one entry per
+// data row of `text` (CHECK-fails otherwise).
+std::string WithCommandedPoseColumns(
+    const std::string& text, const std::vector<CommandedPose>& commanded,
+    const std::vector<int>& row_of);
+
 // The columns the measurements reader (ParseMeasurementsCsv) and the ISO
 // 9283 reader (ParseCommandedPosesCsv) read, from the reader's own lists of
 // each quantity's forms: the fixed names ("type", "marker", "pose_index",
