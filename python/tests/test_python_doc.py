@@ -1,7 +1,8 @@
 # Copyright (c) 2026, the activecal authors.
 # SPDX-License-Identifier: BSD-3-Clause
-"""A new user's review of the module: behaviour that docs/python.md got
-wrong or left out, checked against the module and against the document.
+"""docs/python.md against the module: the behaviour a new user met that
+the document got wrong or left out (argument types and ranges, pickling,
+paths, indexing, messages, keyword typos, the example script).
 
 Each test pins what the module does and that docs/python.md says so (the
 document used to say otherwise, or nothing).
