@@ -9,6 +9,7 @@
 #include <map>
 
 #include "activecal/core/random.h"
+#include "activecal/core/text_table.h"
 #include "activecal/io/frames_file.h"
 #include "activecal/io/robot_loader.h"
 
@@ -17,12 +18,6 @@ namespace {
 
 // Configurations SetUpCell samples for SelfPairsAlwaysTooClose.
 constexpr int kSelfPairSamples = 64;
-
-std::string Number(double x) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", x);
-  return buffer;
-}
 
 // A YAML double-quoted string.
 std::string Quoted(const std::string& text) {
@@ -43,8 +38,10 @@ bool UseTargetsAsMarkers(const Cell& cell, RobotDescription* robot,
   // the nominal vector and the true values.
   std::string text = "markers:\n";
   for (const CellTarget& t : cell.targets) {
-    text += "  - {name: " + Quoted(t.name) + ", xyz: [" + Number(t.xyz_m.x()) +
-            ", " + Number(t.xyz_m.y()) + ", " + Number(t.xyz_m.z()) + "]}\n";
+    text += "  - {name: " + Quoted(t.name) + ", xyz: [" +
+            FormatNumber("%.17g", t.xyz_m.x()) + ", " +
+            FormatNumber("%.17g", t.xyz_m.y()) + ", " +
+            FormatNumber("%.17g", t.xyz_m.z()) + "]}\n";
   }
   return ParseFramesFile(text, cell.source + " (targets as markers)", robot,
                          error);

@@ -5,6 +5,8 @@
 
 #include <cstdio>
 
+#include "activecal/core/text_table.h"
+
 namespace activecal {
 namespace {
 
@@ -18,12 +20,6 @@ constexpr RejectionReason kCountOrder[] = {
 bool IsCollision(RejectionReason r) {
   return r == RejectionReason::kSelfCollision ||
          r == RejectionReason::kObstacle;
-}
-
-std::string Number(double x) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
 }
 
 std::string BodyName(const CellChecker& checker, int b) {
@@ -50,7 +46,8 @@ std::string PairDistanceText(const CellChecker& checker,
     const bool match = (d.first == first && d.second == second) ||
                        (!obstacle && d.first == second && d.second == first);
     if (!match) continue;
-    return d.distance_m < 0 ? "overlapping" : Number(d.distance_m) + " m apart";
+    return d.distance_m < 0 ? "overlapping"
+                            : FormatNumber("%.3g", d.distance_m) + " m apart";
   }
   return "";
 }
@@ -187,7 +184,7 @@ std::string RejectionCounts::CollisionDiagnosis(
             : std::string("?");
     std::string apart = PairDistanceText(checker, *c, link, obstacle);
     apart += (apart.empty() ? "" : ", ") + std::string("clearance_m ") +
-             Number(cell.clearance_m);
+             FormatNumber("%.3g", cell.clearance_m);
     return head + "link '" + link + "' collides with obstacle '" + obstacle +
            "' (" + apart + "); is '" + obstacle +
            "' clear of the robot's base (the cell is in the robot's base "
@@ -197,7 +194,7 @@ std::string RejectionCounts::CollisionDiagnosis(
   const std::string second = BodyName(checker, c->b);
   std::string apart = PairDistanceText(checker, *c, first, second);
   apart += (apart.empty() ? "" : ", ") + std::string("self_clearance_m ") +
-           Number(cell.self_clearance_m);
+           FormatNumber("%.3g", cell.self_clearance_m);
   return head + "links '" + first + "' and '" + second + "' collide (" + apart +
          "); lower self_clearance_m or add the pair to skip_pairs";
 }

@@ -22,6 +22,7 @@
 #include "activecal/core/kinematics.h"
 #include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
+#include "activecal/core/text_table.h"
 #include "csv_columns.h"
 #include "line_error.h"
 #include "number_text.h"
@@ -613,12 +614,6 @@ std::string Join(const std::vector<std::string>& names) {
   return out;
 }
 
-std::string Number6(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
-
 // One representation of a quantity: its columns and their factor to SI,
 // value * scale / divisor (a division by 1000 turns "1.5" mm into exactly
 // the double of "0.0015" m).
@@ -768,8 +763,8 @@ bool RotationVectorFromForm(const Table& table, const Row& row, int form,
       if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
         return table.Fail(row.line,
                           "qw,qx,qy,qz: the quaternion's norm is " +
-                              Number6(norm) + ", not 1 (to " +
-                              Number6(kQuaternionNormTolerance) +
+                              FormatNumber("%.6g", norm) + ", not 1 (to " +
+                              FormatNumber("%.6g", kQuaternionNormTolerance) +
                               "): not a unit quaternion",
                           error);
       }
@@ -836,8 +831,9 @@ class MeasurementsReader {
     const bool mm =
         column.size() > 3 && column.compare(column.size() - 3, 3, "_mm") == 0;
     return table_.Fail(row.line,
-                       column + ": " + Number6(value) + (mm ? " mm" : " m") +
-                           " is more than " + Number6(kMaxLengthM / 1e3) +
+                       column + ": " + FormatNumber("%.6g", value) +
+                           (mm ? " mm" : " m") + " is more than " +
+                           FormatNumber("%.6g", kMaxLengthM / 1e3) +
                            " km: a corrupt cell or a wrong unit",
                        error);
   }
@@ -1053,13 +1049,13 @@ bool MeasurementsReader::CheckLimits(const Row& row,
                                                  : options_.limit_tolerance_m;
     if (options_.strict_limits || excess > tolerance) {
       auto in_unit = [&](double v) {
-        return Number6(v / unit.scale) + " " + unit.name;
+        return FormatNumber("%.6g", v / unit.scale) + " " + unit.name;
       };
-      std::string what = unit.column + ": " + in_unit(q[j]) + " is " +
-                         in_unit(excess) + " beyond " + JointLabel(j) +
-                         "'s range [" + Number6(l.joint_min / unit.scale) +
-                         ", " + Number6(l.joint_max / unit.scale) + "] " +
-                         unit.name;
+      std::string what =
+          unit.column + ": " + in_unit(q[j]) + " is " + in_unit(excess) +
+          " beyond " + JointLabel(j) + "'s range [" +
+          FormatNumber("%.6g", l.joint_min / unit.scale) + ", " +
+          FormatNumber("%.6g", l.joint_max / unit.scale) + "] " + unit.name;
       if (options_.strict_limits) {
         what += " (strict limits: no reading may lie outside the range)";
       } else {
@@ -1380,13 +1376,14 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
 }
 
 std::string MeasurementsReader::Warning(int num_rows) const {
-  std::string text = source_ + ": " + std::to_string(rows_beyond_) + " of " +
-                     std::to_string(num_rows) +
-                     " rows have joint readings beyond the joint limits, "
-                     "accepted within the tolerance (" +
-                     Number6(options_.limit_tolerance_rad / kDegree) +
-                     " deg, " + Number6(options_.limit_tolerance_m * 1e3) +
-                     " mm; strict limits refuse them):";
+  std::string text =
+      source_ + ": " + std::to_string(rows_beyond_) + " of " +
+      std::to_string(num_rows) +
+      " rows have joint readings beyond the joint limits, "
+      "accepted within the tolerance (" +
+      FormatNumber("%.6g", options_.limit_tolerance_rad / kDegree) + " deg, " +
+      FormatNumber("%.6g", options_.limit_tolerance_m * 1e3) +
+      " mm; strict limits refuse them):";
   bool first = true;
   for (int j = 0; j < model_.num_joints(); ++j) {
     const LimitExcess& e = excess_[j];
@@ -1409,10 +1406,12 @@ std::string MeasurementsReader::Warning(int num_rows) const {
       if (side.rows == 0) continue;
       const bool above = k == 0;
       text += std::string(first_side ? "" : ",") + " up to " +
-              Number6(side.max_excess / unit.scale) + " " + unit.name +
+              FormatNumber("%.6g", side.max_excess / unit.scale) + " " +
+              unit.name +
               (above ? " above its upper limit " : " below its lower limit ") +
-              Number6((above ? l.joint_max : l.joint_min) / unit.scale) + " " +
-              unit.name + " in " + std::to_string(side.rows) + " row" +
+              FormatNumber("%.6g",
+                           (above ? l.joint_max : l.joint_min) / unit.scale) +
+              " " + unit.name + " in " + std::to_string(side.rows) + " row" +
               (side.rows == 1 ? "" : "s") + " (first: line " +
               std::to_string(side.first_line) + ")";
       first_side = false;
@@ -1613,9 +1612,10 @@ bool ParsePointTable(const std::string& text, const std::string& source,
       t.points(i, a) = v * point.scale / point.divisor;
       if (!(std::abs(t.points(i, a)) <= kMaxLengthM)) {
         return table.Fail(row.line,
-                          point.columns[a] + ": " + Number6(v) +
+                          point.columns[a] + ": " + FormatNumber("%.6g", v) +
                               (point.divisor == 1.0 ? " m" : " mm") +
-                              " is more than " + Number6(kMaxLengthM / 1e3) +
+                              " is more than " +
+                              FormatNumber("%.6g", kMaxLengthM / 1e3) +
                               " km: a corrupt cell or a wrong unit",
                           error);
       }
@@ -1657,8 +1657,9 @@ bool MeasurementsCsvOptions::IsValid(std::string* error) const {
         limit_tolerance_m <= kMeasuredJointToleranceM)) {
     if (error) {
       *error = "joint limit tolerances must be in [0, " +
-               Number6(kMeasuredJointToleranceRad) + "] rad and [0, " +
-               Number6(kMeasuredJointToleranceM) + "] m, got " +
+               FormatNumber("%.6g", kMeasuredJointToleranceRad) +
+               "] rad and [0, " +
+               FormatNumber("%.6g", kMeasuredJointToleranceM) + "] m, got " +
                ShortestText(limit_tolerance_rad) + " rad and " +
                ShortestText(limit_tolerance_m) + " m";
     }
@@ -1920,8 +1921,9 @@ bool ParseCommandedPosesCsv(const std::string& text, const std::string& source,
       c.position[k] = v * pf.scale / pf.divisor;
       if (!(std::abs(c.position[k]) <= kMaxLengthM)) {
         return table.Fail(row.line,
-                          pf.columns[k] + ": " + Number6(v) + " is more than " +
-                              Number6(kMaxLengthM / 1e3) +
+                          pf.columns[k] + ": " + FormatNumber("%.6g", v) +
+                              " is more than " +
+                              FormatNumber("%.6g", kMaxLengthM / 1e3) +
                               " km: a corrupt cell or a wrong unit",
                           error);
       }
@@ -1939,8 +1941,9 @@ bool ParseCommandedPosesCsv(const std::string& text, const std::string& source,
           return table.Fail(row.line,
                             "commanded_qw,commanded_qx,commanded_qy,"
                             "commanded_qz: the quaternion's norm is " +
-                                Number6(q.norm()) + ", not 1 (to " +
-                                Number6(kQuaternionNormTolerance) +
+                                FormatNumber("%.6g", q.norm()) +
+                                ", not 1 (to " +
+                                FormatNumber("%.6g", kQuaternionNormTolerance) +
                                 "): not a unit quaternion",
                             error);
         }
@@ -1957,8 +1960,9 @@ bool ParseCommandedPosesCsv(const std::string& text, const std::string& source,
               row.line,
               "commanded_r11..commanded_r33: not a rotation matrix (|R^T R - "
               "I| = " +
-                  Number6(off) + ", det = " + Number6(det) + "; to " +
-                  Number6(kCommandedRotationTolerance) +
+                  FormatNumber("%.6g", off) +
+                  ", det = " + FormatNumber("%.6g", det) + "; to " +
+                  FormatNumber("%.6g", kCommandedRotationTolerance) +
                   " a rotation has R^T R = I and det = +1)",
               error);
         }

@@ -17,6 +17,7 @@
 
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
+#include "activecal/core/text_table.h"
 
 namespace activecal {
 namespace {
@@ -48,13 +49,6 @@ Residual SolvePositiveDefinite(const Square& A, const Residual& c) {
 // Below this sigma_min / sigma_max a failure's message says the solver
 // stopped near a singularity.
 constexpr double kNearSingular = 1e-2;
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
 
 // Where the joint reading enters link j's block: the entry that q is added
 // to (gamma for a revolute DH link, d for a prismatic one, offset for a URDF
@@ -450,7 +444,7 @@ class IkSolver {
         result->message =
             "reached at a singular configuration "
             "(sigma_min / sigma_max = " +
-            Number(result->conditioning) +
+            FormatNumber("%.6g", result->conditioning) +
             "): nearby targets may need large joint motions";
       }
       return;
@@ -464,12 +458,13 @@ class IkSolver {
     }
     SetResult(at, result);
     const std::string misses =
-        Number(at.position_error) + " m" +
-        (pose() ? " and " + Number(at.rotation_error) + " rad" : std::string());
+        FormatNumber("%.6g", at.position_error) + " m" +
+        (pose() ? " and " + FormatNumber("%.6g", at.rotation_error) + " rad"
+                : std::string());
     const std::string near_singular =
         result->conditioning < kNearSingular
             ? ", near a singularity (sigma_min / sigma_max = " +
-                  Number(result->conditioning) + ")"
+                  FormatNumber("%.6g", result->conditioning) + ")"
             : std::string();
     if (ran_free && Converged(free.last)) {
       result->status = IkStatus::kLimit;
@@ -477,7 +472,7 @@ class IkSolver {
                         OutsideLimits(free.last.q) +
                         "; the configuration returned stops at the limit "
                         "and misses by " +
-                        Number(at.position_error) + " m";
+                        FormatNumber("%.6g", at.position_error) + " m";
       return;
     }
     if (limited.hit_cap) {
@@ -505,7 +500,7 @@ class IkSolver {
       result->message +=
           ", stopped near a singularity (sigma_min / "
           "sigma_max = " +
-          Number(result->conditioning) + ")";
+          FormatNumber("%.6g", result->conditioning) + ")";
     }
   }
 
@@ -596,8 +591,9 @@ class IkSolver {
     for (int j = 0; j < n_; ++j) {
       if (q[j] >= lower_[j] && q[j] <= upper_[j]) continue;
       text += " joint " + std::to_string(j + 1) + " (" + model_.links[j].name +
-              ") at " + Number(q[j]) + ", outside [" + Number(lower_[j]) +
-              ", " + Number(upper_[j]) + "]";
+              ") at " + FormatNumber("%.6g", q[j]) + ", outside [" +
+              FormatNumber("%.6g", lower_[j]) + ", " +
+              FormatNumber("%.6g", upper_[j]) + "]";
     }
     return text;
   }
@@ -986,16 +982,16 @@ bool InverseKinematicsOptions::IsValid(std::string* error) const {
   };
   if (!(position_tolerance_m > 0.0) || !std::isfinite(position_tolerance_m)) {
     return fail("position_tolerance_m must be finite and > 0, got " +
-                Number(position_tolerance_m));
+                FormatNumber("%.6g", position_tolerance_m));
   }
   if (!(rotation_tolerance_rad > 0.0) ||
       !std::isfinite(rotation_tolerance_rad)) {
     return fail("rotation_tolerance_rad must be finite and > 0, got " +
-                Number(rotation_tolerance_rad));
+                FormatNumber("%.6g", rotation_tolerance_rad));
   }
   if (!(rotation_weight_m > 0.0) || !std::isfinite(rotation_weight_m)) {
     return fail("rotation_weight_m must be finite and > 0, got " +
-                Number(rotation_weight_m));
+                FormatNumber("%.6g", rotation_weight_m));
   }
   if (max_iterations < 1) {
     return fail("max_iterations must be >= 1, got " +
@@ -1004,7 +1000,8 @@ bool InverseKinematicsOptions::IsValid(std::string* error) const {
   for (size_t j = 0; j < joint_weights.size(); ++j) {
     if (!(joint_weights[j] > 0.0) || !std::isfinite(joint_weights[j])) {
       return fail("joint_weights[" + std::to_string(j) +
-                  "] must be finite and > 0, got " + Number(joint_weights[j]));
+                  "] must be finite and > 0, got " +
+                  FormatNumber("%.6g", joint_weights[j]));
     }
   }
   if (restarts < 0) {
@@ -1012,11 +1009,11 @@ bool InverseKinematicsOptions::IsValid(std::string* error) const {
   }
   if (!(restart_spread_rad > 0.0) || !std::isfinite(restart_spread_rad)) {
     return fail("restart_spread_rad must be finite and > 0, got " +
-                Number(restart_spread_rad));
+                FormatNumber("%.6g", restart_spread_rad));
   }
   if (!(singular_threshold >= 0.0) || !(singular_threshold < 1.0)) {
     return fail("singular_threshold must be in [0, 1), got " +
-                Number(singular_threshold));
+                FormatNumber("%.6g", singular_threshold));
   }
   return true;
 }
