@@ -96,7 +96,11 @@ int Main() {
   options.die_after = FLAGS_die_after;
   options.measure_delay_s = FLAGS_measure_delay_s;
   options.served_log = FLAGS_served_log;
-  options.garbage = FLAGS_garbage;
+  if (!FLAGS_garbage.empty() &&
+      !StringToDriverGarbage(FLAGS_garbage, &options.garbage)) {
+    options.garbage = DriverGarbage::kLine;  // sent as it is, at garbage_at
+    options.garbage_line = "garbage kind '" + FLAGS_garbage + "' unknown";
+  }
   options.garbage_at = FLAGS_garbage_at;
   options.seed = FLAGS_seed;
   options.perturb_m = FLAGS_perturb_m;
@@ -104,8 +108,7 @@ int Main() {
   std::string error;
   if (!options.IsValid(&error)) app::Fail("--" + error);
   RobotDescription robot = app::LoadRobotOrDie();
-  // The cell: its targets as the markers (before the truth is read); its
-  // notes on stderr (stdout may be the protocol's channel).
+  // The cell: its targets as the markers; its notes on stderr (not stdout).
   CellSetup cell_setup;
   if (!FLAGS_cell.empty()) {
     CellSetupOptions setup;
@@ -127,9 +130,8 @@ int Main() {
   if (urdf || !FLAGS_parameter_set.empty()) {
     const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
     const Eigen::MatrixXd joints = lattice.AllJointValues();
-    // Several markers (the cell's targets, or a frames file's): the
-    // simulated robot's truth is every marker's, each measured at every
-    // pose of the lattice (marker 0's alone held the others' offsets).
+    // Several markers: the truth is every marker's, each measured at every
+    // pose (marker 0's alone held the others' offsets).
     std::vector<uint32_t> every_marker;
     if (model.num_markers() > 1) {
       every_marker.assign(joints.rows(), EveryMarkerMask(model));
@@ -144,8 +146,7 @@ int Main() {
                               &error)) {
     app::Fail("--" + error);
   }
-  // --listen's socket before --truth_out is written: a run that fails
-  // writes nothing.
+  // --listen's socket before --truth_out: a run that fails writes nothing.
   std::unique_ptr<TcpListener> listener;
   std::string host = "127.0.0.1";
   int port = 0;
@@ -174,8 +175,6 @@ int Main() {
     cell.Serve(&channel, &status);
     return status;
   }
-  std::fprintf(stderr, "activecal_sim_cell: listening on %s:%d\n", host.c_str(),
-               listener->port());
   if (!cell.ServeClients(listener.get(), &status, &error)) app::Fail(error);
   return status;
 }

@@ -758,7 +758,18 @@ TEST(SimulatedCellTest, AnswersArePerPoseAndTheCellDiesOnDemand) {
   ASSERT_TRUE(ParseMeasurementReply(refused[0], 1, 6, 1, &reply, &error));
   EXPECT_EQ(reply.status, MeasureStatus::kUnreachable);
 
+  // Garbage at the second request: the reply to another id.
   options.unreachable_fraction = 0.0;
+  ASSERT_TRUE(StringToDriverGarbage("wrong_id", &options.garbage));
+  EXPECT_FALSE(StringToDriverGarbage("line", &options.garbage));
+  options.garbage_at = 2;
+  const std::vector<std::string> garbage = ServeSimulatedCell(
+      options, {MeasureMessage(1, a), MeasureMessage(2, b)}, &status, &served);
+  ASSERT_EQ(garbage.size(), 2u);
+  EXPECT_TRUE(ParseMeasurementReply(garbage[0], 1, 6, 1, &reply, &error));
+  EXPECT_FALSE(ParseMeasurementReply(garbage[1], 2, 6, 1, &reply, &error));
+  options.garbage = DriverGarbage::kNone;
+
   options.die_after = 1;
   const std::vector<std::string> died = ServeSimulatedCell(
       options, {MeasureMessage(1, a), MeasureMessage(2, b)}, &status, &served);

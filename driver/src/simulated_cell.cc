@@ -36,6 +36,46 @@ uint64_t PoseHash(const Eigen::VectorXd& q) {
 
 }  // namespace
 
+const char* DriverGarbageToString(DriverGarbage garbage) {
+  switch (garbage) {
+    case DriverGarbage::kNone:
+      return "none";
+    case DriverGarbage::kNotJson:
+      return "not_json";
+    case DriverGarbage::kNan:
+      return "nan";
+    case DriverGarbage::kWrongId:
+      return "wrong_id";
+    case DriverGarbage::kWrongJoints:
+      return "wrong_joints";
+    case DriverGarbage::kWrongMarkers:
+      return "wrong_markers";
+    case DriverGarbage::kUnknownStatus:
+      return "unknown_status";
+    case DriverGarbage::kHang:
+      return "hang";
+    case DriverGarbage::kExit:
+      return "exit";
+    case DriverGarbage::kLine:
+      return "line";
+  }
+  return "unknown";
+}
+
+bool StringToDriverGarbage(const std::string& text, DriverGarbage* garbage) {
+  for (DriverGarbage g :
+       {DriverGarbage::kNotJson, DriverGarbage::kNan, DriverGarbage::kWrongId,
+        DriverGarbage::kWrongJoints, DriverGarbage::kWrongMarkers,
+        DriverGarbage::kUnknownStatus, DriverGarbage::kHang,
+        DriverGarbage::kExit}) {
+    if (text == DriverGarbageToString(g)) {
+      *garbage = g;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool SimulatedCellOptions::IsValid(std::string* error) const {
   for (const auto& [name, value] :
        {std::pair<const char*, double>{"noise_m", noise_m},
@@ -136,6 +176,8 @@ bool SimulatedCell::Serve(LineChannel* channel, int* status) {
 
 bool SimulatedCell::ServeClients(TcpListener* listener, int* status,
                                  std::string* error) {
+  std::fprintf(stderr, "activecal_sim_cell: listening on %s:%d\n",
+               listener->host().c_str(), listener->port());
   for (;;) {
     std::unique_ptr<LineChannel> channel;
     if (!listener->Accept(&channel, error)) return false;
@@ -197,13 +239,14 @@ bool SimulatedCell::Measure(const ActivecalMessage& request,
   reply.id = request.id;
   Answer(request.joints, request.markers, &reply);
   std::string text = MeasurementReplyMessage(reply);
-  if (!options_.garbage.empty() && requests_ == options_.garbage_at) {
-    const std::string& g = options_.garbage;
-    if (g == "exit") {
+  if (options_.garbage != DriverGarbage::kNone &&
+      requests_ == options_.garbage_at) {
+    const DriverGarbage g = options_.garbage;
+    if (g == DriverGarbage::kExit) {
       *status = 4;
       return false;
     }
-    if (g == "hang") {
+    if (g == DriverGarbage::kHang) {
       std::this_thread::sleep_for(std::chrono::hours(1));
     }
     text = Garbage(g, request, reply);
@@ -212,15 +255,16 @@ bool SimulatedCell::Measure(const ActivecalMessage& request,
   return Send(text, channel);
 }
 
-std::string SimulatedCell::Garbage(const std::string& kind,
+std::string SimulatedCell::Garbage(DriverGarbage kind,
                                    const ActivecalMessage& request,
                                    MeasurementReply reply) {
-  if (kind == "not_json") return "moving to pose " + std::to_string(reply.id);
-  if (kind == "wrong_id") {
+  if (kind == DriverGarbage::kNotJson)
+    return "moving to pose " + std::to_string(reply.id);
+  if (kind == DriverGarbage::kWrongId) {
     reply.id = request.id + 1;
     return MeasurementReplyMessage(reply);
   }
-  if (kind == "unknown_status") {
+  if (kind == DriverGarbage::kUnknownStatus) {
     std::string t = MeasurementReplyMessage(reply);
     const std::string s = "\"status\":\"";
     const size_t at = t.find(s);
@@ -232,22 +276,24 @@ std::string SimulatedCell::Garbage(const std::string& kind,
   if (reply.points_m.empty() || !reply.points_m[0]) {
     reply.points_m.assign(1, Eigen::Vector3d(0.5, 0.1, 0.2));
   }
-  if (kind == "wrong_joints") {
+  if (kind == DriverGarbage::kWrongJoints) {
     reply.joints.conservativeResize(reply.joints.size() - 1);
     return MeasurementReplyMessage(reply);
   }
-  if (kind == "wrong_markers") {
+  if (kind == DriverGarbage::kWrongMarkers) {
     reply.points_m.push_back(reply.points_m[0]);
     return MeasurementReplyMessage(reply);
   }
-  if (kind == "nan") {
+  if (kind == DriverGarbage::kNan) {
     // What Python's json.dumps writes for a float('nan').
     std::string t = MeasurementReplyMessage(reply);
     const size_t at = t.find("\"points_m\":[[") + 13;
     const size_t end = t.find(',', at);
     return t.substr(0, at) + "NaN" + t.substr(end);
   }
-  return "garbage kind '" + kind + "' unknown";
+  if (kind == DriverGarbage::kLine) return options_.garbage_line;
+  return std::string("garbage kind '") + DriverGarbageToString(kind) +
+         "' unknown";
 }
 
 // markers: those asked for (empty: every marker); the others are

@@ -36,6 +36,25 @@
 
 namespace activecal {
 
+// Bad output of a driver at one measure request, to test activecal.
+enum class DriverGarbage {
+  kNone,
+  kNotJson,        // a line that is not JSON
+  kNan,            // a point with NaN, as Python's json.dumps writes it
+  kWrongId,        // the reply to another request
+  kWrongJoints,    // one joint too few
+  kWrongMarkers,   // one point too many
+  kUnknownStatus,  // "status":"done"
+  kHang,           // no reply (an hour's wait)
+  kExit,           // exit with status 4, no reply
+  kLine,           // SimulatedCellOptions::garbage_line, as it is
+};
+// "none", "not_json", "nan", "wrong_id", "wrong_joints", "wrong_markers",
+// "unknown_status", "hang", "exit", "line".
+const char* DriverGarbageToString(DriverGarbage garbage);
+// The kinds a user asks for: every name above but "none" and "line".
+bool StringToDriverGarbage(const std::string& text, DriverGarbage* garbage);
+
 struct SimulatedCellOptions {
   double noise_m = 1e-4;  // tracker noise per axis (m), >= 0
   // Report the marker frame's orientation too (a 6D probe), with this
@@ -53,10 +72,9 @@ struct SimulatedCellOptions {
   int64_t die_after = -1;
   double measure_delay_s = 0.0;  // wait before each reply, >= 0
   std::string served_log;        // append every reply sent (empty: none)
-  // Answer measure request garbage_at (1-based) with bad output: not_json,
-  // nan, wrong_id, wrong_joints, wrong_markers, unknown_status, hang (no
-  // reply), exit (status 4). Empty: never.
-  std::string garbage;
+  // Answer measure request garbage_at (1-based) with bad output.
+  DriverGarbage garbage = DriverGarbage::kNone;
+  std::string garbage_line;  // the line of DriverGarbage::kLine
   int64_t garbage_at = 1;
   uint64_t seed = 1;
   // The cell's true robot: every free length (angle) parameter moved by a
@@ -82,9 +100,9 @@ class SimulatedCell {
   // Serves one conversation; false when the program must exit (with
   // *status).
   bool Serve(LineChannel* channel, int* status);
-  // Serves the listener's clients one after another until a conversation
-  // ends the program (true, *status); false with *error when a client
-  // cannot be accepted.
+  // Serves the listener's clients one after another (first saying on
+  // stderr where it listens) until a conversation ends the program (true,
+  // *status); false with *error when a client cannot be accepted.
   bool ServeClients(TcpListener* listener, int* status, std::string* error);
 
  private:
@@ -92,9 +110,8 @@ class SimulatedCell {
   bool Send(const std::string& text, LineChannel* channel);
   bool Measure(const ActivecalMessage& request, LineChannel* channel,
                int* status);
-  static std::string Garbage(const std::string& kind,
-                             const ActivecalMessage& request,
-                             MeasurementReply reply);
+  std::string Garbage(DriverGarbage kind, const ActivecalMessage& request,
+                      MeasurementReply reply);
   void Answer(const Eigen::VectorXd& commanded, const std::vector<int>& markers,
               MeasurementReply* reply);
 
