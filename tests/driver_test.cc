@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "activecal/driver/connection.h"
 #include "activecal/driver/driver_client.h"
 #include "activecal/driver/protocol.h"
+#include "activecal/driver/simulated_cell.h"
 #include "activecal/io/controller_programs.h"
 #include "activecal/io/robot_loader.h"
 
@@ -683,6 +685,131 @@ TEST(ControllerProgramTest, BadConventionFilesAreNamed) {
   EXPECT_NEAR(ControllerJointValue(model, convention,
                                    ProgramLanguage::kUrScript, 6, M_PI / 4),
               M_PI / 4, 1e-15);
+}
+
+// The simulated cell through a pipe: the same pose gets the same answer
+// whatever was asked between, a refused pose is answered with its status,
+// and --die_after's exit comes at the request after that many measured.
+std::vector<std::string> ServeSimulatedCell(
+    const SimulatedCellOptions& options,
+    const std::vector<std::string>& requests, int* status, bool* served) {
+  int in[2], out[2];
+  EXPECT_EQ(pipe(in), 0);
+  EXPECT_EQ(pipe(out), 0);
+  for (const std::string& r : requests) {
+    const std::string line = r + "\n";
+    EXPECT_EQ(write(in[1], line.data(), line.size()),
+              static_cast<ssize_t>(line.size()));
+  }
+  close(in[1]);
+  const RobotModel model = Puma560PaperModel();
+  SimulatedCell cell(model, Puma560TrueParameters(), options);
+  *status = 0;
+  {
+    LineChannel channel(in[0], out[1]);
+    *served = cell.Serve(&channel, status);
+  }
+  std::vector<std::string> lines;
+  LineChannel reader(out[0], out[0]);
+  std::string line, error;
+  while (reader.ReadLine(1.0, &line, &error) ==
+         LineChannel::ReadResult::kLine) {
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+TEST(SimulatedCellTest, AnswersArePerPoseAndTheCellDiesOnDemand) {
+  const RobotModel model = Puma560PaperModel();
+  DriverHello hello;
+  for (const Link& link : model.links) hello.joint_names.push_back(link.name);
+  hello.robot = model.name;
+  const Eigen::VectorXd a = Eigen::VectorXd::Constant(6, 0.1);
+  const Eigen::VectorXd b = Eigen::VectorXd::Constant(6, -0.3);
+  SimulatedCellOptions options;
+  options.seed = 5;
+  std::string error;
+  ASSERT_TRUE(options.IsValid(&error)) << error;
+  int status = -1;
+  bool served = false;
+  const std::vector<std::string> lines = ServeSimulatedCell(
+      options,
+      {HelloMessage(hello), MeasureMessage(1, a), MeasureMessage(2, b),
+       MeasureMessage(3, a), ByeMessage()},
+      &status, &served);
+  EXPECT_TRUE(served);
+  EXPECT_EQ(status, 0);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_TRUE(ParseDriverHello(lines[0], &error)) << error;
+  MeasurementReply first, again;
+  ASSERT_TRUE(ParseMeasurementReply(lines[1], 1, 6, 1, &first, &error))
+      << error;
+  ASSERT_TRUE(ParseMeasurementReply(lines[3], 3, 6, 1, &again, &error))
+      << error;
+  EXPECT_EQ(first.status, MeasureStatus::kOk);
+  EXPECT_EQ(*first.points_m[0], *again.points_m[0]);  // bit for bit
+  EXPECT_EQ(first.joints, a);
+
+  options.unreachable_fraction = 1.0;
+  const std::vector<std::string> refused =
+      ServeSimulatedCell(options, {MeasureMessage(1, a)}, &status, &served);
+  ASSERT_EQ(refused.size(), 1u);
+  MeasurementReply reply;
+  ASSERT_TRUE(ParseMeasurementReply(refused[0], 1, 6, 1, &reply, &error));
+  EXPECT_EQ(reply.status, MeasureStatus::kUnreachable);
+
+  // Garbage at the second request: the reply to another id.
+  options.unreachable_fraction = 0.0;
+  ASSERT_TRUE(StringToDriverGarbage("wrong_id", &options.garbage));
+  EXPECT_FALSE(StringToDriverGarbage("line", &options.garbage));
+  options.garbage_at = 2;
+  const std::vector<std::string> garbage = ServeSimulatedCell(
+      options, {MeasureMessage(1, a), MeasureMessage(2, b)}, &status, &served);
+  ASSERT_EQ(garbage.size(), 2u);
+  EXPECT_TRUE(ParseMeasurementReply(garbage[0], 1, 6, 1, &reply, &error));
+  EXPECT_FALSE(ParseMeasurementReply(garbage[1], 2, 6, 1, &reply, &error));
+  options.garbage = DriverGarbage::kNone;
+
+  options.die_after = 1;
+  const std::vector<std::string> died = ServeSimulatedCell(
+      options, {MeasureMessage(1, a), MeasureMessage(2, b)}, &status, &served);
+  EXPECT_FALSE(served);
+  EXPECT_EQ(status, 3);
+  EXPECT_EQ(died.size(), 1u);
+}
+
+TEST(SimulatedCellTest, OptionsAndListenAddressesAreChecked) {
+  SimulatedCellOptions options;
+  std::string error;
+  options.perturb_rad = -1;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_EQ(error, "perturb_rad must be >= 0");
+  options.perturb_rad = 0;
+  options.not_visible_fraction = 1.5;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_EQ(error, "not_visible_fraction must be in [0, 1]");
+
+  std::string host;
+  int port = -1;
+  ASSERT_TRUE(ParseListenAddress("8123", &host, &port, &error));
+  EXPECT_EQ(host, "127.0.0.1");
+  EXPECT_EQ(port, 8123);
+  ASSERT_TRUE(ParseListenAddress("0.0.0.0:0", &host, &port, &error));
+  EXPECT_EQ(host, "0.0.0.0");
+  EXPECT_EQ(port, 0);
+  EXPECT_FALSE(ParseListenAddress("host:", &host, &port, &error));
+  EXPECT_EQ(error, "must be PORT or HOST:PORT, got 'host:'");
+
+  // No true values and no perturbation: nothing to simulate from.
+  const RobotModel model = Puma560PaperModel();
+  Eigen::VectorXd truth;
+  EXPECT_FALSE(MakeSimulatedCellTruth(model, Eigen::VectorXd(), options, &truth,
+                                      &error));
+  options.perturb_m = 1e-3;
+  ASSERT_TRUE(
+      MakeSimulatedCellTruth(model, Eigen::VectorXd(), options, &truth, &error))
+      << error;
+  EXPECT_GT((truth - model.nominal).norm(), 0.0);
 }
 
 }  // namespace

@@ -494,7 +494,7 @@ bool TcpListener::Listen(const std::string& host, int port,
   } else if (bound.ss_family == AF_INET6) {
     bound_port = ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port);
   }
-  listener->reset(new TcpListener(fd, bound_port));
+  listener->reset(new TcpListener(fd, host, bound_port));
   return true;
 }
 

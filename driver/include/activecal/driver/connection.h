@@ -28,6 +28,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace activecal {
@@ -103,13 +104,16 @@ class TcpListener {
   static bool Listen(const std::string& host, int port,
                      std::unique_ptr<TcpListener>* listener,
                      std::string* error);
+  const std::string& host() const { return host_; }  // as given
   int port() const { return port_; }
   // Waits for the next client; its channel reads and writes the socket.
   bool Accept(std::unique_ptr<LineChannel>* channel, std::string* error);
 
  private:
-  TcpListener(int fd, int port) : fd_(fd), port_(port) {}
+  TcpListener(int fd, std::string host, int port)
+      : fd_(fd), host_(std::move(host)), port_(port) {}
   int fd_;
+  std::string host_;
   int port_;
 };
 

@@ -1,0 +1,143 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
+// The active calibration workflow: a simulated run's report and poses, a
+// session resumed to the same result, and what it refuses.
+
+#include "activecal/calibration/active_calibration.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <string>
+
+#include "activecal/core/puma560.h"
+#include "test_util.h"
+
+namespace activecal {
+namespace {
+
+std::string TempDir(const std::string& name) {
+  std::string tmpl = ::testing::TempDir() + "/activecal_" + name + "_XXXXXX";
+  EXPECT_NE(mkdtemp(tmpl.data()), nullptr);
+  return tmpl;
+}
+
+ActiveCalibrationOptions SmallRun() {
+  ActiveCalibrationOptions options;
+  options.loop.sigma_m = 1e-4;
+  options.loop.target_rms_m = 1e-4;
+  options.loop.max_rounds = 3;
+  options.restarts = 1;
+  options.levels = 3;
+  return options;
+}
+
+TEST(ActiveCalibrationTest, ASimulatedRunReportsItsRoundsAndPoses) {
+  const RobotModel model = Puma560PaperModel();
+  const Eigen::VectorXd truth = Puma560TrueParameters();
+  const Eigen::MatrixXd joints = testing::PumaLatticeJoints(3);
+  ActiveCalibrationOptions options = SmallRun();
+  options.compare = true;
+  int progress_lines = 0;
+  options.progress = [&](const std::string& line) {
+    EXPECT_EQ(
+        line.rfind("round " + std::to_string(progress_lines) + " done: ", 0),
+        0u)
+        << line;
+    ++progress_lines;
+  };
+  ActiveCalibrationSummary summary;
+  ASSERT_TRUE(RunActiveCalibration(model, truth, joints, nullptr, nullptr,
+                                   options, &summary))
+      << summary.message;
+  const ActiveLoopSummary& loop = summary.loop;
+  ASSERT_FALSE(loop.rounds.empty());
+  EXPECT_EQ(progress_lines, static_cast<int>(loop.rounds.size()));
+  EXPECT_EQ(summary.loop_ok,
+            loop.termination_type != TerminationType::kFailure);
+  const nlohmann::json& j = summary.report;
+  EXPECT_EQ(j["measured_by"], "simulation");
+  EXPECT_EQ(j["levels"], 3);
+  EXPECT_EQ(j["rounds"].size(), loop.rounds.size());
+  EXPECT_EQ(j["measured_pose_indices"].get<std::vector<int64_t>>(),
+            loop.measured);
+  EXPECT_TRUE(j["one_shot"].contains("random"));
+  EXPECT_FALSE(j.contains("tour"));
+  ASSERT_EQ(summary.measured_poses.joints.rows(),
+            static_cast<Eigen::Index>(loop.measured.size()));
+  for (size_t k = 0; k < loop.measured.size(); ++k) {
+    EXPECT_EQ(summary.measured_poses.joints.row(k),
+              joints.row(loop.measured[k]));
+  }
+  const std::string line = summary.ResultLine(1e-4);
+  EXPECT_EQ(
+      line.rfind(std::string(TerminationTypeToString(loop.termination_type)) +
+                     " after " + std::to_string(loop.rounds.size()) + " round",
+                 0),
+      0u)
+      << line;
+  EXPECT_NE(line.find("(target 0.1 mm)"), std::string::npos) << line;
+}
+
+TEST(ActiveCalibrationTest, ASessionResumedGivesTheSameResult) {
+  const RobotModel model = Puma560PaperModel();
+  const Eigen::VectorXd truth = Puma560TrueParameters();
+  const Eigen::MatrixXd joints = testing::PumaLatticeJoints(3);
+  ActiveCalibrationOptions options = SmallRun();
+  options.loop.target_rms_m = 1e-9;  // never met: the rounds run out
+  options.order_shortest = true;
+  ActiveCalibrationSummary whole;
+  ASSERT_TRUE(RunActiveCalibration(model, truth, joints, nullptr, nullptr,
+                                   options, &whole))
+      << whole.message;
+  EXPECT_EQ(whole.report["order"], "shortest");
+
+  // Two rounds kept in a session, then continued to the end.
+  options.session_dir = TempDir("active_calibration");
+  options.loop.max_rounds = 2;
+  ActiveCalibrationSummary first;
+  ASSERT_TRUE(RunActiveCalibration(model, truth, joints, nullptr, nullptr,
+                                   options, &first))
+      << first.message;
+  ASSERT_EQ(first.loop.rounds.size(), 2u);
+  options.loop.max_rounds = 3;
+  options.resume = true;
+  ActiveCalibrationSummary resumed;
+  ASSERT_TRUE(RunActiveCalibration(model, truth, joints, nullptr, nullptr,
+                                   options, &resumed))
+      << resumed.message;
+  EXPECT_EQ(resumed.loop.measured, whole.loop.measured);
+  EXPECT_EQ(resumed.report["rounds"], whole.report["rounds"]);
+  EXPECT_EQ(resumed.report["tour"]["batches"], 1);  // the third round's
+
+  // A session continues only with the options it was made with.
+  options.loop.seed = 4;
+  ActiveCalibrationSummary refused;
+  EXPECT_FALSE(RunActiveCalibration(model, truth, joints, nullptr, nullptr,
+                                    options, &refused));
+  EXPECT_NE(refused.message.find("was made with seed 1, this run has 4"),
+            std::string::npos)
+      << refused.message;
+}
+
+TEST(ActiveCalibrationTest, BadOptionsAreNamedAsTheFlags) {
+  const RobotModel model = Puma560PaperModel();
+  const Eigen::MatrixXd joints = testing::PumaLatticeJoints(3);
+  ActiveCalibrationOptions options = SmallRun();
+  options.loop.sigma_m = 0;
+  ActiveCalibrationSummary summary;
+  EXPECT_FALSE(RunActiveCalibration(model, Puma560TrueParameters(), joints,
+                                    nullptr, nullptr, options, &summary));
+  EXPECT_EQ(summary.message, "--noise_m must be > 0, got 0");
+
+  // Nothing to simulate from.
+  options = SmallRun();
+  EXPECT_FALSE(RunActiveCalibration(model, Eigen::VectorXd(), joints, nullptr,
+                                    nullptr, options, &summary));
+  EXPECT_EQ(summary.message,
+            "no true parameters to simulate from (or measure with a driver)");
+}
+
+}  // namespace
+}  // namespace activecal
