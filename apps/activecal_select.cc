@@ -230,6 +230,22 @@ int Main() {
     app::Fail("--measurement must be position or pose, got '" +
               FLAGS_measurement + "'");
   }
+  // The design's algorithm and criterion; the task criterion's algorithm is
+  // the best the library has for it (fedorov) unless set, not the paper's
+  // EAE.
+  DesignAlgorithm algorithm;
+  DesignCriterion criterion;
+  {
+    std::string error;
+    if (!ParseDesignAlgorithm(FLAGS_algorithm, &algorithm, &error) ||
+        !ParseDesignCriterion(FLAGS_criterion, &criterion, &error)) {
+      app::Fail("--" + error);
+    }
+  }
+  if (criterion == DesignCriterion::kTaskRms &&
+      gflags::GetCommandLineFlagInfoOrDie("algorithm").is_default) {
+    algorithm = DesignAlgorithm::kFedorov;
+  }
   Eigen::MatrixXd pool_joints;
   std::vector<int64_t> labels;
   JointLattice lattice;
@@ -340,9 +356,7 @@ int Main() {
   // How the pool is stored: single precision where the double blocks would
   // not fit the budget (and the algorithm reads such pools).
   SelectionPoolOptions pool_options;
-  pool_options.reads_float =
-      (FLAGS_algorithm == "fedorov" || FLAGS_algorithm == "approx") &&
-      FLAGS_criterion != "task_rms";
+  pool_options.reads_float = ReadsFloatPool(algorithm, criterion);
   if (!PoolStorageFromString(FLAGS_pool_storage, &pool_options.storage)) {
     app::Fail("--pool_storage must be auto, double or float, got '" +
               FLAGS_pool_storage + "'");
@@ -454,15 +468,11 @@ int Main() {
   }
   const std::vector<std::string> auto_fixed = pool_summary.HeldFixed();
 
-  // The design's options; the task criterion's algorithm is the best the
-  // library has for it (fedorov) unless set, not the paper's EAE.
+  // The design's options.
   SelectDesignOptions options;
-  options.algorithm = FLAGS_algorithm;
-  options.criterion = FLAGS_criterion;
+  options.algorithm = algorithm;
+  options.criterion = criterion;
   const bool task = options.task();
-  if (task && gflags::GetCommandLineFlagInfoOrDie("algorithm").is_default) {
-    options.algorithm = "fedorov";
-  }
   options.num_poses = FLAGS_num_poses;
   options.restarts = FLAGS_restarts;
   options.seed = FLAGS_seed;
@@ -576,7 +586,8 @@ int Main() {
   SelectDesignSummary select;
   {
     app::ProgressLine approx_line("approximate design, rounds");
-    app::ProgressLine restarts_line(options.algorithm + " restarts");
+    app::ProgressLine restarts_line(
+        std::string(DesignAlgorithmToString(options.algorithm)) + " restarts");
     options.approximate_progress = approx_line.callback();
     options.restarts_progress = restarts_line.callback();
     if (!SelectDesign(pool, W, prior, options, &select)) {

@@ -68,6 +68,15 @@ std::shared_ptr<DesignResult> SelectPy(
   }
   const MeasurementType type =
       MeasurementTypeArg(measurement, false, "measurement");
+  DesignAlgorithm design_algorithm;
+  DesignCriterion design_criterion;
+  {
+    std::string error;
+    if (!ParseDesignAlgorithm(algorithm, &design_algorithm, &error) ||
+        !ParseDesignCriterion(criterion, &design_criterion, &error)) {
+      Fail(error);
+    }
+  }
 
   // The candidate poses: a lattice, sampled, or given.
   Eigen::MatrixXd pool_joints;
@@ -154,8 +163,8 @@ std::shared_ptr<DesignResult> SelectPy(
          "] (the pool size), got " + std::to_string(num_poses));
   }
   SelectDesignOptions options;
-  options.algorithm = algorithm;
-  options.criterion = criterion;
+  options.algorithm = design_algorithm;
+  options.criterion = design_criterion;
   options.num_poses = num_poses;
   options.restarts = restarts;
   options.seed = seed;
@@ -189,9 +198,7 @@ std::shared_ptr<DesignResult> SelectPy(
   pool_options.num_threads = num_threads;
   pool_options.auto_fix = auto_fix;
   // Single precision past the budget, as activecal_select --pool_storage.
-  pool_options.reads_float =
-      (algorithm == "fedorov" || algorithm == "approx") &&
-      criterion != "task_rms";
+  pool_options.reads_float = ReadsFloatPool(design_algorithm, design_criterion);
   if (!PoolStorageFromString(pool_storage, &pool_options.storage)) {
     Fail("pool_storage must be 'auto', 'double' or 'float', got '" +
          pool_storage + "'");
