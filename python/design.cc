@@ -5,6 +5,7 @@
 // the library (selection_pool.h, select_design.h); with cell= the pool is
 // the feasible one (cell_planning.h), as activecal_select --cell.
 
+#include "activecal/calibration/select_workflow.h"
 #include "common.h"
 
 namespace activecal {
@@ -91,20 +92,18 @@ std::shared_ptr<DesignResult> SelectPy(
   // margins, as activecal_select --cell.
   const RobotModel pool_model =
       cell ? WithinJointMargins(*cell->checker, model) : model;
-  if (pool_kind == "lattice") {
-    JointLattice lattice;
-    std::string error;
-    if (!JointLattice::Create(pool_model, levels, &lattice, &error)) {
-      Fail("levels=" + std::to_string(levels) + ": " + error);
-    }
-    if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
-      Fail("levels=" + std::to_string(levels) + ": " + error);
-    }
-    for (const std::string& note : lattice.OneTurnNotes(model)) {
-      result->notes.push_back(note);
-    }
-    pool_joints = lattice.AllJointValues();
-  } else if (pool_kind == "array") {
+  // The drawn pools and the lattice, as activecal_select's --pool (not
+  // measurable: the module has no such pool).
+  SelectPool drawn = SelectPool::kLattice;
+  const bool given = pool_kind == "array";
+  if (!given && (!StringToSelectPool(pool_kind, &drawn) ||
+                 drawn == SelectPool::kMeasurable)) {
+    Fail(
+        "pool must be 'lattice', 'sobol', 'random' or an array of joint "
+        "values, got '" +
+        pool_kind + "'");
+  }
+  if (given) {
     pool_joints = MatrixArg(pool_obj, "pool", model.num_joints(), false);
     if (!pool_indices.is_none()) {
       labels = IntegerVector(pool_indices, "pool_indices");
@@ -118,14 +117,23 @@ std::shared_ptr<DesignResult> SelectPy(
         Fail("pool_indices: " + error);
       }
     }
-  } else {
-    JointSampling sampling;
-    if (!JointSamplingFromString(pool_kind, &sampling)) {
-      Fail(
-          "pool must be 'lattice', 'sobol', 'random' or an array of joint "
-          "values, got '" +
-          pool_kind + "'");
+  } else if (drawn == SelectPool::kLattice) {
+    JointLattice lattice;
+    std::string error;
+    if (!JointLattice::Create(pool_model, levels, &lattice, &error)) {
+      Fail("levels=" + std::to_string(levels) + ": " + error);
     }
+    if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
+      Fail("levels=" + std::to_string(levels) + ": " + error);
+    }
+    for (const std::string& note : lattice.OneTurnNotes(model)) {
+      result->notes.push_back(note);
+    }
+    pool_joints = lattice.AllJointValues();
+  } else {
+    const JointSampling sampling = drawn == SelectPool::kRandom
+                                       ? JointSampling::kRandom
+                                       : JointSampling::kSobol;
     // A pool too large for memory is refused up front (the alternative is
     // std::bad_alloc midway), by the library's check, as activecal_select.
     std::string error;
