@@ -358,19 +358,11 @@ std::shared_ptr<DesignResult> SelectPy(
       result->joint_angles.row(k) = joints.row(tour.order[k]);
       result->pose_indices[k] = labels_before[tour.order[k]];
     }
-    nlohmann::json& t = result->cell_info["tour"];
-    t = {{"motion_time_before_s", tour.time_before_s},
-         {"motion_time_after_s", tour.time_after_s},
-         {"velocities", tour.velocities},
-         {"resolution_deg", 1.0},
-         {"blocked_moves", tour.blocked_moves.size()},
-         {"blocked", BlockedMovesJson(tour.blocked_moves, tour.blocked_reasons,
-                                      result->pose_indices)},
-         {"blocked_moves_before", tour.blocked_before}};
-    t.update(cell ? MovesCheckedJson(true, *cell)
-                  : MovesCheckedJson(false, CellSetup(), "no cell="));
-    const std::string note = AssumedVelocityNote(model, o.velocity_limits);
-    if (!note.empty()) t["velocity_note"] = note;
+    result->cell_info["tour"] =
+        TourJson(tour, 1.0, result->pose_indices,
+                 cell ? MovesCheckedJson(true, *cell)
+                      : MovesCheckedJson(false, CellSetup(), "no cell="),
+                 AssumedVelocityNote(model, o.velocity_limits));
   }
   if (cell) {
     // As activecal_select --cell's JSON.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <string>
 
+#include "activecal/calibration/cell_planning.h"
 #include "activecal/core/puma560.h"
 
 namespace activecal {
@@ -110,6 +111,31 @@ TEST(SelectWorkflowTest, FailuresNameTheFlags) {
             "--criterion=task_rms: --algorithm must be fedorov, greedy or "
             "approx, got 'eae'");
   EXPECT_EQ(s.termination_type, TerminationType::kFailure);
+}
+
+TEST(SelectWorkflowTest, TourJsonNamesTheBlockedMovesByTheRun) {
+  TourSummary tour;
+  tour.time_before_s = 12.5;
+  tour.time_after_s = 8.25;
+  tour.velocities = {1.0, 2.0};
+  tour.blocked_moves = {1};
+  tour.blocked_reasons = {"obstacle table (wrist_3_link)"};
+  tour.blocked_before = 3;
+  const nlohmann::json checked = {{"moves_checked", true}};
+  nlohmann::json t = TourJson(tour, 2.0, {40, 41, 42}, checked, "");
+  EXPECT_EQ(t["motion_time_before_s"], 12.5);
+  EXPECT_EQ(t["motion_time_after_s"], 8.25);
+  EXPECT_EQ(t["resolution_deg"], 2.0);
+  EXPECT_EQ(t["blocked_moves"], 1);
+  EXPECT_EQ(t["blocked_moves_before"], 3);
+  EXPECT_EQ(t["moves_checked"], true);
+  ASSERT_EQ(t["blocked"].size(), 1u);
+  EXPECT_EQ(t["blocked"][0]["from_pose_index"], 41);
+  EXPECT_EQ(t["blocked"][0]["to_pose_index"], 42);
+  EXPECT_EQ(t["blocked"][0]["reason"], "obstacle table (wrist_3_link)");
+  EXPECT_FALSE(t.contains("velocity_note"));
+  t = TourJson(tour, 1.0, {40, 41, 42}, checked, "joints 1 have no limit");
+  EXPECT_EQ(t["velocity_note"], "joints 1 have no limit");
 }
 
 }  // namespace

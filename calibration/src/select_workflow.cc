@@ -688,17 +688,8 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   }
   if (ordered) {
     j["order"] = "shortest";
-    j["tour"] = {
-        {"motion_time_before_s", tour.time_before_s},
-        {"motion_time_after_s", tour.time_after_s},
-        {"velocities", tour.velocities},
-        {"resolution_deg", options.order_resolution_deg},
-        {"blocked_moves", tour.blocked_moves.size()},
-        {"blocked", BlockedMovesJson(tour.blocked_moves, tour.blocked_reasons,
-                                     out.chosen.pose_indices)},
-        {"blocked_moves_before", tour.blocked_before}};
-    j["tour"].update(moves_checked);
-    if (!velocity_note.empty()) j["tour"]["velocity_note"] = velocity_note;
+    j["tour"] = TourJson(tour, options.order_resolution_deg,
+                         out.chosen.pose_indices, moves_checked, velocity_note);
   }
   j["criterion"] = task ? "task_rms" : "d";
   j["num_poses"] = s.design.size();
