@@ -5,6 +5,7 @@
 // the library (selection_pool.h, select_design.h); with cell= the pool is
 // the feasible one (cell_planning.h), as activecal_select --cell.
 
+#include "activecal/calibration/select_workflow.h"
 #include "common.h"
 
 namespace activecal {
@@ -68,6 +69,15 @@ std::shared_ptr<DesignResult> SelectPy(
   }
   const MeasurementType type =
       MeasurementTypeArg(measurement, false, "measurement");
+  DesignAlgorithm design_algorithm;
+  DesignCriterion design_criterion;
+  {
+    std::string error;
+    if (!ParseDesignAlgorithm(algorithm, &design_algorithm, &error) ||
+        !ParseDesignCriterion(criterion, &design_criterion, &error)) {
+      Fail(error);
+    }
+  }
 
   // The candidate poses: a lattice, sampled, or given.
   Eigen::MatrixXd pool_joints;
@@ -82,20 +92,18 @@ std::shared_ptr<DesignResult> SelectPy(
   // margins, as activecal_select --cell.
   const RobotModel pool_model =
       cell ? WithinJointMargins(*cell->checker, model) : model;
-  if (pool_kind == "lattice") {
-    JointLattice lattice;
-    std::string error;
-    if (!JointLattice::Create(pool_model, levels, &lattice, &error)) {
-      Fail("levels=" + std::to_string(levels) + ": " + error);
-    }
-    if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
-      Fail("levels=" + std::to_string(levels) + ": " + error);
-    }
-    for (const std::string& note : lattice.OneTurnNotes(model)) {
-      result->notes.push_back(note);
-    }
-    pool_joints = lattice.AllJointValues();
-  } else if (pool_kind == "array") {
+  // The drawn pools and the lattice, as activecal_select's --pool (not
+  // measurable: the module has no such pool).
+  SelectPool drawn = SelectPool::kLattice;
+  const bool given = pool_kind == "array";
+  if (!given && (!StringToSelectPool(pool_kind, &drawn) ||
+                 drawn == SelectPool::kMeasurable)) {
+    Fail(
+        "pool must be 'lattice', 'sobol', 'random' or an array of joint "
+        "values, got '" +
+        pool_kind + "'");
+  }
+  if (given) {
     pool_joints = MatrixArg(pool_obj, "pool", model.num_joints(), false);
     if (!pool_indices.is_none()) {
       labels = IntegerVector(pool_indices, "pool_indices");
@@ -109,14 +117,23 @@ std::shared_ptr<DesignResult> SelectPy(
         Fail("pool_indices: " + error);
       }
     }
-  } else {
-    JointSampling sampling;
-    if (!JointSamplingFromString(pool_kind, &sampling)) {
-      Fail(
-          "pool must be 'lattice', 'sobol', 'random' or an array of joint "
-          "values, got '" +
-          pool_kind + "'");
+  } else if (drawn == SelectPool::kLattice) {
+    JointLattice lattice;
+    std::string error;
+    if (!JointLattice::Create(pool_model, levels, &lattice, &error)) {
+      Fail("levels=" + std::to_string(levels) + ": " + error);
     }
+    if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
+      Fail("levels=" + std::to_string(levels) + ": " + error);
+    }
+    for (const std::string& note : lattice.OneTurnNotes(model)) {
+      result->notes.push_back(note);
+    }
+    pool_joints = lattice.AllJointValues();
+  } else {
+    const JointSampling sampling = drawn == SelectPool::kRandom
+                                       ? JointSampling::kRandom
+                                       : JointSampling::kSobol;
     // A pool too large for memory is refused up front (the alternative is
     // std::bad_alloc midway), by the library's check, as activecal_select.
     std::string error;
@@ -154,8 +171,8 @@ std::shared_ptr<DesignResult> SelectPy(
          "] (the pool size), got " + std::to_string(num_poses));
   }
   SelectDesignOptions options;
-  options.algorithm = algorithm;
-  options.criterion = criterion;
+  options.algorithm = design_algorithm;
+  options.criterion = design_criterion;
   options.num_poses = num_poses;
   options.restarts = restarts;
   options.seed = seed;
@@ -189,9 +206,7 @@ std::shared_ptr<DesignResult> SelectPy(
   pool_options.num_threads = num_threads;
   pool_options.auto_fix = auto_fix;
   // Single precision past the budget, as activecal_select --pool_storage.
-  pool_options.reads_float =
-      (algorithm == "fedorov" || algorithm == "approx") &&
-      criterion != "task_rms";
+  pool_options.reads_float = ReadsFloatPool(design_algorithm, design_criterion);
   if (!PoolStorageFromString(pool_storage, &pool_options.storage)) {
     Fail("pool_storage must be 'auto', 'double' or 'float', got '" +
          pool_storage + "'");
@@ -343,19 +358,11 @@ std::shared_ptr<DesignResult> SelectPy(
       result->joint_angles.row(k) = joints.row(tour.order[k]);
       result->pose_indices[k] = labels_before[tour.order[k]];
     }
-    nlohmann::json& t = result->cell_info["tour"];
-    t = {{"motion_time_before_s", tour.time_before_s},
-         {"motion_time_after_s", tour.time_after_s},
-         {"velocities", tour.velocities},
-         {"resolution_deg", 1.0},
-         {"blocked_moves", tour.blocked_moves.size()},
-         {"blocked", BlockedMovesJson(tour.blocked_moves, tour.blocked_reasons,
-                                      result->pose_indices)},
-         {"blocked_moves_before", tour.blocked_before}};
-    t.update(cell ? MovesCheckedJson(true, *cell)
-                  : MovesCheckedJson(false, CellSetup(), "no cell="));
-    const std::string note = AssumedVelocityNote(model, o.velocity_limits);
-    if (!note.empty()) t["velocity_note"] = note;
+    result->cell_info["tour"] =
+        TourJson(tour, 1.0, result->pose_indices,
+                 cell ? MovesCheckedJson(true, *cell)
+                      : MovesCheckedJson(false, CellSetup(), "no cell="),
+                 AssumedVelocityNote(model, o.velocity_limits));
   }
   if (cell) {
     // As activecal_select --cell's JSON.

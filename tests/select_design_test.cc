@@ -33,18 +33,11 @@ TEST(SelectDesignTest, BadOptionsGiveOneLineMessages) {
   SelectDesignOptions o;
   std::string error;
   EXPECT_TRUE(o.IsValid(&error)) << error;
-  o.algorithm = "simplex";
-  EXPECT_EQ(Invalid(o),
-            "algorithm must be one of eae, random, fedorov, detmax, greedy, "
-            "approx; got 'simplex'");
   o = SelectDesignOptions();
   o.restarts = -1;
   EXPECT_EQ(Invalid(o), "restarts must be >= 0, got -1");
   o = SelectDesignOptions();
-  o.criterion = "e";
-  EXPECT_EQ(Invalid(o), "criterion must be det (d), svd or task_rms, got 'e'");
-  o = SelectDesignOptions();
-  o.criterion = "task_rms";  // eae has no task version
+  o.criterion = DesignCriterion::kTaskRms;  // eae has no task version
   EXPECT_EQ(Invalid(o),
             "criterion=task_rms: algorithm must be fedorov, greedy or "
             "approx, got 'eae'");
@@ -59,16 +52,48 @@ TEST(SelectDesignTest, BadOptionsGiveOneLineMessages) {
   EXPECT_EQ(Invalid(o), "approx_tolerance: tolerance must be > 0, got 0");
   o.certificate = false;  // eae without a certificate does not
   EXPECT_TRUE(o.IsValid(&error)) << error;
-  for (const char* message : {"\n", "\r"}) {
-    o = SelectDesignOptions();
-    o.algorithm = "x";
-    EXPECT_EQ(Invalid(o).find(message), std::string::npos);
+}
+
+TEST(SelectDesignTest, AlgorithmAndCriterionNamesRoundTrip) {
+  for (DesignAlgorithm a :
+       {DesignAlgorithm::kEae, DesignAlgorithm::kRandom,
+        DesignAlgorithm::kFedorov, DesignAlgorithm::kDetmax,
+        DesignAlgorithm::kGreedy, DesignAlgorithm::kApprox}) {
+    DesignAlgorithm back = DesignAlgorithm::kEae;
+    ASSERT_TRUE(StringToDesignAlgorithm(DesignAlgorithmToString(a), &back));
+    EXPECT_EQ(back, a);
   }
+  EXPECT_STREQ(DesignAlgorithmToString(DesignAlgorithm::kDetmax), "detmax");
+  DesignAlgorithm a = DesignAlgorithm::kGreedy;
+  EXPECT_FALSE(StringToDesignAlgorithm("Fedorov", &a));
+  EXPECT_EQ(a, DesignAlgorithm::kGreedy);  // unchanged
+  std::string error;
+  EXPECT_FALSE(ParseDesignAlgorithm("simplex", &a, &error));
+  EXPECT_EQ(error,
+            "algorithm must be one of eae, random, fedorov, detmax, greedy, "
+            "approx; got 'simplex'");
+  for (DesignCriterion c : {DesignCriterion::kDet, DesignCriterion::kSvd,
+                            DesignCriterion::kTaskRms}) {
+    DesignCriterion back = DesignCriterion::kDet;
+    ASSERT_TRUE(StringToDesignCriterion(DesignCriterionToString(c), &back));
+    EXPECT_EQ(back, c);
+  }
+  DesignCriterion c = DesignCriterion::kSvd;
+  ASSERT_TRUE(StringToDesignCriterion("d", &c));  // the alias of det
+  EXPECT_EQ(c, DesignCriterion::kDet);
+  EXPECT_STREQ(DesignCriterionToString(c), "det");
+  EXPECT_FALSE(ParseDesignCriterion("e", &c, &error));
+  EXPECT_EQ(error, "criterion must be det (d), svd or task_rms, got 'e'");
+  EXPECT_TRUE(ReadsFloatPool(DesignAlgorithm::kFedorov, DesignCriterion::kDet));
+  EXPECT_TRUE(ReadsFloatPool(DesignAlgorithm::kApprox, DesignCriterion::kSvd));
+  EXPECT_FALSE(
+      ReadsFloatPool(DesignAlgorithm::kFedorov, DesignCriterion::kTaskRms));
+  EXPECT_FALSE(ReadsFloatPool(DesignAlgorithm::kEae, DesignCriterion::kDet));
 }
 
 TEST(SelectDesignTest, RestartsPolicyCrossesTheLargePoolThreshold) {
   SelectDesignOptions o;
-  o.algorithm = "fedorov";
+  o.algorithm = DesignAlgorithm::kFedorov;
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool), FedorovOptions().restarts);
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool + 1),
             kFedorovLargePoolRestarts);
@@ -78,18 +103,18 @@ TEST(SelectDesignTest, RestartsPolicyCrossesTheLargePoolThreshold) {
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool), 3);
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool + 1), 3);
   o.restarts = 0;
-  o.algorithm = "approx";
+  o.algorithm = DesignAlgorithm::kApprox;
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool + 1), 1);
-  o.algorithm = "eae";
+  o.algorithm = DesignAlgorithm::kEae;
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool + 1),
             ExchangeAddExchangeOptions().restarts);
-  o.algorithm = "detmax";
+  o.algorithm = DesignAlgorithm::kDetmax;
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool + 1),
             DetmaxOptions().restarts);
-  o.algorithm = "greedy";
+  o.algorithm = DesignAlgorithm::kGreedy;
   EXPECT_EQ(ResolvedRestarts(o, 10), 0);
-  o.algorithm = "fedorov";
-  o.criterion = "task_rms";
+  o.algorithm = DesignAlgorithm::kFedorov;
+  o.criterion = DesignCriterion::kTaskRms;
   EXPECT_EQ(ResolvedRestarts(o, kFedorovLargePool + 1),
             TaskExchangeOptions().restarts);
 }
@@ -108,7 +133,7 @@ class SelectDesignPoolTest : public ::testing::Test {
 
 TEST_F(SelectDesignPoolTest, FedorovEqualsTheAlgorithmCalledDirectly) {
   SelectDesignOptions o;
-  o.algorithm = "fedorov";
+  o.algorithm = DesignAlgorithm::kFedorov;
   o.num_poses = 12;
   o.seed = 7;
   SelectDesignSummary s;
@@ -162,8 +187,8 @@ TEST_F(SelectDesignPoolTest, EaeEqualsTheAlgorithmCalledDirectly) {
 
 TEST_F(SelectDesignPoolTest, TaskCriterionDispatchesToTaskExchange) {
   SelectDesignOptions o;
-  o.algorithm = "fedorov";
-  o.criterion = "task_rms";
+  o.algorithm = DesignAlgorithm::kFedorov;
+  o.criterion = DesignCriterion::kTaskRms;
   o.num_poses = 12;
   o.certificate = false;  // fedorov still solves the approximate design
   SelectDesignSummary s;
@@ -185,11 +210,11 @@ TEST_F(SelectDesignPoolTest, TaskCriterionDispatchesToTaskExchange) {
   EXPECT_EQ(s.selection.design, direct.design);
   EXPECT_DOUBLE_EQ(s.selection.task_criterion, direct.task_criterion);
 
-  o.algorithm = "approx";
+  o.algorithm = DesignAlgorithm::kApprox;
   ASSERT_TRUE(SelectDesign(pool_, W_, no_prior_, o, &s)) << s.message;
   EXPECT_EQ(s.selection.algorithm, "task approx (rounded)");
   EXPECT_EQ(s.restarts, 1);
-  o.criterion = "d";
+  o.criterion = DesignCriterion::kDet;
   ASSERT_TRUE(SelectDesign(pool_, W_, no_prior_, o, &s)) << s.message;
   EXPECT_EQ(s.selection.algorithm, "approx (rounded)");
   EXPECT_TRUE(s.with_approx);
@@ -197,13 +222,13 @@ TEST_F(SelectDesignPoolTest, TaskCriterionDispatchesToTaskExchange) {
 
 TEST_F(SelectDesignPoolTest, TargetAndFailures) {
   SelectDesignOptions o;
-  o.algorithm = "greedy";
+  o.algorithm = DesignAlgorithm::kGreedy;
   o.num_poses = 0;
   SelectDesignSummary s;
   EXPECT_FALSE(SelectDesign(pool_, W_, no_prior_, o, &s));
   EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
   EXPECT_EQ(s.message, "num_poses must be in [1, 729] (the pool size), got 0");
-  o.algorithm = "bogus";
+  o.restarts = -1;
   EXPECT_FALSE(SelectDesign(pool_, W_, no_prior_, o, &s));
   EXPECT_EQ(s.termination_type, TerminationType::kUserFailure);
 
@@ -217,8 +242,8 @@ TEST_F(SelectDesignPoolTest, TargetAndFailures) {
 
   // A target met: the size search, no num_poses needed.
   o = SelectDesignOptions();
-  o.algorithm = "greedy";
-  o.criterion = "task_rms";
+  o.algorithm = DesignAlgorithm::kGreedy;
+  o.criterion = DesignCriterion::kTaskRms;
   o.num_poses = 0;
   o.target_rms_m = 1.0;  // any design with enough poses
   ASSERT_TRUE(SelectDesign(pool_, W_, no_prior_, o, &s)) << s.message;

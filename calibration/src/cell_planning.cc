@@ -205,4 +205,21 @@ nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
   return list;
 }
 
+nlohmann::json TourJson(const TourSummary& tour, double resolution_deg,
+                        const std::vector<int64_t>& run,
+                        const nlohmann::json& moves_checked,
+                        const std::string& velocity_note) {
+  nlohmann::json t = {{"motion_time_before_s", tour.time_before_s},
+                      {"motion_time_after_s", tour.time_after_s},
+                      {"velocities", tour.velocities},
+                      {"resolution_deg", resolution_deg},
+                      {"blocked_moves", tour.blocked_moves.size()},
+                      {"blocked", BlockedMovesJson(tour.blocked_moves,
+                                                   tour.blocked_reasons, run)},
+                      {"blocked_moves_before", tour.blocked_before}};
+  t.update(moves_checked);
+  if (!velocity_note.empty()) t["velocity_note"] = velocity_note;
+  return t;
+}
+
 }  // namespace activecal

@@ -25,17 +25,11 @@ std::string Number(double x) {
   return buffer;
 }
 
-bool IsAlgorithm(const std::string& a) {
-  static const char* const kAlgorithms[] = {"eae",    "random", "fedorov",
-                                            "detmax", "greedy", "approx"};
-  return std::find(std::begin(kAlgorithms), std::end(kAlgorithms), a) !=
-         std::end(kAlgorithms);
-}
-
 // The approximate designs are solved for the starts (fedorov, approx) and
 // for the certificate.
 bool NeedsApproximate(const SelectDesignOptions& o) {
-  return o.certificate || o.algorithm == "fedorov" || o.algorithm == "approx";
+  return o.certificate || o.algorithm == DesignAlgorithm::kFedorov ||
+         o.algorithm == DesignAlgorithm::kApprox;
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -45,23 +39,99 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+const char* DesignAlgorithmToString(DesignAlgorithm algorithm) {
+  switch (algorithm) {
+    case DesignAlgorithm::kEae:
+      return "eae";
+    case DesignAlgorithm::kRandom:
+      return "random";
+    case DesignAlgorithm::kFedorov:
+      return "fedorov";
+    case DesignAlgorithm::kDetmax:
+      return "detmax";
+    case DesignAlgorithm::kGreedy:
+      return "greedy";
+    case DesignAlgorithm::kApprox:
+      return "approx";
+  }
+  return "unknown";
+}
+
+bool StringToDesignAlgorithm(std::string text, DesignAlgorithm* algorithm) {
+  for (DesignAlgorithm a :
+       {DesignAlgorithm::kEae, DesignAlgorithm::kRandom,
+        DesignAlgorithm::kFedorov, DesignAlgorithm::kDetmax,
+        DesignAlgorithm::kGreedy, DesignAlgorithm::kApprox}) {
+    if (text == DesignAlgorithmToString(a)) {
+      *algorithm = a;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ParseDesignAlgorithm(const std::string& text, DesignAlgorithm* algorithm,
+                          std::string* error) {
+  if (StringToDesignAlgorithm(text, algorithm)) return true;
+  if (error) {
+    *error =
+        "algorithm must be one of eae, random, fedorov, detmax, greedy, "
+        "approx; got '" +
+        text + "'";
+  }
+  return false;
+}
+
+const char* DesignCriterionToString(DesignCriterion criterion) {
+  switch (criterion) {
+    case DesignCriterion::kDet:
+      return "det";
+    case DesignCriterion::kSvd:
+      return "svd";
+    case DesignCriterion::kTaskRms:
+      return "task_rms";
+  }
+  return "unknown";
+}
+
+bool StringToDesignCriterion(std::string text, DesignCriterion* criterion) {
+  if (text == "d") text = "det";
+  for (DesignCriterion c : {DesignCriterion::kDet, DesignCriterion::kSvd,
+                            DesignCriterion::kTaskRms}) {
+    if (text == DesignCriterionToString(c)) {
+      *criterion = c;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ParseDesignCriterion(const std::string& text, DesignCriterion* criterion,
+                          std::string* error) {
+  if (StringToDesignCriterion(text, criterion)) return true;
+  if (error) {
+    *error = "criterion must be det (d), svd or task_rms, got '" + text + "'";
+  }
+  return false;
+}
+
+bool ReadsFloatPool(DesignAlgorithm algorithm, DesignCriterion criterion) {
+  return (algorithm == DesignAlgorithm::kFedorov ||
+          algorithm == DesignAlgorithm::kApprox) &&
+         criterion != DesignCriterion::kTaskRms;
+}
+
 bool SelectDesignOptions::IsValid(std::string* error) const {
   std::string e;
   const bool is_task = task();
-  if (!IsAlgorithm(algorithm)) {
-    e = "algorithm must be one of eae, random, fedorov, detmax, greedy, "
-        "approx; got '" +
-        algorithm + "'";
-  } else if (restarts < 0) {
+  if (restarts < 0) {
     e = "restarts must be >= 0, got " + std::to_string(restarts);
-  } else if (!is_task && criterion != "det" && criterion != "d" &&
-             criterion != "svd") {
-    e = "criterion must be det (d), svd or task_rms, got '" + criterion + "'";
-  } else if (is_task && algorithm != "fedorov" && algorithm != "greedy" &&
-             algorithm != "approx") {
+  } else if (is_task && algorithm != DesignAlgorithm::kFedorov &&
+             algorithm != DesignAlgorithm::kGreedy &&
+             algorithm != DesignAlgorithm::kApprox) {
     e = "criterion=task_rms: algorithm must be fedorov, greedy or approx, "
         "got '" +
-        algorithm + "'";
+        std::string(DesignAlgorithmToString(algorithm)) + "'";
   } else if (!(noise_m > 0) || !std::isfinite(noise_m)) {
     e = "noise_m must be > 0 (m), got " + Number(noise_m);
   } else if (target_rms_m &&
@@ -85,13 +155,13 @@ bool SelectDesignOptions::IsValid(std::string* error) const {
 }
 
 int ResolvedRestarts(const SelectDesignOptions& options, int64_t pool_size) {
-  const std::string& a = options.algorithm;
-  if (a == "approx") return 1;
-  if (a == "random" || a == "greedy") return 0;
+  const DesignAlgorithm a = options.algorithm;
+  if (a == DesignAlgorithm::kApprox) return 1;
+  if (a == DesignAlgorithm::kRandom || a == DesignAlgorithm::kGreedy) return 0;
   if (options.restarts > 0) return options.restarts;
   if (options.task()) return TaskExchangeOptions().restarts;
-  if (a == "eae") return ExchangeAddExchangeOptions().restarts;
-  if (a == "detmax") return DetmaxOptions().restarts;
+  if (a == DesignAlgorithm::kEae) return ExchangeAddExchangeOptions().restarts;
+  if (a == DesignAlgorithm::kDetmax) return DetmaxOptions().restarts;
   return pool_size > kFedorovLargePool ? kFedorovLargePoolRestarts
                                        : FedorovOptions().restarts;
 }
@@ -171,12 +241,12 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
     s.approximate_seconds = s.task_approx.seconds;
   }
 
-  const std::string& algorithm = options.algorithm;
+  const DesignAlgorithm algorithm = options.algorithm;
   const int restarts = s.restarts;
   // Designs num_poses poses by the chosen criterion and algorithm.
   auto design_of_size = [&](int num_poses, SelectionSummary* out) {
     if (task) {
-      if (algorithm == "greedy") {
+      if (algorithm == DesignAlgorithm::kGreedy) {
         return TaskGreedy(pool, W, prior, {}, num_poses, options.num_threads,
                           out);
       }
@@ -186,55 +256,63 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
       o.seed = options.seed;
       o.num_threads = options.num_threads;
       o.progress = options.restarts_progress;
-      if (algorithm == "approx") o.max_swaps = 0;  // only the rounding
+      if (algorithm == DesignAlgorithm::kApprox) o.max_swaps = 0;  // rounding
       const bool ok =
           TaskExchange(pool, W, prior, {}, o,
                        s.with_task_approx ? &s.task_approx : nullptr, out);
-      if (algorithm == "approx") out->algorithm = "task approx (rounded)";
+      if (algorithm == DesignAlgorithm::kApprox) {
+        out->algorithm = "task approx (rounded)";
+      }
       return ok;
     }
-    if (algorithm == "eae") {
-      ExchangeAddExchangeOptions o;
-      o.num_poses = num_poses;
-      o.initial_poses = std::min(options.initial_poses, num_poses);
-      o.restarts = restarts;
-      o.seed = options.seed;
-      o.num_threads = options.num_threads;
-      o.progress = options.restarts_progress;
-      o.criterion = options.criterion == "svd"
-                        ? SelectionCriterion::kEigenvalueOi
-                        : SelectionCriterion::kDeterminantUpdate;
-      return ExchangeAddExchange(pool, {}, o, out);
-    }
-    if (algorithm == "random") {
-      RandomDesignOptions o;
-      o.num_poses = num_poses;
-      o.num_designs = options.random_designs;
-      o.seed = options.seed;
-      o.num_threads = options.num_threads;
-      return SelectRandomDesigns(pool, {}, o, out);
-    }
-    if (algorithm == "fedorov" || algorithm == "approx") {
-      FedorovOptions o;
-      o.num_poses = num_poses;
-      o.restarts = restarts;
-      o.seed = options.seed;
-      o.num_threads = options.num_threads;
-      o.progress = options.restarts_progress;
-      o.polish_pool_size = options.polish_pool_size;
-      if (algorithm == "approx") o.max_swaps = 0;  // only the rounding
-      const bool ok = FedorovExchange(pool, {}, o, &s.approx, out);
-      if (algorithm == "approx") out->algorithm = "approx (rounded)";
-      return ok;
-    }
-    if (algorithm == "detmax") {
-      DetmaxOptions o;
-      o.num_poses = num_poses;
-      o.restarts = restarts;
-      o.seed = options.seed;
-      o.num_threads = options.num_threads;
-      o.progress = options.restarts_progress;
-      return Detmax(pool, {}, o, out);
+    switch (algorithm) {
+      case DesignAlgorithm::kEae: {
+        ExchangeAddExchangeOptions o;
+        o.num_poses = num_poses;
+        o.initial_poses = std::min(options.initial_poses, num_poses);
+        o.restarts = restarts;
+        o.seed = options.seed;
+        o.num_threads = options.num_threads;
+        o.progress = options.restarts_progress;
+        o.criterion = options.criterion == DesignCriterion::kSvd
+                          ? SelectionCriterion::kEigenvalueOi
+                          : SelectionCriterion::kDeterminantUpdate;
+        return ExchangeAddExchange(pool, {}, o, out);
+      }
+      case DesignAlgorithm::kRandom: {
+        RandomDesignOptions o;
+        o.num_poses = num_poses;
+        o.num_designs = options.random_designs;
+        o.seed = options.seed;
+        o.num_threads = options.num_threads;
+        return SelectRandomDesigns(pool, {}, o, out);
+      }
+      case DesignAlgorithm::kFedorov:
+      case DesignAlgorithm::kApprox: {
+        const bool approx = algorithm == DesignAlgorithm::kApprox;
+        FedorovOptions o;
+        o.num_poses = num_poses;
+        o.restarts = restarts;
+        o.seed = options.seed;
+        o.num_threads = options.num_threads;
+        o.progress = options.restarts_progress;
+        o.polish_pool_size = options.polish_pool_size;
+        if (approx) o.max_swaps = 0;  // only the rounding
+        const bool ok = FedorovExchange(pool, {}, o, &s.approx, out);
+        if (approx) out->algorithm = "approx (rounded)";
+        return ok;
+      }
+      case DesignAlgorithm::kDetmax: {
+        DetmaxOptions o;
+        o.num_poses = num_poses;
+        o.restarts = restarts;
+        o.seed = options.seed;
+        o.num_threads = options.num_threads;
+        o.progress = options.restarts_progress;
+        return Detmax(pool, {}, o, out);
+      }
+      case DesignAlgorithm::kGreedy:
+        break;
     }
     GreedyOptions o;
     o.num_poses = num_poses;

@@ -31,6 +31,7 @@
 #include "activecal/cell/cell_file.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/cell/pool_filter.h"
+#include "activecal/cell/tour.h"
 #include "activecal/core/robot_model.h"
 
 namespace activecal {
@@ -123,6 +124,16 @@ std::string AssumedVelocityNote(const RobotModel& model,
 nlohmann::json BlockedMovesJson(const std::vector<int>& blocked_moves,
                                 const std::vector<std::string>& reasons,
                                 const std::vector<int64_t>& run);
+
+// A tour as the JSON's `tour`: motion_time_before_s, motion_time_after_s,
+// velocities, resolution_deg, blocked_moves (their count), blocked
+// (BlockedMovesJson over `run`), blocked_moves_before, then the entries of
+// `moves_checked` (MovesCheckedJson) and, when not empty, velocity_note
+// (AssumedVelocityNote).
+nlohmann::json TourJson(const TourSummary& tour, double resolution_deg,
+                        const std::vector<int64_t>& run,
+                        const nlohmann::json& moves_checked,
+                        const std::string& velocity_note);
 
 }  // namespace activecal
 

@@ -3,11 +3,12 @@
 
 // The whole design step of activecal_select on a pool already built: the
 // approximate design (for the starts and the certificate), the algorithm
-// chosen by name and criterion, the search for the fewest poses meeting a
-// target, the task criterion of the design and its certificate.
+// chosen (DesignAlgorithm) and the criterion (DesignCriterion), the search for
+// the fewest poses meeting a target, the task criterion of the design and its
+// certificate.
 //
 //   SelectDesignOptions options;
-//   options.algorithm = "fedorov";
+//   options.algorithm = DesignAlgorithm::kFedorov;
 //   options.num_poses = 30;
 //   SelectDesignSummary summary;
 //   if (!SelectDesign(pool, TaskMatrix(pool), RowMatrixXd(0, p), options,
@@ -39,14 +40,51 @@ namespace activecal {
 inline constexpr int64_t kFedorovLargePool = 200000;
 inline constexpr int kFedorovLargePoolRestarts = 8;
 
+// The design algorithm: the paper's exchange-add-exchange, the best of
+// random designs, Fedorov's exchange, DETMAX, the greedy design, or the
+// approximate design rounded to its num_poses heaviest poses.
+enum class DesignAlgorithm {
+  kEae,
+  kRandom,
+  kFedorov,
+  kDetmax,
+  kGreedy,
+  kApprox
+};
+
+// "eae", "random", "fedorov", "detmax", "greedy", "approx".
+const char* DesignAlgorithmToString(DesignAlgorithm algorithm);
+// The inverse of DesignAlgorithmToString; false on any other text.
+bool StringToDesignAlgorithm(std::string text, DesignAlgorithm* algorithm);
+// StringToDesignAlgorithm, or false with *error "algorithm must be one of
+// eae, random, fedorov, detmax, greedy, approx; got '<text>'" (the program
+// prefixes "--").
+bool ParseDesignAlgorithm(const std::string& text, DesignAlgorithm* algorithm,
+                          std::string* error);
+
+// The design criterion: D-optimal (det); D-optimal with eae scoring by SVD
+// (svd); the least predicted RMS position error over the task (task_rms).
+enum class DesignCriterion { kDet, kSvd, kTaskRms };
+
+// "det", "svd", "task_rms".
+const char* DesignCriterionToString(DesignCriterion criterion);
+// The inverse of DesignCriterionToString, with "d" for kDet too; false on
+// any other text.
+bool StringToDesignCriterion(std::string text, DesignCriterion* criterion);
+// StringToDesignCriterion, or false with *error "criterion must be det (d),
+// svd or task_rms, got '<text>'".
+bool ParseDesignCriterion(const std::string& text, DesignCriterion* criterion,
+                          std::string* error);
+
+// Whether the algorithm reads a pool stored in single precision
+// (SelectionPoolOptions::reads_float): fedorov or approx with a D
+// criterion.
+bool ReadsFloatPool(DesignAlgorithm algorithm, DesignCriterion criterion);
+
 struct SelectDesignOptions {
-  // eae, random, fedorov, detmax, greedy or approx (the approximate design
-  // rounded to its num_poses heaviest poses). With criterion task_rms:
-  // fedorov, greedy or approx.
-  std::string algorithm = "eae";
-  // det (or d): D-optimal; svd: D-optimal, eae scoring by SVD; task_rms:
-  // least predicted RMS position error over the task (W).
-  std::string criterion = "det";
+  // With criterion kTaskRms: kFedorov, kGreedy or kApprox.
+  DesignAlgorithm algorithm = DesignAlgorithm::kEae;
+  DesignCriterion criterion = DesignCriterion::kDet;
   int num_poses = 30;  // ignored when target_rms_m is set
   // eae, fedorov, detmax, task fedorov: restarts; 0: the default policy
   // (ResolvedRestarts).
@@ -70,7 +108,7 @@ struct SelectDesignOptions {
   ProgressCallback approximate_progress;  // approximate D design rounds
   ProgressCallback restarts_progress;     // restarts of the algorithm
 
-  bool task() const { return criterion == "task_rms"; }
+  bool task() const { return criterion == DesignCriterion::kTaskRms; }
   // One-line messages naming the options (the program prefixes "--").
   bool IsValid(std::string* error) const;
 };
@@ -85,9 +123,9 @@ struct SelectDesignSummary {
   // USER_FAILURE: bad options; FAILURE: message says which step failed.
   TerminationType termination_type = TerminationType::kFailure;
   std::string message;
-  std::string algorithm;  // as run ("eae", ...)
-  bool task = false;      // the task criterion
-  int restarts = 0;       // ResolvedRestarts
+  DesignAlgorithm algorithm = DesignAlgorithm::kEae;  // as run
+  bool task = false;                                  // the task criterion
+  int restarts = 0;                                   // ResolvedRestarts
   // The design: pool indices, log det, task_criterion (prior included),
   // certificate.
   SelectionSummary selection;

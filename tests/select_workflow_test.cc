@@ -1,0 +1,142 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
+#include "activecal/calibration/select_workflow.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/core/puma560.h"
+
+namespace activecal {
+namespace {
+
+int CountLines(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(SelectWorkflowTest, PoolNamesRoundTrip) {
+  for (SelectPool p : {SelectPool::kLattice, SelectPool::kSobol,
+                       SelectPool::kRandom, SelectPool::kMeasurable}) {
+    SelectPool back = SelectPool::kCsv;
+    ASSERT_TRUE(StringToSelectPool(SelectPoolToString(p), &back));
+    EXPECT_EQ(back, p);
+  }
+  SelectPool p = SelectPool::kSobol;
+  EXPECT_FALSE(StringToSelectPool("csv", &p));  // a CSV pool has a path
+  EXPECT_FALSE(StringToSelectPool("halton", &p));
+  EXPECT_EQ(p, SelectPool::kSobol);
+}
+
+TEST(SelectWorkflowTest, LatticeDesignWithItsOutputs) {
+  const RobotModel model = Puma560PaperModel();
+  SelectOptions o;
+  o.levels = 3;
+  o.design.algorithm = DesignAlgorithm::kGreedy;
+  o.design.num_poses = 12;
+  int stages = 0;
+  o.progress = [&stages](const std::string&) {
+    ++stages;
+    return ProgressCallback();
+  };
+  SelectSummary s;
+  ASSERT_TRUE(Select(model, o, &s)) << s.message;
+  EXPECT_TRUE(s.IsSolutionUsable());
+  EXPECT_EQ(s.pool_joints.rows(), 729);
+  ASSERT_EQ(s.design.selection.design.size(), 12u);
+  EXPECT_EQ(s.chosen.joints.rows(), 12);
+  EXPECT_EQ(CountLines(s.poses_csv), 13);  // the header and 12 poses
+  // The table: its header, then one line of levels per pose.
+  EXPECT_NE(s.report.find("  #      index    levels (joint 1..n)\n"),
+            std::string::npos)
+      << s.report;
+  EXPECT_NE(s.report.find("predicted task RMS"), std::string::npos);
+  EXPECT_EQ(s.json["pool"], "lattice");
+  EXPECT_EQ(s.json["levels"], 3);
+  EXPECT_EQ(s.json["num_poses"], 12);
+  EXPECT_EQ(s.json["criterion"], "d");
+  EXPECT_EQ(s.json["measurement"], "position");
+  EXPECT_EQ(s.json["pose_indices"].size(), 12u);
+  EXPECT_FALSE(s.json.contains("cell"));
+  EXPECT_FALSE(s.json.contains("tour"));
+  EXPECT_TRUE(s.curve_csv.empty());  // no target
+  EXPECT_EQ(s.ResultLine("prog").rfind("prog: 12 poses of 729 (greedy), ", 0),
+            0u)
+      << s.ResultLine("prog");
+  EXPECT_GE(stages, 1);  // at least the Jacobians
+
+  // A target: the curve, the JSON's curve.
+  o.design.criterion = DesignCriterion::kTaskRms;
+  o.design.target_rms_m = 1.0;
+  o.order_shortest = true;  // no cell: the moves are not checked
+  ASSERT_TRUE(Select(model, o, &s)) << s.message;
+  EXPECT_EQ(s.curve_csv.rfind("num_poses,predicted_task_rms_m\n", 0), 0u);
+  EXPECT_TRUE(s.json.contains("predicted_task_rms_by_size_m"));
+  EXPECT_EQ(s.json["tour"]["moves_checked"], false);
+  EXPECT_EQ(s.json["tour"]["moves_not_checked"], "no --cell");
+}
+
+TEST(SelectWorkflowTest, FailuresNameTheFlags) {
+  const RobotModel model = Puma560PaperModel();
+  SelectOptions o;
+  o.levels = 3;
+  o.design.num_poses = 1000;
+  SelectSummary s;
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.message,
+            "--num_poses must be in [1, 729] (the pool size), got 1000");
+  o.design.num_poses = 12;
+  o.levels = 1;
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.message.rfind("--levels=1: ", 0), 0u) << s.message;
+  o = SelectOptions();
+  o.pool = SelectPool::kMeasurable;
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.message,
+            "--pool=measurable needs --cell (the device and the targets to "
+            "sample for)");
+  o = SelectOptions();
+  o.pool = SelectPool::kCsv;
+  o.pool_csv = "/nonexistent/pool.csv";
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.message.rfind("--pool_csv: ", 0), 0u) << s.message;
+  o = SelectOptions();
+  o.levels = 3;
+  o.design.criterion = DesignCriterion::kTaskRms;  // eae has no task version
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.message,
+            "--criterion=task_rms: --algorithm must be fedorov, greedy or "
+            "approx, got 'eae'");
+  EXPECT_EQ(s.termination_type, TerminationType::kFailure);
+}
+
+TEST(SelectWorkflowTest, TourJsonNamesTheBlockedMovesByTheRun) {
+  TourSummary tour;
+  tour.time_before_s = 12.5;
+  tour.time_after_s = 8.25;
+  tour.velocities = {1.0, 2.0};
+  tour.blocked_moves = {1};
+  tour.blocked_reasons = {"obstacle table (wrist_3_link)"};
+  tour.blocked_before = 3;
+  const nlohmann::json checked = {{"moves_checked", true}};
+  nlohmann::json t = TourJson(tour, 2.0, {40, 41, 42}, checked, "");
+  EXPECT_EQ(t["motion_time_before_s"], 12.5);
+  EXPECT_EQ(t["motion_time_after_s"], 8.25);
+  EXPECT_EQ(t["resolution_deg"], 2.0);
+  EXPECT_EQ(t["blocked_moves"], 1);
+  EXPECT_EQ(t["blocked_moves_before"], 3);
+  EXPECT_EQ(t["moves_checked"], true);
+  ASSERT_EQ(t["blocked"].size(), 1u);
+  EXPECT_EQ(t["blocked"][0]["from_pose_index"], 41);
+  EXPECT_EQ(t["blocked"][0]["to_pose_index"], 42);
+  EXPECT_EQ(t["blocked"][0]["reason"], "obstacle table (wrist_3_link)");
+  EXPECT_FALSE(t.contains("velocity_note"));
+  t = TourJson(tour, 1.0, {40, 41, 42}, checked, "joints 1 have no limit");
+  EXPECT_EQ(t["velocity_note"], "joints 1 have no limit");
+}
+
+}  // namespace
+}  // namespace activecal
