@@ -409,7 +409,7 @@ std::string CalibrationResultText(const CalibrationSummary& s,
         s.options.identification.rotation_weight_m_per_rad);
   }
   // The baseline, validation and warning lines of the brief report.
-  text += s.BriefReport().substr(fit.size());
+  text += s.FitReportTail();
   if (after.num_poses > 0 && s.have_baseline) {
     const PoseErrorRms before = SplitOf(s, s.baseline.parameters, s.training);
     text += Format(
@@ -474,23 +474,51 @@ std::string CalibrationResultLine(const CalibrationSummary& s) {
   return line;
 }
 
+std::string OptionsErrorText(const std::string& message,
+                             const CalibrationTextOptions& o) {
+  const std::string prefix = Option(o, "");
+  std::string text = message;
+  for (const char* name :
+       {"validation_fraction", "prior_std_m", "prior_std_rad",
+        "model_selection", "folds", "learned_residual"}) {
+    PrefixWord(name, prefix, &text);
+  }
+  if (message.rfind("learned_residual with ", 0) == 0) {
+    for (const char* name : {"compliance", "harmonics"}) {
+      PrefixWord(name, prefix, &text);
+    }
+  }
+  return text;
+}
+
+std::string LearnedResidualText(const CalibrationSummary& s) {
+  if (s.options.learned_residual.mode == LearnedResidualMode::kOff) return "";
+  std::string text = s.learned.BriefReport();
+  if (s.learned_validation_count > 0) {
+    text += "  validation (" + std::to_string(s.learned_validation_count) +
+            " held-out position measurements): RMS " +
+            FormatNumber("%.4f", s.learned_validation_rms_parametric_m * 1e3) +
+            " mm parametric, " +
+            FormatNumber("%.4f", s.learned_validation_rms_hybrid_m * 1e3) +
+            " mm with the correction\n";
+  }
+  return text;
+}
+
 std::string CalibrationFailureText(const CalibrationSummary& s,
                                    const CalibrationTextOptions& o) {
   const std::string prefix = Option(o, "");
   std::string text = s.message;
   switch (s.stage) {
     case CalibrationStage::kOptions:
-      for (const char* name : {"validation_fraction", "prior_std_m",
-                               "prior_std_rad", "model_selection", "folds"}) {
-        PrefixWord(name, prefix, &text);
-      }
-      return text;
+      return OptionsErrorText(text, o);
     case CalibrationStage::kRegistration:
       return text + " (or give the base in a " + prefix +
              "frames file and pass " + Option(o, "register_base", false) + ")";
     case CalibrationStage::kParameterSet:
     case CalibrationStage::kBaseline:
     case CalibrationStage::kModelSelection:
+    case CalibrationStage::kLearnedResidual:
       return prefix + text;
     case CalibrationStage::kIdentifiability:
       if (text.rfind("measurements: ", 0) == 0) return prefix + text;
