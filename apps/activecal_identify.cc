@@ -198,30 +198,6 @@ std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
   return measurements;
 }
 
-// The curve of model selection: parameters kept -> training and held-out
-// RMS (mm), the kept count marked.
-void PlotSelection(const CalibrationSummary& summary) {
-  std::vector<std::vector<double>> rows;
-  for (const ModelSelectionPoint& pt : summary.selection.curve) {
-    if (!pt.ok) continue;
-    rows.push_back({static_cast<double>(pt.num_kept), pt.training_rms_m * 1e3,
-                    pt.held_out_rms_m * 1e3});
-  }
-  const std::string kept = std::to_string(summary.selection.best_num_kept);
-  app::PlotOrNote(
-      app::GnuplotData("curve", rows) + "set title 'Model selection (" +
-          ModelSelectionMethodToString(summary.model_selection) +
-          "): RMS against parameters kept'\n"
-          "set xlabel 'free parameters kept'\nset ylabel 'RMS error (mm)'\n"
-          "set logscale y\nset grid\nset key top right\n"
-          "set arrow from " +
-          kept + ", graph 0 to " + kept +
-          ", graph 1 nohead dt 2 lc rgb 'gray40'\n"
-          "plot $curve using 1:2 with linespoints pt 7 title 'training', "
-          "$curve using 1:3 with linespoints pt 5 title 'held out'\n",
-      FLAGS_selection_plot, "selection_plot");
-}
-
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
@@ -253,15 +229,11 @@ int Main() {
                      &options.selection_ranking);
   options.num_folds = FLAGS_folds;
   options.num_threads = FLAGS_threads;
-  TermFamilyOptions terms;
-  terms.compliance = FLAGS_compliance;
-  terms.harmonics = FLAGS_harmonics;
-  terms.payload_kg = FLAGS_payload_kg;
-  terms.payload_com_m = FLAGS_payload_com_m;
-  terms.gravity = FLAGS_gravity;
-  terms.robot_path = FLAGS_robot;
-  terms.urdf_robot = urdf_robot;
-  terms.chain = {FLAGS_base_link, FLAGS_tip_link};
+  const TermFamilyOptions terms{
+      FLAGS_compliance, FLAGS_harmonics,
+      FLAGS_payload_kg, FLAGS_payload_com_m,
+      FLAGS_gravity,    FLAGS_robot,
+      urdf_robot,       {FLAGS_base_link, FLAGS_tip_link}};
   std::string error;
   if (!MakeTermFamilies(model, terms, OptionSpelling::kFlags,
                         &options.term_families, &error)) {
@@ -304,21 +276,13 @@ int Main() {
     options.selection_validation =
         app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
   }
-  CalibrationOutputOptions out;
-  out.model_out = FLAGS_model_out;
-  out.urdf_out = FLAGS_urdf_out;
-  out.ur_calibration_out = FLAGS_ur_calibration_out;
-  out.frames_out = FLAGS_frames_out;
-  out.json_out = FLAGS_json_out;
-  for (const auto& [path, flag] :
-       {std::pair<std::string, std::string>{FLAGS_model_out, "model_out"},
-        {FLAGS_urdf_out, "urdf_out"},
-        {FLAGS_frames_out, "frames_out"},
-        {FLAGS_ur_calibration_out, "ur_calibration_out"},
-        {FLAGS_json_out, "json_out"},
-        {FLAGS_report_html, "report_html"}}) {
+  CalibrationOutputOptions out{FLAGS_model_out, FLAGS_urdf_out,
+                               FLAGS_ur_calibration_out, FLAGS_frames_out,
+                               FLAGS_json_out};
+  for (const auto& [path, flag] : out.Paths()) {
     app::CheckWritableOrDie(path, flag);
   }
+  app::CheckWritableOrDie(FLAGS_report_html, "report_html");
 
   CalibrationSummary summary;
   {
@@ -337,7 +301,9 @@ int Main() {
   if (!FLAGS_selection_plot.empty() &&
       summary.Passed(CalibrationStage::kModelSelection) &&
       summary.model_selection != ModelSelectionMethod::kNone) {
-    PlotSelection(summary);
+    app::PlotOrNote(app::GnuplotData("curve", SelectionCurveRows(summary)) +
+                        SelectionCurveGnuplot(summary),
+                    FLAGS_selection_plot, "selection_plot");
   }
   // The columns read (no file read, no column map, when simulated).
   const std::optional<ColumnMap> map =
@@ -369,12 +335,8 @@ int Main() {
   out.text = text;
   if (urdf_robot) out.urdf.source_path = FLAGS_robot;
   out.urdf.chain = {FLAGS_base_link, FLAGS_tip_link};
-  out.json.simulated = simulated;
-  out.json.measurements = FLAGS_measurements;
-  out.json.validation = FLAGS_validation;
-  out.json.true_parameters = robot.true_parameters;
-  out.json.simulated_poses = simulated_poses;
-  out.json.noise_m = FLAGS_noise_m;
+  out.json = {FLAGS_measurements, FLAGS_validation, robot.true_parameters,
+              simulated_poses,    FLAGS_noise_m,    simulated};
   CalibrationOutputs outputs;
   const bool made = MakeCalibrationOutputs(summary, all, out, &outputs, &error);
   std::printf("%s", outputs.notes_before.c_str());

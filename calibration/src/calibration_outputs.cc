@@ -9,6 +9,20 @@
 
 namespace activecal {
 
+std::vector<std::pair<std::string, std::string>>
+CalibrationOutputOptions::Paths() const {
+  std::vector<std::pair<std::string, std::string>> paths;
+  for (const auto& [path, option] :
+       {std::pair<std::string, std::string>{model_out, "model_out"},
+        {urdf_out, "urdf_out"},
+        {frames_out, "frames_out"},
+        {ur_calibration_out, "ur_calibration_out"},
+        {json_out, "json_out"}}) {
+    if (!path.empty()) paths.push_back({path, option});
+  }
+  return paths;
+}
+
 bool MakeCalibrationOutputs(const CalibrationSummary& summary,
                             const std::vector<Measurement>& check,
                             const CalibrationOutputOptions& o,

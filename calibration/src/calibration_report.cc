@@ -497,6 +497,31 @@ std::string LearnedResidualText(const CalibrationSummary& s) {
   return text;
 }
 
+std::vector<std::vector<double>> SelectionCurveRows(
+    const CalibrationSummary& s) {
+  std::vector<std::vector<double>> rows;
+  for (const ModelSelectionPoint& pt : s.selection.curve) {
+    if (!pt.ok) continue;
+    rows.push_back({static_cast<double>(pt.num_kept), pt.training_rms_m * 1e3,
+                    pt.held_out_rms_m * 1e3});
+  }
+  return rows;
+}
+
+std::string SelectionCurveGnuplot(const CalibrationSummary& s) {
+  const std::string kept = N(s.selection.best_num_kept);
+  return std::string("set title 'Model selection (") +
+         ModelSelectionMethodToString(s.model_selection) +
+         "): RMS against parameters kept'\n"
+         "set xlabel 'free parameters kept'\nset ylabel 'RMS error (mm)'\n"
+         "set logscale y\nset grid\nset key top right\n"
+         "set arrow from " +
+         kept + ", graph 0 to " + kept +
+         ", graph 1 nohead dt 2 lc rgb 'gray40'\n"
+         "plot $curve using 1:2 with linespoints pt 7 title 'training', "
+         "$curve using 1:3 with linespoints pt 5 title 'held out'\n";
+}
+
 std::string CalibrationFailureText(const CalibrationSummary& s,
                                    const CalibrationTextOptions& o) {
   const std::string prefix = Option(o, "");

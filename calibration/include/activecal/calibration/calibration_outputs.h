@@ -21,6 +21,7 @@
 #define ACTIVECAL_CALIBRATION_CALIBRATION_OUTPUTS_H_
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "activecal/calibration/calibrate.h"
@@ -48,6 +49,10 @@ struct CalibrationOutputOptions {
   // robot) and its chain; output_path is set from urdf_out.
   CalibratedUrdfOptions urdf;
   CalibrationJsonOptions json;
+
+  // Each path set and its option ("model_out", "urdf_out", "frames_out",
+  // "ur_calibration_out", "json_out"), to check before the work.
+  std::vector<std::pair<std::string, std::string>> Paths() const;
 };
 
 struct CalibrationOutputs {

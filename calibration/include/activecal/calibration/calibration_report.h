@@ -112,6 +112,15 @@ std::string OptionsErrorText(const std::string& message,
 // mm with the correction"; empty for kOff.
 std::string LearnedResidualText(const CalibrationSummary& summary);
 
+// The model selection's curve for a plot: (parameters kept, training RMS
+// mm, held-out RMS mm) of each point fitted.
+std::vector<std::vector<double>> SelectionCurveRows(
+    const CalibrationSummary& summary);
+// The gnuplot commands drawing the data block $curve (SelectionCurveRows):
+// the title naming the method, both RMS against the count, the count kept
+// marked by a dashed line.
+std::string SelectionCurveGnuplot(const CalibrationSummary& summary);
+
 struct CalibrationJsonOptions {
   std::string measurements = "simulated";  // the input's name
   std::string validation;  // the selection_validation file's name, if any
