@@ -278,5 +278,42 @@ TEST(CalibrationWorkflowTest, OutputsMadeAndCheckedBeforeWriting) {
   EXPECT_TRUE(StartsWith(error, "--ur_calibration_out: ")) << error;
 }
 
+TEST(CalibrationWorkflowTest, SelectionCurvePlotAndOutputPaths) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  options.parameter_set = ParameterSet::kFull;
+  options.model_selection = ModelSelectionMethod::kCrossValidation;
+  options.num_threads = 2;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  const std::vector<std::vector<double>> rows = SelectionCurveRows(summary);
+  ASSERT_FALSE(rows.empty());
+  const ModelSelectionPoint& first = summary.selection.curve[0];
+  ASSERT_TRUE(first.ok);
+  EXPECT_EQ(rows[0], (std::vector<double>{static_cast<double>(first.num_kept),
+                                          first.training_rms_m * 1e3,
+                                          first.held_out_rms_m * 1e3}));
+  const std::string kept = std::to_string(summary.selection.best_num_kept);
+  const std::string script = SelectionCurveGnuplot(summary);
+  EXPECT_TRUE(StartsWith(script,
+                         "set title 'Model selection (cv): RMS "
+                         "against parameters kept'\n"))
+      << script;
+  EXPECT_NE(script.find("set arrow from " + kept + ", graph 0 to " + kept),
+            std::string::npos)
+      << script;
+
+  CalibrationOutputOptions o;
+  o.json_out = "r.json";
+  o.model_out = "m.yaml";
+  o.ur_calibration_out = "u.yaml";
+  using Paths = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(o.Paths(), (Paths{{"m.yaml", "model_out"},
+                              {"u.yaml", "ur_calibration_out"},
+                              {"r.json", "json_out"}}));
+}
+
 }  // namespace
 }  // namespace activecal
