@@ -11,21 +11,16 @@
 
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "activecal/calibration/calibrate.h"
-#include "activecal/calibration/calibration_export.h"
+#include "activecal/calibration/calibration_notes.h"
+#include "activecal/calibration/calibration_outputs.h"
 #include "activecal/calibration/calibration_report.h"
+#include "activecal/calibration/calibration_setup.h"
 #include "activecal/calibration/defaults.h"
 #include "activecal/core/simulation.h"
-#include "activecal/estimation/evaluation.h"
-#include "activecal/estimation/learned_residual.h"
-#include "activecal/estimation/orientation_check.h"
-#include "activecal/io/frames_file.h"
-#include "activecal/io/output_files.h"
-#include "activecal/io/robot_file.h"
+#include "activecal/io/column_map.h"
 #include "activecal/io/robot_loader.h"
-#include "activecal/io/urdf_inertials.h"
 #include "activecal/report/html_report.h"
 #include "app_common.h"
 #include "gnuplot.h"
@@ -185,69 +180,6 @@ DEFINE_double(learned_standard_errors, 2.0,
 namespace activecal {
 namespace {
 
-// "x,y,z" into *v; false when the text is not three finite numbers.
-bool ParseVector3(const std::string& text, Eigen::Vector3d* v) {
-  std::istringstream in(text);
-  char c1 = 0, c2 = 0;
-  double x, y, z;
-  if (!(in >> x >> c1 >> y >> c2 >> z) || c1 != ',' || c2 != ',') return false;
-  std::string rest;
-  if (in >> rest) return false;
-  *v = Eigen::Vector3d(x, y, z);
-  return v->allFinite();
-}
-
-// The joint error families the flags offer (term_selection.h).
-std::vector<TermFamily> TermFamiliesOrDie(const RobotModel& model,
-                                          bool urdf_robot) {
-  std::vector<TermFamily> families;
-  if (!FLAGS_payload_com_m.empty() && !(FLAGS_payload_kg > 0)) {
-    app::Fail(
-        "--payload_com_m needs --payload_kg > 0 (a payload without "
-        "mass)");
-  }
-  if (!(FLAGS_payload_kg >= 0) || !std::isfinite(FLAGS_payload_kg)) {
-    app::Fail("--payload_kg must be finite and >= 0");
-  }
-  if (FLAGS_harmonics < 0 || FLAGS_harmonics > 8) {
-    app::Fail("--harmonics must be in [0, 8], got " +
-              std::to_string(FLAGS_harmonics));
-  }
-  if (FLAGS_compliance) {
-    GravityModel gravity;
-    if (!ParseVector3(FLAGS_gravity, &gravity.gravity)) {
-      app::Fail("--gravity: expected 'x,y,z' in m/s^2, got '" + FLAGS_gravity +
-                "'");
-    }
-    gravity.payload_kg = FLAGS_payload_kg;
-    if (!FLAGS_payload_com_m.empty() &&
-        !ParseVector3(FLAGS_payload_com_m, &gravity.payload_com_m)) {
-      app::Fail("--payload_com_m: expected 'x,y,z' in m, got '" +
-                FLAGS_payload_com_m + "'");
-    }
-    std::string error;
-    if (urdf_robot) {
-      UrdfChainOptions chain;
-      chain.base_link = FLAGS_base_link;
-      chain.tip_link = FLAGS_tip_link;
-      if (!LoadUrdfInertials(FLAGS_robot, chain, &gravity, &error)) {
-        app::Fail("--compliance: " + error);
-      }
-    } else if (!(FLAGS_payload_kg > 0)) {
-      app::Fail("--compliance needs link masses: --robot " + FLAGS_robot +
-                " is not a URDF with <inertial> elements; give a URDF or "
-                "--payload_kg");
-    }
-    families.push_back({"compliance", ComplianceTerms(model, gravity)});
-  } else if (FLAGS_payload_kg > 0) {
-    app::Fail("--payload_kg is used by --compliance only");
-  }
-  if (FLAGS_harmonics > 0) {
-    families.push_back({"periodic", HarmonicTerms(model, FLAGS_harmonics)});
-  }
-  return families;
-}
-
 std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
                                        std::vector<int64_t>* poses) {
   if (robot.true_parameters.size() != robot.model.num_parameters()) {
@@ -264,145 +196,6 @@ std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
     app::Fail("--" + error);
   }
   return measurements;
-}
-
-// The curve of model selection: parameters kept -> training and held-out
-// RMS (mm), the kept count marked.
-void PlotSelection(const CalibrationSummary& summary) {
-  std::vector<std::vector<double>> rows;
-  for (const ModelSelectionPoint& pt : summary.selection.curve) {
-    if (!pt.ok) continue;
-    rows.push_back({static_cast<double>(pt.num_kept), pt.training_rms_m * 1e3,
-                    pt.held_out_rms_m * 1e3});
-  }
-  const std::string kept = std::to_string(summary.selection.best_num_kept);
-  app::PlotOrNote(
-      app::GnuplotData("curve", rows) + "set title 'Model selection (" +
-          ModelSelectionMethodToString(summary.model_selection) +
-          "): RMS against parameters kept'\n"
-          "set xlabel 'free parameters kept'\nset ylabel 'RMS error (mm)'\n"
-          "set logscale y\nset grid\nset key top right\n"
-          "set arrow from " +
-          kept + ", graph 0 to " + kept +
-          ", graph 1 nohead dt 2 lc rgb 'gray40'\n"
-          "plot $curve using 1:2 with linespoints pt 7 title 'training', "
-          "$curve using 1:3 with linespoints pt 5 title 'held out'\n",
-      FLAGS_selection_plot, "selection_plot");
-}
-
-// The orientation hint (orientation_check.h) at the fit, or at the
-// registration baseline when the calibration stopped after it.
-void PrintOrientationHint(const CalibrationSummary& summary,
-                          const std::vector<Measurement>& all) {
-  const Eigen::VectorXd& parameters = summary.stage == CalibrationStage::kDone
-                                          ? summary.identification.parameters
-                                          : summary.baseline.parameters;
-  if (parameters.size() != summary.model.num_parameters()) return;
-  const PoseFit fit = PoseFitOf(summary.model, parameters, all);
-  if (!OrientationFitsBadly(fit)) return;
-  const std::optional<ColumnMap>& map = app::ColumnMapOrDie();
-  const std::string what =
-      map && map->has_orientation
-          ? ColumnMapOrientationText(*map)
-          : "the file's rx_rad,ry_rad,rz_rad are a rotation vector, "
-            "roll/pitch/yaw are R = Rz(yaw) Ry(pitch) Rx(roll); a device's "
-            "Euler angles need --column_map";
-  std::printf("%s: warning: %s\n", app::ProgramName().c_str(),
-              OrientationHint(fit, what).c_str());
-}
-
-// 6D data fitted without --rotation_weight: a note saying what was
-// assumed (1 m/rad), the weight the fit's own residuals suggest (pose
-// pairs' distance mismatch over their angle mismatch, orientation_check.h)
-// and the parameters model selection keeps with it: forgetting the flag
-// can change the kept set (the README's UR10e: 13 against 21).
-void PrintRotationWeightNote(const CalibrationSummary& summary,
-                             const std::vector<Measurement>& all,
-                             const RobotModel& model,
-                             const CalibrationOptions& options) {
-  if (!gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default) {
-    return;
-  }
-  const PoseFit fit =
-      PoseFitOf(summary.model, summary.identification.parameters, all);
-  if (fit.num_poses < 2 || !(fit.rotation_rms_rad > 0) ||
-      !(fit.position_rms_m > 0)) {
-    return;
-  }
-  const double weight = fit.position_rms_m / fit.rotation_rms_rad;
-  char rounded[32];
-  std::snprintf(rounded, sizeof(rounded), "%.2g", weight);
-  CalibrationOptions with = options;
-  with.identification.rotation_weight_m_per_rad = std::stod(rounded);
-  CalibrationSummary other;
-  Calibrate(model, all, with, &other);
-  const int kept = summary.identification.estimates.size();
-  std::string effect = "the fit with it failed";
-  if (other.stage == CalibrationStage::kDone) {
-    effect = "keeps " + std::to_string(other.identification.estimates.size()) +
-             " parameters";
-  }
-  std::printf(
-      "%s: note: --rotation_weight not given: the orientations of the pose "
-      "rows were weighted %g m/rad and %d parameters kept; their residuals "
-      "(between %d poses: distances %.3f mm, angles %.3f mrad RMS) have the "
-      "ratio %s m/rad, with which the calibration %s; set it to "
-      "sigma_position / sigma_rotation of the device\n",
-      app::ProgramName().c_str(), defaults::kRotationWeightMPerRad, kept,
-      fit.num_poses, fit.position_rms_m * 1e3, fit.rotation_rms_rad * 1e3,
-      rounded, effect.c_str());
-}
-
-// --learned_residual and its options, checked before any fit.
-LearnedResidualOptions LearnedResidualOptionsOrDie(
-    const CalibrationOptions& calibration) {
-  LearnedResidualOptions options;
-  app::EnumFlagOrDie(StringToLearnedResidualMode, "learned_residual",
-                     FLAGS_learned_residual, "off, on or auto", &options.mode);
-  if (options.mode == LearnedResidualMode::kOff) return options;
-  if (!calibration.term_families.empty()) {
-    app::Fail(
-        "--learned_residual with --compliance or --harmonics: not supported "
-        "(the correction is learned on the geometry's residuals alone; use "
-        "one or the other)");
-  }
-  options.num_features = FLAGS_learned_features;
-  options.num_folds = FLAGS_folds;
-  options.seed = FLAGS_seed;
-  options.num_standard_errors = FLAGS_learned_standard_errors;
-  options.num_threads = FLAGS_threads;
-  std::string why;
-  if (!options.IsValid(&why)) app::Fail("--learned_residual: " + why);
-  return options;
-}
-
-// The learned residual on the calibrated geometry, fitted on the training
-// measurements, its report printed; with held-out measurements
-// (--validation_fraction) their RMS without and with it.
-LearnedResidualSummary FitLearnedResidualOrDie(
-    const CalibrationSummary& summary, const LearnedResidualOptions& options) {
-  LearnedResidualSummary learned;
-  FitLearnedResidual(summary.model, summary.identification.parameters,
-                     summary.training, options, &learned);
-  if (learned.termination_type != TerminationType::kConvergence) {
-    app::Fail("--learned_residual: " + learned.message);
-  }
-  std::printf("%s", learned.BriefReport().c_str());
-  if (learned.kept && !summary.validation.empty()) {
-    EvaluationSummary without, with;
-    if (EvaluateModel(summary.model, summary.identification.parameters,
-                      summary.validation, &without) &&
-        EvaluateCorrectedModel(summary.model, summary.identification.parameters,
-                               learned.correction, summary.validation, &with) &&
-        with.position.count > 0) {
-      std::printf(
-          "  validation (%d held-out position measurements): RMS %.4f mm "
-          "parametric, %.4f mm with the correction\n",
-          with.position.count, without.position.rms * 1e3,
-          with.position.rms * 1e3);
-    }
-  }
-  return learned;
 }
 
 int Main() {
@@ -436,7 +229,16 @@ int Main() {
                      &options.selection_ranking);
   options.num_folds = FLAGS_folds;
   options.num_threads = FLAGS_threads;
-  options.term_families = TermFamiliesOrDie(model, urdf_robot);
+  const TermFamilyOptions terms{
+      FLAGS_compliance, FLAGS_harmonics,
+      FLAGS_payload_kg, FLAGS_payload_com_m,
+      FLAGS_gravity,    FLAGS_robot,
+      urdf_robot,       {FLAGS_base_link, FLAGS_tip_link}};
+  std::string error;
+  if (!MakeTermFamilies(model, terms, OptionSpelling::kFlags,
+                        &options.term_families, &error)) {
+    app::Fail(error);
+  }
   options.term_standard_errors = FLAGS_term_standard_errors;
   IdentificationOptions& fit = options.identification;
   app::EnumFlagOrDie(StringToRobustLoss, "robust_loss", FLAGS_robust_loss,
@@ -452,8 +254,15 @@ int Main() {
   fit.default_sigma_rad = FLAGS_default_sigma_rad;
   fit.prior_std_m = FLAGS_prior_std_m;
   fit.prior_std_rad = FLAGS_prior_std_rad;
-  const LearnedResidualOptions learned_options =
-      LearnedResidualOptionsOrDie(options);
+  LearnedResidualOptions& learned = options.learned_residual;
+  app::EnumFlagOrDie(StringToLearnedResidualMode, "learned_residual",
+                     FLAGS_learned_residual, "off, on or auto", &learned.mode);
+  learned.num_features = FLAGS_learned_features;
+  learned.num_standard_errors = FLAGS_learned_standard_errors;
+  CalibrationTextOptions text;
+  if (!options.LearnedResidualIsValid(&error)) {
+    app::Fail(OptionsErrorText(error, text));
+  }
   // Before the file is read: the flags' own messages.
   const bool by_validation =
       options.ResolvedModelSelection() == ModelSelectionMethod::kValidation;
@@ -467,15 +276,13 @@ int Main() {
     options.selection_validation =
         app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
   }
-  for (const auto& [path, flag] :
-       {std::pair<std::string, std::string>{FLAGS_model_out, "model_out"},
-        {FLAGS_urdf_out, "urdf_out"},
-        {FLAGS_frames_out, "frames_out"},
-        {FLAGS_ur_calibration_out, "ur_calibration_out"},
-        {FLAGS_json_out, "json_out"},
-        {FLAGS_report_html, "report_html"}}) {
+  CalibrationOutputOptions out{FLAGS_model_out, FLAGS_urdf_out,
+                               FLAGS_ur_calibration_out, FLAGS_frames_out,
+                               FLAGS_json_out};
+  for (const auto& [path, flag] : out.Paths()) {
     app::CheckWritableOrDie(path, flag);
   }
+  app::CheckWritableOrDie(FLAGS_report_html, "report_html");
 
   CalibrationSummary summary;
   {
@@ -485,10 +292,7 @@ int Main() {
         "model selection: splits fitted (the training set and each fold)");
     options.selection_progress = splits.callback();
     Calibrate(model, all, options, &summary);
-    // Later fits (the --rotation_weight note's) outlive the line.
-    options.selection_progress = nullptr;
   }
-  CalibrationTextOptions text;
   text.program = app::ProgramName();
   text.angle_unit = robot.angle_unit;
   text.true_parameters = robot.true_parameters;
@@ -497,130 +301,61 @@ int Main() {
   if (!FLAGS_selection_plot.empty() &&
       summary.Passed(CalibrationStage::kModelSelection) &&
       summary.model_selection != ModelSelectionMethod::kNone) {
-    PlotSelection(summary);
+    app::PlotOrNote(app::GnuplotData("curve", SelectionCurveRows(summary)) +
+                        SelectionCurveGnuplot(summary),
+                    FLAGS_selection_plot, "selection_plot");
   }
-  PrintOrientationHint(summary, all);
-  if (summary.stage != CalibrationStage::kDone) {
+  // The columns read (no file read, no column map, when simulated).
+  const std::optional<ColumnMap> map =
+      simulated ? std::nullopt : app::ColumnMapOrDie();
+  std::printf("%s", OrientationHintText(summary, all,
+                                        map && map->has_orientation
+                                            ? ColumnMapOrientationText(*map)
+                                            : "",
+                                        text)
+                        .c_str());
+  if (!summary.Passed(CalibrationStage::kValidation)) {
     app::Fail(CalibrationFailureText(summary, text));
   }
   std::printf("%s", CalibrationResultText(summary, text).c_str());
-  if (!app::Quiet()) PrintRotationWeightNote(summary, all, model, options);
-  LearnedResidualSummary learned;
-  if (learned_options.mode != LearnedResidualMode::kOff) {
-    learned = FitLearnedResidualOrDie(summary, learned_options);
+  if (!app::Quiet() &&
+      gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default) {
+    std::printf("%s", RotationWeightNote(model, all, summary, text).c_str());
   }
+  // The learned residual's failure comes after the fit's report.
+  if (summary.stage != CalibrationStage::kDone) {
+    app::Fail(CalibrationFailureText(summary, text));
+  }
+  std::printf("%s", LearnedResidualText(summary).c_str());
 
   // Every output is made and checked before any is written: a run that
   // fails writes nothing (each file then atomically).
-  const Eigen::VectorXd& calibrated = summary.identification.parameters;
-  const std::string source =
+  out.source =
       simulated ? std::string("simulated measurements") : FLAGS_measurements;
-  std::vector<OutputFile> outputs;
-  std::string error;
-  if (!FLAGS_model_out.empty()) {
-    RobotFileOptions file_options;
-    file_options.angle_unit = robot.angle_unit;
-    const std::string note = HeldFixedNote(summary, text);
-    file_options.comment =
-        "Calibrated by activecal_identify from " + source + "\n" +
-        std::to_string(summary.identification.num_measurements) +
-        " measurements, RMS residual " +
-        std::to_string(summary.identification.rms_m) + " m" +
-        (note.empty() ? "" : "\n" + note);
-    if (learned.kept) {
-      file_options.learned_correction = &learned.correction;
-      file_options.comment +=
-          "\nWith its learned residual (" +
-          std::string(LearnedResidualModeToString(learned_options.mode)) +
-          "): applied by activecal_evaluate and "
-          "activecal_compensate";
-    }
-    outputs.push_back({FLAGS_model_out,
-                       RobotFileText(summary.model, calibrated, file_options)});
-  }
-  std::string urdf_note;
-  if (!FLAGS_urdf_out.empty()) {
-    CalibratedUrdfOptions urdf_options;
-    if (urdf_robot) urdf_options.source_path = FLAGS_robot;
-    urdf_options.chain.base_link = FLAGS_base_link;
-    urdf_options.chain.tip_link = FLAGS_tip_link;
-    urdf_options.output_path = FLAGS_urdf_out;
-    CalibratedUrdf urdf;
-    const bool ok = MakeCalibratedUrdf(summary.model, calibrated, all,
-                                       urdf_options, &urdf, &error);
-    if (!urdf.text.empty()) {
-      for (const std::string& w : urdf.warnings) {
-        std::printf("  --urdf_out: %s\n", w.c_str());
-      }
-    }
-    if (!ok) app::Fail("--urdf_out: " + error);
-    outputs.push_back({FLAGS_urdf_out, urdf.text});
-    char line[256];
-    std::snprintf(line, sizeof(line),
-                  "  --urdf_out: wrote %s; reloaded, it predicts every "
-                  "measured point within %.1e m of the calibrated model\n",
-                  FLAGS_urdf_out.c_str(), urdf.worst_m);
-    urdf_note = line;
-    if (learned.kept) {
-      std::snprintf(line, sizeof(line),
-                    "  --urdf_out: the URDF holds the geometry only, not the "
-                    "learned correction (--model_out has it): alone it "
-                    "predicts held-out poses with RMS %.4f mm (nested CV), "
-                    "%.4f mm with the correction\n",
-                    learned.held_out_rms_parametric_m * 1e3,
-                    learned.held_out_rms_hybrid_m * 1e3);
-      urdf_note += line;
-    }
-  }
-  if (!FLAGS_ur_calibration_out.empty()) {
-    UrCalibration ur;
-    if (!MakeUrCalibration(summary.model, calibrated, all,
-                           "Calibrated by activecal_identify from " + source,
-                           &ur, &error)) {
-      app::Fail("--ur_calibration_out: " + error);
-    }
-    outputs.push_back({FLAGS_ur_calibration_out, ur.text});
-    char line[256];
-    std::snprintf(line, sizeof(line),
-                  "  --ur_calibration_out: wrote %s; rebuilt as "
-                  "ur_description does, tool0 is within %.1e m and %.1e rad "
-                  "of the calibrated model\n",
-                  FLAGS_ur_calibration_out.c_str(), ur.worst_m, ur.worst_rad);
-    urdf_note += line;
-  }
-  if (!FLAGS_frames_out.empty()) {
-    outputs.push_back(
-        {FLAGS_frames_out,
-         FramesFileText(summary.model, calibrated,
-                        "Metrology frames identified by activecal_identify "
-                        "from " +
-                            source)});
-  }
-  if (!FLAGS_json_out.empty()) {
-    CalibrationJsonOptions json;
-    json.simulated = simulated;
-    json.measurements = FLAGS_measurements;
-    json.validation = FLAGS_validation;
-    json.true_parameters = robot.true_parameters;
-    json.simulated_poses = simulated_poses;
-    json.noise_m = FLAGS_noise_m;
-    outputs.push_back({FLAGS_json_out, CalibrationJson(summary, json)});
-  }
+  out.text = text;
+  if (urdf_robot) out.urdf.source_path = FLAGS_robot;
+  out.urdf.chain = {FLAGS_base_link, FLAGS_tip_link};
+  out.json = {FLAGS_measurements, FLAGS_validation, robot.true_parameters,
+              simulated_poses,    FLAGS_noise_m,    simulated};
+  CalibrationOutputs outputs;
+  const bool made = MakeCalibrationOutputs(summary, all, out, &outputs, &error);
+  std::printf("%s", outputs.notes_before.c_str());
+  if (!made) app::Fail(error);
   if (!FLAGS_report_html.empty()) {
     CalibrationHtmlOptions html;
     html.robot_file = FLAGS_robot.empty() ? "built-in PUMA 560" : FLAGS_robot;
-    html.measurements_file = source;
+    html.measurements_file = out.source;
     HtmlReport report;
     if (!CalibrationHtmlReport(summary, html, &report, &error)) {
       app::Fail("--report_html: " + error);
     }
-    outputs.push_back({FLAGS_report_html, RenderHtml(report)});
+    outputs.files.push_back({FLAGS_report_html, RenderHtml(report)});
   }
   // One set with --selection_plot's figure: all written, or none.
-  for (const OutputFile& file : outputs)
+  for (const OutputFile& file : outputs.files)
     app::WriteTextOrDie(file.path, file.text);
   app::CommitOutputsOrDie();
-  std::printf("%s", urdf_note.c_str());
+  std::printf("%s", outputs.notes_after.c_str());
   app::PrintResult(app::ProgramName() + ": " + CalibrationResultLine(summary));
   return 0;
 }

@@ -374,6 +374,9 @@ struct EstimateResult {
   // The rows identified from and validated on, then the selection's
   // validation rows: write_urdf checks the written URDF against them.
   std::vector<Measurement> measurements;
+  // activecal_identify's notes (the orientation hint, the rotation_weight
+  // note), one line each.
+  std::vector<std::string> notes;
 
   const IdentificationSummary& fit() const {
     return calibration.identification;
@@ -531,6 +534,8 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
                                            py::kwargs kwargs);
 
 std::string EstimateFileText(const EstimateResult& e);
+// The learned residual's summary as a dict (None when it was off).
+py::object LearnedResidualPy(const EstimateResult& e);
 
 RobotPtr CalibratedRobot(const EstimateResult& e);
 

@@ -5,6 +5,7 @@
 
 #include <cctype>
 
+#include "activecal/calibration/calibration_notes.h"
 #include "activecal/calibration/defaults.h"
 #include "activecal/calibration/iso9283_cycles.h"
 #include "activecal/io/csv_files.h"
@@ -37,6 +38,9 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   const Robot& robot = *robot_ptr;
   // A copy: the options are taken out as read, what is left is unknown.
   kwargs = py::reinterpret_steal<py::kwargs>(PyDict_Copy(kwargs.ptr()));
+  // As activecal_identify without --rotation_weight: the note on the
+  // weight the residuals suggest.
+  const bool rotation_weight_given = kwargs.contains("rotation_weight");
   CalibrationOptions options;
   const std::string parameter_set =
       Option<std::string>(kwargs, "parameter_set", "");
@@ -67,18 +71,41 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   fit.prior_std_rad = Option(kwargs, "prior_std_rad", 0.0);
   options.seed = Option<uint64_t>(kwargs, "seed", defaults::kSeed);
   options.num_threads = Option(kwargs, "num_threads", 0);
+  LearnedResidualOptions& learned = options.learned_residual;
+  learned.mode = EnumOption(kwargs, "learned_residual", "off",
+                            StringToLearnedResidualMode, "off, on or auto");
+  learned.num_features =
+      Option(kwargs, "learned_features", learned.num_features);
+  learned.num_standard_errors =
+      Option(kwargs, "learned_standard_errors", learned.num_standard_errors);
   py::object validation = py::none();
   if (kwargs.contains("validation")) {
     validation = kwargs["validation"];
     PyDict_DelItemString(kwargs.ptr(), "validation");
   }
   NoUnknownOptions("identify", kwargs,
-                   {"parameter_set", "register_base", "auto_fix",
-                    "model_selection", "folds", "selection_ranking",
-                    "selection_rule", "validation", "validation_fraction",
-                    "robust_loss", "robust_scale_m", "outlier_probability",
-                    "rotation_weight", "default_sigma_m", "default_sigma_rad",
-                    "prior_std_m", "prior_std_rad", "seed", "num_threads"});
+                   {"parameter_set",
+                    "register_base",
+                    "auto_fix",
+                    "model_selection",
+                    "folds",
+                    "selection_ranking",
+                    "selection_rule",
+                    "validation",
+                    "validation_fraction",
+                    "robust_loss",
+                    "robust_scale_m",
+                    "outlier_probability",
+                    "rotation_weight",
+                    "default_sigma_m",
+                    "default_sigma_rad",
+                    "prior_std_m",
+                    "prior_std_rad",
+                    "seed",
+                    "num_threads",
+                    "learned_residual",
+                    "learned_features",
+                    "learned_standard_errors"});
   if (!validation.is_none()) {
     options.selection_validation =
         MeasurementsArg(validation, "validation").items;
@@ -93,13 +120,24 @@ std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
   auto result = std::make_shared<EstimateResult>();
   result->robot = robot_ptr;
   CalibrationSummary& summary = result->calibration;
+  CalibrationTextOptions text;
+  text.option_spelling = OptionSpelling::kKeywords;
   {
     py::gil_scoped_release release;
     Calibrate(robot.model(), measurements.items, options, &summary);
+    // The program's notes, each one line without the trailing newline.
+    std::string notes =
+        OrientationHintText(summary, measurements.items, "", text);
+    if (!rotation_weight_given) {
+      notes +=
+          RotationWeightNote(robot.model(), measurements.items, summary, text);
+    }
+    for (size_t at = 0, end; (end = notes.find('\n', at)) != notes.npos;
+         at = end + 1) {
+      result->notes.push_back(notes.substr(at, end - at));
+    }
   }
   if (summary.stage != CalibrationStage::kDone) {
-    CalibrationTextOptions text;
-    text.option_spelling = OptionSpelling::kKeywords;
     const std::string message = CalibrationFailureText(summary, text);
     // A solver that did not converge is not a bad argument.
     if (summary.stage == CalibrationStage::kFit &&
@@ -124,7 +162,51 @@ std::string EstimateFileText(const EstimateResult& e) {
                     std::to_string(e.fit().num_measurements) +
                     " measurements, RMS residual " +
                     std::to_string(e.fit().rms_m) + " m";
+  if (e.calibration.learned.kept &&
+      e.calibration.options.learned_residual.mode !=
+          LearnedResidualMode::kOff) {
+    // As --model_out: the correction travels with the geometry.
+    options.learned_correction = &e.calibration.learned.correction;
+    options.comment +=
+        "\nWith its learned residual (" +
+        std::string(LearnedResidualModeToString(
+            e.calibration.options.learned_residual.mode)) +
+        "): applied by activecal_evaluate and activecal_compensate";
+  }
   return RobotFileText(e.model(), e.fit().parameters, options);
+}
+
+py::object LearnedResidualPy(const EstimateResult& e) {
+  const CalibrationSummary& c = e.calibration;
+  if (c.options.learned_residual.mode == LearnedResidualMode::kOff) {
+    return py::none();
+  }
+  const LearnedResidualSummary& l = c.learned;
+  py::dict d;
+  d["mode"] = LearnedResidualModeToString(l.mode);
+  d["kept"] = l.kept;
+  d["num_features"] = l.correction.num_features();
+  d["num_measurements"] = l.num_measurements;
+  d["num_poses"] = l.num_poses;
+  d["num_folds"] = l.num_folds;
+  d["length_scale"] = l.length_scale;
+  d["ridge"] = l.ridge;
+  d["held_out_rms_parametric_m"] = l.held_out_rms_parametric_m;
+  d["held_out_rms_hybrid_m"] = l.held_out_rms_hybrid_m;
+  d["gain_m2"] = l.gain_m2;
+  d["gain_se_m2"] = l.gain_se_m2;
+  d["num_standard_errors"] = l.num_standard_errors;
+  d["training_rms_parametric_m"] = l.training_rms_parametric_m;
+  d["training_rms_hybrid_m"] = l.training_rms_hybrid_m;
+  py::object none = py::none();
+  const bool v = c.learned_validation_count > 0;
+  d["validation_count"] = c.learned_validation_count;
+  d["validation_rms_parametric_m"] =
+      v ? py::object(py::float_(c.learned_validation_rms_parametric_m)) : none;
+  d["validation_rms_hybrid_m"] =
+      v ? py::object(py::float_(c.learned_validation_rms_hybrid_m)) : none;
+  d["report"] = LearnedResidualText(c);
+  return d;
 }
 
 RobotPtr CalibratedRobot(const EstimateResult& e) {

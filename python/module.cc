@@ -602,6 +602,12 @@ PYBIND11_MODULE(_activecal, m) {
             }
             return curve;
           })
+      .def_property_readonly("learned_residual", &LearnedResidualPy,
+                             "learned_residual='on'/'auto': the correction's "
+                             "fit and decision (a dict), else None")
+      .def_readonly("notes", &EstimateResult::notes,
+                    "activecal_identify's notes: the orientation hint, the "
+                    "rotation_weight note (when not given)")
       .def_property_readonly(
           "robot", &CalibratedRobot,
           "The calibrated Robot: identified values as nominal")
@@ -632,7 +638,9 @@ PYBIND11_MODULE(_activecal, m) {
         "validation_fraction (held out at random, seeded), "
         "robust_loss, robust_scale_m, outlier_probability, rotation_weight, "
         "default_sigma_m, default_sigma_rad, prior_std_m, prior_std_rad, "
-        "seed, num_threads. The GIL is released while it runs.");
+        "seed, num_threads, learned_residual ('off', 'on', 'auto'), "
+        "learned_features, learned_standard_errors. The GIL is released "
+        "while it runs.");
   // ---- Compensation
   py::class_<CompensationResult, std::shared_ptr<CompensationResult>>(
       m, "Compensation", "A compensated program (compensate).")

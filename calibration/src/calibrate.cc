@@ -13,6 +13,7 @@
 #include "activecal/core/point_constraints.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/estimate_warnings.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/estimation/parameter_reduction.h"
 #include "activecal/estimation/registration.h"
 #include "activecal/estimation/residual_scale.h"
@@ -32,6 +33,7 @@ constexpr CalibrationStage kStages[] = {CalibrationStage::kOptions,
                                         CalibrationStage::kTermSelection,
                                         CalibrationStage::kFit,
                                         CalibrationStage::kValidation,
+                                        CalibrationStage::kLearnedResidual,
                                         CalibrationStage::kDone};
 
 // The held-out errors of `nominal` and `calibrated`; false with *error
@@ -89,6 +91,8 @@ const char* CalibrationStageToString(CalibrationStage stage) {
       return "fit";
     case CalibrationStage::kValidation:
       return "validation";
+    case CalibrationStage::kLearnedResidual:
+      return "learned_residual";
     case CalibrationStage::kDone:
       return "done";
   }
@@ -149,9 +153,33 @@ bool CalibrationOptions::IsValid(std::string* error) const {
   } else {
     IdentificationOptions plain = id;
     plain.prior_std_m = plain.prior_std_rad = 0.0;
-    plain.IsValid(&e);
+    if (plain.IsValid(&e)) LearnedResidualIsValid(&e);
   }
   if (e.empty()) return true;
+  if (error) *error = e;
+  return false;
+}
+
+LearnedResidualOptions CalibrationOptions::ResolvedLearnedResidual() const {
+  LearnedResidualOptions resolved = learned_residual;
+  resolved.num_folds = num_folds;
+  resolved.seed = seed;
+  resolved.num_threads = num_threads;
+  return resolved;
+}
+
+bool CalibrationOptions::LearnedResidualIsValid(std::string* error) const {
+  if (learned_residual.mode == LearnedResidualMode::kOff) return true;
+  std::string e;
+  if (!term_families.empty()) {
+    e = "learned_residual with compliance or harmonics: not supported (the "
+        "correction is learned on the geometry's residuals alone; use one or "
+        "the other)";
+  } else if (ResolvedLearnedResidual().IsValid(&e)) {
+    return true;
+  } else {
+    e = "learned_residual: " + e;
+  }
   if (error) *error = e;
   return false;
 }
@@ -171,11 +199,16 @@ double CalibrationSummary::ImprovementPercent() const {
 }
 
 std::string CalibrationSummary::BriefReport() const {
-  if (stage != CalibrationStage::kDone) {
-    return std::string("calibration failed (") +
-           CalibrationStageToString(stage) + "): " + message + "\n";
-  }
-  std::string report = identification.BriefReport();
+  const std::string failed = std::string("calibration failed (") +
+                             CalibrationStageToString(stage) + "): " + message +
+                             "\n";
+  if (!Passed(CalibrationStage::kValidation)) return failed;
+  return identification.BriefReport() + FitReportTail() +
+         (stage == CalibrationStage::kDone ? "" : failed);
+}
+
+std::string CalibrationSummary::FitReportTail() const {
+  std::string report;
   char line[512];
   if (!options.term_families.empty()) {
     const IdentificationSummary& id = identification;
@@ -471,6 +504,28 @@ void Calibrate(const RobotModel& input,
   if (!s.have_baseline) s.validation_baseline = ValidationErrors();
   s.warnings =
       EstimateWarnings(s.model, s.identification, EstimateWarningOptions());
+
+  // The learned residual on the calibrated geometry (learned_residual.h).
+  s.stage = CalibrationStage::kLearnedResidual;
+  const LearnedResidualOptions learned = options.ResolvedLearnedResidual();
+  if (learned.mode != LearnedResidualMode::kOff) {
+    FitLearnedResidual(s.model, calibrated, training, learned, &s.learned);
+    if (s.learned.termination_type != TerminationType::kConvergence) {
+      return fail(CalibrationStage::kLearnedResidual,
+                  s.learned.termination_type,
+                  "learned_residual: " + s.learned.message);
+    }
+    EvaluationSummary without, with;
+    if (s.learned.kept && !s.validation.empty() &&
+        EvaluateModel(s.model, calibrated, s.validation, &without) &&
+        EvaluateCorrectedModel(s.model, calibrated, s.learned.correction,
+                               s.validation, &with) &&
+        with.position.count > 0) {
+      s.learned_validation_count = with.position.count;
+      s.learned_validation_rms_parametric_m = without.position.rms;
+      s.learned_validation_rms_hybrid_m = with.position.rms;
+    }
+  }
   s.stage = CalibrationStage::kDone;
   s.termination_type = TerminationType::kConvergence;
   s.message = "calibrated";

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -17,14 +16,10 @@
 namespace activecal {
 namespace {
 
-std::string Format(const char* format, ...) {
-  va_list args;
-  va_start(args, format);
-  char line[1024];
-  std::vsnprintf(line, sizeof(line), format, args);
-  va_end(args);
-  return line;
-}
+// Shorthands of the one number formatter (text_table.h).
+std::string N(size_t n) { return std::to_string(n); }
+std::string N(int n) { return std::to_string(n); }
+std::string Mm(double metres) { return FormatNumber("%.3f", 1e3 * metres); }
 
 // An option as the caller spells it.
 std::string Option(const CalibrationTextOptions& o, const std::string& name) {
@@ -134,10 +129,9 @@ std::string SelectionText(const ModelSelectionSummary& selection) {
   const std::vector<std::string>& dropped = selection.dropped;
   if (dropped.empty()) return text;
   if (std::set<std::string>(dropped.begin(), dropped.end()) == after_kept) {
-    text += Format(
-        "  the %zu parameters added after '<- kept' are held at their start "
-        "values\n",
-        dropped.size());
+    text += "  the " + N(dropped.size()) +
+            " parameters added after '<- kept' are held at their start "
+            "values\n";
   } else {
     text += "  held at their start values:";
     for (const std::string& d : dropped) text += " " + d;
@@ -156,11 +150,10 @@ std::string CalibrationStagesText(const CalibrationSummary& s,
     // Each parameter the reduction held, named once with its reason.
     const std::vector<std::string> held = s.HeldAt(HoldStage::kParameterSet);
     if (s.Passed(CalibrationStage::kParameterSet) && !held.empty()) {
-      text += Format(
-          "  %s: the %zu measurements cannot identify %zu of %d free "
-          "parameters; held fixed at their nominal values:\n",
-          SetLabel(s, o).c_str(), s.training.size(), held.size(),
-          s.num_free_in_set);
+      text += "  " + SetLabel(s, o) + ": the " + N(s.training.size()) +
+              " measurements cannot identify " + N(held.size()) + " of " +
+              N(s.num_free_in_set) +
+              " free parameters; held fixed at their nominal values:\n";
       TextTable table({{"held fixed"}, {"reason"}});
       for (const HeldParameter& h : s.held) {
         if (h.stage == HoldStage::kParameterSet) {
@@ -249,8 +242,8 @@ std::string HeldCountNote(const CalibrationSummary& s,
         Option(o, "model_selection=") +
             ModelSelectionMethodToString(s.model_selection));
   std::string note =
-      Format("%zu of %d free parameters", s.held.size(), s.num_free_in_set) +
-      " held fixed at their nominal values (not in 'free'";
+      N(s.held.size()) + " of " + N(s.num_free_in_set) +
+      " free parameters held fixed at their nominal values (not in 'free'";
   if (o.model_out) note += " of " + Option(o, "model_out");
   return note + "): " + groups + ", named above";
 }
@@ -386,8 +379,8 @@ std::string CalibrationResultText(const CalibrationSummary& s,
   const std::string fit = id.BriefReport();
   text += "\n" + fit;
   if (has_truth) {
-    text += Format("  %d of %zu estimates lie more than 4 std from the truth\n",
-                   outside, free.size());
+    text += "  " + N(outside) + " of " + N(free.size()) +
+            " estimates lie more than 4 std from the truth\n";
     if (!s.held.empty()) {
       text +=
           "  (parameters held fixed keep their nominal values, so the kept "
@@ -400,38 +393,37 @@ std::string CalibrationResultText(const CalibrationSummary& s,
   // held out.
   const PoseErrorRms after = SplitOf(s, id.parameters, s.training);
   if (after.num_poses > 0) {
-    text += Format(
-        "  6D poses (%d): position RMS %.3f mm, rotation RMS %.3f mrad "
-        "(%.4f deg) at the estimate; the RMS residual above weights the "
-        "rotations %g m/rad\n",
-        after.num_poses, 1e3 * after.position_m, 1e3 * after.rotation_rad,
-        after.rotation_rad * 180.0 / M_PI,
-        s.options.identification.rotation_weight_m_per_rad);
+    text +=
+        "  6D poses (" + N(after.num_poses) + "): position RMS " +
+        Mm(after.position_m) + " mm, rotation RMS " + Mm(after.rotation_rad) +
+        " mrad (" + FormatNumber("%.4f", after.rotation_rad * 180.0 / M_PI) +
+        " deg) at the estimate; the RMS residual above weights the "
+        "rotations " +
+        FormatNumber("%g", s.options.identification.rotation_weight_m_per_rad) +
+        " m/rad\n";
   }
   // The baseline, validation and warning lines of the brief report.
-  text += s.BriefReport().substr(fit.size());
+  text += s.FitReportTail();
   if (after.num_poses > 0 && s.have_baseline) {
     const PoseErrorRms before = SplitOf(s, s.baseline.parameters, s.training);
-    text += Format(
-        "  registration only: position RMS %.3f mm, rotation RMS %.3f mrad "
-        "-> %.3f mm, %.3f mrad calibrated\n",
-        1e3 * before.position_m, 1e3 * before.rotation_rad,
-        1e3 * after.position_m, 1e3 * after.rotation_rad);
+    text += "  registration only: position RMS " + Mm(before.position_m) +
+            " mm, rotation RMS " + Mm(before.rotation_rad) + " mrad -> " +
+            Mm(after.position_m) + " mm, " + Mm(after.rotation_rad) +
+            " mrad calibrated\n";
   }
   const PoseErrorRms held_out = SplitOf(s, id.parameters, s.validation);
   if (held_out.num_poses > 0) {
     const PoseErrorRms nominal = SplitOf(s, s.registered_start, s.validation);
-    text += Format(
-        "  held out: position RMS %.3f mm, rotation RMS %.3f mrad calibrated "
-        "(%.3f mm, %.3f mrad nominal)\n",
-        1e3 * held_out.position_m, 1e3 * held_out.rotation_rad,
-        1e3 * nominal.position_m, 1e3 * nominal.rotation_rad);
+    text += "  held out: position RMS " + Mm(held_out.position_m) +
+            " mm, rotation RMS " + Mm(held_out.rotation_rad) +
+            " mrad calibrated (" + Mm(nominal.position_m) + " mm, " +
+            Mm(nominal.rotation_rad) + " mrad nominal)\n";
   }
   const std::string held = HeldCountNote(s, o);
   if (!held.empty()) text += "  " + held + "\n";
   if (!id.outliers.empty()) {
     text += "  outliers (measurement index in the input):";
-    for (int k : id.outliers) text += Format(" %d", s.training_index[k]);
+    for (int k : id.outliers) text += " " + N(s.training_index[k]);
     text += "\n";
   }
   return text;
@@ -441,37 +433,93 @@ std::string CalibrationResultLine(const CalibrationSummary& s) {
   const IdentificationSummary& id = s.identification;
   const PoseErrorRms after = SplitOf(s, id.parameters, s.training);
   if (after.num_poses > 0) {
-    std::string line = Format(
-        "%d of %d parameters identified from %d measurements, RMS position "
-        "%.3f mm, rotation %.3f mrad",
-        static_cast<int>(id.estimates.size()), s.num_free_in_set,
-        id.num_measurements, 1e3 * after.position_m, 1e3 * after.rotation_rad);
+    std::string line = N(static_cast<int>(id.estimates.size())) + " of " +
+                       N(s.num_free_in_set) + " parameters identified from " +
+                       N(id.num_measurements) + " measurements, RMS position " +
+                       Mm(after.position_m) + " mm, rotation " +
+                       Mm(after.rotation_rad) + " mrad";
     if (s.have_baseline) {
       const PoseErrorRms before = SplitOf(s, s.baseline.parameters, s.training);
-      line += Format(" (registration only %.3f mm, %.3f mrad)",
-                     1e3 * before.position_m, 1e3 * before.rotation_rad);
+      line += " (registration only " + Mm(before.position_m) + " mm, " +
+              Mm(before.rotation_rad) + " mrad)";
     }
     const PoseErrorRms held_out = SplitOf(s, id.parameters, s.validation);
     if (held_out.num_poses > 0) {
-      line += Format(", held out: %.3f mm, %.3f mrad RMS on %d measurements",
-                     1e3 * held_out.position_m, 1e3 * held_out.rotation_rad,
-                     static_cast<int>(s.validation.size()));
+      line += ", held out: " + Mm(held_out.position_m) + " mm, " +
+              Mm(held_out.rotation_rad) + " mrad RMS on " +
+              N(static_cast<int>(s.validation.size())) + " measurements";
     }
     return line;
   }
-  std::string line =
-      Format("%d of %d parameters identified from %d measurements, RMS %.3f mm",
-             static_cast<int>(id.estimates.size()), s.num_free_in_set,
-             id.num_measurements, id.rms_m * 1e3);
+  std::string line = N(static_cast<int>(id.estimates.size())) + " of " +
+                     N(s.num_free_in_set) + " parameters identified from " +
+                     N(id.num_measurements) + " measurements, RMS " +
+                     Mm(id.rms_m) + " mm";
   if (s.have_baseline) {
-    line += Format(" (registration only %.3f mm)", s.baseline.rms_m * 1e3);
+    line += " (registration only " + Mm(s.baseline.rms_m) + " mm)";
   }
   const ValidationErrors& v = s.validation_errors;
   if (v.count > 0) {
-    line += Format(", held out: %.3f mm RMS on %d measurements",
-                   v.rms_calibrated_m * 1e3, v.count);
+    line += ", held out: " + Mm(v.rms_calibrated_m) + " mm RMS on " +
+            N(v.count) + " measurements";
   }
   return line;
+}
+
+std::string OptionsErrorText(const std::string& message,
+                             const CalibrationTextOptions& o) {
+  const std::string prefix = Option(o, "");
+  std::string text = message;
+  for (const char* name :
+       {"validation_fraction", "prior_std_m", "prior_std_rad",
+        "model_selection", "folds", "learned_residual"}) {
+    PrefixWord(name, prefix, &text);
+  }
+  if (message.rfind("learned_residual with ", 0) == 0) {
+    for (const char* name : {"compliance", "harmonics"}) {
+      PrefixWord(name, prefix, &text);
+    }
+  }
+  return text;
+}
+
+std::string LearnedResidualText(const CalibrationSummary& s) {
+  if (s.options.learned_residual.mode == LearnedResidualMode::kOff) return "";
+  std::string text = s.learned.BriefReport();
+  if (s.learned_validation_count > 0) {
+    text += "  validation (" + std::to_string(s.learned_validation_count) +
+            " held-out position measurements): RMS " +
+            FormatNumber("%.4f", s.learned_validation_rms_parametric_m * 1e3) +
+            " mm parametric, " +
+            FormatNumber("%.4f", s.learned_validation_rms_hybrid_m * 1e3) +
+            " mm with the correction\n";
+  }
+  return text;
+}
+
+std::vector<std::vector<double>> SelectionCurveRows(
+    const CalibrationSummary& s) {
+  std::vector<std::vector<double>> rows;
+  for (const ModelSelectionPoint& pt : s.selection.curve) {
+    if (!pt.ok) continue;
+    rows.push_back({static_cast<double>(pt.num_kept), pt.training_rms_m * 1e3,
+                    pt.held_out_rms_m * 1e3});
+  }
+  return rows;
+}
+
+std::string SelectionCurveGnuplot(const CalibrationSummary& s) {
+  const std::string kept = N(s.selection.best_num_kept);
+  return std::string("set title 'Model selection (") +
+         ModelSelectionMethodToString(s.model_selection) +
+         "): RMS against parameters kept'\n"
+         "set xlabel 'free parameters kept'\nset ylabel 'RMS error (mm)'\n"
+         "set logscale y\nset grid\nset key top right\n"
+         "set arrow from " +
+         kept + ", graph 0 to " + kept +
+         ", graph 1 nohead dt 2 lc rgb 'gray40'\n"
+         "plot $curve using 1:2 with linespoints pt 7 title 'training', "
+         "$curve using 1:3 with linespoints pt 5 title 'held out'\n";
 }
 
 std::string CalibrationFailureText(const CalibrationSummary& s,
@@ -480,17 +528,14 @@ std::string CalibrationFailureText(const CalibrationSummary& s,
   std::string text = s.message;
   switch (s.stage) {
     case CalibrationStage::kOptions:
-      for (const char* name : {"validation_fraction", "prior_std_m",
-                               "prior_std_rad", "model_selection", "folds"}) {
-        PrefixWord(name, prefix, &text);
-      }
-      return text;
+      return OptionsErrorText(text, o);
     case CalibrationStage::kRegistration:
       return text + " (or give the base in a " + prefix +
              "frames file and pass " + Option(o, "register_base", false) + ")";
     case CalibrationStage::kParameterSet:
     case CalibrationStage::kBaseline:
     case CalibrationStage::kModelSelection:
+    case CalibrationStage::kLearnedResidual:
       return prefix + text;
     case CalibrationStage::kIdentifiability:
       if (text.rfind("measurements: ", 0) == 0) return prefix + text;

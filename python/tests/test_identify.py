@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import activecal
-from conftest import PUMA, UR10, program, run
+from conftest import PUMA, SOURCE_DIR, UR10, program, run
 
 
 @pytest.fixture(scope="module")
@@ -193,3 +193,61 @@ def test_the_files_free_set_is_identified_by_default(puma, puma_data):
     assert len(e.parameter_names) == 27 and e.held_fixed == []
     cv = activecal.identify(puma, m, model_selection="cv")
     assert len(cv.model_selection_curve) > 1
+
+
+def test_learned_residual_as_the_program(puma, puma_data, tmp_path):
+    """learned_residual= gives the program's --learned_residual: the same
+    decision and numbers, the summary as a dict, and save() writes the
+    correction as --model_out does."""
+    m, path = puma_data
+    e = activecal.identify(puma, m, learned_residual="on",
+                           learned_features=40, validation_fraction=0.2)
+    lr = e.learned_residual
+    assert lr["mode"] == "on" and lr["kept"] and lr["num_features"] == 40
+    assert lr["validation_count"] > 0
+    assert lr["validation_rms_parametric_m"] > 0
+    assert lr["report"].startswith("learned residual (on): 40 random Fourier")
+    out = tmp_path / "out.txt"
+    model_out = tmp_path / "program.yaml"
+    text = subprocess_output([program("activecal_identify"), f"--robot={PUMA}",
+                              f"--measurements={path}", "--learned_residual=on",
+                              "--learned_features=40",
+                              "--validation_fraction=0.2",
+                              f"--model_out={model_out}"])
+    # The program prints the same report (its fit time aside).
+    strip = lambda t: [l for l in t.splitlines() if "fit " not in l]
+    assert "\n".join(strip(lr["report"])) in "\n".join(strip(text))
+    saved = tmp_path / "python.yaml"
+    e.save(str(saved))
+    assert "learned_residual:" in saved.read_text()
+    assert activecal.identify(puma, m).learned_residual is None
+    with pytest.raises(ValueError, match="learned_residual must be off, on or "
+                       "auto, got 'maybe'"):
+        activecal.identify(puma, m, learned_residual="maybe")
+    with pytest.raises(ValueError, match="^learned_residual: num_features"):
+        activecal.identify(puma, m, learned_residual="auto",
+                           learned_features=0)
+
+
+def test_rotation_weight_note():
+    """Without rotation_weight on 6D data (the README's UR10e): the
+    program's note, in notes; given, none."""
+    data = SOURCE_DIR / "data"
+    ur10e = activecal.load_robot(str(data / "ur10e.urdf"), tip_link="tool0")
+    m = activecal.read_measurements(
+        ur10e, str(data / "figaroh_ur10e" / "measurements.csv"))
+    e = activecal.identify(ur10e, m, parameter_set="full",
+                           model_selection="none")
+    note = [n for n in e.notes if "rotation_weight" in n]
+    assert len(note) == 1 and note[0].startswith(
+        "activecal: note: rotation_weight not given: the orientations of the "
+        "pose rows were weighted 1 m/rad and 30 parameters kept"), e.notes
+    e = activecal.identify(ur10e, m, parameter_set="full",
+                           model_selection="none", rotation_weight=0.1)
+    assert e.notes == []
+
+
+def subprocess_output(args):
+    import subprocess
+    return subprocess.run(args, check=True, capture_output=True,
+                          text=True).stdout

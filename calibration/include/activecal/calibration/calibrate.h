@@ -49,6 +49,10 @@
 //   kValidation        errors of the nominal (registered) and calibrated
 //                      parameters, and of the baseline, on the held-out
 //                      measurements; EstimateWarnings
+//   kLearnedResidual   with learned_residual.mode on or auto: the learned
+//                      residual (learned_residual.h) on the calibrated
+//                      geometry, fitted on the training measurements; when
+//                      kept, the held-out position RMS without and with it
 // Every parameter a stage holds fixed keeps its value at the start (the
 // nominal, or the registration for the base frame) and is listed in
 // summary.held with its stage. The free set is a value (free_set.h): the
@@ -70,6 +74,7 @@
 #include "activecal/core/robot_model.h"
 #include "activecal/core/types.h"
 #include "activecal/estimation/identification.h"
+#include "activecal/estimation/learned_residual.h"
 #include "activecal/estimation/model_selection.h"
 #include "activecal/estimation/registration_fit.h"
 #include "activecal/estimation/term_selection.h"
@@ -116,8 +121,26 @@ struct CalibrationOptions {
   // set by Calibrate). A prior and model selection exclude each other.
   IdentificationOptions identification;
 
+  // After the fit: the learned residual of the calibrated geometry. Its
+  // mode (kOff here: none), num_features, num_standard_errors and grid are
+  // used; its num_folds, seed and num_threads are those above
+  // (ResolvedLearnedResidual). Not with term_families.
+  LearnedResidualOptions learned_residual = LearnedResidualOff();
+
   // One-line messages naming the options (the program prefixes "--").
   bool IsValid(std::string* error) const;
+  // The learned residual's part of IsValid alone ("learned_residual with
+  // compliance or harmonics: not supported ...", "learned_residual:
+  // <LearnedResidualOptions::IsValid's message>"), for a caller that checks
+  // it before any work.
+  bool LearnedResidualIsValid(std::string* error) const;
+  // learned_residual with num_folds, seed and num_threads set from above.
+  LearnedResidualOptions ResolvedLearnedResidual() const;
+  static LearnedResidualOptions LearnedResidualOff() {
+    LearnedResidualOptions off;
+    off.mode = LearnedResidualMode::kOff;
+    return off;
+  }
   // The prior of a MAP fit is set.
   bool map_fit() const;
   // model_selection with kAuto resolved for parameter_set and the prior.
@@ -135,11 +158,12 @@ enum class CalibrationStage {
   kTermSelection,
   kFit,
   kValidation,
+  kLearnedResidual,
   kDone,
 };
 // "options", "split", "registration", "parameter_set", "identifiability",
 // "baseline", "model_selection", "term_selection", "fit", "validation",
-// "done".
+// "learned_residual", "done".
 const char* CalibrationStageToString(CalibrationStage stage);
 bool StringToCalibrationStage(const std::string& text, CalibrationStage* stage);
 
@@ -211,6 +235,15 @@ struct CalibrationSummary {
   ValidationErrors validation_baseline;
   std::vector<std::string> warnings;  // estimate_warnings.h
 
+  // The learned residual (options.learned_residual.mode not kOff): its
+  // fit and decision; when kept and measurements were held out, their
+  // position RMS (m) with the calibrated geometry alone and with the
+  // correction (learned_validation_count 0: not computed).
+  LearnedResidualSummary learned;
+  int learned_validation_count = 0;
+  double learned_validation_rms_parametric_m = 0;
+  double learned_validation_rms_hybrid_m = 0;
+
   // The calibration got past `stage` (stage < this->stage).
   bool Passed(CalibrationStage stage) const {
     return static_cast<int>(this->stage) > static_cast<int>(stage);
@@ -220,8 +253,12 @@ struct CalibrationSummary {
   // 100 (1 - rms / baseline rms): the calibration's gain over
   // registration only (0 without a baseline RMS).
   double ImprovementPercent() const;
-  // The fit's report, the baseline and validation lines, warnings.
+  // The fit's report, the baseline and validation lines, warnings (then
+  // the learned residual's failure, if it failed).
   std::string BriefReport() const;
+  // BriefReport after the fit's own report: the joint error terms, the
+  // baseline and validation lines, the warnings.
+  std::string FitReportTail() const;
 };
 
 void Calibrate(const RobotModel& model,

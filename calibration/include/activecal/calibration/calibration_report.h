@@ -100,6 +100,27 @@ std::string HeldFixedNote(const CalibrationSummary& summary,
 std::string CalibrationFailureText(const CalibrationSummary& summary,
                                    const CalibrationTextOptions& options);
 
+// A message of CalibrationOptions::IsValid (or LearnedResidualIsValid)
+// with the options named in the caller's spelling ("--folds must be >= 2",
+// "--learned_residual with --compliance or --harmonics: ...").
+std::string OptionsErrorText(const std::string& message,
+                             const CalibrationTextOptions& options);
+
+// The learned residual's report (options.learned_residual.mode on or
+// auto): LearnedResidualSummary::BriefReport and, when it was computed,
+// "  validation (N held-out position measurements): RMS A mm parametric, B
+// mm with the correction"; empty for kOff.
+std::string LearnedResidualText(const CalibrationSummary& summary);
+
+// The model selection's curve for a plot: (parameters kept, training RMS
+// mm, held-out RMS mm) of each point fitted.
+std::vector<std::vector<double>> SelectionCurveRows(
+    const CalibrationSummary& summary);
+// The gnuplot commands drawing the data block $curve (SelectionCurveRows):
+// the title naming the method, both RMS against the count, the count kept
+// marked by a dashed line.
+std::string SelectionCurveGnuplot(const CalibrationSummary& summary);
+
 struct CalibrationJsonOptions {
   std::string measurements = "simulated";  // the input's name
   std::string validation;  // the selection_validation file's name, if any

@@ -1,0 +1,63 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
+// Parts of CalibrationOptions made from plain values (what the program's
+// flags and the Python module's keywords give): the joint error families
+// offered on top of the geometry (term_selection.h).
+//
+//   TermFamilyOptions terms;
+//   terms.compliance = true;
+//   terms.robot_path = "ur10e.urdf";  // its <inertial> masses
+//   terms.urdf_robot = true;
+//   if (!MakeTermFamilies(model, terms, OptionSpelling::kFlags,
+//                         &options.term_families, &error)) ...
+
+#ifndef ACTIVECAL_CALIBRATION_CALIBRATION_SETUP_H_
+#define ACTIVECAL_CALIBRATION_CALIBRATION_SETUP_H_
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "activecal/calibration/calibration_report.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/estimation/term_selection.h"
+#include "activecal/io/urdf_robot.h"
+
+namespace activecal {
+
+struct TermFamilyOptions {
+  // Joint compliance under gravity (one per joint, rad/(N m)): needs link
+  // masses, the URDF's <inertial> elements or a payload.
+  bool compliance = false;
+  // sin/cos k q, k = 1..harmonics, of every revolute joint; in [0, 8].
+  int harmonics = 0;
+  // Payload at the tip (compliance only): mass (kg, finite, >= 0) and
+  // centre of mass in the tip frame, "x,y,z" (m; empty: the tip's origin).
+  double payload_kg = 0.0;
+  std::string payload_com_m;
+  // Gravity in the robot's base frame, "x,y,z" (m/s^2).
+  std::string gravity = "0,0,-9.80665";
+  // The robot file (named in messages); a URDF robot's inertials are read
+  // from it on `chain`.
+  std::string robot_path;
+  bool urdf_robot = false;
+  UrdfChainOptions chain;
+};
+
+// "x,y,z" into *v; false when the text is not three finite numbers.
+bool ParseVector3(const std::string& text, Eigen::Vector3d* v);
+
+// The families `options` offer, in order: "compliance", "periodic". False
+// with one line in *error naming the options in `spelling`
+// ("--payload_kg must be finite and >= 0", "--harmonics must be in [0, 8],
+// got 9", "--gravity: expected 'x,y,z' in m/s^2, got '0,0'", "--compliance:
+// <the URDF's error>", "--compliance needs link masses: ...",
+// "--payload_kg is used by --compliance only").
+bool MakeTermFamilies(const RobotModel& model, const TermFamilyOptions& options,
+                      OptionSpelling spelling,
+                      std::vector<TermFamily>* families, std::string* error);
+
+}  // namespace activecal
+
+#endif  // ACTIVECAL_CALIBRATION_CALIBRATION_SETUP_H_

@@ -1,0 +1,319 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
+// The parts of activecal_identify's workflow in the library: the learned
+// residual as a stage of Calibrate (calibrate.h), the joint error families
+// from plain values (calibration_setup.h), the rotation-weight note and the
+// orientation hint (calibration_notes.h) and the output files
+// (calibration_outputs.h).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "activecal/calibration/calibrate.h"
+#include "activecal/calibration/calibration_notes.h"
+#include "activecal/calibration/calibration_outputs.h"
+#include "activecal/calibration/calibration_report.h"
+#include "activecal/calibration/calibration_setup.h"
+#include "activecal/core/lattice.h"
+#include "activecal/core/puma560.h"
+#include "activecal/core/simulation.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_loader.h"
+
+namespace activecal {
+namespace {
+
+bool StartsWith(const std::string& text, const std::string& prefix) {
+  return text.rfind(prefix, 0) == 0;
+}
+
+// 80 simulated PUMA positions with a smooth non-geometric error (0.2 mm).
+std::vector<Measurement> SmoothPuma() {
+  const RobotModel model = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(model, 5, &lattice, &error)) << error;
+  std::vector<int64_t> poses;
+  std::vector<Measurement> data;
+  EXPECT_TRUE(SimulateAtRandomLatticePoses(model, Puma560TrueParameters(),
+                                           lattice, 80, 1e-6, 3, &poses, &data,
+                                           &error))
+      << error;
+  for (Measurement& m : data) {
+    const Eigen::VectorXd& q = m.joints;
+    m.position.x() += 2e-4 * std::sin(q[0]) * std::cos(q[1]);
+    m.position.y() += 2e-4 * std::cos(q[1] + q[2]);
+  }
+  return data;
+}
+
+TEST(CalibrationWorkflowTest, LearnedResidualIsAStageOfCalibrate) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  options.validation_fraction = 0.25;
+  options.num_threads = 2;
+  options.learned_residual.mode = LearnedResidualMode::kOn;
+  options.learned_residual.num_features = 50;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  EXPECT_EQ(summary.learned.termination_type, TerminationType::kConvergence);
+  EXPECT_TRUE(summary.learned.kept);
+  EXPECT_EQ(summary.learned.num_folds, options.num_folds);
+  EXPECT_EQ(summary.learned_validation_count, 20);
+  EXPECT_GT(summary.learned_validation_rms_parametric_m, 0.0);
+  EXPECT_LT(summary.learned_validation_rms_hybrid_m,
+            summary.learned_validation_rms_parametric_m);
+  const std::string text = LearnedResidualText(summary);
+  EXPECT_TRUE(StartsWith(text, "learned residual (on): 50 random Fourier"))
+      << text;
+  EXPECT_NE(text.find("  validation (20 held-out position measurements): RMS "),
+            std::string::npos)
+      << text;
+
+  // Off: nothing fitted, no text.
+  options.learned_residual.mode = LearnedResidualMode::kOff;
+  CalibrationSummary off;
+  Calibrate(model, data, options, &off);
+  ASSERT_EQ(off.stage, CalibrationStage::kDone);
+  EXPECT_FALSE(off.learned.kept);
+  EXPECT_EQ(LearnedResidualText(off), "");
+  EXPECT_EQ(off.BriefReport(), summary.BriefReport());
+}
+
+TEST(CalibrationWorkflowTest, LearnedResidualFailureAfterTheFit) {
+  const RobotModel model = Puma560PaperModel();
+  std::vector<Measurement> data = SmoothPuma();
+  data.resize(40);
+  CalibrationOptions options;
+  options.num_folds = 41;  // more folds than poses
+  options.learned_residual.mode = LearnedResidualMode::kAuto;
+  options.learned_residual.num_features = 20;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kLearnedResidual)
+      << summary.message;
+  EXPECT_TRUE(summary.Passed(CalibrationStage::kValidation));
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
+  // The fit's report, then the failure.
+  const std::string report = summary.BriefReport();
+  EXPECT_TRUE(StartsWith(report, summary.identification.BriefReport()));
+  EXPECT_NE(report.find("calibration failed (learned_residual): "
+                        "learned_residual: "),
+            std::string::npos)
+      << report;
+  CalibrationTextOptions text;
+  EXPECT_TRUE(StartsWith(CalibrationFailureText(summary, text),
+                         "--learned_residual: "));
+}
+
+TEST(CalibrationWorkflowTest, LearnedResidualOptionsNamedInEitherSpelling) {
+  CalibrationOptions options;
+  std::string error;
+  EXPECT_TRUE(options.LearnedResidualIsValid(&error));
+  options.learned_residual.mode = LearnedResidualMode::kAuto;
+  options.learned_residual.num_features = 0;
+  EXPECT_FALSE(options.LearnedResidualIsValid(&error));
+  EXPECT_FALSE(options.IsValid(nullptr));
+  CalibrationTextOptions flags, keywords;
+  keywords.option_spelling = OptionSpelling::kKeywords;
+  EXPECT_EQ(OptionsErrorText(error, flags),
+            "--learned_residual: num_features must be in [1, 5000], got 0");
+  EXPECT_EQ(OptionsErrorText(error, keywords),
+            "learned_residual: num_features must be in [1, 5000], got 0");
+  options.learned_residual.num_features = 10;
+  options.num_folds = 2;
+  EXPECT_FALSE(options.LearnedResidualIsValid(&error));
+  EXPECT_EQ(OptionsErrorText(error, flags),
+            "--learned_residual: num_folds must be >= 3 (nested "
+            "cross-validation), got 2");
+  options.num_folds = 5;
+  options.term_families.push_back(
+      {"periodic", HarmonicTerms(Puma560PaperModel(), 1)});
+  EXPECT_FALSE(options.LearnedResidualIsValid(&error));
+  EXPECT_EQ(OptionsErrorText(error, flags),
+            "--learned_residual with --compliance or --harmonics: not "
+            "supported (the correction is learned on the geometry's "
+            "residuals alone; use one or the other)");
+}
+
+TEST(CalibrationWorkflowTest, TermFamiliesFromPlainValues) {
+  const RobotModel model = Puma560PaperModel();
+  std::vector<TermFamily> families;
+  std::string error;
+  TermFamilyOptions o;
+  EXPECT_TRUE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error));
+  EXPECT_TRUE(families.empty());
+  o.harmonics = 2;
+  ASSERT_TRUE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error));
+  ASSERT_EQ(families.size(), 1u);
+  EXPECT_EQ(families[0].name, "periodic");
+  o.harmonics = 9;
+  EXPECT_FALSE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error));
+  EXPECT_EQ(error, "--harmonics must be in [0, 8], got 9");
+  o.harmonics = 0;
+  o.payload_com_m = "0,0,1";
+  EXPECT_FALSE(
+      MakeTermFamilies(model, o, OptionSpelling::kKeywords, &families, &error));
+  EXPECT_EQ(error,
+            "payload_com_m needs payload_kg > 0 (a payload without mass)");
+  o.payload_com_m = "";
+  o.payload_kg = 2;
+  EXPECT_FALSE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error));
+  EXPECT_EQ(error, "--payload_kg is used by --compliance only");
+  o.compliance = true;
+  o.gravity = "0,0";
+  EXPECT_FALSE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error));
+  EXPECT_EQ(error, "--gravity: expected 'x,y,z' in m/s^2, got '0,0'");
+  o.gravity = "0,0,-9.81";
+  ASSERT_TRUE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error))
+      << error;
+  ASSERT_EQ(families.size(), 1u);
+  EXPECT_EQ(families[0].name, "compliance");
+  o.payload_kg = 0;
+  o.robot_path = "puma.yaml";
+  EXPECT_FALSE(
+      MakeTermFamilies(model, o, OptionSpelling::kFlags, &families, &error));
+  EXPECT_EQ(error,
+            "--compliance needs link masses: --robot puma.yaml is not a URDF "
+            "with <inertial> elements; give a URDF or --payload_kg");
+  Eigen::Vector3d v;
+  EXPECT_TRUE(ParseVector3("1,2.5,-3", &v));
+  EXPECT_EQ(v, Eigen::Vector3d(1, 2.5, -3));
+  EXPECT_FALSE(ParseVector3("1,2,3,4", &v));
+  EXPECT_FALSE(ParseVector3("1,2,nan", &v));
+}
+
+TEST(CalibrationWorkflowTest, RotationWeightNoteAndOrientationHint) {
+  RobotDescription robot;
+  UrdfChainOptions chain;
+  chain.tip_link = "tool0";
+  std::string error;
+  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10e.urdf",
+                            chain, &robot, &error))
+      << error;
+  std::vector<Measurement> data;
+  ASSERT_TRUE(ReadMeasurementsCsv(
+      std::string(ACTIVECAL_DATA_DIR) + "/figaroh_ur10e/measurements.csv",
+      robot.model, &data, &error))
+      << error;
+  CalibrationOptions options;
+  options.parameter_set = ParameterSet::kFull;
+  options.model_selection = ModelSelectionMethod::kNone;
+  CalibrationSummary summary;
+  Calibrate(robot.model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  CalibrationTextOptions text;
+  text.program = "prog";
+  const std::string note = RotationWeightNote(robot.model, data, summary, text);
+  EXPECT_TRUE(StartsWith(note,
+                         "prog: note: --rotation_weight not given: the "
+                         "orientations of the pose rows were weighted 1 "
+                         "m/rad and 30 parameters kept; their residuals "
+                         "(between 23 poses: "))
+      << note;
+  EXPECT_NE(note.find("with which the calibration keeps 30 parameters"),
+            std::string::npos)
+      << note;
+  // The device's own orientations fit: no hint.
+  EXPECT_EQ(OrientationHintText(summary, data, "", text), "");
+  // Turned orientations fit badly: the hint names the columns given.
+  std::vector<Measurement> turned = data;
+  for (size_t i = 0; i < turned.size(); ++i) {
+    // A different turn at every pose (a rotation vector).
+    turned[i].rotation += Eigen::Vector3d(0.3 * static_cast<double>(i % 5),
+                                          -0.2 * static_cast<double>(i % 3), 0);
+  }
+  const std::string hint =
+      OrientationHintText(summary, turned, "a, b, c as XYZ", text);
+  EXPECT_TRUE(StartsWith(hint, "prog: warning: orientations fit badly"))
+      << hint;
+  EXPECT_NE(hint.find("(a, b, c as XYZ)"), std::string::npos) << hint;
+}
+
+TEST(CalibrationWorkflowTest, OutputsMadeAndCheckedBeforeWriting) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  CalibrationOutputOptions o;
+  o.model_out = "m.yaml";
+  o.urdf_out = "m.urdf";
+  o.frames_out = "f.yaml";
+  o.json_out = "r.json";
+  o.source = "data.csv";
+  CalibrationOutputs outputs;
+  std::string error;
+  ASSERT_TRUE(MakeCalibrationOutputs(summary, data, o, &outputs, &error))
+      << error;
+  ASSERT_EQ(outputs.files.size(), 4u);
+  EXPECT_EQ(outputs.files[0].path, "m.yaml");
+  EXPECT_TRUE(StartsWith(outputs.files[0].text,
+                         "# Calibrated by activecal_identify from data.csv\n"))
+      << outputs.files[0].text.substr(0, 80);
+  EXPECT_EQ(outputs.files[1].path, "m.urdf");
+  EXPECT_EQ(outputs.files[2].path, "f.yaml");
+  EXPECT_EQ(outputs.files[3].text, CalibrationJson(summary, o.json));
+  EXPECT_TRUE(StartsWith(outputs.notes_after,
+                         "  --urdf_out: wrote m.urdf; reloaded, it predicts "
+                         "every measured point within "))
+      << outputs.notes_after;
+  // Not a UR: no file at all, the option named.
+  o.ur_calibration_out = "ur.yaml";
+  EXPECT_FALSE(MakeCalibrationOutputs(summary, data, o, &outputs, &error));
+  EXPECT_TRUE(outputs.files.empty());
+  EXPECT_TRUE(StartsWith(error, "--ur_calibration_out: ")) << error;
+}
+
+TEST(CalibrationWorkflowTest, SelectionCurvePlotAndOutputPaths) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  options.parameter_set = ParameterSet::kFull;
+  options.model_selection = ModelSelectionMethod::kCrossValidation;
+  options.num_threads = 2;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  const std::vector<std::vector<double>> rows = SelectionCurveRows(summary);
+  ASSERT_FALSE(rows.empty());
+  const ModelSelectionPoint& first = summary.selection.curve[0];
+  ASSERT_TRUE(first.ok);
+  EXPECT_EQ(rows[0], (std::vector<double>{static_cast<double>(first.num_kept),
+                                          first.training_rms_m * 1e3,
+                                          first.held_out_rms_m * 1e3}));
+  const std::string kept = std::to_string(summary.selection.best_num_kept);
+  const std::string script = SelectionCurveGnuplot(summary);
+  EXPECT_TRUE(StartsWith(script,
+                         "set title 'Model selection (cv): RMS "
+                         "against parameters kept'\n"))
+      << script;
+  EXPECT_NE(script.find("set arrow from " + kept + ", graph 0 to " + kept),
+            std::string::npos)
+      << script;
+
+  CalibrationOutputOptions o;
+  o.json_out = "r.json";
+  o.model_out = "m.yaml";
+  o.ur_calibration_out = "u.yaml";
+  using Paths = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(o.Paths(), (Paths{{"m.yaml", "model_out"},
+                              {"u.yaml", "ur_calibration_out"},
+                              {"r.json", "json_out"}}));
+}
+
+}  // namespace
+}  // namespace activecal
