@@ -40,6 +40,7 @@
 #include "activecal/core/types.h"
 #include "activecal/io/output_files.h"
 #include "activecal/io/robot_file.h"
+#include "activecal/io/urdf_robot.h"
 #include "activecal/kinematics/compensation.h"
 #include "activecal/kinematics/corrected_compensation.h"
 
