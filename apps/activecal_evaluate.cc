@@ -7,15 +7,10 @@
 
 #include <gflags/gflags.h>
 
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 
-#include "activecal/calibration/iso9283_cycles.h"
-#include "activecal/estimation/evaluation.h"
-#include "activecal/estimation/registration_fit.h"
-#include "activecal/io/csv_files.h"
-#include "activecal/io/robot_loader.h"
+#include "activecal/calibration/evaluate.h"
 #include "activecal/report/html_report.h"
 #include "app_common.h"
 #include "gnuplot.h"
@@ -81,116 +76,6 @@ DEFINE_double(rotation_weight, 1.0,
 namespace activecal {
 namespace {
 
-nlohmann::json StatisticsJson(const ErrorStatistics& s) {
-  return {{"count", s.count},
-          {"rms", s.rms},
-          {"mean", s.mean},
-          {"p95", s.p95},
-          {"max", s.max}};
-}
-
-nlohmann::json ReportJson(const EvaluationSummary& s) {
-  return {
-      {"num_position_measurements", s.position.count},
-      {"rmse_m", s.position.rms},
-      {"rmse_xyz_m", {s.rmse_xyz_m.x(), s.rmse_xyz_m.y(), s.rmse_xyz_m.z()}},
-      {"mean_xyz_m", {s.mean_xyz_m.x(), s.mean_xyz_m.y(), s.mean_xyz_m.z()}},
-      {"mean_m", s.position.mean},
-      {"p95_m", s.position.p95},
-      {"max_m", s.position.max},
-      {"orientation_rad", StatisticsJson(s.rotation)},
-      {"distance_m", StatisticsJson(s.distance)}};
-}
-
-// The fixed points (type=point rows): each one's refitted coordinates and
-// the spread of its rows about them.
-nlohmann::json PointsJson(const EvaluationSummary& s) {
-  nlohmann::json points = nlohmann::json::array();
-  for (size_t k = 0; k < s.point_labels.size(); ++k) {
-    const Eigen::Vector3d& c = s.point_coordinates[k];
-    nlohmann::json p = StatisticsJson(s.point_spread[k]);
-    p["label"] = s.point_labels[k];
-    p["coordinates_m"] = {c.x(), c.y(), c.z()};
-    points.push_back(p);
-  }
-  return points;
-}
-
-// The planes (type=plane rows): each one refitted (unit normal, offset:
-// n . x = d) and its flatness, the statistics of its rows' |distance|.
-nlohmann::json PlanesJson(const EvaluationSummary& s) {
-  nlohmann::json planes = nlohmann::json::array();
-  for (size_t k = 0; k < s.plane_labels.size(); ++k) {
-    const Eigen::Vector4d& p = s.plane_parameters[k];
-    nlohmann::json e = StatisticsJson(s.plane_flatness[k]);
-    e["label"] = s.plane_labels[k];
-    e["normal"] = {p[0], p[1], p[2]};
-    e["offset_m"] = p[3];
-    planes.push_back(e);
-  }
-  return planes;
-}
-
-// The measurements of one posture group.
-std::vector<Measurement> Subset(const std::vector<Measurement>& all,
-                                const std::vector<PostureGroup>& groups,
-                                PostureGroup group) {
-  std::vector<Measurement> out;
-  for (size_t i = 0; i < all.size(); ++i) {
-    if (groups[i] == group) out.push_back(all[i]);
-  }
-  return out;
-}
-
-// The one-line result (what --quiet prints): the key figures of "after"
-// with units, each the JSON's value (rmse_m, max_m, orientation_rad.rms,
-// distance_m.rms) scaled to mm or deg.
-std::string EvaluationResultLine(const EvaluationSummary& s) {
-  const double deg = 180.0 / M_PI;
-  char text[128];
-  std::string line = app::ProgramName() + ": " +
-                     std::to_string(s.num_measurements) + " measurements";
-  if (s.position.count > 0) {
-    std::snprintf(text, sizeof(text), ", position RMS %.4f mm, max %.4f mm",
-                  s.position.rms * 1e3, s.position.max * 1e3);
-    line += text;
-  }
-  if (s.rotation.count > 0) {
-    std::snprintf(text, sizeof(text), ", orientation RMS %.5f deg",
-                  s.rotation.rms * deg);
-    line += text;
-  }
-  if (s.distance.count > 0) {
-    std::snprintf(text, sizeof(text), ", distance RMS %.4f mm",
-                  s.distance.rms * 1e3);
-    line += text;
-  }
-  return line;
-}
-
-void PrintLine(const char* label, const EvaluationSummary& s) {
-  const double deg = 180.0 / M_PI;
-  std::printf("  %-28s", label);
-  if (s.position.count > 0) {
-    std::printf(
-        " position (%d): RMSE %.3f mm (x %.3f, y %.3f, z %.3f), mean %.3f, "
-        "p95 %.3f, max %.3f mm",
-        s.position.count, s.position.rms * 1e3, s.rmse_xyz_m.x() * 1e3,
-        s.rmse_xyz_m.y() * 1e3, s.rmse_xyz_m.z() * 1e3, s.position.mean * 1e3,
-        s.position.p95 * 1e3, s.position.max * 1e3);
-  }
-  if (s.rotation.count > 0) {
-    std::printf("; orientation: RMS %.4f deg, p95 %.4f, max %.4f deg",
-                s.rotation.rms * deg, s.rotation.p95 * deg,
-                s.rotation.max * deg);
-  }
-  if (s.distance.count > 0) {
-    std::printf("; distance (%d): RMS %.3f mm, max %.3f mm", s.distance.count,
-                s.distance.rms * 1e3, s.distance.max * 1e3);
-  }
-  std::printf("\n");
-}
-
 void PlotHistograms(const std::vector<Measurement>& measurements,
                     const EvaluationSummary& before,
                     const EvaluationSummary& after) {
@@ -235,48 +120,59 @@ void PlotHistograms(const std::vector<Measurement>& measurements,
   std::printf("  --plot: wrote %s\n", FLAGS_plot.c_str());
 }
 
-// The ISO 9283 figures of the cycles (--iso9283), in the base frame of
-// --iso9283_registration.
-Iso9283CyclesSummary Iso9283OrDie(const RobotModel& model,
-                                  const std::vector<Measurement>& measurements,
-                                  const std::vector<int>& lines,
-                                  const IdentificationOptions& fit_options) {
-  const std::vector<CommandedPose> commanded =
-      app::ReadCommandedPosesOrDie(FLAGS_measurements, model);
-  Eigen::VectorXd parameters = model.nominal;
-  if (FLAGS_iso9283_registration == "file") {
-    RegistrationFitSummary fit;
-    FitRegistration(model, model.nominal, measurements, fit_options, &fit);
-    if (fit.termination_type != TerminationType::kConvergence) {
-      app::Fail("--iso9283_registration=file: " + fit.message);
+// The evaluation as a report a person reads (--report_html).
+std::string HtmlText(const RobotModel& model,
+                     const std::vector<Measurement>& measurements,
+                     const LearnedCorrection& correction,
+                     const EvaluateSummary& summary) {
+  HtmlReport report;
+  report.title = "activecal evaluation report";
+  report.setup = {
+      {"robot", model.name + " (" + std::to_string(model.num_joints()) +
+                    " joints), " + FLAGS_robot},
+      {"measurements",
+       FLAGS_measurements + " (" + std::to_string(measurements.size()) + ")"},
+      {"after", correction.empty()
+                    ? std::string("--robot as given (no fitting)")
+                    : "--robot's geometry as given (no fitting); the "
+                      "report's errors are without its learned correction "
+                      "(the printed and JSON errors have it)"},
+      {"before", summary.have_before ? summary.description : "none"},
+      {"program", "activecal_evaluate"}};
+  if (!FLAGS_training.empty()) {
+    report.setup.push_back({"training", FLAGS_training});
+  }
+  std::string error;
+  ReportErrors e;
+  if (summary.have_before) {
+    if (!ComputeReportErrors(summary.nominal, summary.baseline.parameters,
+                             measurements, "before.evaluated",
+                             "before, evaluated poses", &e, &error)) {
+      app::Fail("--measurements: " + error);
     }
-    parameters = fit.parameters;
-  } else if (FLAGS_iso9283_registration != "robot") {
-    app::Fail("--iso9283_registration must be robot or file, got '" +
-              FLAGS_iso9283_registration + "'");
+    report.errors.push_back(e);
   }
-  Iso9283CyclesSummary iso;
-  if (!EvaluateIso9283Cycles(model, parameters, measurements, lines, commanded,
-                             &iso)) {
-    // "<file>:<line>: <field>: ..." when the message names a line.
-    const bool at_line =
-        !iso.message.empty() &&
-        std::isdigit(static_cast<unsigned char>(iso.message[0]));
-    app::Fail("--iso9283: " + FLAGS_measurements + (at_line ? ":" : ": ") +
-              iso.message);
+  if (!ComputeReportErrors(model, model.nominal, measurements,
+                           "after.evaluated", "after, evaluated poses", &e,
+                           &error)) {
+    app::Fail("--measurements: " + error);
   }
-  return iso;
-}
-
-// ", with its learned correction (...)" when the robot file has one.
-std::string LearnedCorrectionNote(const LearnedCorrection& c) {
-  if (c.empty()) return "";
-  char text[256];
-  std::snprintf(text, sizeof(text),
-                ", with its learned correction (%d random Fourier features, "
-                "fitted on %d measurements)",
-                c.num_features(), c.num_training);
-  return text;
+  report.errors.push_back(e);
+  for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
+                         PostureGroup::kOutOfRange}) {
+    if (summary.groups.empty()) break;
+    const std::vector<Measurement> subset =
+        PostureGroupSubset(measurements, summary.groups, g);
+    if (subset.empty()) continue;
+    const std::string name = PostureGroupName(g);
+    if (!ComputeReportErrors(model, model.nominal, subset, "group." + name,
+                             "after, " + name + " postures", &e, &error)) {
+      app::Fail("--measurements: " + error);
+    }
+    report.groups.push_back(e);
+  }
+  if (FLAGS_iso9283) report.iso9283 = summary.iso9283;
+  return RenderHtml(report);
 }
 
 int Main() {
@@ -293,285 +189,60 @@ int Main() {
         "errors below include where the device stands relative to the "
         "robot (give the frames identify wrote with --frames_out)\n");
   }
-  std::vector<int> lines;
+  EvaluateOptions options;
   const std::vector<Measurement> measurements = app::WithPointsFileOrDie(
       FLAGS_points, app::ReadMeasurementsOrDie(FLAGS_measurements, model,
-                                               "measurements", &lines));
-  // The learned correction of --robot's file (identify
-  // --learned_residual), part of "after" when there is one.
-  const LearnedCorrection& correction = robot.learned_correction;
-  EvaluationSummary summary;
-  if (!EvaluateCorrectedModel(model, model.nominal, correction, measurements,
-                              &summary)) {
-    app::Fail("--measurements: " + summary.message);
-  }
-  // Before: the registration-only baseline (registration_fit.h).
-  RobotDescription nominal = robot;
-  if (!FLAGS_nominal_robot.empty()) {
-    RobotLoadOptions load;
-    load.chain.base_link = FLAGS_base_link;
-    load.chain.tip_link = FLAGS_tip_link;
-    std::string error;
-    if (!LoadRobot(FLAGS_nominal_robot, load, &nominal, &error)) {
-      app::Fail("--nominal_robot: " + error);
-    }
-    const std::vector<std::string> theirs = nominal.model.ParameterNames(),
-                                   ours = model.ParameterNames();
-    if (theirs != ours) {
-      // The first parameter that differs, so that equal joint and marker
-      // counts do not read as a contradiction.
-      size_t k = 0;
-      while (k < theirs.size() && k < ours.size() && theirs[k] == ours[k]) ++k;
-      auto name = [](const std::vector<std::string>& v, size_t k) {
-        return k < v.size() ? v[k] : std::string("none");
-      };
-      app::Fail("--nominal_robot: not the same robot as --robot: parameter " +
-                std::to_string(k + 1) + " is " + name(theirs, k) +
-                " there and " + name(ours, k) + " in --robot (" +
-                std::to_string(nominal.model.num_joints()) + " and " +
-                std::to_string(model.num_joints()) + " joints, " +
-                std::to_string(theirs.size()) + " and " +
-                std::to_string(ours.size()) + " parameters)");
+                                               "measurements", &options.lines));
+  options.robot_path = FLAGS_robot;
+  options.measurements_path = FLAGS_measurements;
+  options.nominal_robot_path = FLAGS_nominal_robot;
+  options.chain.base_link = FLAGS_base_link;
+  options.chain.tip_link = FLAGS_tip_link;
+  options.rotation_weight = FLAGS_rotation_weight;
+  options.iso9283 = FLAGS_iso9283;
+  if (FLAGS_iso9283) {
+    options.commanded = app::ReadCommandedPosesOrDie(FLAGS_measurements, model);
+    if (!StringToIso9283Registration(FLAGS_iso9283_registration,
+                                     &options.iso9283_registration)) {
+      app::Fail("--iso9283_registration must be robot or file, got '" +
+                FLAGS_iso9283_registration + "'");
     }
   }
-  IdentificationOptions fit_options;
-  fit_options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
-  {
-    std::string why;
-    if (!fit_options.IsValid(&why)) app::Fail("--rotation_weight: " + why);
-  }
-  Iso9283CyclesSummary iso;
-  if (FLAGS_iso9283)
-    iso = Iso9283OrDie(model, measurements, lines, fit_options);
-  std::vector<Measurement> training;
+  options.training_path = FLAGS_training;
   if (!FLAGS_training.empty()) {
-    training = app::ReadMeasurementsOrDie(FLAGS_training, model, "training");
+    options.training =
+        app::ReadMeasurementsOrDie(FLAGS_training, model, "training");
   }
-  // What 'before' is (--before).
-  const bool have_nominal = !FLAGS_nominal_robot.empty();
-  std::string before_kind = FLAGS_before;
-  if (before_kind == "auto") {
-    before_kind = !training.empty() && have_nominal ? "training" : "refit";
-  }
-  if (before_kind != "training" && before_kind != "refit" &&
-      before_kind != "none") {
+  if (!StringToBeforeBaseline(FLAGS_before, &options.before)) {
     app::Fail("--before must be auto, training, refit or none, got '" +
               FLAGS_before + "'");
   }
-  if (before_kind == "training" && (training.empty() || !have_nominal)) {
-    app::Fail(
-        "--before=training needs --training (the measurements the model was "
-        "calibrated on) and --nominal_robot (the uncalibrated robot)");
+  options.json_out = FLAGS_json_out;
+  options.program = app::ProgramName();
+  EvaluateSummary summary;
+  Evaluate(robot, measurements, options, &summary);
+  if (summary.termination_type != TerminationType::kConvergence) {
+    app::Fail(summary.message);
   }
-  std::string before_text;
-  if (before_kind == "training") {
-    before_text =
-        "registration only: --nominal_robot's geometry, base and markers "
-        "fitted to --training (" +
-        std::to_string(training.size()) +
-        " measurements), predicting these measurements without refitting";
-  } else if (have_nominal) {
-    before_text =
-        "registration only, refitted: --nominal_robot's geometry, base and "
-        "markers fitted to these measurements themselves";
-  } else {
-    before_text =
-        "--robot's own geometry, base and markers refitted to these "
-        "measurements (no --nominal_robot: not a registration-only "
-        "baseline)";
-  }
-  RegistrationFitSummary baseline;
-  bool have_before = false;
-  EvaluationSummary before;
-  if (before_kind != "none") {
-    FitRegistration(nominal.model, nominal.model.nominal,
-                    before_kind == "training" ? training : measurements,
-                    fit_options, &baseline);
-    // Too few measurements for the fit (fewer rows than base and marker
-    // parameters): the report goes on without the baseline, saying why.
-    have_before = baseline.termination_type == TerminationType::kConvergence;
-    if (have_before && !EvaluateModel(nominal.model, baseline.parameters,
-                                      measurements, &before)) {
-      app::Fail("--measurements: " + before.message);
-    }
-  }
-  std::printf("%s", summary.BriefReport().c_str());
-  std::printf("  after: --robot as given (no fitting)%s\n",
-              LearnedCorrectionNote(correction).c_str());
-  if (have_before) {
-    std::printf("  before: %s\n", before_text.c_str());
-    PrintLine(before_kind == "training" ? "before (fitted on --training)"
-              : have_nominal            ? "before (refitted to this file)"
-                                        : "before (--robot refitted)",
-              before);
-    PrintLine("after (--robot as given)", summary);
-  } else if (before_kind != "none") {
-    std::printf("  note: no 'before' (%s): %s\n", before_text.c_str(),
-                baseline.message.c_str());
-  }
-  if (!training.empty() && !have_nominal && FLAGS_before == "auto") {
-    std::printf(
-        "  note: --training without --nominal_robot: 'before' is a refit of "
-        "--robot; give --nominal_robot for the registration-only baseline "
-        "fitted on --training\n");
-  }
-  std::printf("%s", app::PointSpreadText(summary).c_str());
-  if (FLAGS_iso9283) std::printf("%s", iso.TableText().c_str());
-  // Posture groups relative to the training poses.
-  std::vector<PostureGroup> groups;
-  nlohmann::json groups_json = nlohmann::json::object();
-  if (!training.empty()) {
-    groups = ClassifyPostures(model, training, measurements);
-    for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
-                           PostureGroup::kOutOfRange}) {
-      const std::vector<Measurement> subset = Subset(measurements, groups, g);
-      EvaluationSummary s;
-      if (!subset.empty() && !EvaluateCorrectedModel(model, model.nominal,
-                                                     correction, subset, &s)) {
-        app::Fail("--measurements: " + s.message);
-      }
-      const std::string label = std::string("after, ") + PostureGroupName(g);
-      if (!subset.empty()) PrintLine(label.c_str(), s);
-      nlohmann::json gj = ReportJson(s);
-      gj["num_measurements"] = static_cast<int>(subset.size());
-      groups_json[PostureGroupName(g)] = gj;
-    }
-  }
+  std::printf("%s", summary.report.c_str());
   if (!FLAGS_plot.empty()) {
-    if (!have_before) {
+    if (!summary.have_before) {
       app::Fail("--plot: no 'before' to compare with" +
-                (before_kind == "none" ? std::string(" (--before=none)")
-                                       : ": " + baseline.message));
+                (summary.kind == BeforeBaseline::kNone
+                     ? std::string(" (--before=none)")
+                     : ": " + summary.baseline.message));
     }
-    PlotHistograms(measurements, before, summary);
+    PlotHistograms(measurements, summary.before, summary.after);
   }
-  if (!FLAGS_json_out.empty()) {
-    nlohmann::json j;
-    j["robot"] = model.name;
-    j["measurements"] = FLAGS_measurements;
-    j["num_measurements"] = summary.num_measurements;
-    j["num_position_measurements"] = summary.position.count;
-    j["rmse_m"] = summary.position.rms;
-    j["rmse_xyz_m"] = {summary.rmse_xyz_m.x(), summary.rmse_xyz_m.y(),
-                       summary.rmse_xyz_m.z()};
-    j["mean_xyz_m"] = {summary.mean_xyz_m.x(), summary.mean_xyz_m.y(),
-                       summary.mean_xyz_m.z()};
-    j["mean_m"] = summary.position.mean;
-    j["p95_m"] = summary.position.p95;
-    j["max_m"] = summary.position.max;
-    j["orientation_rad"] = StatisticsJson(summary.rotation);
-    j["distance_m"] = StatisticsJson(summary.distance);
-    nlohmann::json rows = nlohmann::json::array();
-    for (int i = 0; i < summary.num_measurements; ++i) {
-      const Measurement& m = measurements[i];
-      nlohmann::json row = {{"index", i},
-                            {"type", MeasurementTypeName(m.type)},
-                            {"marker", m.marker + 1}};
-      if (m.type == MeasurementType::kPoint) row["point"] = m.point;
-      if (m.type == MeasurementType::kPlane) {
-        row["plane"] = m.plane;
-        row["probe_radius_m"] = m.probe_radius_m;
-        row["plane_distance_m"] = summary.plane_errors_m[i];
-        rows.push_back(row);
-        continue;
-      }
-      if (m.type == MeasurementType::kPointDistance) {
-        row["points"] = {m.point, m.point2};
-      }
-      if (m.type == MeasurementType::kDistance ||
-          m.type == MeasurementType::kPointDistance) {
-        row["distance_error_m"] = summary.distance_errors_m[i];
-      } else {
-        const Eigen::Vector3d& e = summary.position_errors[i];
-        row["error_xyz_m"] = {e.x(), e.y(), e.z()};
-        row["error_m"] = e.norm();
-      }
-      if (m.type == MeasurementType::kPose) {
-        row["orientation_error_rad"] = summary.rotation_errors_rad[i];
-      }
-      rows.push_back(row);
-    }
-    j["errors"] = rows;
-    if (!summary.point_labels.empty()) j["points"] = PointsJson(summary);
-    if (!summary.plane_labels.empty()) j["planes"] = PlanesJson(summary);
-    if (have_before) {
-      j["before"] = ReportJson(before);
-      j["before"]["kind"] = before_kind;
-      j["before"]["description"] = before_text;
-      j["before"]["registration_only"] = have_nominal;
-      j["before"]["fitted_on"] =
-          before_kind == "training" ? FLAGS_training : FLAGS_measurements;
-      j["before"]["registration_rms_residual_m"] = baseline.rms_m;
-      j["before"]["robot"] =
-          FLAGS_nominal_robot.empty() ? FLAGS_robot : FLAGS_nominal_robot;
-    } else {
-      j["before"] = nullptr;
-    }
-    j["after"] = ReportJson(summary);
-    j["after"]["description"] =
-        "--robot as given (no fitting)" + LearnedCorrectionNote(correction);
-    j["after"]["learned_correction"] = !correction.empty();
-    if (!training.empty()) {
-      j["training"] = FLAGS_training;
-      j["groups"] = groups_json;
-      for (size_t i = 0; i < groups.size(); ++i) {
-        j["errors"][i]["group"] = PostureGroupName(groups[i]);
-      }
-    }
-    if (FLAGS_iso9283) {
-      j["iso9283"] = iso.Json();
-      j["iso9283"]["registration"] = FLAGS_iso9283_registration;
-    }
-    app::WriteJsonOrDie(FLAGS_json_out, j);
+  for (const OutputFile& file : summary.outputs) {
+    app::WriteTextOrDie(file.path, file.text);
   }
   if (!FLAGS_report_html.empty()) {
-    HtmlReport report;
-    report.title = "activecal evaluation report";
-    report.setup = {
-        {"robot", model.name + " (" + std::to_string(model.num_joints()) +
-                      " joints), " + FLAGS_robot},
-        {"measurements",
-         FLAGS_measurements + " (" + std::to_string(measurements.size()) + ")"},
-        {"after", correction.empty()
-                      ? std::string("--robot as given (no fitting)")
-                      : "--robot's geometry as given (no fitting); the "
-                        "report's errors are without its learned correction "
-                        "(the printed and JSON errors have it)"},
-        {"before", have_before ? before_text : "none"},
-        {"program", "activecal_evaluate"}};
-    if (!training.empty()) report.setup.push_back({"training", FLAGS_training});
-    std::string error;
-    ReportErrors e;
-    if (have_before) {
-      if (!ComputeReportErrors(nominal.model, baseline.parameters, measurements,
-                               "before.evaluated", "before, evaluated poses",
-                               &e, &error)) {
-        app::Fail("--measurements: " + error);
-      }
-      report.errors.push_back(e);
-    }
-    if (!ComputeReportErrors(model, model.nominal, measurements,
-                             "after.evaluated", "after, evaluated poses", &e,
-                             &error)) {
-      app::Fail("--measurements: " + error);
-    }
-    report.errors.push_back(e);
-    for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
-                           PostureGroup::kOutOfRange}) {
-      if (groups.empty()) break;
-      const std::vector<Measurement> subset = Subset(measurements, groups, g);
-      if (subset.empty()) continue;
-      const std::string name = PostureGroupName(g);
-      if (!ComputeReportErrors(model, model.nominal, subset, "group." + name,
-                               "after, " + name + " postures", &e, &error)) {
-        app::Fail("--measurements: " + error);
-      }
-      report.groups.push_back(e);
-    }
-    if (FLAGS_iso9283) report.iso9283 = iso;
-    app::WriteTextOrDie(FLAGS_report_html, RenderHtml(report));
+    app::WriteTextOrDie(
+        FLAGS_report_html,
+        HtmlText(model, measurements, robot.learned_correction, summary));
   }
-  app::PrintResult(EvaluationResultLine(summary));
+  app::PrintResult(summary.result_line);
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -257,6 +258,33 @@ std::vector<PostureGroup> ClassifyPostures(
     groups.push_back(g);
   }
   return groups;
+}
+
+std::string EvaluationSummary::PointSpreadText() const {
+  std::string text;
+  char line[512];
+  for (size_t k = 0; k < point_labels.size(); ++k) {
+    const ErrorStatistics& s = point_spread[k];
+    const Eigen::Vector3d& c = point_coordinates[k];
+    std::snprintf(line, sizeof(line),
+                  "  point %s (%d rows, refitted at %.6f, %.6f, %.6f m): "
+                  "distance to the point's mean %.3f mm mean, RMS %.3f mm, "
+                  "max %.3f mm\n",
+                  point_labels[k].c_str(), s.count, c.x(), c.y(), c.z(),
+                  s.mean * 1e3, s.rms * 1e3, s.max * 1e3);
+    text += line;
+  }
+  for (size_t k = 0; k < plane_labels.size(); ++k) {
+    const ErrorStatistics& s = plane_flatness[k];
+    const Eigen::Vector4d& p = plane_parameters[k];
+    std::snprintf(line, sizeof(line),
+                  "  plane %s (%d rows, refitted: normal %.6f, %.6f, %.6f, "
+                  "offset %.6f m): flatness RMS %.3f mm, max %.3f mm\n",
+                  plane_labels[k].c_str(), s.count, p[0], p[1], p[2], p[3],
+                  s.rms * 1e3, s.max * 1e3);
+    text += line;
+  }
+  return text;
 }
 
 std::string EvaluationSummary::BriefReport() const {

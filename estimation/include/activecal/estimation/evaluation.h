@@ -77,6 +77,10 @@ struct EvaluationSummary {
   ErrorStatistics plane;
 
   std::string BriefReport() const;
+  // One line per fixed point (its rows, refitted coordinates, the spread
+  // about its mean) and per plane (refitted normal and offset, flatness),
+  // each starting "  point <label>" or "  plane <label>"; empty without.
+  std::string PointSpreadText() const;
 };
 
 ErrorStatistics ComputeErrorStatistics(std::vector<double> magnitudes);

@@ -1,0 +1,183 @@
+// Copyright (c) 2026, the activecal authors.
+// SPDX-License-Identifier: BSD-3-Clause
+
+// The workflows of activecal_evaluate and activecal_compensate
+// (calibration/evaluate.h, calibration/compensate.h).
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "activecal/calibration/compensate.h"
+#include "activecal/calibration/evaluate.h"
+#include "activecal/core/simulation.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/robot_loader.h"
+
+namespace activecal {
+namespace {
+
+RobotDescription Puma() {
+  RobotDescription robot;
+  std::string error;
+  EXPECT_TRUE(LoadRobot(std::string(ACTIVECAL_DATA_DIR) + "/puma560.yaml",
+                        RobotLoadOptions(), &robot, &error))
+      << error;
+  return robot;
+}
+
+// `n` configurations spread inside the joint ranges.
+Eigen::MatrixXd Configurations(const RobotModel& model, int n) {
+  Eigen::MatrixXd q(n, model.num_joints());
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const Link& link = model.links[j];
+      const double t = (i + 1.0 + 0.3 * j) / (n + 2.0);
+      q(i, j) = link.joint_min + t * (link.joint_max - link.joint_min);
+    }
+  }
+  return q;
+}
+
+std::string WriteFile(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(CompensateTest, SameModelKeepsTheProgramAndMakesTheOutputs) {
+  const RobotDescription robot = Puma();
+  PoseList program;
+  program.joints = Configurations(robot.model, 3);
+  program.pose_indices = {7, 8, 9};
+  CompensateOptions options;
+  options.poses_csv =
+      WriteFile("compensate_program.csv", PosesCsvText(robot.model, program));
+  options.nominal_path = std::string(ACTIVECAL_DATA_DIR) + "/puma560.yaml";
+  options.out = "out.csv";
+  options.json_out = "out.json";
+  options.program = "test";
+  CompensateSummary summary;
+  Compensate(robot, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  ASSERT_EQ(summary.compensation.results.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_LT((summary.compensation.results[i].joints -
+               program.joints.row(i).transpose())
+                  .norm(),
+              1e-6);
+  }
+  EXPECT_EQ(summary.labels, program.pose_indices);
+  EXPECT_TRUE(summary.has_correction);
+  EXPECT_LT(summary.correction.max_position_m, 1e-6);
+  ASSERT_EQ(summary.outputs.size(), 2u);
+  EXPECT_EQ(summary.outputs[0].path, "out.csv");
+  EXPECT_EQ(summary.outputs[1].path, "out.json");
+  const nlohmann::json j = nlohmann::json::parse(summary.outputs[1].text);
+  EXPECT_EQ(j["num_converged"], 3);
+  EXPECT_EQ(j["targets"][2]["pose_index"], 9);
+  EXPECT_NE(summary.report.find("wrote 3 compensated targets to out.csv"),
+            std::string::npos);
+  EXPECT_EQ(summary.result_line.rfind("test: 3 of 3 targets converged", 0), 0u);
+  EXPECT_TRUE(summary.not_converged.empty());
+}
+
+TEST(CompensateTest, BadInputIsAUserFailureWithNoOutputs) {
+  const RobotDescription robot = Puma();
+  CompensateOptions options;
+  options.out = "out.csv";
+  CompensateSummary summary;
+  Compensate(robot, options, &summary);  // no program
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
+  EXPECT_EQ(summary.message.rfind("give exactly one of --poses_csv", 0), 0u);
+  options.poses_csv = "program.csv";
+  Compensate(robot, options, &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
+  EXPECT_EQ(summary.message.rfind("--poses_csv needs --nominal", 0), 0u);
+  options.marker = "no such marker";
+  Compensate(robot, options, &summary);
+  EXPECT_EQ(summary.message.rfind("--marker: 'no such marker'", 0), 0u);
+  EXPECT_TRUE(summary.outputs.empty());
+}
+
+std::vector<Measurement> Simulated(const RobotModel& model, int n) {
+  const Eigen::MatrixXd q = Configurations(model, n);
+  std::vector<Measurement> plan(n), out;
+  for (int i = 0; i < n; ++i) plan[i].joints = q.row(i).transpose();
+  std::string error;
+  EXPECT_TRUE(SimulateMeasurements(model, model.nominal, plan,
+                                   SimulationNoise(), 1, &out, &error))
+      << error;
+  return out;
+}
+
+TEST(EvaluateTest, ExactMeasurementsHaveNoErrorBeforeOrAfter) {
+  const RobotDescription robot = Puma();
+  const std::vector<Measurement> measurements = Simulated(robot.model, 12);
+  EvaluateOptions options;
+  options.measurements_path = "m.csv";
+  options.json_out = "e.json";
+  options.program = "test";
+  EvaluateSummary summary;
+  Evaluate(robot, measurements, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_EQ(summary.after.num_measurements, 12);
+  EXPECT_LT(summary.after.position.rms, 1e-9);
+  EXPECT_EQ(summary.kind, BeforeBaseline::kRefit);  // auto, no training
+  ASSERT_TRUE(summary.have_before) << summary.baseline.message;
+  EXPECT_LT(summary.before.position.rms, 1e-6);
+  ASSERT_EQ(summary.outputs.size(), 1u);
+  const nlohmann::json j = nlohmann::json::parse(summary.outputs[0].text);
+  EXPECT_EQ(j["measurements"], "m.csv");
+  EXPECT_EQ(j["before"]["kind"], "refit");
+  EXPECT_EQ(j["errors"].size(), 12u);
+  EXPECT_NE(summary.report.find("before (--robot refitted)"),
+            std::string::npos);
+  EXPECT_EQ(summary.result_line.rfind("test: 12 measurements, position RMS", 0),
+            0u);
+
+  options.before = BeforeBaseline::kNone;
+  Evaluate(robot, measurements, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence);
+  EXPECT_FALSE(summary.have_before);
+  EXPECT_TRUE(
+      nlohmann::json::parse(summary.outputs[0].text)["before"].is_null());
+}
+
+TEST(EvaluateTest, BadOptionsAreUserFailures) {
+  const RobotDescription robot = Puma();
+  const std::vector<Measurement> measurements = Simulated(robot.model, 12);
+  EvaluateOptions options;
+  options.before = BeforeBaseline::kTraining;  // without training
+  EvaluateSummary summary;
+  Evaluate(robot, measurements, options, &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
+  EXPECT_EQ(summary.message.rfind("--before=training needs --training", 0), 0u);
+  options.before = BeforeBaseline::kAuto;
+  options.rotation_weight = -1;
+  Evaluate(robot, measurements, options, &summary);
+  EXPECT_EQ(summary.message.rfind("--rotation_weight: ", 0), 0u);
+  EXPECT_TRUE(summary.report.empty());
+}
+
+TEST(EvaluateTest, EnumNamesRoundTrip) {
+  for (BeforeBaseline b : {BeforeBaseline::kAuto, BeforeBaseline::kTraining,
+                           BeforeBaseline::kRefit, BeforeBaseline::kNone}) {
+    BeforeBaseline back;
+    ASSERT_TRUE(StringToBeforeBaseline(BeforeBaselineToString(b), &back));
+    EXPECT_EQ(back, b);
+  }
+  BeforeBaseline b;
+  EXPECT_FALSE(StringToBeforeBaseline("bogus", &b));
+  Iso9283Registration r;
+  EXPECT_TRUE(StringToIso9283Registration("file", &r));
+  EXPECT_EQ(r, Iso9283Registration::kFile);
+  EXPECT_FALSE(StringToIso9283Registration("bogus", &r));
+}
+
+}  // namespace
+}  // namespace activecal
