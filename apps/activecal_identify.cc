@@ -276,9 +276,12 @@ int Main() {
     options.selection_validation =
         app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
   }
-  CalibrationOutputOptions out{FLAGS_model_out, FLAGS_urdf_out,
-                               FLAGS_ur_calibration_out, FLAGS_frames_out,
-                               FLAGS_json_out};
+  CalibrationOutputOptions out;
+  out.model_out = FLAGS_model_out;
+  out.urdf_out = FLAGS_urdf_out;
+  out.ur_calibration_out = FLAGS_ur_calibration_out;
+  out.frames_out = FLAGS_frames_out;
+  out.json_out = FLAGS_json_out;
   for (const auto& [path, flag] : out.Paths()) {
     app::CheckWritableOrDie(path, flag);
   }
