@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "activecal/calibration/select_workflow.h"
 #include "activecal/core/lattice.h"
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
@@ -382,16 +383,16 @@ int Main() {
   nlohmann::json j;
   j["seed"] = FLAGS_seed;
   j["pool_size"] = pool.size();
-  j["random"] = app::SelectionJson(random_summary, pool_joints, {});
+  j["random"] = SelectionJson(random_summary, pool_joints, {});
   j["random"]["indices"] = IndicesJson(random_idx);
-  j["eae"] = app::SelectionJson(eae, pool_joints, {});
+  j["eae"] = SelectionJson(eae, pool_joints, {});
   j["eae"]["indices"] = IndicesJson(eae_idx);
   if (FLAGS_compare_eigen_oi) {
-    j["eae_eigen_oi"] = app::SelectionJson(eig, pool_joints, {});
+    j["eae_eigen_oi"] = SelectionJson(eig, pool_joints, {});
     j["eae_eigen_oi"]["same_poses"] = eig.design == eae.design;
   }
   if (FLAGS_certificate) {
-    j["fedorov"] = app::SelectionJson(fedorov, pool_joints, {});
+    j["fedorov"] = SelectionJson(fedorov, pool_joints, {});
     for (auto [key, sm] : {std::pair<const char*, const SelectionSummary*>{
                                "random", &random_summary},
                            {"eae", &eae},

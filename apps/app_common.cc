@@ -369,32 +369,6 @@ void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
             << list << std::endl;
 }
 
-nlohmann::json SelectionJson(const SelectionSummary& summary,
-                             const Eigen::MatrixXd& pool_joints,
-                             const std::vector<int64_t>& labels) {
-  nlohmann::json j;
-  j["algorithm"] = summary.algorithm;
-  j["pool_size"] = summary.pool_size;
-  j["num_parameters"] = summary.num_parameters;
-  std::vector<int64_t> indices;
-  nlohmann::json angles = nlohmann::json::array();
-  for (int64_t i : summary.design) {
-    indices.push_back(labels.empty() ? i : labels[i]);
-    const Eigen::VectorXd q = pool_joints.row(i).transpose();
-    angles.push_back(std::vector<double>(q.data(), q.data() + q.size()));
-  }
-  j["pose_indices"] = indices;
-  j["joint_angles_rad"] = angles;
-  j["log10_det"] = summary.log10_det();
-  j["oi"] = OiFromLogDet(summary.log_det, summary.num_parameters);
-  std::vector<double> history;
-  for (const SelectionStep& s : summary.history) {
-    history.push_back(s.log_det / std::log(10.0));
-  }
-  j["history_log10_det"] = history;
-  return j;
-}
-
 // kProgressAfterNs, or ACTIVECAL_PROGRESS_AFTER_S (seconds, >= 0) when set:
 // 0 prints every update (what the tests of the lines use).
 static int64_t ProgressAfterNs() {

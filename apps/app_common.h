@@ -88,11 +88,6 @@ std::vector<Measurement> ReadMeasurementsOrDie(
 std::vector<Measurement> WithPointsFileOrDie(
     const std::string& path, std::vector<Measurement> measurements);
 
-// One line per fixed point of `summary` (type=point rows): its rows, its
-// refitted coordinates and the spread of its rows about them (mean, RMS,
-// max distance, mm); empty without fixed points. (app_points.cc)
-std::string PointSpreadText(const EvaluationSummary& summary);
-
 // The commanded poses (ISO 9283 cycles: pose, commanded_x_m, ...) of the
 // measurements file `path`, read with --column_map; dies with "--<flag>:
 // file:line: ..." on errors. (app_measurements.cc)
@@ -191,13 +186,6 @@ CandidatePool BuildPoolOrDie(const RobotModel& model,
                                      const std::string& what, bool auto_fix);
 void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
                    const std::string& what, const std::string& label);
-
-// JSON for a selection result: algorithm, pool_size, pose_indices (labels
-// of the chosen pool rows), joint_angles_rad, log10_det, oi,
-// history_log10_det.
-nlohmann::json SelectionJson(const SelectionSummary& summary,
-                             const Eigen::MatrixXd& pool_joints,
-                             const std::vector<int64_t>& labels);
 
 // A progress line on stderr, "<program>: <label>: 12288/15625 (41000/s,
 // 0.1 s left)", once the step has taken kProgressAfterNs (2 s: a short
