@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -266,7 +267,16 @@ TEST(CalibrationWorkflowTest, OutputsMadeAndCheckedBeforeWriting) {
       << outputs.files[0].text.substr(0, 80);
   EXPECT_EQ(outputs.files[1].path, "m.urdf");
   EXPECT_EQ(outputs.files[2].path, "f.yaml");
-  EXPECT_EQ(outputs.files[3].text, CalibrationJson(summary, o.json));
+  // The report of this fit: its measurements, residual and parameters.
+  EXPECT_EQ(outputs.files[3].path, "r.json");
+  const nlohmann::json report = nlohmann::json::parse(outputs.files[3].text);
+  EXPECT_EQ(report["num_measurements"].get<int>(),
+            static_cast<int>(data.size()));
+  EXPECT_DOUBLE_EQ(report["rms_residual_m"].get<double>(),
+                   summary.identification.rms_m);
+  EXPECT_GT(report["rms_residual_m"].get<double>(), 0.0);
+  EXPECT_EQ(report["parameters"].size(),
+            summary.identification.estimates.size());
   EXPECT_TRUE(StartsWith(outputs.notes_after,
                          "  --urdf_out: wrote m.urdf; reloaded, it predicts "
                          "every measured point within "))
