@@ -5,7 +5,6 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -13,6 +12,7 @@
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/targets_csv.h"
+#include "printf_text.h"
 
 namespace activecal {
 namespace {
@@ -28,16 +28,7 @@ Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
   return aa.angle() * aa.axis();
 }
 
-std::string Printf(const char* format, ...)
-    __attribute__((format(printf, 1, 2)));
-std::string Printf(const char* format, ...) {
-  char text[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(text, sizeof(text), format, args);
-  va_end(args);
-  return text;
-}
+using internal::Printf;
 
 bool Fail(const std::string& message, CompensateSummary* summary) {
   summary->termination_type = TerminationType::kUserFailure;

@@ -5,26 +5,17 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "activecal/estimation/identification.h"
 #include "activecal/io/robot_loader.h"
+#include "printf_text.h"
 
 namespace activecal {
 namespace {
 
-std::string Printf(const char* format, ...)
-    __attribute__((format(printf, 1, 2)));
-std::string Printf(const char* format, ...) {
-  char text[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(text, sizeof(text), format, args);
-  va_end(args);
-  return text;
-}
+using internal::Printf;
 
 bool Fail(const std::string& message, EvaluateSummary* summary) {
   summary->termination_type = TerminationType::kUserFailure;
