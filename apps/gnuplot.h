@@ -11,11 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "activecal/report/gnuplot_figure.h"
+
 namespace activecal {
 namespace app {
 
 // True when a gnuplot executable is on the PATH.
-bool GnuplotAvailable();
+using ::activecal::GnuplotAvailable;
 
 // Inline data block for a script: "$name << EOD\n<rows>\nEOD\n", each row
 // its values separated by spaces.
