@@ -176,6 +176,11 @@ void Init(int* argc, char*** argv, const char* usage) {
   }
 }
 
+int Run(int argc, char** argv, const char* usage, int (*program)()) {
+  Init(&argc, &argv, usage);
+  return Finish(program());
+}
+
 bool Quiet() { return FLAGS_quiet; }
 
 void PrintResult(const std::string& line) {

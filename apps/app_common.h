@@ -124,6 +124,10 @@ void EnumFlagOrDie(bool (*string_to)(const std::string&, Enum*),
 // With --quiet (every program has it), stdout goes to /dev/null from here
 // on: only PrintResult's line and the errors (stderr) are printed.
 void Init(int* argc, char*** argv, const char* usage);
+// A program's whole main: Init with `usage` (the first lines of --help),
+// then `program`, then the pending outputs committed (Finish); returns the
+// exit status.
+int Run(int argc, char** argv, const char* usage, int (*program)());
 
 // --quiet was given.
 bool Quiet();
