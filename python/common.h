@@ -557,6 +557,15 @@ std::shared_ptr<CompensationResult> CompensatePy(
     double rotation_tolerance_rad, double rotation_weight_m, int max_iterations,
     double singular_threshold, int num_threads, const py::kwargs& kwargs);
 
+// The module's classes and functions, one area a file (module.cc calls
+// them in this order: a class is bound before the functions that return it).
+void BindRobot(py::module_& m);         // robot.cc: Robot, load_robot, puma560
+void BindMeasurements(py::module_& m);  // measurements_files.cc: Measurements,
+                                        // the CSV readers/writers, simulate
+void BindDesign(py::module_& m);        // design.cc: Design, select
+void BindIdentify(py::module_& m);      // identify.cc: Estimate, identify,
+                                    // evaluate, iso9283
+void BindCompensate(py::module_& m);  // compensate.cc: Compensation, compensate
 // export.cc: Estimate.write_urdf, write_frames, write_ros_frames and
 // read_ros_frames, added to the module's classes.
 void BindExport(py::module_& m);

@@ -145,5 +145,143 @@ std::shared_ptr<CompensationResult> CompensatePy(
   return result;
 }
 
+void BindCompensate(py::module_& m) {
+  py::class_<CompensationResult, std::shared_ptr<CompensationResult>>(
+      m, "Compensation", "A compensated program (compensate).")
+      .def_property_readonly(
+          "joint_angles",
+          [](const CompensationResult& c) {
+            Eigen::MatrixXd q(c.summary.results.size(),
+                              c.robot->model().num_joints());
+            for (size_t i = 0; i < c.summary.results.size(); ++i) {
+              const Eigen::VectorXd& j = c.summary.results[i].joints;
+              if (j.size() == q.cols()) {
+                q.row(i) = j.transpose();
+              } else {
+                q.row(i).setConstant(NAN);
+              }
+            }
+            return q;
+          },
+          "(n, num_joints): the joints to send the calibrated robot to")
+      .def_property_readonly(
+          "status",
+          [](const CompensationResult& c) {
+            std::vector<std::string> s;
+            for (const InverseKinematicsResult& r : c.summary.results) {
+              s.push_back(IkStatusName(r.status));
+            }
+            return s;
+          },
+          "Per target: converged, singular, limit, unreachable, invalid, "
+          "iteration_cap, collision (cell=)")
+      .def_property_readonly("messages",
+                             [](const CompensationResult& c) {
+                               std::vector<std::string> s;
+                               for (const auto& r : c.summary.results) {
+                                 s.push_back(r.message);
+                               }
+                               return s;
+                             })
+      .def_property_readonly("position_error_m",
+                             [](const CompensationResult& c) {
+                               Eigen::VectorXd e(c.summary.results.size());
+                               for (size_t i = 0; i < c.summary.results.size();
+                                    ++i) {
+                                 e[i] = c.summary.results[i].position_error_m;
+                               }
+                               return e;
+                             })
+      .def_property_readonly("rotation_error_rad",
+                             [](const CompensationResult& c) {
+                               Eigen::VectorXd e(c.summary.results.size());
+                               for (size_t i = 0; i < c.summary.results.size();
+                                    ++i) {
+                                 e[i] = c.summary.results[i].rotation_error_rad;
+                               }
+                               return e;
+                             })
+      .def_property_readonly(
+          "target_points",
+          [](const CompensationResult& c) {
+            Eigen::MatrixXd p(c.summary.targets.size(), 3);
+            for (size_t i = 0; i < c.summary.targets.size(); ++i) {
+              p.row(i) = c.summary.targets[i].point.transpose();
+            }
+            return p;
+          },
+          "(n, 3): what each target means in the device frame (m)")
+      .def_property_readonly("pose_indices",
+                             [](const CompensationResult& c) {
+                               return py::array(py::cast(c.pose_indices));
+                             })
+      .def_property_readonly(
+          "all_converged",
+          [](const CompensationResult& c) { return c.summary.AllConverged(); })
+      .def_property_readonly("max_position_error_m",
+                             [](const CompensationResult& c) {
+                               return c.summary.max_position_error_m;
+                             })
+      .def_property_readonly("max_joint_change",
+                             [](const CompensationResult& c) {
+                               return c.summary.max_joint_change;
+                             })
+      .def_property_readonly("rms_joint_change",
+                             [](const CompensationResult& c) {
+                               return c.summary.rms_joint_change;
+                             })
+      .def_property_readonly(
+          "termination_type",
+          [](const CompensationResult& c) {
+            return TerminationTypeToString(c.summary.termination_type);
+          })
+      .def_property_readonly(
+          "message",
+          [](const CompensationResult& c) { return c.summary.message; })
+      .def(
+          "save",
+          [](const CompensationResult& c, const py::object& path) {
+            WriteText(PathArg(path),
+                      CompensatedPosesCsvText(c.robot->model(), c.pose_indices,
+                                              c.summary));
+          },
+          py::arg("path"),
+          "Writes the compensated program as activecal_compensate --out "
+          "does (poses CSV with status and position_error_m).")
+      .def("report",
+           [](const CompensationResult& c) { return c.summary.BriefReport(); })
+      .def("__repr__", [](const CompensationResult& c) {
+        int converged = 0;
+        for (const InverseKinematicsResult& r : c.summary.results) {
+          converged += r.status == IkStatus::kConverged;
+        }
+        std::ostringstream s;
+        s << "<activecal.Compensation: " << c.summary.results.size()
+          << " targets, " << converged << " converged, max position error "
+          << c.summary.max_position_error_m << " m>";
+        return s.str();
+      });
+
+  m.def("compensate", &CompensatePy, py::arg("robot"),
+        py::arg("program") = py::none(), py::arg("nominal") = py::none(),
+        py::arg("targets") = py::none(), py::arg("rotations") = py::none(),
+        py::arg("starts") = py::none(), py::arg("pose_indices") = py::none(),
+        py::arg("match") = "position", py::arg("marker") = 0,
+        py::arg("position_tolerance_m") = 1e-9,
+        py::arg("rotation_tolerance_rad") = 1e-9,
+        py::arg("rotation_weight_m") = 1.0, py::arg("max_iterations") = 100,
+        py::arg("singular_threshold") = 1e-6, py::arg("num_threads") = 0,
+        "Compensates a program with the calibrated robot, as "
+        "activecal_compensate: program (n, num_joints) taught with the "
+        "Robot `nominal` -> the joints at which the calibrated robot "
+        "reaches what each pose meant; or targets (n, 3) points in the "
+        "device frame (rotations (n, 3) rotation vectors for match='pose'; "
+        "starts (n, num_joints)). cell: a cell file: a configuration that "
+        "collides or leaves a joint margin is status 'collision'. Targets "
+        "that do not converge keep their "
+        "status (all_converged False); bad input is a ValueError. The GIL "
+        "is released while it runs.");
+}
+
 }  // namespace python
 }  // namespace activecal

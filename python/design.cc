@@ -5,6 +5,7 @@
 // the library (selection_pool.h, select_design.h); with cell= the pool is
 // the feasible one (cell_planning.h), as activecal_select --cell.
 
+#include "activecal/calibration/defaults.h"
 #include "activecal/calibration/select_workflow.h"
 #include "common.h"
 
@@ -388,6 +389,223 @@ py::array_t<double> HistoryLog10(const SelectionSummary& s) {
     v(k) = s.history[k].log_det / std::log(10.0);
   }
   return h;
+}
+
+namespace {
+
+// DesignResult::cell_info[key] as Python (through json.loads: exact for
+// the JSON's numbers and nesting); None when absent.
+py::object CellInfo(const DesignResult& d, const char* key) {
+  if (!d.cell_info.contains(key)) return py::none();
+  return py::module_::import("json").attr("loads")(d.cell_info[key].dump());
+}
+
+}  // namespace
+
+void BindDesign(py::module_& m) {
+  py::class_<DesignResult, std::shared_ptr<DesignResult>>(
+      m, "Design", "A selected set of calibration poses (select).")
+      .def_property_readonly(
+          "joint_angles", [](const DesignResult& d) { return d.joint_angles; },
+          "(num_poses, num_joints): the chosen poses (rad, m)")
+      .def_property_readonly(
+          "pose_indices",
+          [](const DesignResult& d) {
+            return py::array(py::cast(d.pose_indices));
+          },
+          "The chosen poses' labels: lattice pose indices, or pool_indices")
+      .def_property_readonly(
+          "pool_rows",
+          [](const DesignResult& d) {
+            return py::array(py::cast(d.summary.design));
+          },
+          "The chosen poses' rows in the pool")
+      .def_property_readonly(
+          "feasible_poses",
+          [](const DesignResult& d) { return CellInfo(d, "feasible_poses"); },
+          "With cell=: the poses of the pool the cell allows (an int, as "
+          "activecal_select --cell's JSON); None without a cell")
+      .def_property_readonly(
+          "rejected",
+          [](const DesignResult& d) { return CellInfo(d, "rejected"); },
+          "With cell=: the poses rejected per reason, a dict as the CLI's "
+          "JSON ('obstacle' a dict per obstacle); None without a cell")
+      .def_property_readonly(
+          "targets_seen",
+          [](const DesignResult& d) { return CellInfo(d, "targets_seen"); },
+          "With cell=: per chosen pose, the names of the cell's targets it "
+          "sees (the markers measured there); None without targets")
+      .def_property_readonly(
+          "tour", [](const DesignResult& d) { return CellInfo(d, "tour"); },
+          "With order='shortest': the tour (motion_time_before_s, "
+          "motion_time_after_s, velocities, blocked_moves (a count), "
+          "blocked (a list), ... as the CLI's JSON); None otherwise")
+      .def_property_readonly(
+          "log10_det",
+          [](const DesignResult& d) { return d.summary.log10_det(); })
+      .def_property_readonly("oi",
+                             [](const DesignResult& d) {
+                               return OiFromLogDet(d.summary.log_det,
+                                                   d.summary.num_parameters);
+                             })
+      .def_property_readonly(
+          "efficiency_lower_bound",
+          [](const DesignResult& d) {
+            return d.summary.efficiency_lower_bound;
+          },
+          "Certified lower bound on the D-efficiency (task criterion: the "
+          "task efficiency); NaN without certificate")
+      .def_property_readonly("log10_det_upper_bound",
+                             [](const DesignResult& d) {
+                               return d.summary.log_det_upper_bound /
+                                      std::log(10.0);
+                             })
+      .def_property_readonly(
+          "history",
+          [](const DesignResult& d) { return HistoryLog10(d.summary); },
+          "log10 det after each step of the best restart")
+      .def_property_readonly(
+          "history_steps",
+          [](const DesignResult& d) {
+            std::vector<std::string> s;
+            for (const SelectionStep& x : d.summary.history) {
+              s.push_back(x.name());
+            }
+            return s;
+          })
+      .def_property_readonly(
+          "algorithm",
+          [](const DesignResult& d) { return d.summary.algorithm; })
+      .def_readonly("criterion", &DesignResult::criterion)
+      .def_property_readonly(
+          "num_parameters",
+          [](const DesignResult& d) { return d.summary.num_parameters; })
+      .def_property_readonly(
+          "pool_size",
+          [](const DesignResult& d) { return d.summary.pool_size; })
+      .def_property_readonly(
+          "pool_storage",
+          [](const DesignResult& d) {
+            return std::string(d.single_precision ? "float" : "double");
+          },
+          "How the pool's blocks were stored: 'double' or 'float' "
+          "(pool_storage='auto' past max_double_pool_mib)")
+      .def_readonly("free_parameters", &DesignResult::free_parameters)
+      .def_readonly("auto_fixed", &DesignResult::auto_fixed)
+      .def_readonly("notes", &DesignResult::notes)
+      .def_readonly("predicted_task_rms_m", &DesignResult::predicted_task_rms_m,
+                    "Predicted RMS position error over the task poses with "
+                    "noise sigma noise_m")
+      .def_readonly("num_task_poses", &DesignResult::num_task_poses)
+      .def_readonly("num_measured", &DesignResult::num_measured,
+                    "Measurements counted as already made (measured=)")
+      .def_property_readonly(
+          "target",
+          [](const DesignResult& d) -> py::object {
+            if (!d.with_target) return py::none();
+            py::dict t;
+            t["message"] = d.target.message;
+            t["num_poses"] = d.target.num_poses;
+            t["predicted_task_rms_m"] = d.target.predicted_task_rms_m;
+            t["best_reachable_rms_m"] = d.target.best_reachable_rms_m;
+            t["sizes"] = py::array(py::cast(d.target.sizes));
+            t["rms_by_size_m"] = py::array(py::cast(d.target.rms_by_size_m));
+            return t;
+          },
+          "With target_rms_m: the size found and the curve size -> "
+          "predicted task RMS, or None")
+      .def_property_readonly(
+          "termination_type",
+          [](const DesignResult& d) {
+            return TerminationTypeToString(d.summary.termination_type);
+          })
+      .def_property_readonly(
+          "message", [](const DesignResult& d) { return d.summary.message; })
+      .def_property_readonly(
+          "seconds", [](const DesignResult& d) { return d.summary.seconds; })
+      .def_property_readonly(
+          "approximate",
+          [](const DesignResult& d) -> py::object {
+            if (d.with_approx) {
+              py::dict a;
+              a["support"] = py::array(py::cast(d.approx.support));
+              a["weights"] = py::array(py::cast(d.approx.weights));
+              a["log10_det"] = d.approx.log_det / std::log(10.0);
+              a["log10_det_upper_bound"] =
+                  d.approx.log_det_upper_bound / std::log(10.0);
+              a["converged"] =
+                  d.approx.termination_type == TerminationType::kConvergence;
+              return a;
+            }
+            if (d.with_task_approx) {
+              py::dict a;
+              a["support"] = py::array(py::cast(d.task_approx.support));
+              a["weights"] = py::array(py::cast(d.task_approx.weights));
+              a["predicted_task_rms_m"] =
+                  PredictedTaskRms(d.task_approx.criterion, d.noise_m);
+              a["efficiency_lower_bound"] =
+                  d.task_approx.efficiency_lower_bound;
+              a["converged"] = d.task_approx.termination_type ==
+                               TerminationType::kConvergence;
+              return a;
+            }
+            return py::none();
+          },
+          "The approximate (continuous-weight) design, or None")
+      .def("report",
+           [](const DesignResult& d) {
+             std::string r = d.summary.BriefReport();
+             if (d.with_approx) r += d.approx.BriefReport();
+             if (d.with_task_approx) r += d.task_approx.BriefReport();
+             return r;
+           })
+      .def("__repr__", [](const DesignResult& d) {
+        std::ostringstream s;
+        s << "<activecal.Design " << d.summary.algorithm << ": "
+          << d.summary.design.size() << " poses, log10 det "
+          << d.summary.log10_det() << ">";
+        return s.str();
+      });
+
+  m.def("select", &SelectPy, py::arg("robot"),
+        py::arg("algorithm") = defaults::kSelectAlgorithm,
+        py::arg("num_poses") = defaults::kNumPoses,
+        py::arg("seed") = defaults::kSeed,
+        py::arg("levels") = defaults::kLevels, py::arg("pool") = py::none(),
+        py::arg("criterion") = defaults::kSelectCriterion,
+        py::arg("pool_size") = defaults::kPoolSize,
+        py::arg("pool_indices") = py::none(),
+        py::arg("measurement") = "position",
+        py::arg("rotation_weight") = defaults::kRotationWeightMPerRad,
+        py::arg("parameter_set") = py::none(), py::arg("auto_fix") = false,
+        py::arg("restarts") = 0,
+        py::arg("initial_poses") = defaults::kInitialPoses,
+        py::arg("random_designs") = defaults::kRandomDesigns,
+        py::arg("certificate") = true,
+        py::arg("approx_tolerance") = defaults::kApproxTolerance,
+        py::arg("polish_pool_size") = defaults::kPolishPoolSize,
+        py::arg("pool_storage") = "auto",
+        py::arg("max_double_pool_mib") = defaults::kMaxDoublePoolMib,
+        py::arg("noise_m") = defaults::kDesignNoiseM,
+        py::arg("task_poses") = py::none(), py::arg("measured") = py::none(),
+        py::arg("target_rms_m") = py::none(), py::arg("num_threads") = 0,
+        py::arg("progress") = py::none(),
+        "Selects calibration poses, as activecal_select with the same "
+        "options (the same design for the same seed). pool: None or "
+        "'lattice' (levels per joint), 'sobol' or 'random' (pool_size "
+        "poses), or an array (n, num_joints) of candidate poses. "
+        "algorithm: fedorov, eae, detmax, greedy, random, approx. "
+        "criterion: d (det), svd (eae), task_rms (task_poses: where the "
+        "robot will work, default the pool; measured: Measurements already "
+        "made, counted; target_rms_m: the fewest poses meeting it). "
+        "cell: a cell file (docs/formats.md): the pool keeps the poses the "
+        "cell can run, as activecal_select --cell (its targets the markers "
+        "unless load_robot's frames= gave them; the counts in notes and in "
+        "feasible_poses, rejected, targets_seen). order: 'none' or "
+        "'shortest' (the design as a short tour, as --order=shortest; the "
+        "Design's tour). "
+        "progress: a callable "
+        "progress(stage, done, total). The GIL is released while it runs.");
 }
 
 }  // namespace python

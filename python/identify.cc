@@ -290,5 +290,151 @@ py::object Iso9283Py(const Robot& robot, const std::string& path,
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
+void BindIdentify(py::module_& m) {
+  py::class_<EstimateResult, std::shared_ptr<EstimateResult>>(
+      m, "Estimate", "An identification result (identify).")
+      .def_property_readonly(
+          "parameter_names",
+          [](const EstimateResult& e) { return e.fit().names; },
+          "The identified (free) parameters, in order")
+      .def_property_readonly(
+          "estimates",
+          [](const EstimateResult& e) { return e.fit().estimates; })
+      .def_property_readonly(
+          "std",
+          [](const EstimateResult& e) { return e.fit().standard_deviations; },
+          "Standard deviations of the estimates")
+      .def_property_readonly(
+          "covariance",
+          [](const EstimateResult& e) { return e.fit().covariance; })
+      .def_property_readonly(
+          "correlation",
+          [](const EstimateResult& e) { return e.fit().correlation; })
+      .def_property_readonly(
+          "nominal",
+          [](const EstimateResult& e) {
+            return ExtractFree(e.model(), e.robot->model().nominal);
+          },
+          "The nominal values of the identified parameters")
+      .def_property_readonly(
+          "parameters",
+          [](const EstimateResult& e) { return e.fit().parameters; },
+          "The full parameter vector identified")
+      .def_property_readonly(
+          "rms_before_m",
+          [](const EstimateResult& e) { return e.fit().initial_rms_m; },
+          "RMS residual norm at the start (nominal, base registered)")
+      .def_property_readonly(
+          "rms_after_m", [](const EstimateResult& e) { return e.fit().rms_m; })
+      .def_property_readonly(
+          "registration_only_rms_m",
+          [](const EstimateResult& e) -> py::object {
+            if (!e.calibration.have_baseline) return py::none();
+            return py::float_(e.calibration.baseline.rms_m);
+          },
+          "RMS residual with only the base and markers fitted, or None")
+      .def_property_readonly(
+          "sigma_m", [](const EstimateResult& e) { return e.fit().sigma_m; })
+      .def_property_readonly(
+          "iterations",
+          [](const EstimateResult& e) { return e.fit().iterations; })
+      .def_property_readonly(
+          "residual_norms",
+          [](const EstimateResult& e) { return e.fit().residual_norms; })
+      .def_property_readonly("outliers",
+                             [](const EstimateResult& e) {
+                               return py::array(py::cast(e.fit().outliers));
+                             })
+      .def_property_readonly(
+          "termination_type",
+          [](const EstimateResult& e) {
+            return TerminationTypeToString(e.fit().termination_type);
+          })
+      .def_property_readonly(
+          "held_fixed",
+          [](const EstimateResult& e) { return HeldNames(e.calibration.held); },
+          "Parameters held at nominal: the parameter set's reduction, "
+          "auto_fix, model selection")
+      .def_property_readonly(
+          "warnings",
+          [](const EstimateResult& e) { return e.calibration.warnings; })
+      .def_property_readonly(
+          "registered_base",
+          [](const EstimateResult& e) { return e.calibration.registered_base; })
+      .def_property_readonly(
+          "parameter_set",
+          [](const EstimateResult& e) {
+            return ParameterSetToString(e.calibration.options.parameter_set);
+          })
+      .def_property_readonly(
+          "model_selection_curve",
+          [](const EstimateResult& e) {
+            py::list curve;
+            for (const ModelSelectionPoint& p : e.calibration.selection.curve) {
+              py::dict d;
+              d["num_kept"] = p.num_kept;
+              d["added"] = p.added;
+              d["ok"] = p.ok;
+              d["training_rms_m"] = p.training_rms_m;
+              d["held_out_rms_m"] = p.held_out_rms_m;
+              curve.append(d);
+            }
+            return curve;
+          })
+      .def_property_readonly("learned_residual", &LearnedResidualPy,
+                             "learned_residual='on'/'auto': the correction's "
+                             "fit and decision (a dict), else None")
+      .def_readonly("notes", &EstimateResult::notes,
+                    "activecal_identify's notes: the orientation hint, the "
+                    "rotation_weight note (when not given)")
+      .def_property_readonly(
+          "robot", &CalibratedRobot,
+          "The calibrated Robot: identified values as nominal")
+      .def(
+          "save",
+          [](const EstimateResult& e, const py::object& path) {
+            WriteText(PathArg(path), EstimateFileText(e));
+          },
+          py::arg("path"),
+          "Writes the calibrated robot YAML (as activecal_identify "
+          "--model_out); load_robot(path) reads it back.")
+      .def("report",
+           [](const EstimateResult& e) { return e.fit().BriefReport(); })
+      .def("__repr__", [](const EstimateResult& e) {
+        std::ostringstream s;
+        s << "<activecal.Estimate: " << e.fit().num_free << " parameters, RMS "
+          << e.fit().initial_rms_m << " -> " << e.fit().rms_m << " m>";
+        return s.str();
+      });
+
+  m.def("identify", &IdentifyPy, py::arg("robot"), py::arg("measurements"),
+        "identify(robot, measurements, **options) -> Estimate, as "
+        "activecal_identify with the same options: parameter_set, "
+        "register_base, auto_fix, model_selection ('auto': 'none' for the "
+        "robot file's free set, 'cv' for a named set; 'cv', 'validation', "
+        "'none'), folds, selection_ranking, selection_rule ('1se_most', "
+        "'min', '1se', 'ftest'), validation (Measurements), "
+        "validation_fraction (held out at random, seeded), "
+        "robust_loss, robust_scale_m, outlier_probability, rotation_weight, "
+        "default_sigma_m, default_sigma_rad, prior_std_m, prior_std_rad, "
+        "seed, num_threads, learned_residual ('off', 'on', 'auto'), "
+        "learned_features, learned_standard_errors. The GIL is released "
+        "while it runs.");
+
+  m.def("evaluate", &EvaluatePy, py::arg("robot"), py::arg("measurements"),
+        py::arg("parameters") = py::none(),
+        "The errors of a model (robot's nominal, or `parameters`) on "
+        "measurements, no fitting: a dict of statistics (m, rad).");
+  m.def("iso9283", &Iso9283Py, py::arg("robot"), py::arg("path"),
+        py::arg("parameters") = py::none(),
+        "ISO 9283 pose accuracy and repeatability of the cycles in the "
+        "measurements CSV `path` (pose label and commanded_* columns, "
+        "docs/iso9283.md), in the base frame of the model (robot's nominal, "
+        "or `parameters`): the dict activecal_evaluate --iso9283 writes "
+        "under 'iso9283' in --json_out, the same numbers (poses[i].without "
+        "/ .with: ap_p_m, rp_l_m, ap_abc_rad, ...). Bad input is a "
+        "ValueError naming file, line and field.");
+}
+
 }  // namespace python
 }  // namespace activecal

@@ -4,6 +4,7 @@
 // The Python module `activecal`: Files (measurements, poses, targets CSV),
 // Measurements, simulate.
 
+#include "activecal/calibration/defaults.h"
 #include "common.h"
 
 namespace activecal {
@@ -420,6 +421,157 @@ Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
   }
   if (!ok) Fail(error);
   return out;
+}
+
+void BindMeasurements(py::module_& m) {
+  py::class_<Measurements, std::shared_ptr<Measurements>>(
+      m, "Measurements",
+      "What a device reported: position, 6D pose or distance rows. Arrays "
+      "are in SI units; rows without a field hold NaN.")
+      .def(py::init(&MakeMeasurements), py::arg("type"), py::arg("joints"),
+           py::arg("positions") = py::none(), py::arg("rotations") = py::none(),
+           py::arg("joints2") = py::none(), py::arg("distances") = py::none(),
+           py::arg("markers") = py::none(), py::arg("sigma_m") = py::none(),
+           py::arg("sigma_rad") = py::none(),
+           "Measurements of one type from arrays: joints (n, num_joints); "
+           "positions (n, 3) m; rotations (n, 3) rotation vectors (rad, "
+           "pose); joints2 (n, num_joints) and distances (n,) m (distance); "
+           "markers (n,) 0-based; sigma_m (n, 3); sigma_rad (n,).")
+      .def(py::pickle(&MeasurementsState, &MeasurementsFromState))
+      .def("__len__", [](const Measurements& m) { return m.items.size(); })
+      .def("__getitem__", &Subset)
+      .def("__add__",
+           [](const Measurements& a, const Measurements& b) {
+             Measurements out = a;
+             out.items.insert(out.items.end(), b.items.begin(), b.items.end());
+             out.warnings.insert(out.warnings.end(), b.warnings.begin(),
+                                 b.warnings.end());
+             out.notes.insert(out.notes.end(), b.notes.begin(), b.notes.end());
+             out.num_joints = NumJoints(a) ? NumJoints(a) : NumJoints(b);
+             return out;
+           })
+      .def_property_readonly("types",
+                             [](const Measurements& m) {
+                               std::vector<std::string> t;
+                               for (const Measurement& x : m.items) {
+                                 t.push_back(MeasurementTypeName(x.type));
+                               }
+                               return t;
+                             })
+      .def_property_readonly("joints",
+                             [](const Measurements& m) {
+                               return Column(m, NumJoints(m),
+                                             [](const Measurement& x) {
+                                               return x.joints.transpose();
+                                             });
+                             })
+      .def_property_readonly(
+          "joints2",
+          [](const Measurements& m) {
+            const int n = NumJoints(m);
+            return Column(m, n, [n](const Measurement& x) {
+              return x.joints2.size() == n
+                         ? Eigen::RowVectorXd(x.joints2.transpose())
+                         : Eigen::RowVectorXd::Constant(n, NAN);
+            });
+          })
+      .def_property_readonly(
+          "positions",
+          [](const Measurements& m) {
+            return Column(m, 3, [](const Measurement& x) {
+              return x.type == MeasurementType::kDistance
+                         ? Eigen::RowVector3d::Constant(NAN)
+                         : Eigen::RowVector3d(x.position.transpose());
+            });
+          })
+      .def_property_readonly(
+          "rotations",
+          [](const Measurements& m) {
+            return Column(m, 3, [](const Measurement& x) {
+              return x.type == MeasurementType::kPose
+                         ? Eigen::RowVector3d(x.rotation.transpose())
+                         : Eigen::RowVector3d::Constant(NAN);
+            });
+          })
+      .def_property_readonly("distances",
+                             [](const Measurements& m) {
+                               Eigen::VectorXd d(m.items.size());
+                               for (size_t i = 0; i < m.items.size(); ++i) {
+                                 d[i] = m.items[i].type ==
+                                                MeasurementType::kDistance
+                                            ? m.items[i].distance
+                                            : NAN;
+                               }
+                               return d;
+                             })
+      .def_property_readonly("markers",
+                             [](const Measurements& m) {
+                               std::vector<int> k;
+                               for (const Measurement& x : m.items) {
+                                 k.push_back(x.marker);
+                               }
+                               return py::array(py::cast(k));
+                             })
+      .def_property_readonly(
+          "sigma_m",
+          [](const Measurements& m) {
+            return Column(m, 3, [](const Measurement& x) {
+              return Eigen::RowVector3d(x.sigma_m.transpose());
+            });
+          })
+      .def_property_readonly("sigma_rad",
+                             [](const Measurements& m) {
+                               Eigen::VectorXd s(m.items.size());
+                               for (size_t i = 0; i < m.items.size(); ++i) {
+                                 s[i] = m.items[i].sigma_rad;
+                               }
+                               return s;
+                             })
+      .def_readonly("warnings", &Measurements::warnings,
+                    "The CSV reader's warnings (joint readings just beyond "
+                    "the limits)")
+      .def_readonly("notes", &Measurements::notes,
+                    "The CSV reader's notes (ignored columns, markers not "
+                    "seen)")
+      .def("__repr__", [](const Measurements& m) {
+        return "<activecal.Measurements: " + std::to_string(m.items.size()) +
+               " rows>";
+      });
+
+  m.def("read_measurements", &ReadMeasurementsPy, py::arg("robot"),
+        py::arg("path"), py::arg("strict_limits") = false,
+        py::arg("columns_strict") = false, py::arg("column_map") = py::none(),
+        "Reads a measurements CSV (docs/formats.md); column_map: the path "
+        "of a YAML column map to read a device's export as it comes.");
+  m.def("write_measurements", &WriteMeasurementsPy, py::arg("robot"),
+        py::arg("path"), py::arg("measurements"),
+        py::arg("millimetres") = false, py::arg("joint_degrees") = false,
+        py::arg("joint_names") = false,
+        py::arg("orientation") = "rotation_vector",
+        "Writes a measurements CSV; the default (SI) reads back bit for "
+        "bit.");
+  m.def("read_poses", &ReadPosesPy, py::arg("robot"), py::arg("path"),
+        py::arg("reject_duplicates") = false,
+        "Reads a poses CSV: (joint_angles (n, num_joints) rad/m, "
+        "pose_indices (n,)).");
+  m.def("write_poses", &WritePosesPy, py::arg("robot"), py::arg("path"),
+        py::arg("joint_angles"), py::arg("pose_indices") = py::none(),
+        "Writes a poses CSV (pose_index, joints in rad and deg) to run on "
+        "the robot.");
+
+  m.def("read_targets", &ReadTargetsPy, py::arg("robot"), py::arg("path"),
+        "Reads a Cartesian targets CSV (docs/formats.md): (points (n, 3) m, "
+        "rotation vectors (n, 3) rad or None, start joints (n, num_joints) "
+        "or None, pose_indices (n,)), for compensate(targets=...).");
+  m.def("simulate", &SimulatePy, py::arg("robot"), py::arg("joint_angles"),
+        py::arg("noise_m") = defaults::kSimulationNoiseM,
+        py::arg("seed") = defaults::kSeed, py::arg("type") = "position",
+        py::arg("rotation_noise_rad") = defaults::kSimulationRotationNoiseRad,
+        py::arg("parameters") = py::none(),
+        "The measurements a device would report at the poses (rows of "
+        "joint_angles), from the robot's true values (or `parameters`) with "
+        "Gaussian noise, as activecal_simulate; type='distance' measures "
+        "consecutive poses.");
 }
 
 }  // namespace python

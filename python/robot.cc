@@ -233,5 +233,128 @@ RobotPtr RobotFromState(const py::tuple& state) {
   return robot;
 }
 
+void BindRobot(py::module_& m) {
+  py::class_<Robot, std::shared_ptr<Robot>>(
+      m, "Robot",
+      "A robot model (load_robot, puma560). Immutable, so one Robot may be "
+      "used from several threads.")
+      .def_property_readonly("name",
+                             [](const Robot& r) { return r.model().name; })
+      .def_property_readonly("path", [](const Robot& r) { return r.path; })
+      .def_property_readonly("is_urdf", [](const Robot& r) { return r.urdf; })
+      .def_property_readonly(
+          "num_joints", [](const Robot& r) { return r.model().num_joints(); })
+      .def_property_readonly("joint_names",
+                             [](const Robot& r) {
+                               std::vector<std::string> names;
+                               for (int j = 0; j < r.model().num_joints();
+                                    ++j) {
+                                 names.push_back(r.model().block_name(j + 1));
+                               }
+                               return names;
+                             })
+      .def_property_readonly(
+          "joint_limits",
+          [](const Robot& r) {
+            Eigen::MatrixXd l(r.model().num_joints(), 2);
+            for (int j = 0; j < r.model().num_joints(); ++j) {
+              l(j, 0) = r.model().links[j].joint_min;
+              l(j, 1) = r.model().links[j].joint_max;
+            }
+            return l;
+          },
+          "(num_joints, 2): min and max of each joint (rad, or m for a "
+          "prismatic joint)")
+      .def_property_readonly(
+          "num_parameters",
+          [](const Robot& r) { return r.model().num_parameters(); })
+      .def_property_readonly(
+          "num_free", [](const Robot& r) { return r.model().num_free(); })
+      .def_property_readonly(
+          "parameter_names",
+          [](const Robot& r) { return r.model().ParameterNames(); },
+          "Names of every parameter, in the full vector's order "
+          "(\"L2.beta\", \"elbow_joint.offset\")")
+      .def_property_readonly(
+          "free_parameter_names",
+          [](const Robot& r) { return r.model().FreeParameterNames(); })
+      .def_property_readonly("parameter_units",
+                             [](const Robot& r) {
+                               std::vector<std::string> units;
+                               for (int i = 0; i < r.model().num_parameters();
+                                    ++i) {
+                                 units.push_back(r.model().ParameterUnit(i));
+                               }
+                               return units;
+                             })
+      .def_property_readonly(
+          "nominal",
+          [](const Robot& r) { return Eigen::VectorXd(r.model().nominal); },
+          "The nominal values of every parameter (SI), a copy")
+      .def_property_readonly(
+          "free", [](const Robot& r) { return FreeFlags(r.model()); },
+          "Boolean array: which parameters are free (identified)")
+      .def_property_readonly(
+          "true_parameters",
+          [](const Robot& r) -> py::object {
+            if (r.description.true_parameters.size() == 0) return py::none();
+            return py::cast(Eigen::VectorXd(r.description.true_parameters));
+          },
+          "The file's true values (for simulation), or None")
+      .def("forward", &Forward, py::arg("q"),
+           py::arg("parameters") = py::none(), py::arg("marker") = 0,
+           "The measured point (m) at joint readings q: shape (3,) for one "
+           "pose (num_joints,), (n, 3) for n poses (n, num_joints). "
+           "parameters: a full parameter vector (default: nominal).")
+      .def("frame", &Frame, py::arg("q"), py::arg("parameters") = py::none(),
+           py::arg("marker") = 0,
+           "The 4 x 4 transform of the measured target frame at q (one "
+           "pose) in the device's frame.")
+      .def("jacobian", &JacobianPy, py::arg("q"),
+           py::arg("parameters") = py::none(), py::arg("marker") = 0,
+           py::arg("type") = "position", py::arg("rotation_weight") = 1.0,
+           "d(measured point)/d(free parameters): (3, num_free) for one "
+           "pose, (n, 3, num_free) for n; type='pose' gives 6 rows "
+           "(orientation rows times rotation_weight, m/rad).")
+      .def("with_parameter_set", &WithParameterSet, py::arg("name"),
+           py::arg("measurement") = "position",
+           "A copy whose free parameters are the named set (registration, "
+           "offsets, full; file: unchanged), as ParameterSetFreeSet; select "
+           "and identify further reduce it to what the data separate.")
+      .def("perturbed", &PerturbedPy, py::arg("perturb_m"),
+           py::arg("perturb_rad"), py::arg("seed") = 1,
+           py::arg("parameters") = py::none(),
+           "The parameters of a simulated robot: `parameters` (default: "
+           "nominal) with every free parameter moved by N(0, perturb_m^2) "
+           "(lengths, m) or N(0, perturb_rad^2) (angles, rad), seeded: the "
+           "values activecal_simulate --perturb_m --perturb_rad --seed "
+           "simulates from (PerturbParameters).")
+      .def(py::pickle(&RobotState, &RobotFromState))
+      .def("__copy__", [](const RobotPtr& r) { return r; })
+      .def(
+          "__deepcopy__", [](const RobotPtr& r, py::object) { return r; },
+          py::arg("memo"))
+      .def("save", &SaveRobot, py::arg("path"),
+           py::arg("parameters") = py::none(),
+           "Writes the robot YAML file with `parameters` (default: nominal) "
+           "as its nominal values.")
+      .def("__repr__", [](const Robot& r) {
+        return "<activecal.Robot '" + r.model().name +
+               "': " + std::to_string(r.model().num_joints()) + " joints, " +
+               std::to_string(r.model().num_free()) + " of " +
+               std::to_string(r.model().num_parameters()) + " parameters free>";
+      });
+
+  m.def("load_robot", &LoadRobotPy, py::arg("path"),
+        py::arg("base_link") = py::none(), py::arg("tip_link") = py::none(),
+        py::arg("frames") = py::none(),
+        "Loads a robot: an activecal robot YAML file or a URDF (.urdf) chain "
+        "from base_link to tip_link; frames: a metrology frames file. "
+        "ValueError with file:line: field: what on errors.");
+  m.def("puma560", &Puma560,
+        "The built-in PUMA 560 of Sun & Hollerbach (the same as "
+        "data/puma560.yaml), with its true values.");
+}
+
 }  // namespace python
 }  // namespace activecal
