@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -131,7 +132,27 @@ std::string UnknownFlagMessage(const std::string& arg) {
 
 }  // namespace
 
+namespace {
+
+// SIGTERM, SIGINT, SIGHUP: the outputs not yet renamed are removed (old
+// files stay as they were), then the signal's default action ends the
+// program as it would have without this handler. A signal ignored when the
+// program starts (nohup's SIGHUP, SIGINT of a background job) stays
+// ignored.
+extern "C" void RemoveTemporariesAndDie(int signal_number) {
+  RemoveOwnTemporaries();
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+}  // namespace
+
 void Init(int* argc, char*** argv, const char* usage) {
+  for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) {
+    if (std::signal(signal_number, RemoveTemporariesAndDie) == SIG_IGN) {
+      std::signal(signal_number, SIG_IGN);
+    }
+  }
   g_program = (*argv)[0];
   const size_t slash = g_program.rfind('/');
   if (slash != std::string::npos) g_program = g_program.substr(slash + 1);

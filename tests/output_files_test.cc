@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -191,6 +192,70 @@ TEST(OutputSetTest, TwoOutputsOnOneFileAreRefused) {
   EXPECT_FALSE(WriteFilesAtomically(
       {{dir + "/c.yaml", "c"}, {dir + "/./c.yaml", "c2"}}, &error));
   EXPECT_EQ(Names(dir), (std::set<std::string>{"a.csv", "b.csv", "sub"}));
+}
+
+TEST(OutputSetTest, RemoveOwnTemporariesTakesOnlyWhatIsNotRenamed) {
+  const std::string dir = MakeFolder("own");
+  Write(dir + "/a.csv", "old a");
+  std::string error;
+  ASSERT_TRUE(WriteFileAtomically(dir + "/done.json", "done", &error));
+  OutputSet set;
+  ASSERT_TRUE(set.Add(dir + "/a.csv", "new a", &error)) << error;
+  ASSERT_TRUE(set.Add(dir + "/b.json", "new b", &error)) << error;
+  Write(dir + "/figure.tmp", "drawn");
+  {
+    const TrackedTemporary figure(dir + "/figure.tmp");
+    EXPECT_EQ(Names(dir).size(), 5u);  // a, done, 2 temporaries, figure
+    RemoveOwnTemporaries();            // what a SIGTERM handler calls
+  }
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"a.csv", "done.json"}));
+  EXPECT_EQ(Read(dir + "/a.csv"), "old a");
+  // The set's temporaries are gone: its commit says so, and changes nothing.
+  EXPECT_FALSE(set.Commit(&error));
+  EXPECT_EQ(error.rfind("cannot rename '" + TemporaryPath(dir + "/a.csv"), 0),
+            0u)
+      << error;
+  EXPECT_EQ(Read(dir + "/a.csv"), "old a");
+  // Untracked once destroyed: a later file of that name is not removed.
+  Write(dir + "/figure.tmp", "kept");
+  RemoveOwnTemporaries();
+  EXPECT_EQ(Read(dir + "/figure.tmp"), "kept");
+}
+
+extern "C" void RemoveOwnTemporariesAndExit(int) {
+  RemoveOwnTemporaries();
+  _exit(3);
+}
+
+TEST(OutputSetTest, AProcessKilledBeforeItsCommitLeavesTheOldFilesOnly) {
+  const std::string dir = MakeFolder("killed");
+  Write(dir + "/a.csv", "old a");
+  int ready[2];
+  ASSERT_EQ(pipe(ready), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    signal(SIGTERM, RemoveOwnTemporariesAndExit);
+    OutputSet set;
+    std::string error;
+    const bool added = set.Add(dir + "/a.csv", "new a", &error) &&
+                       set.Add(dir + "/b.json", "new b", &error);
+    const char byte = added ? 'y' : 'n';
+    if (write(ready[1], &byte, 1) != 1) _exit(4);
+    for (;;) pause();  // killed here, before the commit
+  }
+  char byte = 0;
+  ASSERT_EQ(read(ready[0], &byte, 1), 1);
+  EXPECT_EQ(byte, 'y');
+  EXPECT_EQ(Names(dir).size(), 3u);  // a.csv and the two temporaries
+  kill(child, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << status;
+  EXPECT_EQ(Names(dir), (std::set<std::string>{"a.csv"}));
+  EXPECT_EQ(Read(dir + "/a.csv"), "old a");
+  close(ready[0]);
+  close(ready[1]);
 }
 
 }  // namespace

@@ -8,9 +8,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 
 namespace activecal {
@@ -104,6 +106,51 @@ int RemoveStaleTemporaries(const std::string& path) {
   return removed;
 }
 
+namespace {
+
+// The temporaries RemoveOwnTemporaries removes: fixed slots, so that a
+// signal handler reads them without a lock or an allocation. A slot is
+// claimed (used), its path copied, then published (ready).
+constexpr int kNumSlots = 64;
+constexpr size_t kMaxPath = 4096;
+struct TemporarySlot {
+  std::atomic<bool> used{false};
+  std::atomic<bool> ready{false};
+  char path[kMaxPath];
+};
+TemporarySlot g_slots[kNumSlots];
+
+int Track(const std::string& tmp) {
+  if (tmp.size() >= kMaxPath) return -1;
+  for (int k = 0; k < kNumSlots; ++k) {
+    bool unused = false;
+    if (!g_slots[k].used.compare_exchange_strong(unused, true)) continue;
+    std::memcpy(g_slots[k].path, tmp.c_str(), tmp.size() + 1);
+    g_slots[k].ready.store(true, std::memory_order_release);
+    return k;
+  }
+  return -1;
+}
+
+void Untrack(int slot) {
+  if (slot < 0) return;
+  g_slots[slot].ready.store(false, std::memory_order_release);
+  g_slots[slot].used.store(false, std::memory_order_release);
+}
+
+}  // namespace
+
+void RemoveOwnTemporaries() {
+  for (TemporarySlot& slot : g_slots) {
+    if (slot.ready.load(std::memory_order_acquire)) unlink(slot.path);
+  }
+}
+
+TrackedTemporary::TrackedTemporary(const std::string& path)
+    : slot_(Track(path)) {}
+
+TrackedTemporary::~TrackedTemporary() { Untrack(slot_); }
+
 bool OutputSet::Add(const std::string& path, const std::string& text,
                     std::string* error) {
   if (IsDirectory(path)) {
@@ -122,13 +169,16 @@ bool OutputSet::Add(const std::string& path, const std::string& text,
   }
   RemoveStaleTemporaries(path);
   const std::string tmp = TemporaryPath(path);
+  const int slot = Track(tmp);
   if (!WriteText(tmp, text)) {
     std::remove(tmp.c_str());
+    Untrack(slot);
     *error = "cannot write '" + path + "'";
     return false;
   }
   paths_.push_back(path);
   files_.push_back(tmp);
+  slots_.push_back(slot);
   return true;
 }
 
@@ -141,7 +191,9 @@ bool OutputSet::Commit(std::string* error) {
     }
   }
   for (size_t k = 0; k < paths_.size(); ++k) {
-    if (std::rename(files_[k].c_str(), paths_[k].c_str()) != 0) {
+    const bool renamed = std::rename(files_[k].c_str(), paths_[k].c_str()) == 0;
+    if (renamed) Untrack(slots_[k]);
+    if (!renamed) {
       *error = "cannot rename '" + files_[k] + "' to '" + paths_[k] + "'";
       if (k > 0) {
         *error += " (" + std::to_string(k) + " of the " +
@@ -150,19 +202,25 @@ bool OutputSet::Commit(std::string* error) {
       }
       paths_.erase(paths_.begin(), paths_.begin() + k);
       files_.erase(files_.begin(), files_.begin() + k);
+      slots_.erase(slots_.begin(), slots_.begin() + k);
       Discard();
       return false;
     }
   }
   paths_.clear();
   files_.clear();
+  slots_.clear();
   return true;
 }
 
 void OutputSet::Discard() {
-  for (const std::string& tmp : files_) std::remove(tmp.c_str());
+  for (size_t k = 0; k < files_.size(); ++k) {
+    std::remove(files_[k].c_str());
+    Untrack(slots_[k]);
+  }
   paths_.clear();
   files_.clear();
+  slots_.clear();
 }
 
 bool WriteFileAtomically(const std::string& path, const std::string& text,
@@ -192,6 +250,7 @@ bool CheckWritable(const std::string& path, std::string* error) {
   }
   RemoveStaleTemporaries(path);
   const std::string tmp = TemporaryPath(path);
+  TrackedTemporary tracked(tmp);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::app);
     if (!out) {

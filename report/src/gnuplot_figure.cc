@@ -35,6 +35,7 @@ bool RenderGnuplotPng(const std::string& script, const std::string& png_path,
   // The output set's temporary name (removed by a later run if this one is
   // killed while gnuplot draws: RemoveStaleTemporaries).
   const std::string scratch_path = TemporaryPath(png_path);
+  const TrackedTemporary tracked(scratch_path);
   const std::string log = png_path + ".gnuplot.log";
   // The output path is quoted for gnuplot; refuse quotes in it.
   if (png_path.find_first_of("'\"\n") != std::string::npos) {

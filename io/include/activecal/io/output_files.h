@@ -45,6 +45,29 @@ std::string TemporaryPath(const std::string& path);
 // Temporaries of running processes (and other files) are not touched.
 int RemoveStaleTemporaries(const std::string& path);
 
+// Removes the temporaries this process is writing or has written and not
+// yet renamed (every OutputSet's, CheckWritable's probe, a
+// TrackedTemporary's): async-signal-safe (unlink only), for a handler of
+// SIGTERM, SIGINT or SIGHUP, so that a killed run leaves none behind. The
+// programs install such a handler. A kill -9 cannot be caught: the next
+// run removes those (RemoveStaleTemporaries). At most 64 are tracked at
+// once; beyond that they are left to RemoveStaleTemporaries.
+void RemoveOwnTemporaries();
+
+// A temporary file that code writes itself (gnuplot's figure), tracked for
+// RemoveOwnTemporaries while this object lives; the file is neither made
+// nor removed by it.
+class TrackedTemporary {
+ public:
+  explicit TrackedTemporary(const std::string& path);
+  ~TrackedTemporary();
+  TrackedTemporary(const TrackedTemporary&) = delete;
+  TrackedTemporary& operator=(const TrackedTemporary&) = delete;
+
+ private:
+  int slot_;
+};
+
 // Whether `a` and `b` name one directory entry ("a.csv", "./a.csv", or
 // through a folder's symbolic link): one output file.
 bool SameOutputFile(const std::string& a, const std::string& b);
@@ -82,6 +105,7 @@ class OutputSet {
  private:
   std::vector<std::string> paths_;
   std::vector<std::string> files_;  // the temporaries, as paths_
+  std::vector<int> slots_;  // their RemoveOwnTemporaries slots, as paths_
 };
 
 // Writes `text` to `path` through its temporary. False with *error, the old
