@@ -480,5 +480,37 @@ TEST(PlaneConstraintsTest, SimulatedUr10eAgainstTracker) {
   EXPECT_LT(tracker_rms, 2e-5);
 }
 
+// The correction after the solve (identification.cc): a plane the solver
+// turned over is put back to the start's side as its twin (-n, -d - 2 r),
+// every residual negated; a plane touched with two radii has no twin and
+// stays; one on the start's side stays.
+TEST(PlaneConstraintsTest, OrientPlanesLikeTurnsBackOnlyAFlippedTwin) {
+  auto touch = [](const std::string& label, double radius) {
+    Measurement m;
+    m.type = MeasurementType::kPlane;
+    m.plane = label;
+    m.probe_radius_m = radius;
+    return m;
+  };
+  const std::vector<Measurement> rows = {touch("a", 0.01), touch("b", 0.01),
+                                         touch("a", 0.01), touch("b", 0.02),
+                                         touch("c", 0.0),  touch("a", 0.01)};
+  const std::vector<std::string> labels = {"a", "b", "c"};
+  Eigen::VectorXd reference(12), planes(12);
+  reference << 0, 0, 1, 0.5, 1, 0, 0, 0.2, 0, 1, 0, -0.3;
+  const Eigen::Vector3d tilted_c = Eigen::Vector3d(0.1, 0.99, 0).normalized();
+  planes << 0, 0, -1, -0.52, -1, 0, 0, -0.2, tilted_c, -0.3;
+  const Eigen::VectorXd solved = planes;
+  OrientPlanesLike(reference, rows, labels, &planes);
+  EXPECT_EQ(planes.segment<4>(0), Eigen::Vector4d(0, 0, 1, 0.5));
+  EXPECT_EQ(planes.segment<8>(4), solved.segment<8>(4));
+  // The same fit: each residual of "a" negated.
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.3, -0.2, 0.51), Eigen::Vector3d(1, 2, 0.7)}) {
+    EXPECT_NEAR(PlaneResidual(planes.segment<4>(0), p, 0.01),
+                -PlaneResidual(solved.segment<4>(0), p, 0.01), 1e-15);
+  }
+}
+
 }  // namespace
 }  // namespace activecal

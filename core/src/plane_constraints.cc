@@ -134,6 +134,29 @@ bool FitPlane(const std::vector<Eigen::Vector3d>& centres,
   return true;
 }
 
+void OrientPlanesLike(const Eigen::VectorXd& reference,
+                      const std::vector<Measurement>& measurements,
+                      const std::vector<std::string>& labels,
+                      Eigen::VectorXd* planes) {
+  for (size_t k = 0; k < labels.size(); ++k) {
+    double* plane = planes->data() + 4 * k;
+    if (Eigen::Map<const Eigen::Vector3d>(plane).dot(
+            reference.segment<3>(4 * k)) >= 0) {
+      continue;
+    }
+    double radius = -1.0;
+    bool one_radius = true;
+    for (const Measurement& m : measurements) {
+      if (m.type != MeasurementType::kPlane || m.plane != labels[k]) continue;
+      if (radius >= 0 && m.probe_radius_m != radius) one_radius = false;
+      radius = m.probe_radius_m;
+    }
+    if (!one_radius) continue;
+    for (int a = 0; a < 3; ++a) plane[a] = -plane[a];
+    plane[3] = -plane[3] - 2 * radius;
+  }
+}
+
 bool FitPlanes(const RobotModel& model, const Eigen::VectorXd& parameters,
                const std::vector<Measurement>& measurements,
                const std::vector<std::string>& labels,

@@ -686,31 +686,8 @@ void Identify(const RobotModel& model,
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solve(solver_options, &problem, &summary->solver_summary);
-  // A plane whose normal the solver turned over (a step of pi on the
-  // sphere, from a start far off): with one probe radius r on the plane,
-  // (-n, -d - 2 r) is the same fit with every residual negated, and the
-  // normal's sign says on which side the probe is (plane_constraints.h):
-  // put it back to the start's side.
-  for (int k = 0; k < num_planes; ++k) {
-    double* plane = planes.data() + 4 * k;
-    if (Eigen::Map<const Eigen::Vector3d>(plane).dot(
-            start_planes.segment<3>(4 * k)) >= 0) {
-      continue;
-    }
-    double radius = -1.0;
-    bool one_radius = true;
-    for (const Measurement& m : measurements) {
-      if (m.type != MeasurementType::kPlane ||
-          m.plane != summary->plane_labels[k]) {
-        continue;
-      }
-      if (radius >= 0 && m.probe_radius_m != radius) one_radius = false;
-      radius = m.probe_radius_m;
-    }
-    if (!one_radius) continue;
-    for (int a = 0; a < 3; ++a) plane[a] = -plane[a];
-    plane[3] = -plane[3] - 2 * radius;
-  }
+  // A plane the solver turned over: back to the start's side.
+  OrientPlanesLike(start_planes, measurements, summary->plane_labels, &planes);
   const ceres::Solver::Summary& ss = summary->solver_summary;
   // Not iterations.size() - 1, which is -1 when Ceres stops before its
   // first iteration.

@@ -88,6 +88,18 @@ bool FitPlanes(const RobotModel& model, const Eigen::VectorXd& parameters,
                std::vector<Eigen::Vector4d>* planes,
                std::string* error = nullptr);
 
+// Turns back each plane of `planes` (4 values a label, labels in
+// PlaneLabels order) whose normal points away from the same label's in
+// `reference` (a solver's step of pi on the sphere, from a start far off):
+// with one probe radius r on the label's rows, (-n, -d - 2 r) is the same
+// fit with every residual negated, and the normal's sign says on which side
+// the probe is, so it is put back to the reference's side. A plane touched
+// with several radii has no such twin and is left as it is.
+void OrientPlanesLike(const Eigen::VectorXd& reference,
+                      const std::vector<Measurement>& measurements,
+                      const std::vector<std::string>& labels,
+                      Eigen::VectorXd* planes);
+
 // Simulated touches of the plane (n, d) = plane by the model at
 // `parameters` (full vector), for tests and simulations: joints drawn
 // uniformly in their ranges (Random(seed)), each moved to the nearest
