@@ -185,4 +185,21 @@ expect_fail "feasible pool smaller than the design" "--num_poses=200: the feasib
   activecal_select "${ur[@]}" --cell="$cell" --pool=sobol --pool_size=2000 --num_poses=200 --json_out=x.json
 [ ! -e x.json ] && ok "a failed run writes nothing" || fail "a failed run wrote its JSON"
 
+# A device inside the robot's fixed base (frame 0: it never moves out of the
+# way): the URDF's base mesh, a robot file's base capsule; outside it (the
+# tracker 2.2 m away, above) is accepted.
+printf 'device: {type: laser_tracker, xyz_m: [0, 0, 0.05]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 30}]\n' >inbase.yaml
+expect_fail "device inside the UR's base" \
+  "--cell: inbase.yaml:1:9: device.xyz_m: the device lies inside the robot's fixed link 'base_link_inertia' (its collision geometry in $data/ur10e.urdf)" \
+  activecal_select "${ur[@]}" --cell=inbase.yaml --pool=sobol --pool_size=100
+printf 'device: {type: mocap, min_cameras: 1, cameras: [{xyz_m: [2, 0, 1], fov_deg: 90, look_at_m: [0, 0, 0]}, {xyz_m: [0, 0, 0.3], fov_deg: 90, look_at_m: [1, 0, 0]}]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 30}]\n' >inpuma.yaml
+expect_fail "a camera inside the PUMA's base" \
+  "device.cameras[1].xyz_m: the device lies inside the robot's fixed link 'base'" \
+  activecal_select --robot="$data/puma560.yaml" --cell=inpuma.yaml --pool=sobol --pool_size=100
+printf 'device: {type: laser_tracker, xyz_m: [0.15, 0, 0.3]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 90}]\n' >besidebase.yaml
+"$apps/activecal_select" --robot="$data/puma560.yaml" --cell=besidebase.yaml --pool=sobol \
+  --pool_size=200 --num_poses=8 --restarts=1 >beside.out 2>beside.err
+grep -q "lies inside" beside.err && { fail "a device 5 cm beside the base capsule refused"; cat beside.err; } ||
+  ok "a device 5 cm beside the base capsule is not refused as inside it"
+
 cli_end

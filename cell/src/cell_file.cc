@@ -154,25 +154,29 @@ class CellParser : public internal::YamlReader {
       cell->skip_pair_where.resize(cell->skip_pairs.size());
     }
     // The device must see from outside every obstacle.
-    std::vector<std::pair<Eigen::Vector3d, std::string>> eyes;
     if (cell->has_device) {
       const CellDevice& d = cell->device;
+      const YAML::Mark mark = root["device"].Mark();
+      auto eye = [&](const Eigen::Vector3d& position,
+                     const std::string& field) {
+        cell->device_eyes.push_back({position, field, Where(mark, field)});
+      };
       if (d.type == DeviceType::kLaserTracker) {
-        eyes.emplace_back(d.position, "device.xyz_m");
+        eye(d.position, "device.xyz_m");
       } else if (d.type == DeviceType::kCamera) {
-        eyes.emplace_back(d.cameras[0].position, "device.xyz_m");
+        eye(d.cameras[0].position, "device.xyz_m");
       } else {
         for (size_t c = 0; c < d.cameras.size(); ++c) {
-          eyes.emplace_back(d.cameras[c].position,
-                            "device.cameras[" + std::to_string(c) + "].xyz_m");
+          eye(d.cameras[c].position,
+              "device.cameras[" + std::to_string(c) + "].xyz_m");
         }
       }
-    }
-    for (const auto& [point, field] : eyes) {
-      for (const Obstacle& o : cell->obstacles) {
-        if (PointInsideObstacle(o, point)) {
-          return Fail(root["device"].Mark(), field,
-                      "the device lies inside obstacle '" + o.name + "'");
+      for (const Cell::Eye& e : cell->device_eyes) {
+        for (const Obstacle& o : cell->obstacles) {
+          if (PointInsideObstacle(o, e.position)) {
+            return Fail(mark, e.field,
+                        "the device lies inside obstacle '" + o.name + "'");
+          }
         }
       }
     }

@@ -153,6 +153,30 @@ bool SetUpCell(const CellSetupOptions& options, RobotDescription* robot,
         "collision: in its robot file): self-collision, obstacles and the "
         "robot's shadow on lines of sight are not checked");
   }
+  // The device must see from outside the robot's fixed links too (frame 0:
+  // they never move out of its way).
+  for (const CollisionBody& body : setup->collision.bodies) {
+    if (body.frame != 0) continue;
+    for (const CollisionShape& shape : body.shapes) {
+      for (const Cell::Eye& eye : setup->cell.device_eyes) {
+        const Eigen::Vector3d in_body =
+            body.in_frame.rotation.transpose() *
+            (eye.position - body.in_frame.translation);
+        const Eigen::Vector3d in_shape = shape.pose.rotation.transpose() *
+                                         (in_body - shape.pose.translation);
+        if (PointInShape(shape, in_shape)) {
+          if (error) {
+            *error = eye.where +
+                     ": the device lies inside the robot's fixed "
+                     "link '" +
+                     body.name + "' (its collision geometry in " +
+                     setup->collision_source + ")";
+          }
+          return false;
+        }
+      }
+    }
+  }
   if (options.targets_as_markers &&
       !UseTargetsAsMarkers(setup->cell, robot, error)) {
     return false;

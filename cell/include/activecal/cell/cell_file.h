@@ -123,6 +123,16 @@ struct Cell {
   std::vector<Obstacle> obstacles;
   bool has_device = false;
   CellDevice device;
+  // Where the device sees from (the tracker, or each camera) and where the
+  // file gives it ("<file>:<line>:<col>: device.xyz_m"), for the checks
+  // that it lies outside every obstacle and outside the robot's fixed base
+  // (SetUpCell).
+  struct Eye {
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    std::string field;  // "device.xyz_m", "device.cameras[1].xyz_m"
+    std::string where;  // "<file>:<line>:<col>: <field>"
+  };
+  std::vector<Eye> device_eyes;
   std::vector<CellTarget> targets;
   // Pairs not checked against each other: two robot links (by link name),
   // or a robot link and an obstacle (by the obstacle's name).
