@@ -232,6 +232,9 @@ int Main() {
   options.start =
       std::chrono::steady_clock::time_point(std::chrono::nanoseconds(start_ns));
   options.progress = [](const std::string& line) { app::PrintProgress(line); };
+  options.warning = [](const std::string& line) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+  };
   ActiveCalibrationSummary summary;
   if (!RunActiveCalibration(model, truth, joints, with_cell ? &cell : nullptr,
                             with_cell ? &feasibility : nullptr, options,

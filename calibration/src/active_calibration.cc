@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "activecal/calibration/active_session.h"
 #include "activecal/calibration/cell_planning.h"
@@ -308,8 +310,11 @@ class BatchDesigner {
   nlohmann::json blocked_list_ = nlohmann::json::array();
 };
 
+// Prints a round's row; a round whose residuals exceed the noise gets a
+// warning, added to *warnings and passed to `warn` (may be empty).
 void PrintRound(FILE* out, int r, const ActiveRound& a, double seconds,
-                double sigma_m) {
+                double sigma_m, std::vector<std::string>* warnings,
+                const std::function<void(const std::string&)>& warn) {
   Print(out, "  %-6d %-6d %-14.6g %-14s %-14.6g %-14.6g %-14s %-9zu %.1f%s\n",
         r, a.num_poses, a.predicted_task_rms_m,
         Number(a.true_task_rms_m).c_str(), a.parameter_change_task_rms_m,
@@ -318,12 +323,18 @@ void PrintRound(FILE* out, int r, const ActiveRound& a, double seconds,
         a.residuals_exceed_noise ? "  (above the noise)" : "");
   if (out) std::fflush(out);
   if (a.residuals_exceed_noise) {
-    std::fprintf(stderr,
-                 "warning: round %d: the residual sigma %.3g m is %.1f "
-                 "times --noise_m: the identified model does not fit the "
-                 "measurements (a wrong local minimum?); its predicted task "
-                 "RMS does not hold\n",
-                 r, a.residual_sigma_m, a.residual_sigma_m / sigma_m);
+    const char* format =
+        "warning: round %d: the residual sigma %.3g m is %.1f times "
+        "--noise_m: the identified model does not fit the measurements (a "
+        "wrong local minimum?); its predicted task RMS does not hold";
+    const double ratio = a.residual_sigma_m / sigma_m;
+    std::string line(
+        std::snprintf(nullptr, 0, format, r, a.residual_sigma_m, ratio) + 1,
+        '\0');
+    std::snprintf(&line[0], line.size(), format, r, a.residual_sigma_m, ratio);
+    line.pop_back();
+    warnings->push_back(line);
+    if (warn) warn(line);
   }
 }
 
@@ -488,12 +499,12 @@ bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
   if (resume != nullptr) {
     for (size_t r = 0; r < resume->rounds.size(); ++r) {
       PrintRound(out, static_cast<int>(r), resume->rounds[r], 0.0,
-                 options.sigma_m);
+                 options.sigma_m, &summary->warnings, o.warning);
     }
   }
   options.round_callback = [&](const ActiveLoopState& state, std::string* why) {
     PrintRound(out, state.round - 1, state.rounds.back(), SecondsSince(o.start),
-               options.sigma_m);
+               options.sigma_m, &summary->warnings, o.warning);
     // On stderr, flushed (stdout may sit in a pipe's buffer): a round can
     // take seconds (a measurement per pose, a selection, a fit).
     const ActiveRound& a = state.rounds.back();

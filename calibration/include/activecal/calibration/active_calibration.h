@@ -25,8 +25,9 @@
 // prints on stdout (the session's notes, the driver's hello with
 // options.verbose, the rounds' table, one line per measurement with
 // options.verbose, the termination, the tour's and the one-shot designs'
-// lines); a round whose residuals exceed the noise is warned about on
-// stderr.
+// lines). A round whose residuals exceed the noise is warned about in
+// summary.warnings and through options.warning, as it completes (the
+// library writes nothing to stderr).
 
 #ifndef ACTIVECAL_CALIBRATION_ACTIVE_CALIBRATION_H_
 #define ACTIVECAL_CALIBRATION_ACTIVE_CALIBRATION_H_
@@ -87,6 +88,11 @@ struct ActiveCalibrationOptions {
   // Called with a line after every round ("round 0 done: 12 poses,
   // predicted task RMS 0.000193 m (1.2 s)"); null: none.
   std::function<void(const std::string& line)> progress;
+  // Called with each warning as it is made (also kept in
+  // ActiveCalibrationSummary::warnings), one line without its newline:
+  // "warning: round 2: the residual sigma 0.00031 m is 3.1 times --noise_m:
+  // ..."; null: none.
+  std::function<void(const std::string& line)> warning;
 };
 
 struct ActiveCalibrationSummary {
@@ -101,6 +107,8 @@ struct ActiveCalibrationSummary {
   // The poses measured, in measuring order (pool indices in
   // pose_indices), e.g. for a controller program.
   PoseList measured_poses;
+  // The warnings, in order (options.warning got each as it was made).
+  std::vector<std::string> warnings;
   // Why the workflow or the loop failed, with the session's note ("(the
   // session in DIR keeps every answer: continue it with --resume)").
   std::string message;
