@@ -85,6 +85,7 @@ DEFINE_string(cell, "",
 
 int Main() {
   SimulatedCellOptions options;
+  options.program_name = "activecal_sim_cell";
   options.noise_m = FLAGS_noise_m;
   options.rotations = FLAGS_rotations;
   options.rotation_noise_rad = FLAGS_rotation_noise_rad;

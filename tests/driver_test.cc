@@ -770,12 +770,21 @@ TEST(SimulatedCellTest, AnswersArePerPoseAndTheCellDiesOnDemand) {
   EXPECT_FALSE(ParseMeasurementReply(garbage[1], 2, 6, 1, &reply, &error));
   options.garbage = DriverGarbage::kNone;
 
+  // Its lines on stderr and its hello name the program the caller sets.
   options.die_after = 1;
+  options.program_name = "my_cell";
+  ::testing::internal::CaptureStderr();
   const std::vector<std::string> died = ServeSimulatedCell(
-      options, {MeasureMessage(1, a), MeasureMessage(2, b)}, &status, &served);
+      options,
+      {HelloMessage(hello), MeasureMessage(1, a), MeasureMessage(2, b)},
+      &status, &served);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(),
+            "my_cell: dying after 1 measurements (--die_after)\n");
   EXPECT_FALSE(served);
   EXPECT_EQ(status, 3);
-  EXPECT_EQ(died.size(), 1u);
+  ASSERT_EQ(died.size(), 2u);
+  EXPECT_NE(died[0].find("\"driver\":\"my_cell\""), std::string::npos)
+      << died[0];
 }
 
 TEST(SimulatedCellTest, OptionsAndListenAddressesAreChecked) {

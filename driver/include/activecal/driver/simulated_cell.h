@@ -18,7 +18,7 @@
 // so the same pose always gets the same answer, whatever was asked before:
 // tracker noise, occlusions, refused poses, the servo error. Only the drift
 // depends on how many measurements were served. Notes and errors go to
-// stderr ("activecal_sim_cell: ...").
+// stderr, prefixed by options.program_name ("activecal_sim_cell: ...").
 
 #ifndef ACTIVECAL_DRIVER_SIMULATED_CELL_H_
 #define ACTIVECAL_DRIVER_SIMULATED_CELL_H_
@@ -82,6 +82,9 @@ struct SimulatedCellOptions {
   // values, if any (MakeSimulatedCellTruth).
   double perturb_m = 0.0;
   double perturb_rad = 0.0;
+  // The cell's name: its driver name in the hello reply and the prefix of
+  // its lines on stderr ("<program_name>: listening on 127.0.0.1:5000").
+  std::string program_name = "simulated_cell";
 
   // The first option out of range, as "noise_m must be >= 0" (the names
   // are activecal_sim_cell's flags').
