@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -167,6 +168,57 @@ TEST(ActiveCalibrationTest, AResidualAboveTheNoiseIsWarnedAboutNotPrinted) {
             std::string::npos)
       << first;
   EXPECT_NE(first.back(), '\n');
+}
+
+TEST(ActiveCalibrationTest, ThePoolIsTheLatticeAndAReducedSetStartsAtItsPoint) {
+  RobotModel model = Puma560PaperModel();
+  ActivePoolOptions options;
+  options.levels = 3;
+  ActivePool pool;
+  ASSERT_TRUE(MakeActivePool(model, nullptr, options, &pool)) << pool.message;
+  EXPECT_EQ(pool.joints, testing::PumaLatticeJoints(3));
+  EXPECT_TRUE(pool.feasibility.verdicts.empty());
+  options.levels = 1;
+  EXPECT_FALSE(MakeActivePool(model, nullptr, options, &pool));
+  EXPECT_EQ(pool.message.rfind("--levels=1: ", 0), 0u) << pool.message;
+
+  // The registration set on the PUMA: fewer free parameters, each held one
+  // named, the model started at the analysis point.
+  options.levels = 3;
+  ASSERT_TRUE(MakeActivePool(model, nullptr, options, &pool));
+  const int free_before = model.num_free();
+  ASSERT_TRUE(
+      ReduceForActivePool(ParameterSet::kRegistration, nullptr, &pool, &model))
+      << pool.message;
+  EXPECT_LT(model.num_free(), free_before);
+  std::istringstream lines(pool.report);
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_EQ(line.rfind("  --parameter_set=registration: ", 0), 0u) << line;
+    EXPECT_NE(line.find(" held fixed: "), std::string::npos) << line;
+  }
+  EXPECT_NE(model.nominal, Puma560PaperModel().nominal);  // the point
+}
+
+TEST(ActiveCalibrationTest, TheRunIsCheckedAgainstWhatIsKnown) {
+  ActiveCalibrationOptions options;
+  std::string error;
+  EXPECT_TRUE(options.IsValidFor(/*truth_known=*/true, &error)) << error;
+  EXPECT_FALSE(options.IsValidFor(/*truth_known=*/false, &error));
+  EXPECT_EQ(error.rfind("--robot has no true values to simulate from", 0), 0u)
+      << error;
+  options.driver = "my_driver";
+  EXPECT_TRUE(options.IsValidFor(/*truth_known=*/false, &error)) << error;
+  options.nominal_error_scale = 2;
+  EXPECT_FALSE(options.IsValidFor(/*truth_known=*/false, &error));
+  EXPECT_EQ(error, "--nominal_error_scale needs the robot's true values");
+  options.nominal_error_scale = -1;
+  EXPECT_FALSE(options.IsValidFor(/*truth_known=*/true, &error));
+  EXPECT_EQ(error, "--nominal_error_scale must be >= 0");
+  options.nominal_error_scale = 1;
+  options.compare = true;
+  EXPECT_FALSE(options.IsValidFor(/*truth_known=*/true, &error));
+  EXPECT_EQ(error.rfind("--compare simulates one-shot designs", 0), 0u)
+      << error;
 }
 
 TEST(ActiveCalibrationTest, BadOptionsAreNamedAsTheFlags) {

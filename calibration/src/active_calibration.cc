@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,7 +18,10 @@
 #include "activecal/calibration/active_session.h"
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/pool_reduction.h"
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/tour.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/random.h"
 #include "activecal/driver/driver_client.h"
 #include "activecal/io/robot_file.h"
@@ -355,6 +360,107 @@ std::string ActiveCalibrationSummary::ResultLine(double target_rms_m) const {
   return result;
 }
 
+bool ActiveCalibrationOptions::IsValidFor(bool truth_known,
+                                          std::string* error) const {
+  std::string e;
+  if (driver.empty() && !truth_known) {
+    e = "--robot has no true values to simulate from (add 'true:' entries, "
+        "docs/formats.md, or measure with --driver)";
+  } else if (!(nominal_error_scale >= 0) ||
+             !std::isfinite(nominal_error_scale)) {
+    e = "--nominal_error_scale must be >= 0";
+  } else if (!truth_known && nominal_error_scale != 1) {
+    e = "--nominal_error_scale needs the robot's true values";
+  } else if (!driver.empty() && compare) {
+    e = "--compare simulates one-shot designs from the true values: not "
+        "with --driver";
+  }
+  if (!e.empty() && error) *error = e;
+  return e.empty();
+}
+
+bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
+                    const ActivePoolOptions& options, ActivePool* pool) {
+  *pool = ActivePool();
+  const std::string levels = "--levels=" + std::to_string(options.levels);
+  JointLattice lattice;
+  std::string error;
+  if (!JointLattice::Create(
+          cell ? WithinJointMargins(*cell->checker, model) : model,
+          options.levels, &lattice, &error) ||
+      !CheckSelectionPoolSize(lattice.size(), model, MeasurementType::kPosition,
+                              &error)) {
+    pool->message = levels + ": " + error;
+    return false;
+  }
+  for (const std::string& note : lattice.OneTurnNotes(model)) {
+    pool->report += "note: " + note + "\n";
+  }
+  pool->joints = lattice.AllJointValues();
+  if (cell == nullptr) return true;
+  PoolFilterSummary& feasibility = pool->feasibility;
+  PoolFilterOptions o;
+  o.num_threads = options.num_threads;
+  if (options.progress) o.progress = options.progress("cell checks");
+  const bool filtered =
+      FilterPool(*cell->checker, pool->joints, o, &feasibility);
+  o.progress = nullptr;  // the stage ends here
+  if (!filtered) {
+    pool->message = "--cell: " + feasibility.message;
+    return false;
+  }
+  // As activecal_select: one line with the counts per reason.
+  if (feasibility.num_feasible() == 0) {
+    pool->message = "--cell: no pose of the pool is left: " +
+                    FeasibleNote(*cell->checker, feasibility);
+    return false;
+  }
+  if (feasibility.num_feasible() < options.first_batch) {
+    pool->message = "--first_batch=" + std::to_string(options.first_batch) +
+                    ": the feasible pool has only " +
+                    FeasibleNote(*cell->checker, feasibility);
+    return false;
+  }
+  pool->report += "  " + feasibility.BriefReport(*cell->checker);
+  return true;
+}
+
+bool ReduceForActivePool(ParameterSet set, const CellSetup* cell,
+                         ActivePool* pool, RobotModel* model) {
+  // Each pose measuring the targets it sees when they are the markers.
+  // Several markers otherwise: each pose measures every one (the driver is
+  // asked for all), so the reduction counts every marker's rows (marker
+  // 0's alone held the others' offsets fixed).
+  const bool masked = cell && CellTargetsAreMarkers(*cell->checker, *model);
+  const Eigen::MatrixXd joints =
+      cell ? pool->feasibility.FeasibleJoints(pool->joints) : pool->joints;
+  std::vector<uint32_t> every_marker;
+  if (!masked && model->num_markers() > 1) {
+    every_marker.assign(joints.rows(), EveryMarkerMask(*model));
+  }
+  PoolReductionOptions options;
+  options.evenly_spaced = true;
+  PoolReduction reduction;
+  const std::string name = ParameterSetToString(set);
+  if (!ReduceForPool(*model, set, joints,
+                     masked                 ? &pool->feasibility.targets_seen
+                     : every_marker.empty() ? nullptr
+                                            : &every_marker,
+                     options, &reduction)) {
+    pool->message = "--parameter_set=" + name + ": " + reduction.message;
+    return false;
+  }
+  for (const HeldParameter& d : reduction.held) {
+    pool->report += "  --parameter_set=" + name + ": " + d.name +
+                    " held fixed: " + d.reason + "\n";
+  }
+  // At the exact nominal the UR10e's first batch was singular for the kept
+  // parameters ("round 0: no restart produced a non-singular design").
+  *model = WithFreeSet(*model, reduction.free);
+  model->nominal = reduction.point;
+  return true;
+}
+
 bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
                           const Eigen::MatrixXd& joints, const CellSetup* cell,
                           const PoolFilterSummary* feasibility,
@@ -400,6 +506,13 @@ bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
   // The session: what its results depend on must not change between runs.
   std::unique_ptr<ActiveSession> session;
   if (!o.session_dir.empty()) {
+    std::string cell_text = o.cell_text;
+    if (with_cell && cell_text.empty()) {
+      std::ifstream in(o.cell_path, std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      cell_text = text.str();
+    }
     RobotFileOptions robot_text;
     robot_text.true_parameters = options.true_parameters;
     // The cell decides which poses may be designed: "none", or its file
@@ -408,7 +521,7 @@ bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
     // name.
     SessionIdentity identity = {
         {"cell", with_cell ? o.cell_path + " (hash " +
-                                 std::to_string(Fnv1a(o.cell_text)) + ")"
+                                 std::to_string(Fnv1a(cell_text)) + ")"
                            : "none"},
         {"robot", model.name},
         {"robot_hash", std::to_string(Fnv1a(
