@@ -131,39 +131,29 @@ int Main() {
   if (FLAGS_resume && FLAGS_session.empty()) {
     app::Fail("--resume continues a --session: name its directory");
   }
-  RobotModel model = robot.model;
-  const Eigen::VectorXd truth =
-      truth_known ? robot.true_parameters : Eigen::VectorXd();
-  if (truth_known) {
-    model.nominal = truth + FLAGS_nominal_error_scale * (model.nominal - truth);
-  }
   // The pool (with a cell its checks, once), and a named parameter set
   // reduced to what the poses the loop may design separate.
-  ActivePoolOptions pool_options;
-  pool_options.levels = FLAGS_levels;
-  pool_options.first_batch = FLAGS_first_batch;
-  pool_options.num_threads = FLAGS_threads;
-  pool_options.progress = [](const std::string& stage) {
+  options.stage_progress = [](const std::string& stage) {
     auto line = std::make_shared<app::ProgressLine>(stage);
     return ProgressCallback(
         [line](int64_t done, int64_t total) { line->Update(done, total); });
   };
   ActivePool pool;
   const bool pool_ok =
-      MakeActivePool(model, with_cell ? &cell : nullptr, pool_options, &pool);
+      MakeActivePool(robot.model, robot.true_parameters,
+                     with_cell ? &cell : nullptr, options, &pool);
   std::printf("%s", pool.report.c_str());
   if (!pool_ok) app::Fail(pool.message);
   const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
   if (urdf || !FLAGS_parameter_set.empty()) {
     pool.report.clear();
-    const bool reduced =
-        ReduceForActivePool(app::ParameterSetOrDie(urdf),
-                            with_cell ? &cell : nullptr, &pool, &model);
+    const bool reduced = ReduceForActivePool(
+        app::ParameterSetOrDie(urdf), with_cell ? &cell : nullptr, &pool);
     std::printf("%s", pool.report.c_str());
     if (!reduced) app::Fail(pool.message);
   }
   const app::ProgramRequest program = app::ProgramRequestOrDie(
-      model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
+      pool.model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
   app::CheckWritableOrDie(FLAGS_json_out, "json_out");
   options.log_to_stdout = true;
   options.start =
@@ -173,15 +163,16 @@ int Main() {
     std::fprintf(stderr, "%s\n", line.c_str());
   };
   ActiveCalibrationSummary summary;
-  if (!RunActiveCalibration(
-          model, truth, pool.joints, with_cell ? &cell : nullptr,
-          with_cell ? &pool.feasibility : nullptr, options, &summary)) {
+  if (!RunActiveCalibration(pool.model, robot.true_parameters, pool.joints,
+                            with_cell ? &cell : nullptr,
+                            with_cell ? &pool.feasibility : nullptr, options,
+                            &summary)) {
     app::Fail(summary.message);
   }
   if (!FLAGS_json_out.empty())
     app::WriteJsonOrDie(FLAGS_json_out, summary.report);
   if (!program.path.empty()) {
-    app::WriteProgramOrDie(model, program, summary.measured_poses,
+    app::WriteProgramOrDie(pool.model, program, summary.measured_poses,
                            "the poses activecal_active measured, in order");
   }
   if (!summary.loop_ok) app::Fail(summary.message);

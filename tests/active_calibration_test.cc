@@ -171,32 +171,38 @@ TEST(ActiveCalibrationTest, AResidualAboveTheNoiseIsWarnedAboutNotPrinted) {
 }
 
 TEST(ActiveCalibrationTest, ThePoolIsTheLatticeAndAReducedSetStartsAtItsPoint) {
-  RobotModel model = Puma560PaperModel();
-  ActivePoolOptions options;
+  const RobotModel model = Puma560PaperModel();
+  const Eigen::VectorXd truth = Puma560TrueParameters();
+  ActiveCalibrationOptions options;
   options.levels = 3;
   ActivePool pool;
-  ASSERT_TRUE(MakeActivePool(model, nullptr, options, &pool)) << pool.message;
+  ASSERT_TRUE(MakeActivePool(model, Eigen::VectorXd(), nullptr, options, &pool))
+      << pool.message;
   EXPECT_EQ(pool.joints, testing::PumaLatticeJoints(3));
   EXPECT_TRUE(pool.feasibility.verdicts.empty());
+  EXPECT_EQ(pool.model.nominal, model.nominal);  // no truth: as given
+  // The start between the truth and the nominal values.
+  options.nominal_error_scale = 0.5;
+  ASSERT_TRUE(MakeActivePool(model, truth, nullptr, options, &pool));
+  EXPECT_TRUE(pool.model.nominal.isApprox(0.5 * (truth + model.nominal)));
   options.levels = 1;
-  EXPECT_FALSE(MakeActivePool(model, nullptr, options, &pool));
+  EXPECT_FALSE(MakeActivePool(model, truth, nullptr, options, &pool));
   EXPECT_EQ(pool.message.rfind("--levels=1: ", 0), 0u) << pool.message;
 
   // The registration set on the PUMA: fewer free parameters, each held one
   // named, the model started at the analysis point.
   options.levels = 3;
-  ASSERT_TRUE(MakeActivePool(model, nullptr, options, &pool));
-  const int free_before = model.num_free();
-  ASSERT_TRUE(
-      ReduceForActivePool(ParameterSet::kRegistration, nullptr, &pool, &model))
+  ASSERT_TRUE(MakeActivePool(model, truth, nullptr, options, &pool));
+  const Eigen::VectorXd start = pool.model.nominal;
+  ASSERT_TRUE(ReduceForActivePool(ParameterSet::kRegistration, nullptr, &pool))
       << pool.message;
-  EXPECT_LT(model.num_free(), free_before);
+  EXPECT_LT(pool.model.num_free(), model.num_free());
   std::istringstream lines(pool.report);
   for (std::string line; std::getline(lines, line);) {
     EXPECT_EQ(line.rfind("  --parameter_set=registration: ", 0), 0u) << line;
     EXPECT_NE(line.find(" held fixed: "), std::string::npos) << line;
   }
-  EXPECT_NE(model.nominal, Puma560PaperModel().nominal);  // the point
+  EXPECT_NE(pool.model.nominal, start);  // the reduction's point
 }
 
 TEST(ActiveCalibrationTest, TheRunIsCheckedAgainstWhatIsKnown) {

@@ -379,9 +379,15 @@ bool ActiveCalibrationOptions::IsValidFor(bool truth_known,
   return e.empty();
 }
 
-bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
-                    const ActivePoolOptions& options, ActivePool* pool) {
+bool MakeActivePool(const RobotModel& model, const Eigen::VectorXd& truth,
+                    const CellSetup* cell,
+                    const ActiveCalibrationOptions& options, ActivePool* pool) {
   *pool = ActivePool();
+  pool->model = model;
+  if (truth.size() == model.num_parameters()) {
+    pool->model.nominal =
+        truth + options.nominal_error_scale * (model.nominal - truth);
+  }
   const std::string levels = "--levels=" + std::to_string(options.levels);
   JointLattice lattice;
   std::string error;
@@ -400,8 +406,9 @@ bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
   if (cell == nullptr) return true;
   PoolFilterSummary& feasibility = pool->feasibility;
   PoolFilterOptions o;
-  o.num_threads = options.num_threads;
-  if (options.progress) o.progress = options.progress("cell checks");
+  o.num_threads = options.loop.num_threads;
+  if (options.stage_progress)
+    o.progress = options.stage_progress("cell checks");
   const bool filtered =
       FilterPool(*cell->checker, pool->joints, o, &feasibility);
   o.progress = nullptr;  // the stage ends here
@@ -415,10 +422,11 @@ bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
                     FeasibleNote(*cell->checker, feasibility);
     return false;
   }
-  if (feasibility.num_feasible() < options.first_batch) {
-    pool->message = "--first_batch=" + std::to_string(options.first_batch) +
-                    ": the feasible pool has only " +
-                    FeasibleNote(*cell->checker, feasibility);
+  if (feasibility.num_feasible() < options.loop.first_batch) {
+    pool->message =
+        "--first_batch=" + std::to_string(options.loop.first_batch) +
+        ": the feasible pool has only " +
+        FeasibleNote(*cell->checker, feasibility);
     return false;
   }
   pool->report += "  " + feasibility.BriefReport(*cell->checker);
@@ -426,7 +434,8 @@ bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
 }
 
 bool ReduceForActivePool(ParameterSet set, const CellSetup* cell,
-                         ActivePool* pool, RobotModel* model) {
+                         ActivePool* pool) {
+  RobotModel* model = &pool->model;
   // Each pose measuring the targets it sees when they are the markers.
   // Several markers otherwise: each pose measures every one (the driver is
   // asked for all), so the reduction counts every marker's rows (marker

@@ -90,6 +90,9 @@ struct ActiveCalibrationOptions {
   // Called with a line after every round ("round 0 done: 12 poses,
   // predicted task RMS 0.000193 m (1.2 s)"); null: none.
   std::function<void(const std::string& line)> progress;
+  // MakeActivePool: called when the cell's checks start ("cell checks");
+  // the callback it returns gets their progress. May be empty.
+  std::function<ProgressCallback(const std::string& stage)> stage_progress;
   // Called with each warning as it is made (also kept in
   // ActiveCalibrationSummary::warnings), one line without its newline:
   // "warning: round 2: the residual sigma 0.00031 m is 3.1 times --noise_m:
@@ -128,20 +131,16 @@ struct ActiveCalibrationSummary {
 };
 
 // The pool the loop designs from, made before it (activecal_active; and
-// activecal_sim_cell's reduction): the lattice of `levels` values per joint
-// (with a cell, inside its joint margins) and the cell's checks of every
-// pose, once (every batch and every repair is designed from the feasible
-// ones).
-struct ActivePoolOptions {
-  int levels = 4;
-  int first_batch = 12;  // with a cell: the feasible poses must hold it
-  int num_threads = 0;   // of the cell's checks
-  // Called when the cell's checks start ("cell checks"); the callback it
-  // returns gets their progress. May be empty.
-  std::function<ProgressCallback(const std::string& stage)> progress;
-};
-
+// activecal_sim_cell's reduction): the lattice of options.levels values per
+// joint (with a cell, inside its joint margins) and the cell's checks of
+// every pose, once (every batch and every repair is designed from the
+// feasible ones), on options.loop.num_threads threads, the feasible poses
+// holding options.loop.first_batch at least.
 struct ActivePool {
+  // The loop's start: the robot with its nominal values moved to
+  // truth + nominal_error_scale (nominal - truth) when the truth is known;
+  // ReduceForActivePool reduces its free set.
+  RobotModel model;
   Eigen::MatrixXd joints;         // the lattice's poses, one per row
   PoolFilterSummary feasibility;  // with a cell: its verdict on each pose
   // What activecal_active prints, in order: the lattice's one-turn notes,
@@ -153,12 +152,14 @@ struct ActivePool {
 // False with pool->message ("--levels=1: ...", "--cell: no pose of the pool
 // is left: ...", "--first_batch=400: the feasible pool has only ...") when
 // the lattice cannot be made, the checks fail or leave too few poses.
-// `cell` may be null.
-bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
-                    const ActivePoolOptions& options, ActivePool* pool);
+// `true_parameters`: full vector, else unknown. `cell` may be null.
+bool MakeActivePool(const RobotModel& model,
+                    const Eigen::VectorXd& true_parameters,
+                    const CellSetup* cell,
+                    const ActiveCalibrationOptions& options, ActivePool* pool);
 
-// Reduces model's free set `set` to what the pool's poses separate (with a
-// cell its feasible ones, each measuring the targets it sees when they are
+// Reduces pool->model's free set `set` to what the pool's poses separate (with
+// a cell its feasible ones, each measuring the targets it sees when they are
 // the markers; several markers otherwise: each pose measures every one),
 // with ReduceForPool at evenly spaced rows, and starts the model at the
 // reduction's point (a marker at the tip frame's origin moved ~1 mm off
@@ -166,10 +167,10 @@ bool MakeActivePool(const RobotModel& model, const CellSetup* cell,
 // per parameter held to pool->report ("  --parameter_set=full: <name> held
 // fixed: <reason>"); false with pool->message ("--parameter_set=full: ...").
 bool ReduceForActivePool(ParameterSet set, const CellSetup* cell,
-                         ActivePool* pool, RobotModel* model);
+                         ActivePool* pool);
 
 // Runs the workflow. `model` holds the start (nominal values) and the free
-// parameters; `true_parameters` the truth (full vector; empty: unknown,
+// parameters; `true_parameters` the truth (full vector; else unknown,
 // then options.driver must be set); `joints` the pool, which is also the
 // task. `cell` and `feasibility` (both null, or both set: FilterPool of
 // `joints`) restrict every batch to the feasible poses and, when the
