@@ -187,6 +187,31 @@ bool SimulatedCell::ServeClients(TcpListener* listener, int* status,
   }
 }
 
+bool SimulatedCell::Run(int in_fd, int out_fd,
+                        const std::function<void()>& ready, int* status,
+                        std::string* error) {
+  *status = 0;
+  if (options_.listen.empty()) {
+    if (ready) ready();
+    LineChannel channel(in_fd, out_fd);
+    Serve(&channel, status);
+    return true;
+  }
+  std::string host = "127.0.0.1";
+  int port = 0;
+  std::unique_ptr<TcpListener> listener;
+  if (!ParseListenAddress(options_.listen, &host, &port, error)) {
+    *error = "--listen " + *error;
+    return false;
+  }
+  if (!TcpListener::Listen(host, port, &listener, error)) {
+    *error = "--listen: " + *error;
+    return false;
+  }
+  if (ready) ready();
+  return ServeClients(listener.get(), status, error);
+}
+
 bool SimulatedCell::Hello(const DriverHello& hello, LineChannel* channel,
                           int* status) {
   if (static_cast<int>(hello.joint_names.size()) != model_.num_joints() ||
