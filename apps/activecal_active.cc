@@ -17,17 +17,12 @@
 #include <gflags/gflags.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
+#include <memory>
 #include <string>
 
 #include "activecal/calibration/active_calibration.h"
-#include "activecal/calibration/cell_planning.h"
-#include "activecal/calibration/pool_builder.h"
 #include "activecal/cell/cell_setup.h"
-#include "activecal/cell/pool_filter.h"
 #include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
@@ -105,105 +100,8 @@ int Main() {
   const CellSetup cell =
       with_cell ? app::SetUpCellOrDie(FLAGS_cell, FLAGS_frames.empty(), &robot)
                 : CellSetup();
-  std::string cell_text;
-  if (with_cell) {
-    std::ifstream in(FLAGS_cell, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    cell_text = text.str();
-  }
-  const bool simulate = FLAGS_driver.empty();
   const bool truth_known =
       robot.true_parameters.size() == robot.model.num_parameters();
-  if (simulate && !truth_known) {
-    app::Fail(
-        "--robot has no true values to simulate from (add 'true:' "
-        "entries, docs/formats.md, or measure with --driver)");
-  }
-  if (!(FLAGS_nominal_error_scale >= 0) ||
-      !std::isfinite(FLAGS_nominal_error_scale)) {
-    app::Fail("--nominal_error_scale must be >= 0");
-  }
-  if (!truth_known && FLAGS_nominal_error_scale != 1) {
-    app::Fail("--nominal_error_scale needs the robot's true values");
-  }
-  if (!simulate && FLAGS_compare) {
-    app::Fail(
-        "--compare simulates one-shot designs from the true values: not "
-        "with --driver");
-  }
-  app::CheckTourFlagsOrDie(FLAGS_order, FLAGS_order_resolution_deg);
-  if (FLAGS_resume && FLAGS_session.empty()) {
-    app::Fail("--resume continues a --session: name its directory");
-  }
-  RobotModel model = robot.model;
-  const Eigen::VectorXd truth =
-      truth_known ? robot.true_parameters : Eigen::VectorXd();
-  if (truth_known) {
-    model.nominal = truth + FLAGS_nominal_error_scale * (model.nominal - truth);
-  }
-  // With a cell the lattice spans the ranges inside the joint margins.
-  const JointLattice lattice = app::MakeLatticeOrDie(
-      with_cell ? WithinJointMargins(*cell.checker, model) : model,
-      FLAGS_levels);
-  const Eigen::MatrixXd joints = lattice.AllJointValues();
-  // The preprocess: the cell's checks of every pool pose, once; the loop
-  // designs every batch (and every repair) from the feasible ones.
-  PoolFilterSummary feasibility;
-  if (with_cell) {
-    PoolFilterOptions o;
-    o.num_threads = FLAGS_threads;
-    {
-      app::ProgressLine line("cell checks");
-      o.progress = line.callback();
-      if (!FilterPool(*cell.checker, joints, o, &feasibility)) {
-        app::Fail("--cell: " + feasibility.message);
-      }
-    }
-    // As activecal_select: one line with the counts per reason.
-    if (feasibility.num_feasible() == 0) {
-      app::Fail("--cell: no pose of the pool is left: " +
-                FeasibleNote(*cell.checker, feasibility));
-    }
-    if (feasibility.num_feasible() < FLAGS_first_batch) {
-      app::Fail("--first_batch=" + std::to_string(FLAGS_first_batch) +
-                ": the feasible pool has only " +
-                FeasibleNote(*cell.checker, feasibility));
-    }
-    std::printf("  %s", feasibility.BriefReport(*cell.checker).c_str());
-  }
-  const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
-  if (urdf || !FLAGS_parameter_set.empty()) {
-    // Reduced to what the poses the loop may design separate, each
-    // measuring the targets it sees when they are the markers.
-    // Several markers otherwise: each pose measures every one (the driver
-    // is asked for all), so the reduction counts every marker's rows
-    // (marker 0's alone held the others' offsets fixed).
-    const bool masked =
-        with_cell && CellTargetsAreMarkers(*cell.checker, model);
-    const Eigen::MatrixXd reduction_joints =
-        with_cell ? feasibility.FeasibleJoints(joints) : joints;
-    std::vector<uint32_t> every_marker;
-    if (!masked && model.num_markers() > 1) {
-      every_marker.assign(reduction_joints.rows(), EveryMarkerMask(model));
-    }
-    // The loop starts at the reduction's point: a marker at the tip
-    // frame's origin (no --frames) moved ~1 mm off the last axis, where the
-    // kept parameters are separated. At the exact nominal the UR10e's
-    // first batch was singular for them ("round 0: no restart produced a
-    // non-singular design").
-    Eigen::VectorXd point;
-    model = WithFreeSet(model, app::ReducedParameterSetOrDie(
-                                   model, urdf, reduction_joints,
-                                   masked ? &feasibility.targets_seen
-                                   : every_marker.empty() ? nullptr
-                                                          : &every_marker,
-                                   &point));
-    model.nominal = point;
-  }
-  const app::ProgramRequest program = app::ProgramRequestOrDie(
-      model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
-  app::CheckWritableOrDie(FLAGS_json_out, "json_out");
   ActiveCalibrationOptions options;
   options.loop.sigma_m = FLAGS_noise_m;
   options.loop.target_rms_m = FLAGS_target_rms_m;
@@ -220,7 +118,6 @@ int Main() {
   options.session_dir = FLAGS_session;
   options.resume = FLAGS_resume;
   options.cell_path = FLAGS_cell;
-  options.cell_text = cell_text;
   options.order_shortest = FLAGS_order == "shortest";
   options.order_resolution_deg = FLAGS_order_resolution_deg;
   options.robot_path = FLAGS_robot;
@@ -228,20 +125,54 @@ int Main() {
   options.chain.tip_link = FLAGS_tip_link;
   options.compare = FLAGS_compare;
   options.verbose = FLAGS_verbose;
+  std::string error;
+  if (!options.IsValidFor(truth_known, &error)) app::Fail(error);
+  app::CheckTourFlagsOrDie(FLAGS_order, FLAGS_order_resolution_deg);
+  if (FLAGS_resume && FLAGS_session.empty()) {
+    app::Fail("--resume continues a --session: name its directory");
+  }
+  // The pool (with a cell its checks, once), and a named parameter set
+  // reduced to what the poses the loop may design separate.
+  options.stage_progress = [](const std::string& stage) {
+    auto line = std::make_shared<app::ProgressLine>(stage);
+    return ProgressCallback(
+        [line](int64_t done, int64_t total) { line->Update(done, total); });
+  };
+  ActivePool pool;
+  const bool pool_ok =
+      MakeActivePool(robot.model, robot.true_parameters,
+                     with_cell ? &cell : nullptr, options, &pool);
+  std::printf("%s", pool.report.c_str());
+  if (!pool_ok) app::Fail(pool.message);
+  const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
+  if (urdf || !FLAGS_parameter_set.empty()) {
+    pool.report.clear();
+    const bool reduced = ReduceForActivePool(
+        app::ParameterSetOrDie(urdf), with_cell ? &cell : nullptr, &pool);
+    std::printf("%s", pool.report.c_str());
+    if (!reduced) app::Fail(pool.message);
+  }
+  const app::ProgramRequest program = app::ProgramRequestOrDie(
+      pool.model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
+  app::CheckWritableOrDie(FLAGS_json_out, "json_out");
   options.log_to_stdout = true;
   options.start =
       std::chrono::steady_clock::time_point(std::chrono::nanoseconds(start_ns));
   options.progress = [](const std::string& line) { app::PrintProgress(line); };
+  options.warning = [](const std::string& line) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+  };
   ActiveCalibrationSummary summary;
-  if (!RunActiveCalibration(model, truth, joints, with_cell ? &cell : nullptr,
-                            with_cell ? &feasibility : nullptr, options,
+  if (!RunActiveCalibration(pool.model, robot.true_parameters, pool.joints,
+                            with_cell ? &cell : nullptr,
+                            with_cell ? &pool.feasibility : nullptr, options,
                             &summary)) {
     app::Fail(summary.message);
   }
   if (!FLAGS_json_out.empty())
     app::WriteJsonOrDie(FLAGS_json_out, summary.report);
   if (!program.path.empty()) {
-    app::WriteProgramOrDie(model, program, summary.measured_poses,
+    app::WriteProgramOrDie(pool.model, program, summary.measured_poses,
                            "the poses activecal_active measured, in order");
   }
   if (!summary.loop_ok) app::Fail(summary.message);

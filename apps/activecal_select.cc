@@ -223,69 +223,29 @@ int Main() {
   // EAE.
   DesignAlgorithm algorithm;
   DesignCriterion criterion;
-  {
-    std::string error;
-    if (!ParseDesignAlgorithm(FLAGS_algorithm, &algorithm, &error) ||
-        !ParseDesignCriterion(FLAGS_criterion, &criterion, &error)) {
-      app::Fail("--" + error);
-    }
+  std::string error;
+  if (!ParseDesignAlgorithm(FLAGS_algorithm, &algorithm, &error) ||
+      !ParseDesignCriterion(FLAGS_criterion, &criterion, &error)) {
+    app::Fail("--" + error);
   }
-  if (criterion == DesignCriterion::kTaskRms &&
-      gflags::GetCommandLineFlagInfoOrDie("algorithm").is_default) {
+  if (criterion == DesignCriterion::kTaskRms && IsDefault("algorithm")) {
     algorithm = DesignAlgorithm::kFedorov;
   }
   SelectOptions options;
-  options.pool =
-      FLAGS_pool_csv.empty() ? SelectPool::kLattice : SelectPool::kCsv;
   if (!StringToSelectPool(FLAGS_pool, &options.pool)) {
     app::Fail("--pool must be lattice, sobol, random or measurable, got '" +
               FLAGS_pool + "'");
   }
-  const bool measurable = options.pool == SelectPool::kMeasurable;
-  const bool sampled =
-      options.pool == SelectPool::kSobol || options.pool == SelectPool::kRandom;
-  if ((sampled || measurable) && !FLAGS_pool_csv.empty()) {
-    app::Fail("--pool=" + FLAGS_pool + " and --pool_csv: choose one");
-  }
-  if (!FLAGS_pool_csv.empty()) options.pool = SelectPool::kCsv;
-  if (measurable && !with_cell) {
-    app::Fail(
-        "--pool=measurable needs --cell (the device and the targets "
-        "to sample for)");
-  }
-  const bool from_lattice = options.pool == SelectPool::kLattice;
-  // --pool_size sizes a drawn pool only: with the lattice (or a CSV) it was
-  // silently ignored, so --pool_size=100000000000 exited 0 (issue 26).
-  if (!sampled && !measurable && !IsDefault("pool_size")) {
-    app::Fail("--pool_size sizes a --pool=sobol, random or measurable pool; " +
-              std::string(from_lattice ? "the lattice has --levels poses per "
-                                         "joint"
-                                       : "--pool_csv has its rows") +
-              ": give --pool or drop --pool_size");
-  }
-  // A pool too large for memory is refused before it is listed (it was a
-  // std::bad_alloc), by the check the Python module uses (for a lattice in
-  // Select).
-  std::string size_error;
-  if ((sampled || measurable) &&
-      !CheckSelectionPoolSize(FLAGS_pool_size, model, type, &size_error)) {
-    app::Fail("--pool_size: " + size_error);
-  }
-  if (!measurable && !IsDefault("max_draws")) {
-    app::Fail("--max_draws caps the draws of --pool=measurable, got --pool=" +
-              FLAGS_pool);
-  }
-  if (FLAGS_max_draws < 0) {
-    app::Fail("--max_draws must be >= 0, got " +
-              std::to_string(FLAGS_max_draws));
-  }
-  options.levels = FLAGS_levels;
-  options.pool_size = FLAGS_pool_size;
-  options.max_draws = FLAGS_max_draws;
   options.pool_csv = FLAGS_pool_csv;
   options.cell = with_cell ? &cell : nullptr;
-  options.cell_path = FLAGS_cell;
   options.type = type;
+  if (!IsDefault("pool_size")) options.pool_size = FLAGS_pool_size;
+  if (!IsDefault("max_draws")) options.max_draws = FLAGS_max_draws;
+  // The pool's checks first: they name the pool's flags before the
+  // storage's and the parameters'.
+  if (!options.IsValid(model, &error)) app::Fail(error);
+  options.levels = FLAGS_levels;
+  options.cell_path = FLAGS_cell;
   options.rotation_weight_m_per_rad = FLAGS_rotation_weight;
   options.auto_fix = FLAGS_auto_fix;
   // How the pool is stored: single precision where the double blocks would

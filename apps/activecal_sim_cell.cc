@@ -85,6 +85,7 @@ DEFINE_string(cell, "",
 
 int Main() {
   SimulatedCellOptions options;
+  options.program_name = "activecal_sim_cell";
   options.noise_m = FLAGS_noise_m;
   options.rotations = FLAGS_rotations;
   options.rotation_noise_rad = FLAGS_rotation_noise_rad;
@@ -147,35 +148,25 @@ int Main() {
     app::Fail("--" + error);
   }
   // --listen's socket before --truth_out: a run that fails writes nothing.
-  std::unique_ptr<TcpListener> listener;
-  std::string host = "127.0.0.1";
-  int port = 0;
-  if (!FLAGS_listen.empty()) {
-    if (!ParseListenAddress(FLAGS_listen, &host, &port, &error)) {
-      app::Fail("--listen " + error);
-    }
-    if (!TcpListener::Listen(host, port, &listener, &error)) {
-      app::Fail("--listen: " + error);
-    }
-  }
-  if (!FLAGS_truth_out.empty()) {
-    RobotFileOptions file;
-    file.true_parameters = truth;
-    file.comment =
-        "The robot of activecal_sim_cell --seed=" + std::to_string(FLAGS_seed) +
-        " (nominal values and the cell's true values)";
-    app::WriteTextOrDie(FLAGS_truth_out,
-                        RobotFileText(model, model.nominal, file));
-    app::CommitOutputsOrDie();  // read while the cell serves
-  }
+  options.listen = FLAGS_listen;
   SimulatedCell cell(model, truth, options, cell_setup.checker.get());
   int status = 0;
-  if (!listener) {
-    LineChannel channel(STDIN_FILENO, g_protocol_out);
-    cell.Serve(&channel, &status);
-    return status;
+  if (!cell.Run(
+          STDIN_FILENO, g_protocol_out,
+          [&] {
+            if (FLAGS_truth_out.empty()) return;
+            RobotFileOptions file;
+            file.true_parameters = truth;
+            file.comment = "The robot of activecal_sim_cell --seed=" +
+                           std::to_string(FLAGS_seed) +
+                           " (nominal values and the cell's true values)";
+            app::WriteTextOrDie(FLAGS_truth_out,
+                                RobotFileText(model, model.nominal, file));
+            app::CommitOutputsOrDie();  // read while the cell serves
+          },
+          &status, &error)) {
+    app::Fail(error);
   }
-  if (!cell.ServeClients(listener.get(), &status, &error)) app::Fail(error);
   return status;
 }
 

@@ -770,12 +770,53 @@ TEST(SimulatedCellTest, AnswersArePerPoseAndTheCellDiesOnDemand) {
   EXPECT_FALSE(ParseMeasurementReply(garbage[1], 2, 6, 1, &reply, &error));
   options.garbage = DriverGarbage::kNone;
 
+  // Its lines on stderr and its hello name the program the caller sets.
   options.die_after = 1;
+  options.program_name = "my_cell";
+  ::testing::internal::CaptureStderr();
   const std::vector<std::string> died = ServeSimulatedCell(
-      options, {MeasureMessage(1, a), MeasureMessage(2, b)}, &status, &served);
+      options,
+      {HelloMessage(hello), MeasureMessage(1, a), MeasureMessage(2, b)},
+      &status, &served);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(),
+            "my_cell: dying after 1 measurements (--die_after)\n");
   EXPECT_FALSE(served);
   EXPECT_EQ(status, 3);
-  EXPECT_EQ(died.size(), 1u);
+  ASSERT_EQ(died.size(), 2u);
+  EXPECT_NE(died[0].find("\"driver\":\"my_cell\""), std::string::npos)
+      << died[0];
+}
+
+TEST(SimulatedCellTest, RunServesThePipeOrRefusesABadListenAddress) {
+  const RobotModel model = Puma560PaperModel();
+  SimulatedCellOptions options;
+  options.listen = "host:";
+  SimulatedCell refused(model, Puma560TrueParameters(), options);
+  int status = -1, ready = 0;
+  std::string error;
+  EXPECT_FALSE(refused.Run(
+      -1, -1, [&] { ++ready; }, &status, &error));
+  EXPECT_EQ(error, "--listen must be PORT or HOST:PORT, got 'host:'");
+  EXPECT_EQ(ready, 0);  // nothing is written for a run that fails
+
+  // Without listen: `ready`, then one conversation on the fds.
+  int in[2], out[2];
+  ASSERT_EQ(pipe(in), 0);
+  ASSERT_EQ(pipe(out), 0);
+  const std::string bye = ByeMessage() + "\n";
+  ASSERT_EQ(write(in[1], bye.data(), bye.size()),
+            static_cast<ssize_t>(bye.size()));
+  close(in[1]);
+  options.listen.clear();
+  SimulatedCell cell(model, Puma560TrueParameters(), options);
+  EXPECT_TRUE(cell.Run(
+      in[0], out[1], [&] { ++ready; }, &status, &error))
+      << error;
+  EXPECT_EQ(ready, 1);
+  EXPECT_EQ(status, 0);
+  close(in[0]);
+  close(out[0]);
+  close(out[1]);
 }
 
 TEST(SimulatedCellTest, OptionsAndListenAddressesAreChecked) {

@@ -113,6 +113,46 @@ TEST(SelectWorkflowTest, FailuresNameTheFlags) {
   EXPECT_EQ(s.termination_type, TerminationType::kFailure);
 }
 
+TEST(SelectWorkflowTest, PoolOptionsAreCheckedBeforeThePoolIsMade) {
+  const RobotModel model = Puma560PaperModel();
+  std::string error;
+  SelectOptions o;
+  EXPECT_TRUE(o.IsValid(model, &error)) << error;
+  o.pool = SelectPool::kSobol;
+  o.pool_csv = "pool.csv";
+  EXPECT_FALSE(o.IsValid(model, &error));
+  EXPECT_EQ(error, "--pool=sobol and --pool_csv: choose one");
+  // A size is for a drawn pool only, even the default size given.
+  o = SelectOptions();
+  o.pool_size = defaults::kPoolSize;
+  EXPECT_FALSE(o.IsValid(model, &error));
+  EXPECT_EQ(error,
+            "--pool_size sizes a --pool=sobol, random or measurable pool; "
+            "the lattice has --levels poses per joint: give --pool or drop "
+            "--pool_size");
+  o.pool_csv = "pool.csv";
+  EXPECT_FALSE(o.IsValid(model, &error));
+  EXPECT_NE(error.find("; --pool_csv has its rows: "), std::string::npos)
+      << error;
+  o = SelectOptions();
+  o.pool = SelectPool::kRandom;
+  o.pool_size = 100000000000;
+  EXPECT_FALSE(o.IsValid(model, &error));
+  EXPECT_EQ(error.rfind("--pool_size: ", 0), 0u) << error;
+  o.pool_size = 100;
+  EXPECT_TRUE(o.IsValid(model, &error)) << error;
+  o.max_draws = 0;
+  EXPECT_FALSE(o.IsValid(model, &error));
+  EXPECT_EQ(error,
+            "--max_draws caps the draws of --pool=measurable, got "
+            "--pool=random");
+  // Select refuses the same, before any pool is made.
+  SelectSummary s;
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.message, error);
+  EXPECT_TRUE(s.report.empty()) << s.report;
+}
+
 TEST(SelectWorkflowTest, TourJsonNamesTheBlockedMovesByTheRun) {
   TourSummary tour;
   tour.time_before_s = 12.5;

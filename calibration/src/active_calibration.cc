@@ -7,14 +7,21 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <fstream>
+#include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "activecal/calibration/active_session.h"
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/pool_reduction.h"
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/tour.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/random.h"
 #include "activecal/driver/driver_client.h"
 #include "activecal/io/robot_file.h"
@@ -308,8 +315,11 @@ class BatchDesigner {
   nlohmann::json blocked_list_ = nlohmann::json::array();
 };
 
+// Prints a round's row; a round whose residuals exceed the noise gets a
+// warning, added to *warnings and passed to `warn` (may be empty).
 void PrintRound(FILE* out, int r, const ActiveRound& a, double seconds,
-                double sigma_m) {
+                double sigma_m, std::vector<std::string>* warnings,
+                const std::function<void(const std::string&)>& warn) {
   Print(out, "  %-6d %-6d %-14.6g %-14s %-14.6g %-14.6g %-14s %-9zu %.1f%s\n",
         r, a.num_poses, a.predicted_task_rms_m,
         Number(a.true_task_rms_m).c_str(), a.parameter_change_task_rms_m,
@@ -318,12 +328,18 @@ void PrintRound(FILE* out, int r, const ActiveRound& a, double seconds,
         a.residuals_exceed_noise ? "  (above the noise)" : "");
   if (out) std::fflush(out);
   if (a.residuals_exceed_noise) {
-    std::fprintf(stderr,
-                 "warning: round %d: the residual sigma %.3g m is %.1f "
-                 "times --noise_m: the identified model does not fit the "
-                 "measurements (a wrong local minimum?); its predicted task "
-                 "RMS does not hold\n",
-                 r, a.residual_sigma_m, a.residual_sigma_m / sigma_m);
+    const char* format =
+        "warning: round %d: the residual sigma %.3g m is %.1f times "
+        "--noise_m: the identified model does not fit the measurements (a "
+        "wrong local minimum?); its predicted task RMS does not hold";
+    const double ratio = a.residual_sigma_m / sigma_m;
+    std::string line(
+        std::snprintf(nullptr, 0, format, r, a.residual_sigma_m, ratio) + 1,
+        '\0');
+    std::snprintf(&line[0], line.size(), format, r, a.residual_sigma_m, ratio);
+    line.pop_back();
+    warnings->push_back(line);
+    if (warn) warn(line);
   }
 }
 
@@ -342,6 +358,116 @@ std::string ActiveCalibrationSummary::ResultLine(double target_rms_m) const {
                 static_cast<int>(loop.measured.size()), 1e3 * predicted,
                 1e3 * target_rms_m);
   return result;
+}
+
+bool ActiveCalibrationOptions::IsValidFor(bool truth_known,
+                                          std::string* error) const {
+  std::string e;
+  if (driver.empty() && !truth_known) {
+    e = "--robot has no true values to simulate from (add 'true:' entries, "
+        "docs/formats.md, or measure with --driver)";
+  } else if (!(nominal_error_scale >= 0) ||
+             !std::isfinite(nominal_error_scale)) {
+    e = "--nominal_error_scale must be >= 0";
+  } else if (!truth_known && nominal_error_scale != 1) {
+    e = "--nominal_error_scale needs the robot's true values";
+  } else if (!driver.empty() && compare) {
+    e = "--compare simulates one-shot designs from the true values: not "
+        "with --driver";
+  }
+  if (!e.empty() && error) *error = e;
+  return e.empty();
+}
+
+bool MakeActivePool(const RobotModel& model, const Eigen::VectorXd& truth,
+                    const CellSetup* cell,
+                    const ActiveCalibrationOptions& options, ActivePool* pool) {
+  *pool = ActivePool();
+  pool->model = model;
+  if (truth.size() == model.num_parameters()) {
+    pool->model.nominal =
+        truth + options.nominal_error_scale * (model.nominal - truth);
+  }
+  const std::string levels = "--levels=" + std::to_string(options.levels);
+  JointLattice lattice;
+  std::string error;
+  if (!JointLattice::Create(
+          cell ? WithinJointMargins(*cell->checker, model) : model,
+          options.levels, &lattice, &error) ||
+      !CheckSelectionPoolSize(lattice.size(), model, MeasurementType::kPosition,
+                              &error)) {
+    pool->message = levels + ": " + error;
+    return false;
+  }
+  for (const std::string& note : lattice.OneTurnNotes(model)) {
+    pool->report += "note: " + note + "\n";
+  }
+  pool->joints = lattice.AllJointValues();
+  if (cell == nullptr) return true;
+  PoolFilterSummary& feasibility = pool->feasibility;
+  PoolFilterOptions o;
+  o.num_threads = options.loop.num_threads;
+  if (options.stage_progress)
+    o.progress = options.stage_progress("cell checks");
+  const bool filtered =
+      FilterPool(*cell->checker, pool->joints, o, &feasibility);
+  o.progress = nullptr;  // the stage ends here
+  if (!filtered) {
+    pool->message = "--cell: " + feasibility.message;
+    return false;
+  }
+  // As activecal_select: one line with the counts per reason.
+  if (feasibility.num_feasible() == 0) {
+    pool->message = "--cell: no pose of the pool is left: " +
+                    FeasibleNote(*cell->checker, feasibility);
+    return false;
+  }
+  if (feasibility.num_feasible() < options.loop.first_batch) {
+    pool->message =
+        "--first_batch=" + std::to_string(options.loop.first_batch) +
+        ": the feasible pool has only " +
+        FeasibleNote(*cell->checker, feasibility);
+    return false;
+  }
+  pool->report += "  " + feasibility.BriefReport(*cell->checker);
+  return true;
+}
+
+bool ReduceForActivePool(ParameterSet set, const CellSetup* cell,
+                         ActivePool* pool) {
+  RobotModel* model = &pool->model;
+  // Each pose measuring the targets it sees when they are the markers.
+  // Several markers otherwise: each pose measures every one (the driver is
+  // asked for all), so the reduction counts every marker's rows (marker
+  // 0's alone held the others' offsets fixed).
+  const bool masked = cell && CellTargetsAreMarkers(*cell->checker, *model);
+  const Eigen::MatrixXd joints =
+      cell ? pool->feasibility.FeasibleJoints(pool->joints) : pool->joints;
+  std::vector<uint32_t> every_marker;
+  if (!masked && model->num_markers() > 1) {
+    every_marker.assign(joints.rows(), EveryMarkerMask(*model));
+  }
+  PoolReductionOptions options;
+  options.evenly_spaced = true;
+  PoolReduction reduction;
+  const std::string name = ParameterSetToString(set);
+  if (!ReduceForPool(*model, set, joints,
+                     masked                 ? &pool->feasibility.targets_seen
+                     : every_marker.empty() ? nullptr
+                                            : &every_marker,
+                     options, &reduction)) {
+    pool->message = "--parameter_set=" + name + ": " + reduction.message;
+    return false;
+  }
+  for (const HeldParameter& d : reduction.held) {
+    pool->report += "  --parameter_set=" + name + ": " + d.name +
+                    " held fixed: " + d.reason + "\n";
+  }
+  // At the exact nominal the UR10e's first batch was singular for the kept
+  // parameters ("round 0: no restart produced a non-singular design").
+  *model = WithFreeSet(*model, reduction.free);
+  model->nominal = reduction.point;
+  return true;
 }
 
 bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
@@ -389,6 +515,13 @@ bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
   // The session: what its results depend on must not change between runs.
   std::unique_ptr<ActiveSession> session;
   if (!o.session_dir.empty()) {
+    std::string cell_text = o.cell_text;
+    if (with_cell && cell_text.empty()) {
+      std::ifstream in(o.cell_path, std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      cell_text = text.str();
+    }
     RobotFileOptions robot_text;
     robot_text.true_parameters = options.true_parameters;
     // The cell decides which poses may be designed: "none", or its file
@@ -397,7 +530,7 @@ bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
     // name.
     SessionIdentity identity = {
         {"cell", with_cell ? o.cell_path + " (hash " +
-                                 std::to_string(Fnv1a(o.cell_text)) + ")"
+                                 std::to_string(Fnv1a(cell_text)) + ")"
                            : "none"},
         {"robot", model.name},
         {"robot_hash", std::to_string(Fnv1a(
@@ -488,12 +621,12 @@ bool RunActiveCalibration(const RobotModel& model, const Eigen::VectorXd& truth,
   if (resume != nullptr) {
     for (size_t r = 0; r < resume->rounds.size(); ++r) {
       PrintRound(out, static_cast<int>(r), resume->rounds[r], 0.0,
-                 options.sigma_m);
+                 options.sigma_m, &summary->warnings, o.warning);
     }
   }
   options.round_callback = [&](const ActiveLoopState& state, std::string* why) {
     PrintRound(out, state.round - 1, state.rounds.back(), SecondsSince(o.start),
-               options.sigma_m);
+               options.sigma_m, &summary->warnings, o.warning);
     // On stderr, flushed (stdout may sit in a pipe's buffer): a round can
     // take seconds (a measurement per pose, a selection, a fit).
     const ActiveRound& a = state.rounds.back();

@@ -131,6 +131,38 @@ nlohmann::json SelectionJson(const SelectionSummary& summary,
   return j;
 }
 
+bool SelectOptions::IsValid(const RobotModel& model, std::string* error) const {
+  const bool measurable = pool == SelectPool::kMeasurable;
+  const bool drawn = IsDrawn(pool) || measurable;
+  const std::string name = SelectPoolToString(pool);
+  std::string e;
+  if (drawn && !pool_csv.empty()) {
+    e = "--pool=" + name + " and --pool_csv: choose one";
+  } else if (measurable && cell == nullptr) {
+    e = "--pool=measurable needs --cell (the device and the targets to "
+        "sample for)";
+  } else if (!drawn && pool_size) {
+    // A lattice (or a CSV) ignored it: --pool_size=100000000000 exited 0
+    // (issue 26).
+    e = "--pool_size sizes a --pool=sobol, random or measurable pool; " +
+        std::string(pool == SelectPool::kLattice && pool_csv.empty()
+                        ? "the lattice has --levels poses per joint"
+                        : "--pool_csv has its rows") +
+        ": give --pool or drop --pool_size";
+  } else if (drawn &&
+             !CheckSelectionPoolSize(pool_size.value_or(defaults::kPoolSize),
+                                     model, type, &e)) {
+    // Refused before the pool is listed (it was a std::bad_alloc).
+    e = "--pool_size: " + e;
+  } else if (!measurable && max_draws) {
+    e = "--max_draws caps the draws of --pool=measurable, got --pool=" + name;
+  } else if (max_draws.value_or(0) < 0) {
+    e = "--max_draws must be >= 0, got " + std::to_string(*max_draws);
+  }
+  if (!e.empty() && error) *error = e;
+  return e.empty();
+}
+
 bool Select(const RobotModel& input_model, const SelectOptions& options,
             SelectSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
@@ -153,15 +185,18 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   const uint64_t seed = design_options.seed;
   const int num_threads = design_options.num_threads;
   const double noise_m = design_options.noise_m;
-  const SelectPool pool_kind = options.pool;
+  const SelectPool pool_kind =
+      options.pool == SelectPool::kLattice && !options.pool_csv.empty()
+          ? SelectPool::kCsv
+          : options.pool;
   const bool measurable = pool_kind == SelectPool::kMeasurable;
   const bool sampled = IsDrawn(pool_kind);
   const bool from_lattice = pool_kind == SelectPool::kLattice;
   const std::string pool_name = SelectPoolToString(pool_kind);
-  if (measurable && !with_cell) {
-    return fail(
-        "--pool=measurable needs --cell (the device and the targets "
-        "to sample for)");
+  const int64_t pool_size = options.pool_size.value_or(defaults::kPoolSize);
+  {
+    std::string error;
+    if (!options.IsValid(input_model, &error)) return fail(error);
   }
 
   // The candidate poses.
@@ -171,8 +206,8 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   MeasurablePoolSummary measurable_summary;
   if (measurable) {
     MeasurablePoolOptions o;
-    o.num_poses = options.pool_size;
-    o.max_draws = options.max_draws;
+    o.num_poses = pool_size;
+    o.max_draws = options.max_draws.value_or(0);
     o.seed = seed;
     o.num_threads = num_threads;
     o.progress = Stage(options, "measurable poses");
@@ -216,7 +251,7 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
             with_cell ? WithinJointMargins(*cell.checker, model) : model,
             pool_kind == SelectPool::kRandom ? JointSampling::kRandom
                                              : JointSampling::kSobol,
-            options.pool_size, seed, &pool_joints, &error)) {
+            pool_size, seed, &pool_joints, &error)) {
       return fail("--pool=" + pool_name + ": " + error);
     }
   } else {

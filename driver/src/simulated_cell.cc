@@ -158,7 +158,8 @@ bool SimulatedCell::Serve(LineChannel* channel, int* status) {
     if (r != LineChannel::ReadResult::kLine) return true;  // client gone
     ActivecalMessage message;
     if (!ParseActivecalMessage(line, &message, &error)) {
-      std::fprintf(stderr, "activecal_sim_cell: %s\n", error.c_str());
+      std::fprintf(stderr, "%s: %s\n", options_.program_name.c_str(),
+                   error.c_str());
       continue;
     }
     switch (message.type) {
@@ -176,8 +177,9 @@ bool SimulatedCell::Serve(LineChannel* channel, int* status) {
 
 bool SimulatedCell::ServeClients(TcpListener* listener, int* status,
                                  std::string* error) {
-  std::fprintf(stderr, "activecal_sim_cell: listening on %s:%d\n",
-               listener->host().c_str(), listener->port());
+  std::fprintf(stderr, "%s: listening on %s:%d\n",
+               options_.program_name.c_str(), listener->host().c_str(),
+               listener->port());
   for (;;) {
     std::unique_ptr<LineChannel> channel;
     if (!listener->Accept(&channel, error)) return false;
@@ -185,23 +187,50 @@ bool SimulatedCell::ServeClients(TcpListener* listener, int* status,
   }
 }
 
+bool SimulatedCell::Run(int in_fd, int out_fd,
+                        const std::function<void()>& ready, int* status,
+                        std::string* error) {
+  *status = 0;
+  if (options_.listen.empty()) {
+    if (ready) ready();
+    LineChannel channel(in_fd, out_fd);
+    Serve(&channel, status);
+    return true;
+  }
+  std::string host = "127.0.0.1";
+  int port = 0;
+  std::unique_ptr<TcpListener> listener;
+  if (!ParseListenAddress(options_.listen, &host, &port, error)) {
+    *error = "--listen " + *error;
+    return false;
+  }
+  if (!TcpListener::Listen(host, port, &listener, error)) {
+    *error = "--listen: " + *error;
+    return false;
+  }
+  if (ready) ready();
+  return ServeClients(listener.get(), status, error);
+}
+
 bool SimulatedCell::Hello(const DriverHello& hello, LineChannel* channel,
                           int* status) {
   if (static_cast<int>(hello.joint_names.size()) != model_.num_joints() ||
       hello.markers != model_.num_markers()) {
     std::fprintf(stderr,
-                 "activecal_sim_cell: activecal's robot has %zu joints "
+                 "%s: activecal's robot has %zu joints "
                  "and %d markers, the cell's '%s' %d and %d\n",
-                 hello.joint_names.size(), hello.markers, model_.name.c_str(),
-                 model_.num_joints(), model_.num_markers());
+                 options_.program_name.c_str(), hello.joint_names.size(),
+                 hello.markers, model_.name.c_str(), model_.num_joints(),
+                 model_.num_markers());
     *status = 2;
     return false;
   }
   char about[512];
   std::snprintf(about, sizeof(about),
-                "{\"driver\":\"activecal_sim_cell\",\"robot\":\"%s\","
+                "{\"driver\":\"%s\",\"robot\":\"%s\","
                 "\"noise_m\":%.17g,\"seed\":%llu}",
-                model_.name.c_str(), options_.noise_m,
+                options_.program_name.c_str(), model_.name.c_str(),
+                options_.noise_m,
                 static_cast<unsigned long long>(options_.seed));
   return Send(DriverHelloMessage(about), channel);
 }
@@ -209,8 +238,8 @@ bool SimulatedCell::Hello(const DriverHello& hello, LineChannel* channel,
 bool SimulatedCell::Send(const std::string& text, LineChannel* channel) {
   std::string error;
   if (!channel->WriteLine(text, &error)) {
-    std::fprintf(stderr, "activecal_sim_cell: cannot reply: %s\n",
-                 error.c_str());
+    std::fprintf(stderr, "%s: cannot reply: %s\n",
+                 options_.program_name.c_str(), error.c_str());
     return true;  // the client has gone; the next read says so
   }
   if (!options_.served_log.empty()) {
@@ -225,8 +254,9 @@ bool SimulatedCell::Measure(const ActivecalMessage& request,
   ++requests_;
   if (options_.die_after >= 0 && served_ >= options_.die_after) {
     std::fprintf(stderr,
-                 "activecal_sim_cell: dying after %lld measurements "
+                 "%s: dying after %lld measurements "
                  "(--die_after)\n",
+                 options_.program_name.c_str(),
                  static_cast<long long>(served_));
     *status = 3;
     return false;

@@ -76,11 +76,16 @@ using StageProgress = std::function<ProgressCallback(const std::string& stage)>;
 
 struct SelectOptions {
   // The candidate pool.
+  // A pool_csv given with kLattice is read as kCsv.
   SelectPool pool = SelectPool::kLattice;
-  int levels = defaults::kLevels;           // kLattice
-  int64_t pool_size = defaults::kPoolSize;  // kSobol, kRandom, kMeasurable
-  int64_t max_draws = 0;                    // kMeasurable (0: 10 x pool_size)
-  std::string pool_csv;                     // kCsv
+  int levels = defaults::kLevels;  // kLattice
+  // kSobol, kRandom, kMeasurable (unset: defaults::kPoolSize); set for
+  // another pool, an error.
+  std::optional<int64_t> pool_size;
+  // kMeasurable (unset or 0: 10 x pool_size); set for another pool, an
+  // error.
+  std::optional<int64_t> max_draws;
+  std::string pool_csv;  // kCsv
   // The cell (may be null; kMeasurable needs one): the pool keeps the
   // poses it can run; cell_path names it in the JSON.
   const CellSetup* cell = nullptr;
@@ -113,6 +118,13 @@ struct SelectOptions {
   // The program's name, in the --auto_fix note and the result line.
   std::string program_name = "activecal_select";
   StageProgress progress;  // may be empty
+
+  // The pool's options: one source (pool_csv or a drawn pool), a cell for
+  // kMeasurable, a size only for a drawn pool and in memory's reach (for
+  // `model`, CheckSelectionPoolSize), max_draws only for kMeasurable and
+  // >= 0. False with *error naming the first wrong one as the program's
+  // flag ("--max_draws must be >= 0, got -1"). Select checks it first.
+  bool IsValid(const RobotModel& model, std::string* error) const;
 };
 
 struct SelectSummary {

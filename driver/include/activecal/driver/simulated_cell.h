@@ -18,13 +18,14 @@
 // so the same pose always gets the same answer, whatever was asked before:
 // tracker noise, occlusions, refused poses, the servo error. Only the drift
 // depends on how many measurements were served. Notes and errors go to
-// stderr ("activecal_sim_cell: ...").
+// stderr, prefixed by options.program_name ("activecal_sim_cell: ...").
 
 #ifndef ACTIVECAL_DRIVER_SIMULATED_CELL_H_
 #define ACTIVECAL_DRIVER_SIMULATED_CELL_H_
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -82,6 +83,12 @@ struct SimulatedCellOptions {
   // values, if any (MakeSimulatedCellTruth).
   double perturb_m = 0.0;
   double perturb_rad = 0.0;
+  // Run: serve TCP on "PORT" or "HOST:PORT" (HOST default 127.0.0.1; PORT
+  // 0: any free one), one client after another; empty: the given fds.
+  std::string listen;
+  // The cell's name: its driver name in the hello reply and the prefix of
+  // its lines on stderr ("<program_name>: listening on 127.0.0.1:5000").
+  std::string program_name = "simulated_cell";
 
   // The first option out of range, as "noise_m must be >= 0" (the names
   // are activecal_sim_cell's flags').
@@ -104,6 +111,15 @@ class SimulatedCell {
   // stderr where it listens) until a conversation ends the program (true,
   // *status); false with *error when a client cannot be accepted.
   bool ServeClients(TcpListener* listener, int* status, std::string* error);
+  // What activecal_sim_cell runs: with options.listen, its socket made
+  // (then `ready`, may be empty, is called: e.g. to write the files a run
+  // that fails must not leave) and ServeClients; otherwise `ready` and one
+  // conversation on in_fd/out_fd. True with *status when the program
+  // should exit with it; false with *error ("--listen must be PORT or
+  // HOST:PORT, got 'x'", "--listen: <why>", or why a client could not be
+  // accepted).
+  bool Run(int in_fd, int out_fd, const std::function<void()>& ready,
+           int* status, std::string* error);
 
  private:
   bool Hello(const DriverHello& hello, LineChannel* channel, int* status);
