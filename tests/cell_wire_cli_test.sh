@@ -101,6 +101,13 @@ expect_fail "active --order=fast" "--order must be none or shortest, got 'fast'"
 # The same session with another cell (or none) is not continued.
 expect_fail "active --resume without the cell" "--session: 's' was made with cell $cell (hash " \
   activecal_active "${loop[@]}" --session=s --resume
+grep -qF "), this run has no cell: a session continues" err.txt &&
+  ok "... saying this run has no cell" || { fail "resume without the cell: wording"; cat err.txt; }
+"$apps/activecal_active" "${loop[@]}" --max_rounds=1 --session=nocell >nocell.out 2>nocell.err ||
+  { fail "active --session without a cell"; cat nocell.err; }
+expect_fail "active --resume of a session without a cell, with one" \
+  "--session: 'nocell' was made with no cell, this run has cell $cell (hash " \
+  activecal_active "${loop[@]}" --max_rounds=1 --cell="$cell" --session=nocell --resume
 # Another cell: both files named, each with its hash.
 sed 's/clearance_m: 0.02/clearance_m: 0.03/' "$cell" >changed.yaml
 expect_fail "active --resume with a changed cell" \

@@ -384,8 +384,13 @@ bool ActiveSession::Open(const std::string& dir, bool resume,
         return false;
       }
       if (was != value) {
-        *error = where + " was made with " + key + " " + was +
-                 ", this run has " + value +
+        // "cell none" reads as a cell named none: "no cell".
+        auto what = [&key = key](const std::string& v) {
+          return key == "cell" && v == "none" ? std::string("no cell")
+                                              : key + " " + v;
+        };
+        *error = where + " was made with " + what(was) + ", this run has " +
+                 what(value) +
                  ": a session continues with the robot and options it was "
                  "made with (or start a new --session)";
         return false;
