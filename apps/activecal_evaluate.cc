@@ -77,27 +77,19 @@ namespace activecal {
 namespace {
 
 void PlotHistograms(const std::vector<Measurement>& measurements,
-                    const EvaluationSummary& before,
-                    const EvaluationSummary& after) {
-  if (after.position.count == 0) {
-    app::Fail(
-        "--plot: the histograms are of position errors, and the "
-        "measurements have none (distances only)");
+                    const EvaluateSummary& summary) {
+  std::vector<std::vector<double>> rows;
+  std::string error;
+  if (!BeforeAfterPositionErrorsMm(measurements, summary, &rows, &error)) {
+    app::Fail("--plot: " + error);
   }
   if (!app::GnuplotAvailable()) {
     std::printf("  --plot: gnuplot is not installed; no plot\n");
     return;
   }
-  std::vector<std::vector<double>> rows;
   double top = 0.0;
-  for (size_t i = 0; i < after.position_errors.size(); ++i) {
-    // A distance row has no position error (stored as zero): not a 0 mm
-    // bar in the histogram.
-    if (measurements[i].type == MeasurementType::kDistance) continue;
-    const double b = before.position_errors[i].norm() * 1e3;
-    const double a = after.position_errors[i].norm() * 1e3;
-    rows.push_back({b, a});
-    top = std::max(top, std::max(a, b));
+  for (const std::vector<double>& row : rows) {
+    top = std::max(top, std::max(row[1], row[0]));
   }
   const double width = top > 0 ? top / 30.0 : 1.0;
   char bin[64];
@@ -113,7 +105,6 @@ void PlotHistograms(const std::vector<Measurement>& measurements,
       "plot $errors using (bin($1)):(1.0) smooth frequency with boxes "
       "title 'before (registration only)', $errors using (bin($2)):(1.0) "
       "smooth frequency with boxes title 'after'\n";
-  std::string error;
   if (!app::RunGnuplot(script, FLAGS_plot, &error)) {
     app::Fail("--plot: " + error);
   }
@@ -225,15 +216,7 @@ int Main() {
     app::Fail(summary.message);
   }
   std::printf("%s", summary.report.c_str());
-  if (!FLAGS_plot.empty()) {
-    if (!summary.have_before) {
-      app::Fail("--plot: no 'before' to compare with" +
-                (summary.kind == BeforeBaseline::kNone
-                     ? std::string(" (--before=none)")
-                     : ": " + summary.baseline.message));
-    }
-    PlotHistograms(measurements, summary.before, summary.after);
-  }
+  if (!FLAGS_plot.empty()) PlotHistograms(measurements, summary);
   for (const OutputFile& file : summary.outputs) {
     app::WriteTextOrDie(file.path, file.text);
   }

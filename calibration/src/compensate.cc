@@ -194,7 +194,9 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     }
     compensation.check = CellCompensationCheck(*options.cell->checker);
   }
-  compensation.ik.marker = model.MarkerIndex(options.marker);
+  if (!options.marker.empty()) {
+    compensation.ik.marker = model.MarkerIndex(options.marker);
+  }
   if (compensation.ik.marker < 0) {
     return Fail("--marker: '" + options.marker +
                     "' is not a marker of robot '" + model.name + "'",
@@ -203,6 +205,7 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
   // The nominal model (with --poses_csv, what the program means; with
   // --targets_csv, optional: the size of the correction).
   RobotDescription nominal;
+  const RobotModel* nominal_model = options.nominal_model;
   Eigen::VectorXd meaning;
   if (!options.poses_csv.empty() && options.nominal_path.empty()) {
     return Fail(
@@ -226,11 +229,31 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     if (!CheckSameChain(model, nominal.model, &error)) {
       return Fail("--robot and --nominal: " + error, s);
     }
-    meaning = ProgramMeaningParameters(model, model.nominal, nominal.model,
-                                       nominal.model.nominal);
+    nominal_model = &nominal.model;
+  }
+  if (nominal_model) {
+    meaning = ProgramMeaningParameters(model, model.nominal, *nominal_model,
+                                       nominal_model->nominal);
   }
   CompensationSummary& summary = s->compensation;
-  if (!options.poses_csv.empty()) {
+  if (options.in_memory && nominal_model) {
+    s->starts = options.joint_program;
+    for (int64_t i = 0; i < options.joint_program.rows(); ++i) {
+      s->labels.push_back(i);
+    }
+    CompensateProgram(model, model.nominal, *nominal_model,
+                      nominal_model->nominal, options.joint_program,
+                      compensation, &summary);
+  } else if (options.in_memory) {
+    s->labels = options.targets.pose_indices;
+    for (int64_t i = s->labels.size(); i < options.targets.points.rows(); ++i) {
+      s->labels.push_back(i);
+    }
+    s->starts = options.targets.start_joints;
+    CompensateTargets(model, model.nominal, IkTargetsFromList(options.targets),
+                      options.targets.start_joints, Eigen::VectorXd(),
+                      compensation, &summary);
+  } else if (!options.poses_csv.empty()) {
     PoseList program;
     if (!ReadPosesCsv(options.poses_csv, model, /*reject_duplicates=*/false,
                       &program, &error)) {
@@ -238,8 +261,8 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     }
     s->labels = program.pose_indices;
     s->starts = program.joints;
-    CompensateProgram(model, model.nominal, nominal.model,
-                      nominal.model.nominal, program.joints, compensation,
+    CompensateProgram(model, model.nominal, *nominal_model,
+                      nominal_model->nominal, program.joints, compensation,
                       &summary);
   } else {
     TargetList list;
@@ -277,14 +300,16 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
   // compensated joints against the targets (the error compensation
   // removes); without --nominal (Cartesian targets) there is no nominal
   // to measure it with.
-  s->has_correction = !options.nominal_path.empty();
+  s->has_correction = nominal_model != nullptr;
   if (s->has_correction) {
     s->correction =
-        MeasureCorrection(nominal.model, meaning, compensation.ik.marker,
+        MeasureCorrection(*nominal_model, meaning, compensation.ik.marker,
                           compensation.ik.match == IkMatch::kPose, summary);
   }
-  s->outputs.push_back(
-      {options.out, CompensatedPosesCsvText(model, s->labels, summary)});
+  if (!options.out.empty()) {
+    s->outputs.push_back(
+        {options.out, CompensatedPosesCsvText(model, s->labels, summary)});
+  }
   if (!options.json_out.empty()) {
     s->outputs.push_back({options.json_out, JsonText(robot, options, *s)});
   }
@@ -308,7 +333,7 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
 }  // namespace
 
 bool CompensateOptions::IsValid(std::string* error) const {
-  if (poses_csv.empty() == targets_csv.empty()) {
+  if (!poses_csv.empty() + !targets_csv.empty() + in_memory != 1) {
     *error =
         "give exactly one of --poses_csv (joint targets) and "
         "--targets_csv (Cartesian targets)";

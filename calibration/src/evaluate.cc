@@ -454,6 +454,34 @@ std::vector<Measurement> PostureGroupSubset(
   return out;
 }
 
+bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
+                                 const EvaluateSummary& summary,
+                                 std::vector<std::vector<double>>* rows,
+                                 std::string* error) {
+  rows->clear();
+  if (!summary.have_before) {
+    *error =
+        "no 'before' to compare with" + (summary.kind == BeforeBaseline::kNone
+                                             ? std::string(" (--before=none)")
+                                             : ": " + summary.baseline.message);
+    return false;
+  }
+  if (summary.after.position.count == 0) {
+    *error =
+        "the histograms are of position errors, and the measurements have "
+        "none (distances only)";
+    return false;
+  }
+  for (size_t i = 0; i < summary.after.position_errors.size(); ++i) {
+    // A distance row has no position error (stored as zero): not a 0 mm
+    // bar in the histogram.
+    if (measurements[i].type == MeasurementType::kDistance) continue;
+    rows->push_back({summary.before.position_errors[i].norm() * 1e3,
+                     summary.after.position_errors[i].norm() * 1e3});
+  }
+  return true;
+}
+
 void Evaluate(const RobotDescription& robot,
               const std::vector<Measurement>& measurements,
               const EvaluateOptions& options, EvaluateSummary* summary) {

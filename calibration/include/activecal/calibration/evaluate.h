@@ -125,6 +125,17 @@ std::vector<Measurement> PostureGroupSubset(
     const std::vector<Measurement>& all,
     const std::vector<PostureGroup>& groups, PostureGroup group);
 
+// The histograms of the position errors before and after: one row
+// {before, after} (mm) per measurement with a position error (distance rows
+// left out). False with *error when there is nothing to compare: "no
+// 'before' to compare with (--before=none)" (or ": <why the fit failed>"),
+// "the histograms are of position errors, and the measurements have none
+// (distances only)".
+bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
+                                 const EvaluateSummary& summary,
+                                 std::vector<std::vector<double>>* rows,
+                                 std::string* error);
+
 // Evaluates `robot` (the model as given, with its learned correction) on
 // `measurements`.
 void Evaluate(const RobotDescription& robot,
