@@ -492,4 +492,30 @@ std::string RenderHtml(const HtmlReport& r) {
   return h;
 }
 
+bool MakeCalibrationOutputsAndReport(const CalibrationSummary& summary,
+                                     const std::vector<Measurement>& check,
+                                     const CalibrationOutputOptions& options,
+                                     CalibrationOutputs* outputs,
+                                     std::string* error) {
+  if (!MakeCalibrationOutputs(summary, check, options, outputs, error)) {
+    return false;
+  }
+  if (options.report_html.empty()) return true;
+  CalibrationHtmlOptions html;
+  html.robot_file =
+      options.robot_file.empty() ? "built-in PUMA 560" : options.robot_file;
+  html.measurements_file = options.source;
+  html.program = options.program;
+  HtmlReport report;
+  if (!CalibrationHtmlReport(summary, html, &report, error)) {
+    *error =
+        (options.text.option_spelling == OptionSpelling::kFlags ? "--" : "") +
+        std::string("report_html: ") + *error;
+    outputs->files.clear();
+    return false;
+  }
+  outputs->files.push_back({options.report_html, RenderHtml(report)});
+  return true;
+}
+
 }  // namespace activecal

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "activecal/calibration/calibrate.h"
+#include "activecal/calibration/calibration_outputs.h"
 #include "activecal/calibration/iso9283_cycles.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
@@ -103,6 +104,17 @@ bool CalibrationHtmlReport(const CalibrationSummary& summary,
 
 // The whole HTML document (UTF-8, ends with a newline).
 std::string RenderHtml(const HtmlReport& report);
+
+// MakeCalibrationOutputs and then, with options.report_html set, the HTML
+// report (CalibrationHtmlReport of options.robot_file, "built-in PUMA 560"
+// when empty, and options.source) after the other files. False with
+// *error, "--report_html: <why>" for the report, and no files; the notes
+// of outputs->notes_before are set in either case.
+bool MakeCalibrationOutputsAndReport(const CalibrationSummary& summary,
+                                     const std::vector<Measurement>& check,
+                                     const CalibrationOutputOptions& options,
+                                     CalibrationOutputs* outputs,
+                                     std::string* error);
 
 }  // namespace activecal
 
