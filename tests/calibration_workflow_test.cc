@@ -454,5 +454,28 @@ TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
   EXPECT_EQ(outputs.files.size(), 1u);
 }
 
+TEST(CalibrationWorkflowTest, EvaluationHtmlNamesTheFilesAndErrors) {
+  RobotDescription robot;
+  robot.model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  EvaluateOptions options;
+  options.robot_path = "r.yaml";
+  options.measurements_path = "m.csv";
+  options.training_path = "t.csv";
+  options.before = BeforeBaseline::kNone;
+  EvaluateSummary summary;
+  Evaluate(robot, data, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  std::string html, error;
+  ASSERT_TRUE(EvaluationHtmlText(robot, data, options, summary, &html, &error))
+      << error;
+  EXPECT_NE(html.find("activecal evaluation report"), std::string::npos);
+  EXPECT_NE(html.find("m.csv (80)"), std::string::npos);
+  EXPECT_NE(html.find("t.csv"), std::string::npos);
+  EXPECT_NE(html.find("after.evaluated"), std::string::npos);
+  EXPECT_EQ(html.find("before.evaluated"), std::string::npos);  // none
+}
+
 }  // namespace
 }  // namespace activecal

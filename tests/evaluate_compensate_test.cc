@@ -240,6 +240,22 @@ TEST(EvaluateTest, BeforeAfterPositionErrorsLeaveOutDistanceRows) {
   EXPECT_NEAR(rows[1][1], 0.0, 1e-12);
 }
 
+TEST(EvaluateTest, HistogramScriptAndNoFramesNote) {
+  const std::string script = PositionErrorHistogramGnuplot({{3.0, 1.5}});
+  EXPECT_EQ(script.rfind("w = 0.10000000000000001\nbin(x) = ", 0), 0u)
+      << script;
+  EXPECT_NE(script.find("title 'after'\n"), std::string::npos);
+  EXPECT_EQ(PositionErrorHistogramGnuplot({}).rfind("w = 1\n", 0), 0u);
+  // A PUMA's base is DH, not a 'frame': no note.
+  const RobotDescription robot = Puma();
+  EXPECT_EQ(NoFramesNote(robot.model, false), "");
+  RobotModel frame = robot.model;
+  frame.base.convention = LinkConvention::kFrame;
+  frame.nominal.head(6).setZero();
+  EXPECT_EQ(NoFramesNote(frame, false).rfind("note: no --frames: ", 0), 0u);
+  EXPECT_EQ(NoFramesNote(frame, true), "");
+}
+
 TEST(EvaluateTest, EnumNamesRoundTrip) {
   for (BeforeBaseline b : {BeforeBaseline::kAuto, BeforeBaseline::kTraining,
                            BeforeBaseline::kRefit, BeforeBaseline::kNone}) {

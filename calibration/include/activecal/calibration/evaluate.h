@@ -136,6 +136,17 @@ bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
                                  std::vector<std::vector<double>>* rows,
                                  std::string* error);
 
+// The gnuplot commands after the data block $errors (rows of
+// BeforeAfterPositionErrorsMm) drawing both histograms, before and after,
+// in bins of a 30th of the largest error.
+std::string PositionErrorHistogramGnuplot(
+    const std::vector<std::vector<double>>& rows);
+
+// Said before any number when `model` has a 'frame' base at the identity
+// and no frames file is given: "note: no --frames: the robot's base frame
+// is the identity, ...\n"; empty otherwise.
+std::string NoFramesNote(const RobotModel& model, bool frames_given);
+
 // Evaluates `robot` (the model as given, with its learned correction) on
 // `measurements`.
 void Evaluate(const RobotDescription& robot,

@@ -31,6 +31,7 @@
 
 #include "activecal/calibration/calibrate.h"
 #include "activecal/calibration/calibration_outputs.h"
+#include "activecal/calibration/evaluate.h"
 #include "activecal/calibration/iso9283_cycles.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
@@ -115,6 +116,19 @@ bool MakeCalibrationOutputsAndReport(const CalibrationSummary& summary,
                                      const CalibrationOutputOptions& options,
                                      CalibrationOutputs* outputs,
                                      std::string* error);
+
+// The evaluation as a report a person reads (activecal_evaluate
+// --report_html): the set-up (robot, options.measurements_path, what
+// after and before are, options.training_path), the errors before (when
+// summary.have_before) and after on `measurements`, after by posture group,
+// and with options.iso9283 the ISO 9283 section. The errors are those of
+// robot.model without its learned correction. False with *error
+// ("--measurements: <why>") when a measurement cannot be predicted.
+bool EvaluationHtmlText(const RobotDescription& robot,
+                        const std::vector<Measurement>& measurements,
+                        const EvaluateOptions& options,
+                        const EvaluateSummary& summary, std::string* html,
+                        std::string* error);
 
 }  // namespace activecal
 
