@@ -144,6 +144,35 @@ TEST(CompensateTest, InMemoryProgramAndTargetsNeedNoFiles) {
   EXPECT_EQ(summary.message.rfind("give exactly one of --poses_csv", 0), 0u);
 }
 
+TEST(CompensateTest, JointWeightsAndTheUrdfNote) {
+  std::vector<double> w;
+  std::string error;
+  ASSERT_TRUE(ParseJointWeights("10,10,1.5", &w, &error)) << error;
+  EXPECT_EQ(w, (std::vector<double>{10, 10, 1.5}));
+  ASSERT_TRUE(ParseJointWeights("", &w, &error));
+  EXPECT_TRUE(w.empty());
+  EXPECT_FALSE(ParseJointWeights("1,x", &w, &error));
+  EXPECT_EQ(error,
+            "--joint_weights: 'x' is not a number (comma-separated weights, "
+            "one per joint)");
+  EXPECT_FALSE(ParseJointWeights("1,,2", &w, &error));
+  EXPECT_EQ(error.rfind("--joint_weights: '' is not", 0), 0u);
+  EXPECT_EQ(UrdfWithoutFramesNote("r.yaml", "", "tool0"), "");
+  EXPECT_EQ(UrdfWithoutFramesNote("r.urdf", "f.yaml", "tool0"), "");
+  const std::string note = UrdfWithoutFramesNote("r.urdf", "", "tool0");
+  EXPECT_EQ(note.rfind("activecal_compensate: note: --robot=r.urdf has no "
+                       "--frames: ",
+                       0),
+            0u);
+  EXPECT_NE(note.find("the tip link 'tool0', with no offset"),
+            std::string::npos);
+  EXPECT_EQ(note.back(), '\n');
+  CompensateOptions options;
+  EXPECT_FALSE(options.HasOneProgram(&error));
+  options.targets_csv = "t.csv";
+  EXPECT_TRUE(options.HasOneProgram(&error));
+}
+
 std::vector<Measurement> Simulated(const RobotModel& model, int n) {
   const Eigen::MatrixXd q = Configurations(model, n);
   std::vector<Measurement> plan(n), out;

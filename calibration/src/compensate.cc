@@ -6,7 +6,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/io/csv_files.h"
@@ -332,14 +334,51 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
 
 }  // namespace
 
-bool CompensateOptions::IsValid(std::string* error) const {
+bool CompensateOptions::HasOneProgram(std::string* error) const {
   if (!poses_csv.empty() + !targets_csv.empty() + in_memory != 1) {
     *error =
         "give exactly one of --poses_csv (joint targets) and "
         "--targets_csv (Cartesian targets)";
     return false;
   }
-  return compensation.ik.IsValid(error);
+  return true;
+}
+
+bool CompensateOptions::IsValid(std::string* error) const {
+  return HasOneProgram(error) && compensation.ik.IsValid(error);
+}
+
+bool ParseJointWeights(const std::string& text, std::vector<double>* weights,
+                       std::string* error) {
+  weights->clear();
+  if (text.empty()) return true;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double w = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') {
+      *error = "--joint_weights: '" + item +
+               "' is not a number (comma-separated weights, one per joint)";
+      return false;
+    }
+    weights->push_back(w);
+  }
+  return true;
+}
+
+std::string UrdfWithoutFramesNote(const std::string& robot_path,
+                                  const std::string& frames_path,
+                                  const std::string& tip_link) {
+  if (!IsUrdfPath(robot_path) || !frames_path.empty()) return "";
+  const std::string tip = tip_link.empty() ? "" : " '" + tip_link + "'";
+  return "activecal_compensate: note: --robot=" + robot_path +
+         " has no --frames: the device frame is taken as the chain's base "
+         "link and the marker as the origin of the tip link" +
+         tip +
+         ", with no offset; give the calibration's frames "
+         "(activecal_identify --frames_out) with --frames when it had a base "
+         "frame or markers\n";
 }
 
 void Compensate(const RobotDescription& robot, const CompensateOptions& options,

@@ -90,6 +90,9 @@ struct CompensateOptions {
   // Exactly one of poses_csv and targets_csv (or in_memory), the solver's
   // options valid; one line naming the options as flags.
   bool IsValid(std::string* error) const;
+  // IsValid's first check alone (a program given exactly once), for a
+  // caller that checks it before the solver's options are set.
+  bool HasOneProgram(std::string* error) const;
 };
 
 struct CompensateSummary {
@@ -121,6 +124,19 @@ struct CompensateSummary {
   // out and json_out when set: to be written together.
   std::vector<OutputFile> outputs;
 };
+// Comma-separated joint weights ("10,10,1,1,1,1") into *weights (empty
+// text: none). False with *error "--joint_weights: 'x' is not a number
+// (comma-separated weights, one per joint)".
+bool ParseJointWeights(const std::string& text, std::vector<double>* weights,
+                       std::string* error);
+
+// Said first, before anything else, when the robot is a URDF and no frames
+// file is given (a URDF carries neither the base frame nor the markers a
+// calibration found): "activecal_compensate: note: --robot=<robot_path> has
+// no --frames: ...\n", naming tip_link when set; empty otherwise.
+std::string UrdfWithoutFramesNote(const std::string& robot_path,
+                                  const std::string& frames_path,
+                                  const std::string& tip_link);
 
 // Compensates the program of `options` for `robot` (the calibrated model,
 // with its learned correction if any).
