@@ -248,8 +248,15 @@ int Main() {
                      FLAGS_learned_residual, "off, on or auto", &learned.mode);
   learned.num_features = FLAGS_learned_features;
   learned.num_standard_errors = FLAGS_learned_standard_errors;
-  CalibrationOutputOptions out;
+  // The outputs' paths (each checked before the work), the robot file the
+  // report names, and how the texts name the options.
+  CalibrationOutputOptions out{
+      FLAGS_model_out,  FLAGS_urdf_out, FLAGS_ur_calibration_out,
+      FLAGS_frames_out, FLAGS_json_out, FLAGS_report_html,
+      FLAGS_robot};
   CalibrationTextOptions& text = out.text;
+  text = {OptionSpelling::kFlags, app::ProgramName(), robot.angle_unit,
+          robot.true_parameters, !FLAGS_model_out.empty()};
   // Before the file is read: the flags' own messages.
   if (!CheckOptionsBeforeReading(options, !FLAGS_validation.empty(), text,
                                  &error)) {
@@ -259,12 +266,6 @@ int Main() {
     options.selection_validation =
         app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
   }
-  out.model_out = FLAGS_model_out;
-  out.urdf_out = FLAGS_urdf_out;
-  out.ur_calibration_out = FLAGS_ur_calibration_out;
-  out.frames_out = FLAGS_frames_out;
-  out.json_out = FLAGS_json_out;
-  out.report_html = FLAGS_report_html;
   for (const auto& [path, flag] : out.Paths()) {
     app::CheckWritableOrDie(path, flag);
   }
@@ -278,10 +279,6 @@ int Main() {
     options.selection_progress = splits.callback();
     Calibrate(model, all, options, &summary);
   }
-  text.program = app::ProgramName();
-  text.angle_unit = robot.angle_unit;
-  text.true_parameters = robot.true_parameters;
-  text.model_out = !FLAGS_model_out.empty();
   const CalibrationPrintout printout = MakeCalibrationPrintout(
       model, all, summary,
       map && map->has_orientation ? ColumnMapOrientationText(*map) : "",
@@ -301,7 +298,6 @@ int Main() {
   // fails writes nothing (each file then atomically).
   out.source =
       simulated ? std::string("simulated measurements") : FLAGS_measurements;
-  out.robot_file = FLAGS_robot;
   if (urdf_robot) out.urdf.source_path = FLAGS_robot;
   out.urdf.chain = {FLAGS_base_link, FLAGS_tip_link};
   out.json = {FLAGS_measurements, FLAGS_validation, robot.true_parameters,
