@@ -10,8 +10,6 @@
 #include <gflags/gflags.h>
 
 #include <cstdio>
-#include <cstdlib>
-#include <sstream>
 
 #include "activecal/calibration/compensate.h"
 #include "activecal/io/robot_loader.h"
@@ -83,10 +81,7 @@ int Main() {
   options.poses_csv = FLAGS_poses_csv;
   options.targets_csv = FLAGS_targets_csv;
   std::string error;
-  if (options.poses_csv.empty() == options.targets_csv.empty()) {
-    options.IsValid(&error);
-    app::Fail(error);
-  }
+  if (!options.HasOneProgram(&error)) app::Fail(error);
   InverseKinematicsOptions& ik = options.compensation.ik;
   if (!ParseIkMatch(FLAGS_match, &ik.match)) {
     app::Fail("--match must be position or pose, got '" + FLAGS_match + "'");
@@ -97,36 +92,16 @@ int Main() {
   ik.max_iterations = FLAGS_max_iterations;
   ik.singular_threshold = FLAGS_singular_threshold;
   options.compensation.num_threads = FLAGS_threads;
-  if (!FLAGS_joint_weights.empty()) {
-    std::istringstream in(FLAGS_joint_weights);
-    std::string item;
-    while (std::getline(in, item, ',')) {
-      char* end = nullptr;
-      const double w = std::strtod(item.c_str(), &end);
-      if (item.empty() || *end != '\0') {
-        app::Fail("--joint_weights: '" + item +
-                  "' is not a number (comma-separated weights, one per "
-                  "joint)");
-      }
-      ik.joint_weights.push_back(w);
-    }
+  if (!ParseJointWeights(FLAGS_joint_weights, &ik.joint_weights, &error)) {
+    app::Fail(error);
   }
   if (!options.IsValid(&error)) app::Fail(error);
-  if (IsUrdfPath(FLAGS_robot) && FLAGS_frames.empty()) {
-    // First, before anything else: a URDF carries neither the base frame
-    // nor the markers a calibration found (they are in --frames_out), and
-    // without them the joints move to fit a marker that is not there.
-    const std::string tip =
-        FLAGS_tip_link.empty() ? std::string() : " '" + FLAGS_tip_link + "'";
-    std::fprintf(stderr,
-                 "activecal_compensate: note: --robot=%s has no --frames: "
-                 "the device frame is taken as the chain's base link and the "
-                 "marker as the origin of the tip link%s, with no offset; "
-                 "give the calibration's frames (activecal_identify "
-                 "--frames_out) with --frames when it had a base frame or "
-                 "markers\n",
-                 FLAGS_robot.c_str(), tip.c_str());
-  }
+  // First, before anything else: a URDF carries neither the base frame nor
+  // the markers a calibration found (they are in --frames_out), and without
+  // them the joints move to fit a marker that is not there.
+  std::fprintf(
+      stderr, "%s",
+      UrdfWithoutFramesNote(FLAGS_robot, FLAGS_frames, FLAGS_tip_link).c_str());
   RobotDescription robot = app::LoadRobotOrDie();
   // The cell, on the calibrated robot with its own markers (the program
   // places them; the cell's targets are for measuring).
@@ -139,8 +114,7 @@ int Main() {
   options.cell_path = FLAGS_cell;
   options.marker = FLAGS_marker;
   options.robot_path = FLAGS_robot;
-  options.chain.base_link = FLAGS_base_link;
-  options.chain.tip_link = FLAGS_tip_link;
+  options.chain = {FLAGS_base_link, FLAGS_tip_link};
   options.frames_path = FLAGS_frames;
   options.nominal_path = FLAGS_nominal;
   options.columns_strict = app::ColumnsStrict();

@@ -77,102 +77,22 @@ namespace activecal {
 namespace {
 
 void PlotHistograms(const std::vector<Measurement>& measurements,
-                    const EvaluationSummary& before,
-                    const EvaluationSummary& after) {
-  if (after.position.count == 0) {
-    app::Fail(
-        "--plot: the histograms are of position errors, and the "
-        "measurements have none (distances only)");
+                    const EvaluateSummary& summary) {
+  std::vector<std::vector<double>> rows;
+  std::string error;
+  if (!BeforeAfterPositionErrorsMm(measurements, summary, &rows, &error)) {
+    app::Fail("--plot: " + error);
   }
   if (!app::GnuplotAvailable()) {
     std::printf("  --plot: gnuplot is not installed; no plot\n");
     return;
   }
-  std::vector<std::vector<double>> rows;
-  double top = 0.0;
-  for (size_t i = 0; i < after.position_errors.size(); ++i) {
-    // A distance row has no position error (stored as zero): not a 0 mm
-    // bar in the histogram.
-    if (measurements[i].type == MeasurementType::kDistance) continue;
-    const double b = before.position_errors[i].norm() * 1e3;
-    const double a = after.position_errors[i].norm() * 1e3;
-    rows.push_back({b, a});
-    top = std::max(top, std::max(a, b));
-  }
-  const double width = top > 0 ? top / 30.0 : 1.0;
-  char bin[64];
-  std::snprintf(bin, sizeof(bin), "%.17g", width);
-  const std::string script =
-      app::GnuplotData("errors", rows) + "w = " + bin +
-      "\nbin(x) = w * (floor(x / w) + 0.5)\n"
-      "set title 'Position errors: registration only (before) and "
-      "calibrated (after)'\n"
-      "set xlabel 'position error (mm)'\nset ylabel 'measurements'\n"
-      "set style fill transparent solid 0.5\nset grid\nset boxwidth w\n"
-      "set xrange [0:*]\n"
-      "plot $errors using (bin($1)):(1.0) smooth frequency with boxes "
-      "title 'before (registration only)', $errors using (bin($2)):(1.0) "
-      "smooth frequency with boxes title 'after'\n";
-  std::string error;
-  if (!app::RunGnuplot(script, FLAGS_plot, &error)) {
+  if (!app::RunGnuplot(app::GnuplotData("errors", rows) +
+                           PositionErrorHistogramGnuplot(rows),
+                       FLAGS_plot, &error)) {
     app::Fail("--plot: " + error);
   }
   std::printf("  --plot: wrote %s\n", FLAGS_plot.c_str());
-}
-
-// The evaluation as a report a person reads (--report_html).
-std::string HtmlText(const RobotModel& model,
-                     const std::vector<Measurement>& measurements,
-                     const LearnedCorrection& correction,
-                     const EvaluateSummary& summary) {
-  HtmlReport report;
-  report.title = "activecal evaluation report";
-  report.setup = {
-      {"robot", model.name + " (" + std::to_string(model.num_joints()) +
-                    " joints), " + FLAGS_robot},
-      {"measurements",
-       FLAGS_measurements + " (" + std::to_string(measurements.size()) + ")"},
-      {"after", correction.empty()
-                    ? std::string("--robot as given (no fitting)")
-                    : "--robot's geometry as given (no fitting); the "
-                      "report's errors are without its learned correction "
-                      "(the printed and JSON errors have it)"},
-      {"before", summary.have_before ? summary.description : "none"},
-      {"program", "activecal_evaluate"}};
-  if (!FLAGS_training.empty()) {
-    report.setup.push_back({"training", FLAGS_training});
-  }
-  std::string error;
-  ReportErrors e;
-  if (summary.have_before) {
-    if (!ComputeReportErrors(summary.nominal, summary.baseline.parameters,
-                             measurements, "before.evaluated",
-                             "before, evaluated poses", &e, &error)) {
-      app::Fail("--measurements: " + error);
-    }
-    report.errors.push_back(e);
-  }
-  if (!ComputeReportErrors(model, model.nominal, measurements,
-                           "after.evaluated", "after, evaluated poses", &e,
-                           &error)) {
-    app::Fail("--measurements: " + error);
-  }
-  report.errors.push_back(e);
-  for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
-                         PostureGroup::kOutOfRange}) {
-    if (summary.groups.empty()) break;
-    const std::vector<Measurement> subset =
-        PostureGroupSubset(measurements, summary.groups, g);
-    if (subset.empty()) continue;
-    const std::string name = PostureGroupName(g);
-    if (!ComputeReportErrors(model, model.nominal, subset, "group." + name,
-                             "after, " + name + " postures", &e, &error)) {
-      app::Fail("--measurements: " + error);
-    }
-    report.groups.push_back(e);
-  }
-  if (FLAGS_iso9283) report.iso9283 = summary.iso9283;
-  return RenderHtml(report);
 }
 
 int Main() {
@@ -182,13 +102,7 @@ int Main() {
   // Said first, before any number: without --frames a URDF robot's base
   // is the identity, and every error below includes where the device
   // stands (hundreds of mm).
-  if (model.base.convention == LinkConvention::kFrame &&
-      model.nominal.head(6).isZero(0) && FLAGS_frames.empty()) {
-    std::printf(
-        "note: no --frames: the robot's base frame is the identity, so the "
-        "errors below include where the device stands relative to the "
-        "robot (give the frames identify wrote with --frames_out)\n");
-  }
+  std::printf("%s", NoFramesNote(model, !FLAGS_frames.empty()).c_str());
   EvaluateOptions options;
   const std::vector<Measurement> measurements = app::WithPointsFileOrDie(
       FLAGS_points, app::ReadMeasurementsOrDie(FLAGS_measurements, model,
@@ -225,22 +139,17 @@ int Main() {
     app::Fail(summary.message);
   }
   std::printf("%s", summary.report.c_str());
-  if (!FLAGS_plot.empty()) {
-    if (!summary.have_before) {
-      app::Fail("--plot: no 'before' to compare with" +
-                (summary.kind == BeforeBaseline::kNone
-                     ? std::string(" (--before=none)")
-                     : ": " + summary.baseline.message));
-    }
-    PlotHistograms(measurements, summary.before, summary.after);
-  }
+  if (!FLAGS_plot.empty()) PlotHistograms(measurements, summary);
   for (const OutputFile& file : summary.outputs) {
     app::WriteTextOrDie(file.path, file.text);
   }
+  std::string html, error;
   if (!FLAGS_report_html.empty()) {
-    app::WriteTextOrDie(
-        FLAGS_report_html,
-        HtmlText(model, measurements, robot.learned_correction, summary));
+    if (!EvaluationHtmlText(robot, measurements, options, summary, &html,
+                            &error)) {
+      app::Fail(error);
+    }
+    app::WriteTextOrDie(FLAGS_report_html, html);
   }
   app::PrintResult(summary.result_line);
   return 0;

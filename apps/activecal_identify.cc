@@ -15,10 +15,8 @@
 #include "activecal/calibration/calibrate.h"
 #include "activecal/calibration/calibration_notes.h"
 #include "activecal/calibration/calibration_outputs.h"
-#include "activecal/calibration/calibration_report.h"
 #include "activecal/calibration/calibration_setup.h"
 #include "activecal/calibration/defaults.h"
-#include "activecal/core/simulation.h"
 #include "activecal/io/column_map.h"
 #include "activecal/io/robot_loader.h"
 #include "activecal/report/html_report.h"
@@ -180,37 +178,29 @@ DEFINE_double(learned_standard_errors, 2.0,
 namespace activecal {
 namespace {
 
-std::vector<Measurement> SimulateOrDie(const RobotDescription& robot,
-                                       std::vector<int64_t>* poses) {
-  if (robot.true_parameters.size() != robot.model.num_parameters()) {
-    app::Fail(
-        "no --measurements given and --robot has no true values to simulate "
-        "from (add 'true:' entries, see docs/formats.md)");
-  }
-  std::vector<Measurement> measurements;
-  std::string error;
-  if (!SimulateAtRandomLatticePoses(
-          robot.model, robot.true_parameters,
-          app::MakeLatticeOrDie(robot.model, FLAGS_levels), FLAGS_num_poses,
-          FLAGS_noise_m, FLAGS_seed, poses, &measurements, &error)) {
-    app::Fail("--" + error);
-  }
-  return measurements;
-}
-
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   const RobotModel& model = robot.model;
   const bool simulated = FLAGS_measurements.empty();
   std::vector<int64_t> simulated_poses;
-  const std::vector<Measurement> all =
-      simulated ? SimulateOrDie(robot, &simulated_poses)
-                : app::WithPointsFileOrDie(
-                      FLAGS_points,
-                      app::ReadMeasurementsOrDie(FLAGS_measurements, model));
-  if (simulated && !FLAGS_points.empty()) {
-    app::Fail("--points needs --measurements with type=point rows");
+  std::vector<Measurement> all;
+  std::string error, notes;
+  if (simulated) {
+    const bool ok = SimulateCalibrationMeasurements(
+        robot, {FLAGS_levels, FLAGS_num_poses, FLAGS_noise_m, FLAGS_seed},
+        OptionSpelling::kFlags, &simulated_poses, &all, &notes, &error);
+    std::printf("%s", notes.c_str());
+    if (!ok) app::Fail(error);
+    if (!FLAGS_points.empty()) {
+      app::Fail("--points needs --measurements with type=point rows");
+    }
+  } else {
+    all = app::WithPointsFileOrDie(
+        FLAGS_points, app::ReadMeasurementsOrDie(FLAGS_measurements, model));
   }
+  // The columns read (no file read, no column map, when simulated).
+  const std::optional<ColumnMap> map =
+      simulated ? std::nullopt : app::ColumnMapOrDie();
   CalibrationOptions options;
   const bool urdf_robot = IsUrdfPath(FLAGS_robot);
   options.parameter_set = app::ParameterSetOrDie(urdf_robot);
@@ -234,7 +224,6 @@ int Main() {
       FLAGS_payload_kg, FLAGS_payload_com_m,
       FLAGS_gravity,    FLAGS_robot,
       urdf_robot,       {FLAGS_base_link, FLAGS_tip_link}};
-  std::string error;
   if (!MakeTermFamilies(model, terms, OptionSpelling::kFlags,
                         &options.term_families, &error)) {
     app::Fail(error);
@@ -259,33 +248,27 @@ int Main() {
                      FLAGS_learned_residual, "off, on or auto", &learned.mode);
   learned.num_features = FLAGS_learned_features;
   learned.num_standard_errors = FLAGS_learned_standard_errors;
-  CalibrationTextOptions text;
-  if (!options.LearnedResidualIsValid(&error)) {
-    app::Fail(OptionsErrorText(error, text));
-  }
+  // The outputs' paths (each checked before the work), the robot file the
+  // report names, and how the texts name the options.
+  CalibrationOutputOptions out{
+      FLAGS_model_out,  FLAGS_urdf_out, FLAGS_ur_calibration_out,
+      FLAGS_frames_out, FLAGS_json_out, FLAGS_report_html,
+      FLAGS_robot};
+  CalibrationTextOptions& text = out.text;
+  text = {OptionSpelling::kFlags, app::ProgramName(), robot.angle_unit,
+          robot.true_parameters, !FLAGS_model_out.empty()};
   // Before the file is read: the flags' own messages.
-  const bool by_validation =
-      options.ResolvedModelSelection() == ModelSelectionMethod::kValidation;
-  if (by_validation && FLAGS_validation.empty()) {
-    app::Fail("--model_selection=validation needs --validation=FILE");
-  }
-  if (!by_validation && !FLAGS_validation.empty()) {
-    app::Fail("--validation is used by --model_selection=validation only");
+  if (!CheckOptionsBeforeReading(options, !FLAGS_validation.empty(), text,
+                                 &error)) {
+    app::Fail(error);
   }
   if (!FLAGS_validation.empty()) {
     options.selection_validation =
         app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
   }
-  CalibrationOutputOptions out;
-  out.model_out = FLAGS_model_out;
-  out.urdf_out = FLAGS_urdf_out;
-  out.ur_calibration_out = FLAGS_ur_calibration_out;
-  out.frames_out = FLAGS_frames_out;
-  out.json_out = FLAGS_json_out;
   for (const auto& [path, flag] : out.Paths()) {
     app::CheckWritableOrDie(path, flag);
   }
-  app::CheckWritableOrDie(FLAGS_report_html, "report_html");
 
   CalibrationSummary summary;
   {
@@ -296,64 +279,34 @@ int Main() {
     options.selection_progress = splits.callback();
     Calibrate(model, all, options, &summary);
   }
-  text.program = app::ProgramName();
-  text.angle_unit = robot.angle_unit;
-  text.true_parameters = robot.true_parameters;
-  text.model_out = !FLAGS_model_out.empty();
-  std::printf("%s", CalibrationStagesText(summary, text).c_str());
-  if (!FLAGS_selection_plot.empty() &&
-      summary.Passed(CalibrationStage::kModelSelection) &&
-      summary.model_selection != ModelSelectionMethod::kNone) {
+  const CalibrationPrintout printout = MakeCalibrationPrintout(
+      model, all, summary,
+      map && map->has_orientation ? ColumnMapOrientationText(*map) : "",
+      !app::Quiet() &&
+          gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default,
+      text);
+  std::printf("%s", printout.stages.c_str());
+  if (!FLAGS_selection_plot.empty() && printout.has_selection_curve) {
     app::PlotOrNote(app::GnuplotData("curve", SelectionCurveRows(summary)) +
                         SelectionCurveGnuplot(summary),
                     FLAGS_selection_plot, "selection_plot");
   }
-  // The columns read (no file read, no column map, when simulated).
-  const std::optional<ColumnMap> map =
-      simulated ? std::nullopt : app::ColumnMapOrDie();
-  std::printf("%s", OrientationHintText(summary, all,
-                                        map && map->has_orientation
-                                            ? ColumnMapOrientationText(*map)
-                                            : "",
-                                        text)
-                        .c_str());
-  if (!summary.Passed(CalibrationStage::kValidation)) {
-    app::Fail(CalibrationFailureText(summary, text));
-  }
-  std::printf("%s", CalibrationResultText(summary, text).c_str());
-  if (!app::Quiet() &&
-      gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default) {
-    std::printf("%s", RotationWeightNote(model, all, summary, text).c_str());
-  }
-  // The learned residual's failure comes after the fit's report.
-  if (summary.stage != CalibrationStage::kDone) {
-    app::Fail(CalibrationFailureText(summary, text));
-  }
-  std::printf("%s", LearnedResidualText(summary).c_str());
+  std::printf("%s", printout.report.c_str());
+  if (!printout.failure.empty()) app::Fail(printout.failure);
 
   // Every output is made and checked before any is written: a run that
   // fails writes nothing (each file then atomically).
   out.source =
       simulated ? std::string("simulated measurements") : FLAGS_measurements;
-  out.text = text;
   if (urdf_robot) out.urdf.source_path = FLAGS_robot;
   out.urdf.chain = {FLAGS_base_link, FLAGS_tip_link};
   out.json = {FLAGS_measurements, FLAGS_validation, robot.true_parameters,
               simulated_poses,    FLAGS_noise_m,    simulated};
   CalibrationOutputs outputs;
-  const bool made = MakeCalibrationOutputs(summary, all, out, &outputs, &error);
+  const bool made =
+      MakeCalibrationOutputsAndReport(summary, all, out, &outputs, &error);
   std::printf("%s", outputs.notes_before.c_str());
   if (!made) app::Fail(error);
-  if (!FLAGS_report_html.empty()) {
-    CalibrationHtmlOptions html;
-    html.robot_file = FLAGS_robot.empty() ? "built-in PUMA 560" : FLAGS_robot;
-    html.measurements_file = out.source;
-    HtmlReport report;
-    if (!CalibrationHtmlReport(summary, html, &report, &error)) {
-      app::Fail("--report_html: " + error);
-    }
-    outputs.files.push_back({FLAGS_report_html, RenderHtml(report)});
-  }
   // One set with --selection_plot's figure: all written, or none.
   for (const OutputFile& file : outputs.files)
     app::WriteTextOrDie(file.path, file.text);

@@ -5,6 +5,8 @@
 // cell refuses is a collision (cell_planning.h), as activecal_compensate
 // --cell.
 
+#include "activecal/calibration/compensate.h"
+
 #include "common.h"
 
 namespace activecal {
@@ -58,24 +60,28 @@ std::shared_ptr<CompensationResult> CompensatePy(
         "give exactly one of program (joint targets, with nominal) and "
         "targets (Cartesian points in the device frame)");
   }
-  CompensationOptions options;
-  if (!ParseIkMatch(match, &options.ik.match)) {
+  CompensateOptions options;
+  InverseKinematicsOptions& ik = options.compensation.ik;
+  if (!ParseIkMatch(match, &ik.match)) {
     Fail("match must be position or pose, got '" + match + "'");
   }
-  options.ik.position_tolerance_m = position_tolerance_m;
-  options.ik.rotation_tolerance_rad = rotation_tolerance_rad;
-  options.ik.rotation_weight_m = rotation_weight_m;
-  options.ik.max_iterations = max_iterations;
-  options.ik.singular_threshold = singular_threshold;
-  options.num_threads = num_threads;
+  ik.position_tolerance_m = position_tolerance_m;
+  ik.rotation_tolerance_rad = rotation_tolerance_rad;
+  ik.rotation_weight_m = rotation_weight_m;
+  ik.max_iterations = max_iterations;
+  ik.singular_threshold = singular_threshold;
+  options.compensation.num_threads = num_threads;
   if (marker < 0 || marker >= model.num_markers()) {
     Fail("marker must be in [0, " + std::to_string(model.num_markers() - 1) +
          "], got " + std::to_string(marker));
   }
-  options.ik.marker = marker;
+  ik.marker = marker;
+  options.marker.clear();  // ik.marker as given
+  options.in_memory = true;
   std::string error;
-  if (!options.ik.IsValid(&error)) Fail(error);
-  if (cell) options.check = CellCompensationCheck(*cell->checker);
+  if (!options.IsValid(&error)) Fail(error);
+  // The cell's check as given: no collision geometry required.
+  if (cell) options.compensation.check = CellCompensationCheck(*cell->checker);
   auto result = std::make_shared<CompensationResult>();
   result->robot = robot;
   int64_t n = 0;
@@ -87,15 +93,13 @@ std::shared_ptr<CompensationResult> CompensatePy(
     if (!CheckSameChain(model, taught.model(), &error)) {
       Fail("robot and nominal: " + error);
     }
-    result->starts = MatrixArg(program, "program", model.num_joints(), false);
-    n = result->starts.rows();
-    CheckRows(taught.model(), result->starts, "program");
-    py::gil_scoped_release release;
-    CompensateProgram(model, model.nominal, taught.model(),
-                      taught.model().nominal, result->starts, options,
-                      &result->summary);
+    options.joint_program =
+        MatrixArg(program, "program", model.num_joints(), false);
+    n = options.joint_program.rows();
+    CheckRows(taught.model(), options.joint_program, "program");
+    options.nominal_model = &taught.model();
   } else {
-    TargetList list;
+    TargetList& list = options.targets;
     list.points = MatrixArg(targets, "targets", 3, false);
     CheckFinite(list.points, "targets");
     n = list.points.rows();
@@ -107,7 +111,7 @@ std::shared_ptr<CompensationResult> CompensatePy(
              " rows (one per target), got " +
              std::to_string(list.rotation_vectors.rows()));
       }
-    } else if (options.ik.match == IkMatch::kPose) {
+    } else if (ik.match == IkMatch::kPose) {
       Fail("match='pose' needs the target orientations: rotations=");
     }
     if (!starts.is_none()) {
@@ -120,15 +124,20 @@ std::shared_ptr<CompensationResult> CompensatePy(
              std::to_string(list.start_joints.rows()));
       }
     }
-    result->starts = list.start_joints;
-    const std::vector<IkTarget> ik_targets = IkTargetsFromList(list);
+  }
+  // The model as given: the module's Robot has no learned correction.
+  RobotDescription description;
+  description.model = model;
+  CompensateSummary summary;
+  {
     py::gil_scoped_release release;
-    CompensateTargets(model, model.nominal, ik_targets, list.start_joints,
-                      Eigen::VectorXd(), options, &result->summary);
+    Compensate(description, options, &summary);
   }
-  if (result->summary.termination_type == TerminationType::kUserFailure) {
-    Fail(result->summary.message);
+  if (summary.termination_type == TerminationType::kUserFailure) {
+    Fail(summary.message);
   }
+  result->summary = std::move(summary.compensation);
+  result->starts = std::move(summary.starts);
   if (pose_indices.is_none()) {
     for (int64_t i = 0; i < n; ++i) result->pose_indices.push_back(i);
   } else {

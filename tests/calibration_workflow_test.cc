@@ -24,6 +24,7 @@
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
+#include "activecal/report/html_report.h"
 
 namespace activecal {
 namespace {
@@ -323,6 +324,157 @@ TEST(CalibrationWorkflowTest, SelectionCurvePlotAndOutputPaths) {
   EXPECT_EQ(o.Paths(), (Paths{{"m.yaml", "model_out"},
                               {"u.yaml", "ur_calibration_out"},
                               {"r.json", "json_out"}}));
+  o.report_html = "r.html";  // checked last
+  EXPECT_EQ(o.Paths().back(),
+            (std::pair<std::string, std::string>{"r.html", "report_html"}));
+}
+
+TEST(CalibrationWorkflowTest, OptionsCheckedBeforeReadingAFile) {
+  CalibrationOptions options;
+  CalibrationTextOptions text;
+  std::string error;
+  EXPECT_TRUE(CheckOptionsBeforeReading(options, false, text, &error));
+  EXPECT_FALSE(CheckOptionsBeforeReading(options, true, text, &error));
+  EXPECT_EQ(error, "--validation is used by --model_selection=validation only");
+  options.model_selection = ModelSelectionMethod::kValidation;
+  EXPECT_TRUE(CheckOptionsBeforeReading(options, true, text, &error));
+  EXPECT_FALSE(CheckOptionsBeforeReading(options, false, text, &error));
+  EXPECT_EQ(error, "--model_selection=validation needs --validation=FILE");
+  text.option_spelling = OptionSpelling::kKeywords;
+  EXPECT_FALSE(CheckOptionsBeforeReading(options, false, text, &error));
+  EXPECT_EQ(error, "model_selection=validation needs validation=FILE");
+  // The learned residual first, named in the caller's spelling.
+  options.learned_residual.mode = LearnedResidualMode::kOn;
+  options.learned_residual.num_features = 0;
+  text.option_spelling = OptionSpelling::kFlags;
+  EXPECT_FALSE(CheckOptionsBeforeReading(options, true, text, &error));
+  EXPECT_TRUE(StartsWith(error, "--learned_residual")) << error;
+}
+
+TEST(CalibrationWorkflowTest, SimulatedMeasurementsWithoutAFile) {
+  RobotDescription robot;
+  robot.model = Puma560PaperModel();
+  CalibrationSimulationOptions sim;
+  sim.num_poses = 12;
+  std::vector<int64_t> poses;
+  std::vector<Measurement> data;
+  std::string notes, error;
+  // No true values to simulate from.
+  EXPECT_FALSE(SimulateCalibrationMeasurements(
+      robot, sim, OptionSpelling::kFlags, &poses, &data, &notes, &error));
+  EXPECT_TRUE(StartsWith(error,
+                         "no --measurements given and --robot has no "
+                         "true values"))
+      << error;
+  robot.true_parameters = Puma560TrueParameters();
+  ASSERT_TRUE(SimulateCalibrationMeasurements(
+      robot, sim, OptionSpelling::kFlags, &poses, &data, &notes, &error))
+      << error;
+  EXPECT_EQ(data.size(), 12u);
+  EXPECT_EQ(poses.size(), 12u);
+  // The same draw as SimulateAtRandomLatticePoses on that lattice.
+  JointLattice lattice;
+  ASSERT_TRUE(JointLattice::Create(robot.model, sim.levels, &lattice, &error));
+  std::vector<int64_t> same_poses;
+  std::vector<Measurement> same;
+  ASSERT_TRUE(SimulateAtRandomLatticePoses(robot.model, robot.true_parameters,
+                                           lattice, 12, sim.noise_m, sim.seed,
+                                           &same_poses, &same, &error));
+  EXPECT_EQ(poses, same_poses);
+  EXPECT_EQ(data[11].position, same[11].position);
+  sim.levels = 1;
+  EXPECT_FALSE(SimulateCalibrationMeasurements(
+      robot, sim, OptionSpelling::kFlags, &poses, &data, &notes, &error));
+  EXPECT_TRUE(StartsWith(error, "--levels=1: ")) << error;
+  sim.levels = 5;
+  sim.num_poses = 0;
+  EXPECT_FALSE(SimulateCalibrationMeasurements(
+      robot, sim, OptionSpelling::kKeywords, &poses, &data, &notes, &error));
+  EXPECT_TRUE(StartsWith(error, "num_poses must be in [1, ")) << error;
+}
+
+TEST(CalibrationWorkflowTest, PrintoutInOrderAndWhereToFail) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  CalibrationTextOptions text;
+  const CalibrationPrintout done =
+      MakeCalibrationPrintout(model, data, summary, "", false, text);
+  EXPECT_EQ(done.stages, CalibrationStagesText(summary, text));
+  EXPECT_FALSE(done.has_selection_curve);  // a file set: no selection
+  EXPECT_EQ(done.report, OrientationHintText(summary, data, "", text) +
+                             CalibrationResultText(summary, text));
+  EXPECT_TRUE(done.failure.empty());
+  // A failed validation: the hint, no result, the failure.
+  CalibrationSummary failed = summary;
+  failed.stage = CalibrationStage::kValidation;
+  failed.message = "validation: failed";
+  const CalibrationPrintout f =
+      MakeCalibrationPrintout(model, data, failed, "", true, text);
+  EXPECT_EQ(f.report, OrientationHintText(failed, data, "", text));
+  EXPECT_EQ(f.failure, CalibrationFailureText(failed, text));
+  EXPECT_FALSE(f.failure.empty());
+  // The learned residual failed: the fit's report, then the failure.
+  failed.stage = CalibrationStage::kLearnedResidual;
+  const CalibrationPrintout l =
+      MakeCalibrationPrintout(model, data, failed, "", false, text);
+  EXPECT_NE(l.report.find(CalibrationResultText(failed, text)),
+            std::string::npos);
+  EXPECT_FALSE(l.failure.empty());
+}
+
+TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  CalibrationOutputOptions o;
+  o.json_out = "r.json";
+  o.report_html = "r.html";
+  o.source = "data.csv";
+  CalibrationOutputs outputs;
+  std::string error;
+  ASSERT_TRUE(
+      MakeCalibrationOutputsAndReport(summary, data, o, &outputs, &error))
+      << error;
+  ASSERT_EQ(outputs.files.size(), 2u);
+  EXPECT_EQ(outputs.files[0].path, "r.json");
+  EXPECT_EQ(outputs.files[1].path, "r.html");
+  EXPECT_NE(outputs.files[1].text.find("built-in PUMA 560"), std::string::npos);
+  EXPECT_NE(outputs.files[1].text.find("data.csv"), std::string::npos);
+  // Without report_html: MakeCalibrationOutputs' files alone.
+  o.report_html.clear();
+  ASSERT_TRUE(
+      MakeCalibrationOutputsAndReport(summary, data, o, &outputs, &error));
+  EXPECT_EQ(outputs.files.size(), 1u);
+}
+
+TEST(CalibrationWorkflowTest, EvaluationHtmlNamesTheFilesAndErrors) {
+  RobotDescription robot;
+  robot.model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  EvaluateOptions options;
+  options.robot_path = "r.yaml";
+  options.measurements_path = "m.csv";
+  options.training_path = "t.csv";
+  options.before = BeforeBaseline::kNone;
+  EvaluateSummary summary;
+  Evaluate(robot, data, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  std::string html, error;
+  ASSERT_TRUE(EvaluationHtmlText(robot, data, options, summary, &html, &error))
+      << error;
+  EXPECT_NE(html.find("activecal evaluation report"), std::string::npos);
+  EXPECT_NE(html.find("m.csv (80)"), std::string::npos);
+  EXPECT_NE(html.find("t.csv"), std::string::npos);
+  EXPECT_NE(html.find("after.evaluated"), std::string::npos);
+  EXPECT_EQ(html.find("before.evaluated"), std::string::npos);  // none
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "activecal/calibration/compensate.h"
 #include "activecal/calibration/evaluate.h"
+#include "activecal/core/kinematics.h"
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
@@ -103,6 +104,75 @@ TEST(CompensateTest, BadInputIsAUserFailureWithNoOutputs) {
   EXPECT_TRUE(summary.outputs.empty());
 }
 
+TEST(CompensateTest, InMemoryProgramAndTargetsNeedNoFiles) {
+  const RobotDescription robot = Puma();
+  CompensateOptions options;
+  options.in_memory = true;
+  options.marker.clear();  // compensation.ik.marker as given
+  options.nominal_model = &robot.model;
+  options.joint_program = Configurations(robot.model, 2);
+  CompensateSummary summary;
+  Compensate(robot, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_EQ(summary.labels, (std::vector<int64_t>{0, 1}));
+  EXPECT_EQ(summary.starts, options.joint_program);
+  EXPECT_TRUE(summary.has_correction);
+  EXPECT_TRUE(summary.outputs.empty());  // no out, no json_out
+
+  // Cartesian targets: the points the program reaches, no nominal.
+  options.nominal_model = nullptr;
+  options.targets.points.resize(2, 3);
+  for (int i = 0; i < 2; ++i) {
+    options.targets.points.row(i) =
+        MeasuredPoint(robot.model, robot.model.nominal,
+                      options.joint_program.row(i).transpose())
+            .transpose();
+  }
+  options.targets.pose_indices = {5};  // the second one numbered by its row
+  options.targets.start_joints = options.joint_program;
+  Compensate(robot, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_EQ(summary.labels, (std::vector<int64_t>{5, 1}));
+  EXPECT_FALSE(summary.has_correction);
+
+  // In memory and a file: not exactly one program.
+  options.poses_csv = "program.csv";
+  Compensate(robot, options, &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
+  EXPECT_EQ(summary.message.rfind("give exactly one of --poses_csv", 0), 0u);
+}
+
+TEST(CompensateTest, JointWeightsAndTheUrdfNote) {
+  std::vector<double> w;
+  std::string error;
+  ASSERT_TRUE(ParseJointWeights("10,10,1.5", &w, &error)) << error;
+  EXPECT_EQ(w, (std::vector<double>{10, 10, 1.5}));
+  ASSERT_TRUE(ParseJointWeights("", &w, &error));
+  EXPECT_TRUE(w.empty());
+  EXPECT_FALSE(ParseJointWeights("1,x", &w, &error));
+  EXPECT_EQ(error,
+            "--joint_weights: 'x' is not a number (comma-separated weights, "
+            "one per joint)");
+  EXPECT_FALSE(ParseJointWeights("1,,2", &w, &error));
+  EXPECT_EQ(error.rfind("--joint_weights: '' is not", 0), 0u);
+  EXPECT_EQ(UrdfWithoutFramesNote("r.yaml", "", "tool0"), "");
+  EXPECT_EQ(UrdfWithoutFramesNote("r.urdf", "f.yaml", "tool0"), "");
+  const std::string note = UrdfWithoutFramesNote("r.urdf", "", "tool0");
+  EXPECT_EQ(note.rfind("activecal_compensate: note: --robot=r.urdf has no "
+                       "--frames: ",
+                       0),
+            0u);
+  EXPECT_NE(note.find("the tip link 'tool0', with no offset"),
+            std::string::npos);
+  EXPECT_EQ(note.back(), '\n');
+  CompensateOptions options;
+  EXPECT_FALSE(options.HasOneProgram(&error));
+  options.targets_csv = "t.csv";
+  EXPECT_TRUE(options.HasOneProgram(&error));
+}
+
 std::vector<Measurement> Simulated(const RobotModel& model, int n) {
   const Eigen::MatrixXd q = Configurations(model, n);
   std::vector<Measurement> plan(n), out;
@@ -162,6 +232,57 @@ TEST(EvaluateTest, BadOptionsAreUserFailures) {
   Evaluate(robot, measurements, options, &summary);
   EXPECT_EQ(summary.message.rfind("--rotation_weight: ", 0), 0u);
   EXPECT_TRUE(summary.report.empty());
+}
+
+TEST(EvaluateTest, BeforeAfterPositionErrorsLeaveOutDistanceRows) {
+  EvaluateSummary summary;
+  std::vector<std::vector<double>> rows;
+  std::string error;
+  summary.kind = BeforeBaseline::kNone;
+  EXPECT_FALSE(BeforeAfterPositionErrorsMm({}, summary, &rows, &error));
+  EXPECT_EQ(error, "no 'before' to compare with (--before=none)");
+  summary.kind = BeforeBaseline::kRefit;
+  summary.baseline.message = "the fit failed";
+  EXPECT_FALSE(BeforeAfterPositionErrorsMm({}, summary, &rows, &error));
+  EXPECT_EQ(error, "no 'before' to compare with: the fit failed");
+
+  std::vector<Measurement> measurements(3);
+  measurements[1].type = MeasurementType::kDistance;
+  summary.have_before = true;
+  summary.after.position.count = 0;
+  EXPECT_FALSE(
+      BeforeAfterPositionErrorsMm(measurements, summary, &rows, &error));
+  EXPECT_NE(error.find("distances only"), std::string::npos);
+  summary.after.position.count = 2;
+  summary.before.position_errors = {Eigen::Vector3d(0.003, 0.004, 0),
+                                    Eigen::Vector3d(1, 0, 0),
+                                    Eigen::Vector3d(0, 0, 0.002)};
+  summary.after.position_errors = {Eigen::Vector3d(0.001, 0, 0),
+                                   Eigen::Vector3d(1, 0, 0),
+                                   Eigen::Vector3d(0, 0, 0)};
+  ASSERT_TRUE(
+      BeforeAfterPositionErrorsMm(measurements, summary, &rows, &error));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_NEAR(rows[0][0], 5.0, 1e-12);
+  EXPECT_NEAR(rows[0][1], 1.0, 1e-12);
+  EXPECT_NEAR(rows[1][0], 2.0, 1e-12);
+  EXPECT_NEAR(rows[1][1], 0.0, 1e-12);
+}
+
+TEST(EvaluateTest, HistogramScriptAndNoFramesNote) {
+  const std::string script = PositionErrorHistogramGnuplot({{3.0, 1.5}});
+  EXPECT_EQ(script.rfind("w = 0.10000000000000001\nbin(x) = ", 0), 0u)
+      << script;
+  EXPECT_NE(script.find("title 'after'\n"), std::string::npos);
+  EXPECT_EQ(PositionErrorHistogramGnuplot({}).rfind("w = 1\n", 0), 0u);
+  // A PUMA's base is DH, not a 'frame': no note.
+  const RobotDescription robot = Puma();
+  EXPECT_EQ(NoFramesNote(robot.model, false), "");
+  RobotModel frame = robot.model;
+  frame.base.convention = LinkConvention::kFrame;
+  frame.nominal.head(6).setZero();
+  EXPECT_EQ(NoFramesNote(frame, false).rfind("note: no --frames: ", 0), 0u);
+  EXPECT_EQ(NoFramesNote(frame, true), "");
 }
 
 TEST(EvaluateTest, EnumNamesRoundTrip) {

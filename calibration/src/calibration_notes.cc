@@ -71,4 +71,29 @@ std::string RotationWeightNote(const RobotModel& model,
          "; set it to sigma_position / sigma_rotation of the device\n";
 }
 
+CalibrationPrintout MakeCalibrationPrintout(
+    const RobotModel& model, const std::vector<Measurement>& measurements,
+    const CalibrationSummary& summary, const std::string& columns,
+    bool rotation_weight_note, const CalibrationTextOptions& options) {
+  CalibrationPrintout out;
+  out.stages = CalibrationStagesText(summary, options);
+  out.has_selection_curve =
+      summary.Passed(CalibrationStage::kModelSelection) &&
+      summary.model_selection != ModelSelectionMethod::kNone;
+  out.report = OrientationHintText(summary, measurements, columns, options);
+  if (summary.Passed(CalibrationStage::kValidation)) {
+    out.report += CalibrationResultText(summary, options);
+    if (rotation_weight_note) {
+      out.report += RotationWeightNote(model, measurements, summary, options);
+    }
+  }
+  // The learned residual's failure comes after the fit's report.
+  if (summary.stage != CalibrationStage::kDone) {
+    out.failure = CalibrationFailureText(summary, options);
+  } else {
+    out.report += LearnedResidualText(summary);
+  }
+  return out;
+}
+
 }  // namespace activecal

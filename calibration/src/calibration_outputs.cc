@@ -17,7 +17,8 @@ CalibrationOutputOptions::Paths() const {
         {urdf_out, "urdf_out"},
         {frames_out, "frames_out"},
         {ur_calibration_out, "ur_calibration_out"},
-        {json_out, "json_out"}}) {
+        {json_out, "json_out"},
+        {report_html, "report_html"}}) {
     if (!path.empty()) paths.push_back({path, option});
   }
   return paths;

@@ -6,7 +6,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "activecal/calibration/selection_pool.h"
 #include "activecal/core/joint_errors.h"
+#include "activecal/core/lattice.h"
+#include "activecal/core/simulation.h"
 #include "activecal/io/urdf_inertials.h"
 
 namespace activecal {
@@ -71,6 +74,65 @@ bool MakeTermFamilies(const RobotModel& model, const TermFamilyOptions& o,
   }
   if (o.harmonics > 0) {
     families->push_back({"periodic", HarmonicTerms(model, o.harmonics)});
+  }
+  return true;
+}
+
+bool CheckOptionsBeforeReading(const CalibrationOptions& options,
+                               bool validation_file,
+                               const CalibrationTextOptions& text,
+                               std::string* error) {
+  if (!options.LearnedResidualIsValid(error)) {
+    *error = OptionsErrorText(*error, text);
+    return false;
+  }
+  const std::string p =
+      text.option_spelling == OptionSpelling::kFlags ? "--" : "";
+  const bool by_validation =
+      options.ResolvedModelSelection() == ModelSelectionMethod::kValidation;
+  if (by_validation && !validation_file) {
+    *error = p + "model_selection=validation needs " + p + "validation=FILE";
+    return false;
+  }
+  if (!by_validation && validation_file) {
+    *error =
+        p + "validation is used by " + p + "model_selection=validation only";
+    return false;
+  }
+  return true;
+}
+
+bool SimulateCalibrationMeasurements(
+    const RobotDescription& robot, const CalibrationSimulationOptions& options,
+    OptionSpelling spelling, std::vector<int64_t>* poses,
+    std::vector<Measurement>* measurements, std::string* notes,
+    std::string* error) {
+  const std::string p = spelling == OptionSpelling::kFlags ? "--" : "";
+  const RobotModel& model = robot.model;
+  notes->clear();
+  if (robot.true_parameters.size() != model.num_parameters()) {
+    *error = "no " + p + "measurements given and " + p +
+             "robot has no true values to simulate from (add 'true:' "
+             "entries, see docs/formats.md)";
+    return false;
+  }
+  const std::string levels =
+      p + "levels=" + std::to_string(options.levels) + ": ";
+  JointLattice lattice;
+  if (!JointLattice::Create(model, options.levels, &lattice, error) ||
+      !CheckSelectionPoolSize(lattice.size(), model, MeasurementType::kPosition,
+                              error)) {
+    *error = levels + *error;
+    return false;
+  }
+  for (const std::string& note : lattice.OneTurnNotes(model)) {
+    *notes += "note: " + note + "\n";
+  }
+  if (!SimulateAtRandomLatticePoses(model, robot.true_parameters, lattice,
+                                    options.num_poses, options.noise_m,
+                                    options.seed, poses, measurements, error)) {
+    *error = p + *error;
+    return false;
   }
   return true;
 }

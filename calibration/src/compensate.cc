@@ -6,7 +6,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/io/csv_files.h"
@@ -194,7 +196,9 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     }
     compensation.check = CellCompensationCheck(*options.cell->checker);
   }
-  compensation.ik.marker = model.MarkerIndex(options.marker);
+  if (!options.marker.empty()) {
+    compensation.ik.marker = model.MarkerIndex(options.marker);
+  }
   if (compensation.ik.marker < 0) {
     return Fail("--marker: '" + options.marker +
                     "' is not a marker of robot '" + model.name + "'",
@@ -203,6 +207,7 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
   // The nominal model (with --poses_csv, what the program means; with
   // --targets_csv, optional: the size of the correction).
   RobotDescription nominal;
+  const RobotModel* nominal_model = options.nominal_model;
   Eigen::VectorXd meaning;
   if (!options.poses_csv.empty() && options.nominal_path.empty()) {
     return Fail(
@@ -226,11 +231,31 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     if (!CheckSameChain(model, nominal.model, &error)) {
       return Fail("--robot and --nominal: " + error, s);
     }
-    meaning = ProgramMeaningParameters(model, model.nominal, nominal.model,
-                                       nominal.model.nominal);
+    nominal_model = &nominal.model;
+  }
+  if (nominal_model) {
+    meaning = ProgramMeaningParameters(model, model.nominal, *nominal_model,
+                                       nominal_model->nominal);
   }
   CompensationSummary& summary = s->compensation;
-  if (!options.poses_csv.empty()) {
+  if (options.in_memory && nominal_model) {
+    s->starts = options.joint_program;
+    for (int64_t i = 0; i < options.joint_program.rows(); ++i) {
+      s->labels.push_back(i);
+    }
+    CompensateProgram(model, model.nominal, *nominal_model,
+                      nominal_model->nominal, options.joint_program,
+                      compensation, &summary);
+  } else if (options.in_memory) {
+    s->labels = options.targets.pose_indices;
+    for (int64_t i = s->labels.size(); i < options.targets.points.rows(); ++i) {
+      s->labels.push_back(i);
+    }
+    s->starts = options.targets.start_joints;
+    CompensateTargets(model, model.nominal, IkTargetsFromList(options.targets),
+                      options.targets.start_joints, Eigen::VectorXd(),
+                      compensation, &summary);
+  } else if (!options.poses_csv.empty()) {
     PoseList program;
     if (!ReadPosesCsv(options.poses_csv, model, /*reject_duplicates=*/false,
                       &program, &error)) {
@@ -238,8 +263,8 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     }
     s->labels = program.pose_indices;
     s->starts = program.joints;
-    CompensateProgram(model, model.nominal, nominal.model,
-                      nominal.model.nominal, program.joints, compensation,
+    CompensateProgram(model, model.nominal, *nominal_model,
+                      nominal_model->nominal, program.joints, compensation,
                       &summary);
   } else {
     TargetList list;
@@ -277,14 +302,16 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
   // compensated joints against the targets (the error compensation
   // removes); without --nominal (Cartesian targets) there is no nominal
   // to measure it with.
-  s->has_correction = !options.nominal_path.empty();
+  s->has_correction = nominal_model != nullptr;
   if (s->has_correction) {
     s->correction =
-        MeasureCorrection(nominal.model, meaning, compensation.ik.marker,
+        MeasureCorrection(*nominal_model, meaning, compensation.ik.marker,
                           compensation.ik.match == IkMatch::kPose, summary);
   }
-  s->outputs.push_back(
-      {options.out, CompensatedPosesCsvText(model, s->labels, summary)});
+  if (!options.out.empty()) {
+    s->outputs.push_back(
+        {options.out, CompensatedPosesCsvText(model, s->labels, summary)});
+  }
   if (!options.json_out.empty()) {
     s->outputs.push_back({options.json_out, JsonText(robot, options, *s)});
   }
@@ -307,14 +334,51 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
 
 }  // namespace
 
-bool CompensateOptions::IsValid(std::string* error) const {
-  if (poses_csv.empty() == targets_csv.empty()) {
+bool CompensateOptions::HasOneProgram(std::string* error) const {
+  if (!poses_csv.empty() + !targets_csv.empty() + in_memory != 1) {
     *error =
         "give exactly one of --poses_csv (joint targets) and "
         "--targets_csv (Cartesian targets)";
     return false;
   }
-  return compensation.ik.IsValid(error);
+  return true;
+}
+
+bool CompensateOptions::IsValid(std::string* error) const {
+  return HasOneProgram(error) && compensation.ik.IsValid(error);
+}
+
+bool ParseJointWeights(const std::string& text, std::vector<double>* weights,
+                       std::string* error) {
+  weights->clear();
+  if (text.empty()) return true;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double w = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') {
+      *error = "--joint_weights: '" + item +
+               "' is not a number (comma-separated weights, one per joint)";
+      return false;
+    }
+    weights->push_back(w);
+  }
+  return true;
+}
+
+std::string UrdfWithoutFramesNote(const std::string& robot_path,
+                                  const std::string& frames_path,
+                                  const std::string& tip_link) {
+  if (!IsUrdfPath(robot_path) || !frames_path.empty()) return "";
+  const std::string tip = tip_link.empty() ? "" : " '" + tip_link + "'";
+  return "activecal_compensate: note: --robot=" + robot_path +
+         " has no --frames: the device frame is taken as the chain's base "
+         "link and the marker as the origin of the tip link" +
+         tip +
+         ", with no offset; give the calibration's frames "
+         "(activecal_identify --frames_out) with --frames when it had a base "
+         "frame or markers\n";
 }
 
 void Compensate(const RobotDescription& robot, const CompensateOptions& options,

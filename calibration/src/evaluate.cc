@@ -3,6 +3,7 @@
 
 #include "activecal/calibration/evaluate.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -452,6 +453,63 @@ std::vector<Measurement> PostureGroupSubset(
     if (groups[i] == group) out.push_back(all[i]);
   }
   return out;
+}
+
+bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
+                                 const EvaluateSummary& summary,
+                                 std::vector<std::vector<double>>* rows,
+                                 std::string* error) {
+  rows->clear();
+  if (!summary.have_before) {
+    *error =
+        "no 'before' to compare with" + (summary.kind == BeforeBaseline::kNone
+                                             ? std::string(" (--before=none)")
+                                             : ": " + summary.baseline.message);
+    return false;
+  }
+  if (summary.after.position.count == 0) {
+    *error =
+        "the histograms are of position errors, and the measurements have "
+        "none (distances only)";
+    return false;
+  }
+  for (size_t i = 0; i < summary.after.position_errors.size(); ++i) {
+    // A distance row has no position error (stored as zero): not a 0 mm
+    // bar in the histogram.
+    if (measurements[i].type == MeasurementType::kDistance) continue;
+    rows->push_back({summary.before.position_errors[i].norm() * 1e3,
+                     summary.after.position_errors[i].norm() * 1e3});
+  }
+  return true;
+}
+
+std::string PositionErrorHistogramGnuplot(
+    const std::vector<std::vector<double>>& rows) {
+  double top = 0.0;
+  for (const std::vector<double>& row : rows) {
+    top = std::max(top, std::max(row[1], row[0]));
+  }
+  const double width = top > 0 ? top / 30.0 : 1.0;
+  return "w = " + internal::Printf("%.17g", width) +
+         "\nbin(x) = w * (floor(x / w) + 0.5)\n"
+         "set title 'Position errors: registration only (before) and "
+         "calibrated (after)'\n"
+         "set xlabel 'position error (mm)'\nset ylabel 'measurements'\n"
+         "set style fill transparent solid 0.5\nset grid\nset boxwidth w\n"
+         "set xrange [0:*]\n"
+         "plot $errors using (bin($1)):(1.0) smooth frequency with boxes "
+         "title 'before (registration only)', $errors using (bin($2)):(1.0) "
+         "smooth frequency with boxes title 'after'\n";
+}
+
+std::string NoFramesNote(const RobotModel& model, bool frames_given) {
+  if (model.base.convention != LinkConvention::kFrame ||
+      !model.nominal.head(6).isZero(0) || frames_given) {
+    return "";
+  }
+  return "note: no --frames: the robot's base frame is the identity, so the "
+         "errors below include where the device stands relative to the "
+         "robot (give the frames identify wrote with --frames_out)\n";
 }
 
 void Evaluate(const RobotDescription& robot,

@@ -492,4 +492,91 @@ std::string RenderHtml(const HtmlReport& r) {
   return h;
 }
 
+bool MakeCalibrationOutputsAndReport(const CalibrationSummary& summary,
+                                     const std::vector<Measurement>& check,
+                                     const CalibrationOutputOptions& options,
+                                     CalibrationOutputs* outputs,
+                                     std::string* error) {
+  if (!MakeCalibrationOutputs(summary, check, options, outputs, error)) {
+    return false;
+  }
+  if (options.report_html.empty()) return true;
+  CalibrationHtmlOptions html;
+  html.robot_file =
+      options.robot_file.empty() ? "built-in PUMA 560" : options.robot_file;
+  html.measurements_file = options.source;
+  html.program = options.program;
+  HtmlReport report;
+  if (!CalibrationHtmlReport(summary, html, &report, error)) {
+    *error =
+        (options.text.option_spelling == OptionSpelling::kFlags ? "--" : "") +
+        std::string("report_html: ") + *error;
+    outputs->files.clear();
+    return false;
+  }
+  outputs->files.push_back({options.report_html, RenderHtml(report)});
+  return true;
+}
+
+bool EvaluationHtmlText(const RobotDescription& robot,
+                        const std::vector<Measurement>& measurements,
+                        const EvaluateOptions& options,
+                        const EvaluateSummary& summary, std::string* html,
+                        std::string* error) {
+  const RobotModel& model = robot.model;
+  HtmlReport report;
+  report.title = "activecal evaluation report";
+  report.setup = {
+      {"robot", model.name + " (" + std::to_string(model.num_joints()) +
+                    " joints), " + options.robot_path},
+      {"measurements", options.measurements_path + " (" +
+                           std::to_string(measurements.size()) + ")"},
+      {"after", robot.learned_correction.empty()
+                    ? std::string("--robot as given (no fitting)")
+                    : "--robot's geometry as given (no fitting); the "
+                      "report's errors are without its learned correction "
+                      "(the printed and JSON errors have it)"},
+      {"before", summary.have_before ? summary.description : "none"},
+      {"program", "activecal_evaluate"}};
+  if (!options.training_path.empty()) {
+    report.setup.push_back({"training", options.training_path});
+  }
+  ReportErrors e;
+  const auto add = [&](const RobotModel& m, const Eigen::VectorXd& values,
+                       const std::vector<Measurement>& data,
+                       const std::string& key, const std::string& label,
+                       std::vector<ReportErrors>* to) {
+    if (!ComputeReportErrors(m, values, data, key, label, &e, error)) {
+      *error = "--measurements: " + *error;
+      return false;
+    }
+    to->push_back(e);
+    return true;
+  };
+  if (summary.have_before &&
+      !add(summary.nominal, summary.baseline.parameters, measurements,
+           "before.evaluated", "before, evaluated poses", &report.errors)) {
+    return false;
+  }
+  if (!add(model, model.nominal, measurements, "after.evaluated",
+           "after, evaluated poses", &report.errors)) {
+    return false;
+  }
+  for (PostureGroup g : {PostureGroup::kRepeated, PostureGroup::kNew,
+                         PostureGroup::kOutOfRange}) {
+    if (summary.groups.empty()) break;
+    const std::vector<Measurement> subset =
+        PostureGroupSubset(measurements, summary.groups, g);
+    if (subset.empty()) continue;
+    const std::string name = PostureGroupName(g);
+    if (!add(model, model.nominal, subset, "group." + name,
+             "after, " + name + " postures", &report.groups)) {
+      return false;
+    }
+  }
+  if (options.iso9283) report.iso9283 = summary.iso9283;
+  *html = RenderHtml(report);
+  return true;
+}
+
 }  // namespace activecal

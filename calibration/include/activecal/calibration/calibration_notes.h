@@ -50,6 +50,29 @@ std::string RotationWeightNote(const RobotModel& model,
                                const CalibrationSummary& summary,
                                const CalibrationTextOptions& options);
 
+// What a program prints after Calibrate, in order, and where it fails.
+struct CalibrationPrintout {
+  // CalibrationStagesText.
+  std::string stages;
+  // The model selection ran (passed, not kNone): its curve
+  // (SelectionCurveRows) can be drawn here, after `stages`.
+  bool has_selection_curve = false;
+  // OrientationHintText; once validated CalibrationResultText, with
+  // rotation_weight_note the RotationWeightNote and, when done,
+  // LearnedResidualText.
+  std::string report;
+  // Not empty: the calibration failed (CalibrationFailureText), to report
+  // after `report`.
+  std::string failure;
+};
+
+// The printout of `summary`, calibrated from `measurements` on `model`;
+// `columns` as OrientationHintText's.
+CalibrationPrintout MakeCalibrationPrintout(
+    const RobotModel& model, const std::vector<Measurement>& measurements,
+    const CalibrationSummary& summary, const std::string& columns,
+    bool rotation_weight_note, const CalibrationTextOptions& options);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CALIBRATION_CALIBRATION_NOTES_H_

@@ -39,6 +39,10 @@ struct CalibrationOutputOptions {
   std::string ur_calibration_out;  // the UR driver's kinematics
   std::string frames_out;          // the metrology frames
   std::string json_out;            // the JSON report (CalibrationJson)
+  // The HTML report (report/html_report.h: MakeCalibrationOutputsAndReport
+  // makes it; MakeCalibrationOutputs does not) and the robot file it names.
+  std::string report_html;
+  std::string robot_file;
   // The files' comments: "Calibrated by <program> from <source>".
   std::string program = "activecal_identify";
   std::string source;  // the measurements file, or "simulated measurements"
@@ -51,7 +55,8 @@ struct CalibrationOutputOptions {
   CalibrationJsonOptions json;
 
   // Each path set and its option ("model_out", "urdf_out", "frames_out",
-  // "ur_calibration_out", "json_out"), to check before the work.
+  // "ur_calibration_out", "json_out", "report_html"), to check before the
+  // work.
   std::vector<std::pair<std::string, std::string>> Paths() const;
 };
 

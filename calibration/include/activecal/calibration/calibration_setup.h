@@ -19,9 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "activecal/calibration/calibrate.h"
 #include "activecal/calibration/calibration_report.h"
+#include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
 #include "activecal/estimation/term_selection.h"
+#include "activecal/io/robot_file.h"
 #include "activecal/io/urdf_robot.h"
 
 namespace activecal {
@@ -57,6 +60,41 @@ bool ParseVector3(const std::string& text, Eigen::Vector3d* v);
 bool MakeTermFamilies(const RobotModel& model, const TermFamilyOptions& options,
                       OptionSpelling spelling,
                       std::vector<TermFamily>* families, std::string* error);
+
+// The checks of `options` a program makes before it reads a file, in
+// order: the learned residual (CalibrationOptions::LearnedResidualIsValid,
+// as OptionsErrorText), then a validation file given (`validation_file`,
+// not read yet) exactly when the model selection resolves to kValidation
+// ("--model_selection=validation needs --validation=FILE", "--validation
+// is used by --model_selection=validation only"). One line naming the
+// options in text.option_spelling.
+bool CheckOptionsBeforeReading(const CalibrationOptions& options,
+                               bool validation_file,
+                               const CalibrationTextOptions& text,
+                               std::string* error);
+
+// A run without measurements (activecal_identify without --measurements):
+// num_poses position measurements at distinct random poses of the lattice
+// with `levels` values per joint, simulated from the robot's true values
+// with noise_m per axis (SimulateAtRandomLatticePoses, seeded by seed).
+struct CalibrationSimulationOptions {
+  int levels = 5;
+  int num_poses = 30;
+  double noise_m = 0.01;
+  uint64_t seed = 1;
+};
+
+// The simulated measurements into *measurements and their lattice poses
+// into *poses. *notes: the lattice's one-turn joints ("note: ...\n" lines;
+// to print also when false). False with *error naming the options in
+// `spelling`: "no --measurements given and --robot has no true values to
+// simulate from (...)", "--levels=1: <the lattice's error>", "--num_poses
+// must be in [1, N], got k".
+bool SimulateCalibrationMeasurements(
+    const RobotDescription& robot, const CalibrationSimulationOptions& options,
+    OptionSpelling spelling, std::vector<int64_t>* poses,
+    std::vector<Measurement>* measurements, std::string* notes,
+    std::string* error);
 
 }  // namespace activecal
 

@@ -48,9 +48,11 @@ namespace activecal {
 
 struct CompensateOptions {
   // The solver's options (match, tolerances, weights, threads). ik.marker
-  // is set by Compensate from `marker`; check from `cell`.
+  // is set by Compensate from `marker` (when not empty); check from `cell`
+  // (when not null).
   CompensationOptions compensation;
-  // The marker the program places (name or number).
+  // The marker the program places (name or number). Empty:
+  // compensation.ik.marker as given.
   std::string marker = "1";
   // The robot file (--robot's path, for the messages and the JSON), its
   // chain's ends and frames file (applied to the nominal model too).
@@ -60,9 +62,17 @@ struct CompensateOptions {
   // The nominal model the program was taught with (required with
   // poses_csv; with targets_csv optional: the size of the correction).
   std::string nominal_path;
-  // Exactly one: the program as joint targets, or as Cartesian targets.
+  // Exactly one: the program as joint targets, or as Cartesian targets;
+  // files, or in memory: with nominal_model the joint targets `joint_program`
+  // (one configuration per row, taught with nominal_model, which must pass
+  // CheckSameChain), without it the Cartesian `targets` (points, rotation
+  // vectors, starts; pose_indices empty: 0, 1, 2, ...).
   std::string poses_csv;
   std::string targets_csv;
+  bool in_memory = false;
+  const RobotModel* nominal_model = nullptr;  // instead of nominal_path
+  Eigen::MatrixXd joint_program;
+  TargetList targets;
   // ReadTargetsCsv's columns_strict.
   bool columns_strict = false;
   // The cell set up on the calibrated robot (SetUpCell, targets not as
@@ -70,16 +80,19 @@ struct CompensateOptions {
   // call.
   const CellSetup* cell = nullptr;
   std::string cell_path;
-  // The outputs: the compensated program (required) and, if not empty,
-  // the JSON report.
+  // The outputs, if not empty: the compensated program and the JSON
+  // report.
   std::string out;
   std::string json_out;
   // The program's name, at the start of the notes and of the result line.
   std::string program = "activecal";
 
-  // Exactly one of poses_csv and targets_csv, the solver's options valid;
-  // one line naming the options as flags.
+  // Exactly one of poses_csv and targets_csv (or in_memory), the solver's
+  // options valid; one line naming the options as flags.
   bool IsValid(std::string* error) const;
+  // IsValid's first check alone (a program given exactly once), for a
+  // caller that checks it before the solver's options are set.
+  bool HasOneProgram(std::string* error) const;
 };
 
 struct CompensateSummary {
@@ -108,9 +121,22 @@ struct CompensateSummary {
   std::string result_line;
   // kFailure: "<counts>, written with their status to <out><first ones>".
   std::string not_converged;
-  // out, then json_out when set: to be written together.
+  // out and json_out when set: to be written together.
   std::vector<OutputFile> outputs;
 };
+// Comma-separated joint weights ("10,10,1,1,1,1") into *weights (empty
+// text: none). False with *error "--joint_weights: 'x' is not a number
+// (comma-separated weights, one per joint)".
+bool ParseJointWeights(const std::string& text, std::vector<double>* weights,
+                       std::string* error);
+
+// Said first, before anything else, when the robot is a URDF and no frames
+// file is given (a URDF carries neither the base frame nor the markers a
+// calibration found): "activecal_compensate: note: --robot=<robot_path> has
+// no --frames: ...\n", naming tip_link when set; empty otherwise.
+std::string UrdfWithoutFramesNote(const std::string& robot_path,
+                                  const std::string& frames_path,
+                                  const std::string& tip_link);
 
 // Compensates the program of `options` for `robot` (the calibrated model,
 // with its learned correction if any).

@@ -125,6 +125,28 @@ std::vector<Measurement> PostureGroupSubset(
     const std::vector<Measurement>& all,
     const std::vector<PostureGroup>& groups, PostureGroup group);
 
+// The histograms of the position errors before and after: one row
+// {before, after} (mm) per measurement with a position error (distance rows
+// left out). False with *error when there is nothing to compare: "no
+// 'before' to compare with (--before=none)" (or ": <why the fit failed>"),
+// "the histograms are of position errors, and the measurements have none
+// (distances only)".
+bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
+                                 const EvaluateSummary& summary,
+                                 std::vector<std::vector<double>>* rows,
+                                 std::string* error);
+
+// The gnuplot commands after the data block $errors (rows of
+// BeforeAfterPositionErrorsMm) drawing both histograms, before and after,
+// in bins of a 30th of the largest error.
+std::string PositionErrorHistogramGnuplot(
+    const std::vector<std::vector<double>>& rows);
+
+// Said before any number when `model` has a 'frame' base at the identity
+// and no frames file is given: "note: no --frames: the robot's base frame
+// is the identity, ...\n"; empty otherwise.
+std::string NoFramesNote(const RobotModel& model, bool frames_given);
+
 // Evaluates `robot` (the model as given, with its learned correction) on
 // `measurements`.
 void Evaluate(const RobotDescription& robot,

@@ -30,6 +30,8 @@
 #include <vector>
 
 #include "activecal/calibration/calibrate.h"
+#include "activecal/calibration/calibration_outputs.h"
+#include "activecal/calibration/evaluate.h"
 #include "activecal/calibration/iso9283_cycles.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/robot_model.h"
@@ -103,6 +105,30 @@ bool CalibrationHtmlReport(const CalibrationSummary& summary,
 
 // The whole HTML document (UTF-8, ends with a newline).
 std::string RenderHtml(const HtmlReport& report);
+
+// MakeCalibrationOutputs and then, with options.report_html set, the HTML
+// report (CalibrationHtmlReport of options.robot_file, "built-in PUMA 560"
+// when empty, and options.source) after the other files. False with
+// *error, "--report_html: <why>" for the report, and no files; the notes
+// of outputs->notes_before are set in either case.
+bool MakeCalibrationOutputsAndReport(const CalibrationSummary& summary,
+                                     const std::vector<Measurement>& check,
+                                     const CalibrationOutputOptions& options,
+                                     CalibrationOutputs* outputs,
+                                     std::string* error);
+
+// The evaluation as a report a person reads (activecal_evaluate
+// --report_html): the set-up (robot, options.measurements_path, what
+// after and before are, options.training_path), the errors before (when
+// summary.have_before) and after on `measurements`, after by posture group,
+// and with options.iso9283 the ISO 9283 section. The errors are those of
+// robot.model without its learned correction. False with *error
+// ("--measurements: <why>") when a measurement cannot be predicted.
+bool EvaluationHtmlText(const RobotDescription& robot,
+                        const std::vector<Measurement>& measurements,
+                        const EvaluateOptions& options,
+                        const EvaluateSummary& summary, std::string* html,
+                        std::string* error);
 
 }  // namespace activecal
 
