@@ -250,10 +250,14 @@ int Main() {
   learned.num_standard_errors = FLAGS_learned_standard_errors;
   // The outputs' paths (each checked before the work), the robot file the
   // report names, and how the texts name the options.
-  CalibrationOutputOptions out{
-      FLAGS_model_out,  FLAGS_urdf_out, FLAGS_ur_calibration_out,
-      FLAGS_frames_out, FLAGS_json_out, FLAGS_report_html,
-      FLAGS_robot};
+  CalibrationOutputOptions out;
+  out.model_out = FLAGS_model_out;
+  out.urdf_out = FLAGS_urdf_out;
+  out.ur_calibration_out = FLAGS_ur_calibration_out;
+  out.frames_out = FLAGS_frames_out;
+  out.json_out = FLAGS_json_out;
+  out.report_html = FLAGS_report_html;
+  out.robot_file = FLAGS_robot;
   CalibrationTextOptions& text = out.text;
   text = {OptionSpelling::kFlags, app::ProgramName(), robot.angle_unit,
           robot.true_parameters, !FLAGS_model_out.empty()};

@@ -106,7 +106,7 @@ grep -qF "), this run has no cell: a session continues" err.txt &&
 "$apps/activecal_active" "${loop[@]}" --max_rounds=1 --session=nocell >nocell.out 2>nocell.err ||
   { fail "active --session without a cell"; cat nocell.err; }
 expect_fail "active --resume of a session without a cell, with one" \
-  "--session: 'nocell' was made with no cell, this run has cell $cell (hash " \
+  "--session: 'nocell' was made with no cell, this run has $cell (hash " \
   activecal_active "${loop[@]}" --max_rounds=1 --cell="$cell" --session=nocell --resume
 # Another cell: both files named, each with its hash.
 sed 's/clearance_m: 0.02/clearance_m: 0.03/' "$cell" >changed.yaml

@@ -385,12 +385,11 @@ bool ActiveSession::Open(const std::string& dir, bool resume,
       }
       if (was != value) {
         // "cell none" reads as a cell named none: "no cell".
-        auto what = [&key = key](const std::string& v) {
-          return key == "cell" && v == "none" ? std::string("no cell")
-                                              : key + " " + v;
-        };
-        *error = where + " was made with " + what(was) + ", this run has " +
-                 what(value) +
+        const bool cell = key == "cell";
+        *error = where + " was made with " +
+                 (cell && was == "none" ? "no cell" : key + " " + was) +
+                 ", this run has " +
+                 (cell && value == "none" ? "no cell" : value) +
                  ": a session continues with the robot and options it was "
                  "made with (or start a new --session)";
         return false;
