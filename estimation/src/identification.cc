@@ -19,6 +19,7 @@
 #include <memory>
 #include <sstream>
 
+#include "activecal/core/enum_names.h"
 #include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
 #include "activecal/residuals/jacobians.h"
@@ -35,28 +36,11 @@ constexpr double kNoEffectTolerance = kNoEffectRelativeNorm;
 constexpr double kChiSquareTail = 0.0005;
 }  // namespace
 
-const char* RobustLossToString(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::kNone:
-      return "none";
-    case RobustLoss::kHuber:
-      return "huber";
-    case RobustLoss::kCauchy:
-      return "cauchy";
-  }
-  return "unknown";
-}
-
-bool StringToRobustLoss(const std::string& text, RobustLoss* loss) {
-  for (RobustLoss l :
-       {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
-    if (text == RobustLossToString(l)) {
-      *loss = l;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<RobustLoss> kRobustLossNames[] = {
+    {RobustLoss::kNone, "none"},
+    {RobustLoss::kHuber, "huber"},
+    {RobustLoss::kCauchy, "cauchy"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(RobustLoss, kRobustLossNames)
 
 bool IdentificationOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
