@@ -22,6 +22,7 @@
 #include "activecal/core/enum_names.h"
 #include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
+#include "activecal/core/validation.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/joint_error_jacobian.h"
 #include "activecal/residuals/joint_error_residual.h"
@@ -77,9 +78,7 @@ bool IdentificationOptions::IsValid(std::string* error) const {
   } else if (!(rank_tolerance > 0 && rank_tolerance < 1)) {
     msg << "rank_tolerance must be in (0, 1), got " << rank_tolerance;
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 std::string IdentifiabilityReport::Message() const {

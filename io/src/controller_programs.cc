@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "activecal/core/enum_names.h"
+#include "activecal/core/validation.h"
 #include "number_text.h"
 #include "yaml_reader.h"
 
@@ -214,9 +215,7 @@ bool ControllerProgramOptions::IsValid(std::string* error) const {
   } else if (comment.find('\n') != std::string::npos) {
     msg << "the comment must be one line";
   }
-  if (msg.tellp() == 0) return true;
-  *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 bool ControllerProgramText(const RobotModel& model,
