@@ -32,22 +32,6 @@
 namespace activecal {
 namespace {
 
-// Random lattice poses of the PUMA.
-Eigen::MatrixXd PumaPoses(int num_poses, uint64_t seed) {
-  const RobotModel m = Puma560PaperModel();
-  JointLattice lattice;
-  std::string error;
-  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error));
-  Random random(seed);
-  const std::vector<int64_t> poses =
-      random.SampleWithoutReplacement(lattice.size(), num_poses);
-  Eigen::MatrixXd joints(num_poses, 6);
-  for (int i = 0; i < num_poses; ++i) {
-    joints.row(i) = lattice.JointValues(poses[i]).transpose();
-  }
-  return joints;
-}
-
 std::vector<Measurement> Simulate(const RobotModel& m,
                                   const Eigen::VectorXd& truth,
                                   const std::vector<Measurement>& plan,
@@ -63,8 +47,8 @@ std::vector<Measurement> Simulate(const RobotModel& m,
 std::vector<Measurement> PumaMeasurements(int num_poses, double noise_m,
                                           uint64_t seed) {
   return Simulate(Puma560PaperModel(), Puma560TrueParameters(),
-                  MeasurementPlan(PumaPoses(num_poses, seed)), noise_m,
-                  seed + 100);
+                  MeasurementPlan(testing::PumaLatticeSample(num_poses, seed)),
+                  noise_m, seed + 100);
 }
 
 IdentificationSummary Fit(const RobotModel& m,
@@ -99,7 +83,7 @@ TEST(WeightedIdentificationTest, UniformSigmaGivesTheSameFitAndItsCovariance) {
 TEST(WeightedIdentificationTest, CovarianceIsTheInverseOfJtWJ) {
   const RobotModel m = Puma560PaperModel();
   // Half the poses measured with 0.5 mm, half with 4 mm noise.
-  const Eigen::MatrixXd poses = PumaPoses(40, 2);
+  const Eigen::MatrixXd poses = testing::PumaLatticeSample(40, 2);
   std::vector<Measurement> data;
   for (int half = 0; half < 2; ++half) {
     const double sigma = half ? 0.004 : 0.0005;
@@ -448,7 +432,7 @@ TEST(ModelSelectionTest, RankingPutsRegistrationFirstAndEachPrefixHasFullRank) {
 
 TEST(ModelSelectionTest, FoldsKeepPosesTogetherAndFollowTheSeed) {
   const RobotModel m = Puma560PaperModel();
-  const Eigen::MatrixXd poses = PumaPoses(11, 9);
+  const Eigen::MatrixXd poses = testing::PumaLatticeSample(11, 9);
   // Every pose measured twice (position, then pose).
   std::vector<Measurement> data = MeasurementPlan(poses);
   const std::vector<Measurement> again =

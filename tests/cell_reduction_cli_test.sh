@@ -16,13 +16,7 @@ source "$here/cli_lib.sh"
 cli_begin "$@"
 
 # The table cell without its targets, then two targets.
-sed '/^targets:/,$d' "$data/cells/ur10e_table.yaml" >base.yaml
-{ cat base.yaml; cat <<'YAML'
-targets:
-  - {name: smr, xyz_m: [0, 0, 0.06], normal: [0, 0, 1], acceptance_deg: 30}
-  - {name: side, xyz_m: [0.05, 0, 0.03], normal: [1, 0, 0], acceptance_deg: 30}
-YAML
-} >two.yaml
+two_target_cell
 { cat base.yaml; cat <<'YAML'
 targets:
   - {name: smr, xyz_m: [0, 0, 0.06], normal: [0, 0, 1], acceptance_deg: 30}

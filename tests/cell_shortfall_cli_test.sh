@@ -11,14 +11,8 @@
 #   tests/cell_shortfall_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-
 source "$here/cli_lib.sh"
+cli_begin "$@"
 
 # expect_error <name> <text> <program> [flags...]: exit status 1, one
 # error line holding <text> (progress lines may come before it), no
@@ -139,5 +133,4 @@ done
   python3 -c "import json; assert json.load(open('apart.json'))['num_poses'] == 12" &&
   ok "... 12 poses (36 equations) are designed" || { fail "select 12 poses"; cat apart.out; }
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

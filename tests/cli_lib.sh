@@ -41,6 +41,32 @@ cli_end() {
   exit $((failures > 0))
 }
 
+# joint_columns <measurements CSV> <poses CSV>: the six joint columns
+# (q1_rad..q6_rad) of a measurements file's rows as a poses file.
+joint_columns() {
+  python3 - "$1" "$2" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+cols = ["q%d_rad" % j for j in range(1, 7)]
+with open(sys.argv[2], "w") as f:
+    f.write(",".join(cols) + "\n")
+    for r in rows:
+        f.write(",".join(r[c] for c in cols) + "\n")
+PY
+}
+
+# two_target_cell: data/cells/ur10e_table.yaml without its targets in
+# base.yaml, and with two (smr on top, side on the +x face) in two.yaml.
+two_target_cell() {
+  sed '/^targets:/,$d' "$data/cells/ur10e_table.yaml" >base.yaml
+  { cat base.yaml; cat <<'YAML'
+targets:
+  - {name: smr, xyz_m: [0, 0, 0.06], normal: [0, 0, 1], acceptance_deg: 30}
+  - {name: side, xyz_m: [0.05, 0, 0.03], normal: [1, 0, 0], acceptance_deg: 30}
+YAML
+  } >two.yaml
+}
+
 # ok <name>, fail <name>: one line each; fail counts in $failures.
 ok() { echo "ok   [$1]"; }
 fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }

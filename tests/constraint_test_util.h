@@ -43,6 +43,41 @@ inline std::set<std::string> HeldNameSet(
   return std::set<std::string>(names.begin(), names.end());
 }
 
+// Checks what constraint rows hold beyond position rows at the same joints:
+// `held` (the constraint rows' holds) holds every name of `position_held`
+// and besides the base's 6 (which the positions do not hold; each for "has
+// no effect on these measurements") exactly one parameter, a length (the
+// scale the constraints cannot see). Returns that length's name ("" when
+// the extra holds are not one).
+inline std::string ExpectBaseAndOneLengthHeldBeyond(
+    const RobotModel& model, const std::set<std::string>& position_held,
+    const std::vector<HeldParameter>& held) {
+  const std::set<std::string> names = HeldNameSet(held);
+  for (const char* b : {"B.x", "B.y", "B.z", "B.rx", "B.ry", "B.rz"}) {
+    EXPECT_EQ(position_held.count(b), 0u) << b;
+    EXPECT_EQ(names.count(b), 1u) << b;
+  }
+  for (const HeldParameter& h : held) {
+    if (h.name.rfind("B.", 0) == 0) {
+      EXPECT_EQ(h.reason, "has no effect on these measurements") << h.name;
+    }
+  }
+  for (const std::string& name : position_held) {
+    EXPECT_EQ(names.count(name), 1u) << name;
+  }
+  std::vector<std::string> extra;
+  for (const std::string& name : names) {
+    if (!position_held.count(name) && name.rfind("B.", 0) != 0) {
+      extra.push_back(name);
+    }
+  }
+  EXPECT_EQ(extra.size(), 1u);
+  if (extra.size() != 1) return "";
+  EXPECT_EQ(model.Kind(model.ParameterIndex(extra[0])), ParameterKind::kLength)
+      << extra[0];
+  return extra[0];
+}
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_TESTS_CONSTRAINT_TEST_UTIL_H_

@@ -23,40 +23,6 @@
 namespace activecal {
 namespace {
 
-// A planar three-link arm: six free parameters (offsets and lengths), a
-// pool of 5^3 = 125 poses; small enough for exhaustive search over all
-// 3-pose designs.
-CandidatePool PlanarPool() {
-  RobotModel m;
-  m.name = "planar3";
-  m.base.joint_type = JointType::kFixed;
-  for (int i = 0; i < 3; ++i) {
-    Link l;
-    l.name = "L" + std::to_string(i + 1);
-    l.joint_min = -2.8;
-    l.joint_max = 2.8;
-    l.free = {true, false, true, false, false, false};
-    m.links.push_back(l);
-  }
-  m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
-  const double lengths[3] = {0.6, 0.45, 0.2};
-  for (int b = 0; b < 4; ++b) m.nominal[6 * b + kGain] = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    m.nominal[6 * (i + 1) + kA] = lengths[i];
-    m.nominal[6 * (i + 1) + kGamma] = 0.1 * (i + 1);
-  }
-  JointLattice lattice;
-  std::string error;
-  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error)) << error;
-  RowMatrixXd stacked;
-  EXPECT_TRUE(PoolJacobians(m, m.nominal, lattice.AllJointValues(),
-                            PoolJacobianOptions(), &stacked, &error))
-      << error;
-  CandidatePool pool;
-  EXPECT_TRUE(CandidatePool::Create(std::move(stacked), 3, &pool, &error));
-  return pool;
-}
-
 double ExhaustiveBestLogDet(const CandidatePool& pool) {
   double best = -std::numeric_limits<double>::infinity();
   const int64_t n = pool.size();
@@ -319,7 +285,7 @@ TEST_F(DesignAlgorithmsTest, ApproximateDesignSatisfiesEquivalenceTheorem) {
 }
 
 TEST(CertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
-  const CandidatePool pool = PlanarPool();
+  const CandidatePool pool = testing::PlanarPool();
   const int p = pool.num_parameters();
   ASSERT_EQ(p, 6);
   const double optimum = ExhaustiveBestLogDet(pool);

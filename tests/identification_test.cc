@@ -30,16 +30,8 @@ namespace {
 std::vector<Measurement> PumaMeasurements(int num_poses, double noise,
                                           uint64_t seed) {
   const RobotModel m = Puma560PaperModel();
-  JointLattice lattice;
+  const Eigen::MatrixXd joints = testing::PumaLatticeSample(num_poses, seed);
   std::string error;
-  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error));
-  Random random(seed);
-  const std::vector<int64_t> poses =
-      random.SampleWithoutReplacement(lattice.size(), num_poses);
-  Eigen::MatrixXd joints(num_poses, 6);
-  for (int i = 0; i < num_poses; ++i) {
-    joints.row(i) = lattice.JointValues(poses[i]).transpose();
-  }
   std::vector<Measurement> out;
   EXPECT_TRUE(SimulateMeasurements(m, Puma560TrueParameters(),
                                    MeasurementPlan(joints), {noise, 0.0},

@@ -22,6 +22,7 @@
 #include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/joint_error_jacobian.h"
 #include "activecal/residuals/joint_error_residual.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -197,21 +198,6 @@ std::vector<Measurement> Plan(const RobotModel& m, int n, uint64_t seed) {
   return MeasurementPlan(joints, MeasurementType::kPosition);
 }
 
-// Free: the base frame, the marker's position, the offsets of joints 2-5
-// (joint 1's is the base's rz, joint 6's the marker's).
-RobotModel OffsetsModel(const RobotModel& m) {
-  RobotModel fitted = m;
-  for (int i = 0; i < m.num_parameters(); ++i) fitted.SetFree(i, false);
-  for (int j = 0; j < 6; ++j) fitted.SetFree(j, true);
-  for (int b = 2; b <= 5; ++b) {
-    fitted.SetFree(m.block_offset(b) + kUrdfOffset, true);
-  }
-  for (int j = 0; j < 3; ++j) {
-    fitted.SetFree(m.block_offset(m.marker_block(0)) + j, true);
-  }
-  return fitted;
-}
-
 TEST(JointErrorFit, RecoversComplianceWithinThreeStd) {
   const Ur10 ur = LoadUr10();
   const RobotModel& m = ur.model;
@@ -227,7 +213,7 @@ TEST(JointErrorFit, RecoversComplianceWithinThreeStd) {
                                       Plan(m, 60, 11), {2e-5, 0}, 7, &data,
                                       &error))
       << error;
-  const RobotModel fitted = OffsetsModel(m);
+  const RobotModel fitted = testing::UrdfOffsetsModel(m);
   IdentificationOptions options;
   JointErrorModel guess = truth;
   guess.values.setZero();
@@ -276,7 +262,7 @@ TEST(JointErrorFit, RecoversComplianceWithinThreeStd) {
 TEST(TermSelection, KeepsATermExactlyWhenItIsThere) {
   const Ur10 ur = LoadUr10();
   const RobotModel& m = ur.model;
-  const RobotModel fitted = OffsetsModel(m);
+  const RobotModel fitted = testing::UrdfOffsetsModel(m);
   Eigen::VectorXd truth = m.nominal;
   truth.segment(m.block_offset(m.marker_block(0)), 3) =
       Eigen::Vector3d(0.05, 0.02, 0.1);
@@ -324,7 +310,7 @@ TEST(TermSelection, KeepsATermExactlyWhenItIsThere) {
 
 TEST(JointErrorFit, RefusesDistancesAndComplianceWithoutMasses) {
   const Ur10 ur = LoadUr10();
-  const RobotModel fitted = OffsetsModel(ur.model);
+  const RobotModel fitted = testing::UrdfOffsetsModel(ur.model);
   IdentificationOptions options;
   options.joint_errors = ComplianceTerms(ur.model, GravityModel());
   IdentificationSummary summary;

@@ -12,13 +12,8 @@
 #   tests/learned_residual_cli_test.sh <build/apps dir> <data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
 source "$here/cli_lib.sh"
+cli_begin "$@"
 
 # poses <count> <awk seed> [<fraction of the ranges>]: random PUMA poses
 # inside the joint ranges.
@@ -114,5 +109,4 @@ expect_fail "bad learned_residual field" \
 grep -q "learned_residual.inputs\[0\]: expected periodic or linear, got 'wavy'" err.txt ||
   { fail "the bad field is named"; cat err.txt; }
 
-if [ "$failures" -ne 0 ]; then echo "$failures failure(s)"; exit 1; fi
-echo "all passed"
+cli_end

@@ -24,6 +24,7 @@
 #include "activecal/io/urdf_inertials.h"
 #include "activecal/io/urdf_robot.h"
 #include "activecal/kinematics/corrected_compensation.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -220,15 +221,7 @@ TEST(LearnedResidual, KeptExactlyWhenASmoothNonGeometricErrorIsThere) {
   ASSERT_TRUE(LoadUrdfInertials(path, chain, &gravity, &error)) << error;
   const RobotModel& m = robot.model;
   // Free: base frame, the marker's point, the offsets of joints 2-5.
-  RobotModel fitted = m;
-  for (int i = 0; i < m.num_parameters(); ++i) fitted.SetFree(i, false);
-  for (int j = 0; j < 6; ++j) fitted.SetFree(j, true);
-  for (int b = 2; b <= 5; ++b) {
-    fitted.SetFree(m.block_offset(b) + kUrdfOffset, true);
-  }
-  for (int j = 0; j < 3; ++j) {
-    fitted.SetFree(m.block_offset(m.marker_block(0)) + j, true);
-  }
+  const RobotModel fitted = testing::UrdfOffsetsModel(m);
   Eigen::VectorXd truth = m.nominal;
   truth.segment(m.block_offset(m.marker_block(0)), 3) =
       Eigen::Vector3d(0.05, 0.02, 0.1);

@@ -28,6 +28,7 @@
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/urdf_robot.h"
+#include "simulated_session.h"
 
 int main(int argc, char** argv) {
   using namespace activecal;
@@ -38,14 +39,8 @@ int main(int argc, char** argv) {
                  argv[0]);
     return 2;
   }
-  UrdfChainOptions chain;
-  chain.tip_link = argv[2];
   RobotDescription robot;
-  std::string error;
-  if (!LoadUrdfRobot(argv[1], chain, &robot, &error)) {
-    std::fprintf(stderr, "%s\n", error.c_str());
-    return 1;
-  }
+  if (!testing::LoadSessionRobot(argv[1], argv[2], &robot)) return 1;
   const RobotModel& model = robot.model;
   const uint64_t seed = std::strtoull(argv[4], nullptr, 10);
   const double radius = std::atof(argv[5]);
@@ -58,14 +53,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "NUM_PLANES: 1, 2 or 3\n");
     return 2;
   }
-  Eigen::VectorXd values = model.nominal;
-  values.segment(model.block_offset(model.marker_block(0)), 3) << 0.02, -0.01,
-      0.1;
   Eigen::VectorXd truth;
-  if (!PerturbParameters(model, values, 0.5e-3, 0.5e-3, seed, &truth, &error)) {
-    std::fprintf(stderr, "%s\n", error.c_str());
-    return 1;
-  }
+  if (!testing::SessionTruth(model, seed, &truth)) return 1;
   Random random(placement);
   Eigen::Vector3d corner(0.45, -0.35, 0.25);
   for (int a = 0; a < 3; ++a) corner[a] += 0.1 * (random.Uniform() - 0.5);

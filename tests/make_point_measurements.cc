@@ -23,6 +23,7 @@
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/urdf_robot.h"
+#include "simulated_session.h"
 
 int main(int argc, char** argv) {
   using namespace activecal;
@@ -33,24 +34,12 @@ int main(int argc, char** argv) {
                  argv[0]);
     return 2;
   }
-  UrdfChainOptions chain;
-  chain.tip_link = argv[2];
   RobotDescription robot;
-  std::string error;
-  if (!LoadUrdfRobot(argv[1], chain, &robot, &error)) {
-    std::fprintf(stderr, "%s\n", error.c_str());
-    return 1;
-  }
+  if (!testing::LoadSessionRobot(argv[1], argv[2], &robot)) return 1;
   const RobotModel& model = robot.model;
   const uint64_t seed = std::strtoull(argv[5], nullptr, 10);
-  Eigen::VectorXd values = model.nominal;
-  values.segment(model.block_offset(model.marker_block(0)), 3) << 0.02, -0.01,
-      0.1;
   Eigen::VectorXd truth;
-  if (!PerturbParameters(model, values, 0.5e-3, 0.5e-3, seed, &truth, &error)) {
-    std::fprintf(stderr, "%s\n", error.c_str());
-    return 1;
-  }
+  if (!testing::SessionTruth(model, seed, &truth)) return 1;
   PointSimulationOptions options;
   if (argc > 6) options.placement_m = std::atof(argv[6]);
   if (argc > 7) options.num_points = std::atoi(argv[7]);
@@ -59,6 +48,7 @@ int main(int argc, char** argv) {
       argc > 9 ? std::strtoull(argv[9], nullptr, 10) : seed + 1;
   std::vector<Measurement> rows;
   std::vector<Eigen::Vector3d> points;
+  std::string error;
   if (!SimulatePointMeasurements(model, truth, options, socket_seed, &rows,
                                  &points, &error)) {
     std::fprintf(stderr, "%s\n", error.c_str());

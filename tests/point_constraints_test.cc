@@ -189,26 +189,11 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
     FreeSet free_pos, free_pts, free_dist;
     const std::vector<HeldParameter> held_pos = reduce(positions, &free_pos);
     const std::vector<HeldParameter> held_pts = reduce(rows, &free_pts);
-    const std::set<std::string> pos = HeldNameSet(held_pos),
-                                pts = HeldNameSet(held_pts);
-    for (const char* b : {"B.x", "B.y", "B.z", "B.rx", "B.ry", "B.rz"}) {
-      EXPECT_EQ(pos.count(b), 0u) << b;
-      EXPECT_EQ(pts.count(b), 1u) << b;
-    }
-    for (const HeldParameter& h : held_pts) {
-      if (h.name.rfind("B.", 0) == 0) {
-        EXPECT_EQ(h.reason, "has no effect on these measurements") << h.name;
-      }
-    }
-    for (const std::string& name : pos) EXPECT_EQ(pts.count(name), 1u) << name;
+    const std::set<std::string> pos = HeldNameSet(held_pos);
     // Beyond the position rows' holds: the base's 6 and one length.
-    std::vector<std::string> extra;
-    for (const std::string& name : pts) {
-      if (!pos.count(name) && name.rfind("B.", 0) != 0) extra.push_back(name);
-    }
-    ASSERT_EQ(extra.size(), 1u);
-    const int scale = model.ParameterIndex(extra[0]);
-    EXPECT_EQ(model.Kind(scale), ParameterKind::kLength) << extra[0];
+    const std::string length =
+        ExpectBaseAndOneLengthHeldBeyond(model, pos, held_pts);
+    ASSERT_FALSE(length.empty());
     EXPECT_EQ(free_pts.size(), free_pos.size() - 7);
 
     // A known distance between two of the points: the scale is
@@ -222,7 +207,7 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
     with_distance.push_back(d);
     const std::set<std::string> dist =
         HeldNameSet(reduce(with_distance, &free_dist));
-    EXPECT_EQ(dist.count(extra[0]), 0u) << extra[0];
+    EXPECT_EQ(dist.count(length), 0u) << length;
     EXPECT_EQ(free_dist.size(), free_pts.size() + 1);
   }
 }

@@ -13,14 +13,9 @@
 #   tests/points_cli_test.sh <build/apps dir> <data dir> <make_point_measurements>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-apps="$(cd "$1" && pwd)"
-data="$(cd "$2" && pwd)"
 make="$3"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
 source "$here/cli_lib.sh"
+cli_begin "$@"
 
 robot=(--robot="$data/kuka_iiwa14.urdf" --tip_link=flange)
 # Training: 3 sockets x 25 configurations, placements repeatable to 0.02 mm;
@@ -152,5 +147,4 @@ expect_fail "evaluate: negative distance" \
   --points=negative.yaml --json_out=o.json
 [ ! -e o.json ] && ok "failed runs wrote nothing" || fail "failed runs wrote nothing"
 
-echo "$failures failure(s)"
-[ "$failures" -eq 0 ]
+cli_end

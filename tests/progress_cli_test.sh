@@ -14,15 +14,7 @@ source "$here/cli_lib.sh"
 cli_begin "$@"
 export ACTIVECAL_PROGRESS_AFTER_S=0
 
-python3 - "$data/figaroh_ur10e/measurements.csv" <<'PY'
-import csv, sys
-rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
-cols = ["q%d_rad" % j for j in range(1, 7)]
-with open("p.csv", "w") as f:
-    f.write(",".join(cols) + "\n")
-    for r in rows:
-        f.write(",".join(r[c] for c in cols) + "\n")
-PY
+joint_columns "$data/figaroh_ur10e/measurements.csv" p.csv
 ur=(--robot="$data/ur10e.urdf" --tip_link=tool0)
 "$apps/activecal_simulate" "${ur[@]}" --poses_csv=p.csv --perturb_m=0.001 \
   --perturb_rad=0.001 --noise_m=0.0001 --seed=2 --out=m.csv --quiet >/dev/null ||

@@ -40,15 +40,7 @@ quiet_pair() {
 
 # --- activecal_simulate, activecal_compensate, activecal_monte_carlo: on
 # those 23 configurations, 6D (pose) measurements of a perturbed UR10e. ---
-python3 - "$m" <<'PY'
-import csv, sys
-rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
-cols = ["q%d_rad" % j for j in range(1, 7)]
-with open("p.csv", "w") as f:
-    f.write(",".join(cols) + "\n")
-    for r in rows:
-        f.write(",".join(r[c] for c in cols) + "\n")
-PY
+joint_columns "$m" p.csv
 quiet_pair simulate "m.csv true.yaml" "$apps/activecal_simulate" \
   --robot="$data/ur10e.urdf" --tip_link=tool0 --poses_csv="$PWD/p.csv" --type=pose \
   --perturb_m=0.001 --perturb_rad=0.001 --noise_m=0.00005 --rotation_noise_rad=0.00005 \

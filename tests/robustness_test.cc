@@ -31,15 +31,10 @@ TEST(RobustnessTest, HundredThousandAlternatingUpdatesStayWithin1e8) {
   double worst = 0;
   for (int step = 0; step < 100000; ++step) {
     if (step % 2 == 0) {
-      int64_t i;
-      do {
-        i = static_cast<int64_t>(random.UniformInt(pool.size()));
-      } while (design.Contains(i));
-      design.Add(i);
+      testing::AddRandomNewPose(&design, &random);
     } else {
       // Remove a random pose; a refused removal is retried with another.
-      while (!design.Remove(design.poses()[random.UniformInt(design.size())])) {
-      }
+      testing::RemoveRandomPose(&design, &random);
     }
     if (step % 97 == 0 || step >= 99990) {
       const double scratch = LogDetFromScratch(pool, design.poses());
@@ -166,15 +161,9 @@ TEST(RobustnessTest, SelectorWorksForBlocksOfAnyRowCount) {
     }
     for (int step = 0; step < 2000; ++step) {
       if (step % 2 == 0) {
-        int64_t i;
-        do {
-          i = static_cast<int64_t>(random.UniformInt(pool.size()));
-        } while (design.Contains(i));
-        design.Add(i);
+        testing::AddRandomNewPose(&design, &random);
       } else {
-        while (
-            !design.Remove(design.poses()[random.UniformInt(design.size())])) {
-        }
+        testing::RemoveRandomPose(&design, &random);
       }
     }
     const double scratch = LogDetFromScratch(pool, design.poses());

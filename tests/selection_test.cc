@@ -56,11 +56,7 @@ TEST_F(SelectionTest, IncrementalLogDetMatchesScratchOver10000Updates) {
     const bool add =
         design.size() < 15 || (design.size() < 40 && random.Uniform() < 0.5);
     if (add) {
-      int64_t i;
-      do {
-        i = static_cast<int64_t>(random.UniformInt(pool.size()));
-      } while (design.Contains(i));
-      design.Add(i);
+      testing::AddRandomNewPose(&design, &random);
     } else {
       const int64_t i = design.poses()[random.UniformInt(design.size())];
       if (!design.Remove(i)) {

@@ -65,13 +65,7 @@ assert off > 10.0, off
 PY
 
 # --- A cell: the poses it allows, the targets each sees. ---
-sed '/^targets:/,$d' "$data/cells/ur10e_table.yaml" >base.yaml
-{ cat base.yaml; cat <<'YAML'
-targets:
-  - {name: smr, xyz_m: [0, 0, 0.06], normal: [0, 0, 1], acceptance_deg: 30}
-  - {name: side, xyz_m: [0.05, 0, 0.03], normal: [1, 0, 0], acceptance_deg: 30}
-YAML
-} >two.yaml
+two_target_cell
 "$apps/activecal_select" "${ur[@]}" --cell=two.yaml --pool=sobol \
   --pool_size=20000 --num_poses=30 --algorithm=fedorov --poses_csv=pc.csv \
   --rejected_csv=rc.csv >selc.out 2>&1 || { fail "select --cell"; cat selc.out; }

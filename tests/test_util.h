@@ -22,6 +22,7 @@
 #include "activecal/core/robot_model.h"
 #include "activecal/estimation/parameter_reduction.h"
 #include "activecal/residuals/jacobians.h"
+#include "activecal/selection/design.h"
 
 namespace activecal {
 namespace testing {
@@ -58,6 +59,40 @@ inline CandidatePool PumaPool(int levels, JointLattice* lattice_out = nullptr) {
   return pool;
 }
 
+// A planar three-link arm: six free parameters (offsets and lengths), a
+// pool of 5^3 = 125 poses (Jacobians at the nominal values); small enough
+// for exhaustive search over all 3-pose designs.
+inline CandidatePool PlanarPool() {
+  RobotModel m;
+  m.name = "planar3";
+  m.base.joint_type = JointType::kFixed;
+  for (int i = 0; i < 3; ++i) {
+    Link l;
+    l.name = "L" + std::to_string(i + 1);
+    l.joint_min = -2.8;
+    l.joint_max = 2.8;
+    l.free = {true, false, true, false, false, false};
+    m.links.push_back(l);
+  }
+  m.nominal = Eigen::VectorXd::Zero(m.num_parameters());
+  const double lengths[3] = {0.6, 0.45, 0.2};
+  for (int b = 0; b < 4; ++b) m.nominal[6 * b + kGain] = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    m.nominal[6 * (i + 1) + kA] = lengths[i];
+    m.nominal[6 * (i + 1) + kGamma] = 0.1 * (i + 1);
+  }
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error)) << error;
+  RowMatrixXd stacked;
+  EXPECT_TRUE(PoolJacobians(m, m.nominal, lattice.AllJointValues(),
+                            PoolJacobianOptions(), &stacked, &error))
+      << error;
+  CandidatePool pool;
+  EXPECT_TRUE(CandidatePool::Create(std::move(stacked), 3, &pool, &error));
+  return pool;
+}
+
 // The PUMA lattice's joint values with `levels` values per joint.
 inline Eigen::MatrixXd PumaLatticeJoints(int levels) {
   const RobotModel m = Puma560PaperModel();
@@ -65,6 +100,56 @@ inline Eigen::MatrixXd PumaLatticeJoints(int levels) {
   std::string error;
   EXPECT_TRUE(JointLattice::Create(m, levels, &lattice, &error)) << error;
   return lattice.AllJointValues();
+}
+
+// num_poses random poses (drawn with `seed`) of the PUMA lattice with 5
+// values per joint, one a row.
+inline Eigen::MatrixXd PumaLatticeSample(int num_poses, uint64_t seed) {
+  const RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  EXPECT_TRUE(JointLattice::Create(m, 5, &lattice, &error));
+  Random random(seed);
+  const std::vector<int64_t> poses =
+      random.SampleWithoutReplacement(lattice.size(), num_poses);
+  Eigen::MatrixXd joints(num_poses, 6);
+  for (int i = 0; i < num_poses; ++i) {
+    joints.row(i) = lattice.JointValues(poses[i]).transpose();
+  }
+  return joints;
+}
+
+// Adds a pose of the design's pool drawn with `random` (uniformly, drawn
+// again until it is not in the design).
+inline void AddRandomNewPose(Design* design, Random* random) {
+  int64_t i;
+  do {
+    i = static_cast<int64_t>(random->UniformInt(design->pool().size()));
+  } while (design->Contains(i));
+  design->Add(i);
+}
+
+// Removes a pose of the design drawn with `random`; a refused removal (the
+// rest singular) is drawn again.
+inline void RemoveRandomPose(Design* design, Random* random) {
+  while (!design->Remove(design->poses()[random->UniformInt(design->size())])) {
+  }
+}
+
+// A six-joint URDF chain's model with only these free: the base frame, the
+// marker's position, the offsets of joints 2-5 (joint 1's is the base's rz,
+// joint 6's the marker's).
+inline RobotModel UrdfOffsetsModel(const RobotModel& m) {
+  RobotModel fitted = m;
+  for (int i = 0; i < m.num_parameters(); ++i) fitted.SetFree(i, false);
+  for (int j = 0; j < 6; ++j) fitted.SetFree(j, true);
+  for (int b = 2; b <= 5; ++b) {
+    fitted.SetFree(m.block_offset(b) + kUrdfOffset, true);
+  }
+  for (int j = 0; j < 3; ++j) {
+    fitted.SetFree(m.block_offset(m.marker_block(0)) + j, true);
+  }
+  return fitted;
 }
 
 // Random joint values inside the model's ranges.

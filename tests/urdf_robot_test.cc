@@ -64,15 +64,15 @@ Eigen::VectorXd RandomInside(const RobotModel& m, Random* random) {
   return q;
 }
 
-// The largest difference, over 500 random configurations inside the
-// limits, between activecal's tip frame of `m` at `values` and KDL's for the
-// chain base..tip of `xml` (kdl_parser builds its own tree from the text,
-// reading every origin from urdfdom's quaternion): position entries (m) in
-// *position, rotation-matrix entries in *rotation.
+// The largest difference, over `trials` random configurations inside the
+// limits (RandomInside, drawn with `seed`), between activecal's tip frame of
+// `m` at `values` and KDL's for the chain base..tip of `xml` (kdl_parser builds
+// its own tree from the text, reading every origin from urdfdom's quaternion):
+// position entries (m) in *position, rotation-matrix entries in *rotation.
 void KdlDifference(const std::string& xml, const std::string& base,
                    const std::string& tip, const RobotModel& m,
                    const Eigen::VectorXd& values, double* position,
-                   double* rotation) {
+                   double* rotation, int trials = 500, uint64_t seed = 17) {
   *position = *rotation = std::numeric_limits<double>::infinity();
   KDL::Tree tree;
   ASSERT_TRUE(kdl_parser::treeFromString(xml, tree)) << xml;
@@ -80,9 +80,9 @@ void KdlDifference(const std::string& xml, const std::string& base,
   ASSERT_TRUE(tree.getChain(base, tip, chain));
   ASSERT_EQ(static_cast<int>(chain.getNrOfJoints()), m.num_joints());
   KDL::ChainFkSolverPos_recursive fk(chain);
-  Random random(17);
+  Random random(seed);
   double worst = 0.0, worst_rotation = 0.0;
-  for (int trial = 0; trial < 500; ++trial) {
+  for (int trial = 0; trial < trials; ++trial) {
     const Eigen::VectorXd q = RandomInside(m, &random);
     KDL::JntArray kq(m.num_joints());
     for (int j = 0; j < m.num_joints(); ++j) kq(j) = q[j];
@@ -481,30 +481,12 @@ TEST(UrdfExportTest, DhModelsAsUrdfMatchKdl) {
     std::vector<std::string> warnings;
     const std::string xml = UrdfFromModel(m, values, &warnings);
     EXPECT_TRUE(warnings.empty());
-    KDL::Tree tree;
-    ASSERT_TRUE(kdl_parser::treeFromString(xml, tree)) << xml;
-    KDL::Chain chain;
-    ASSERT_TRUE(tree.getChain("base_link", "tip", chain));
-    ASSERT_EQ(static_cast<int>(chain.getNrOfJoints()), m.num_joints());
-    KDL::ChainFkSolverPos_recursive fk(chain);
-    Random random(21);
-    double worst = 0.0;
-    for (int trial = 0; trial < 300; ++trial) {
-      const Eigen::VectorXd q = testing::RandomJoints(m, &random);
-      KDL::JntArray kq(m.num_joints());
-      for (int j = 0; j < m.num_joints(); ++j) kq(j) = q[j];
-      KDL::Frame frame;
-      ASSERT_GE(fk.JntToCart(kq, frame), 0);
-      Eigen::Matrix3d R;
-      Eigen::Vector3d t;
-      ForwardKinematics(m, values, q, &R, &t);
-      for (int r = 0; r < 3; ++r) {
-        worst = std::max(worst, std::abs(t[r] - frame.p(r)));
-        for (int c = 0; c < 3; ++c) {
-          worst = std::max(worst, std::abs(R(r, c) - frame.M(r, c)));
-        }
-      }
-    }
+    // 300 configurations (the models' limits are finite: RandomInside
+    // draws as testing::RandomJoints does).
+    double position, rotation;
+    KdlDifference(xml, "base_link", "tip", m, values, &position, &rotation, 300,
+                  21);
+    const double worst = std::max(position, rotation);
     // The PUMA's base lies 20 m away (Table II's a = 19.882 m): 1e-12
     // relative to that.
     EXPECT_LT(worst, 3e-11) << m.name;

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 
+#include "activecal/core/enum_names.h"
 #include "activecal/core/kinematics.h"
 #include "cell_internal.h"
 
@@ -105,37 +106,16 @@ double AngleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
 
 }  // namespace
 
-const char* RejectionReasonToString(RejectionReason reason) {
-  switch (reason) {
-    case RejectionReason::kNone:
-      return "none";
-    case RejectionReason::kJointMargin:
-      return "joint_margin";
-    case RejectionReason::kOutOfRange:
-      return "out_of_range";
-    case RejectionReason::kOutOfView:
-      return "out_of_view";
-    case RejectionReason::kFacingAway:
-      return "facing_away";
-    case RejectionReason::kSelfCollision:
-      return "self_collision";
-    case RejectionReason::kObstacle:
-      return "obstacle";
-    case RejectionReason::kLineOfSight:
-      return "line_of_sight";
-  }
-  return "unknown";
-}
-
-bool StringToRejectionReason(const std::string& name, RejectionReason* reason) {
-  for (int r = 0; r < kNumRejectionReasons; ++r) {
-    if (name == RejectionReasonToString(static_cast<RejectionReason>(r))) {
-      *reason = static_cast<RejectionReason>(r);
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<RejectionReason> kRejectionReasonNames[] = {
+    {RejectionReason::kNone, "none"},
+    {RejectionReason::kJointMargin, "joint_margin"},
+    {RejectionReason::kOutOfRange, "out_of_range"},
+    {RejectionReason::kOutOfView, "out_of_view"},
+    {RejectionReason::kFacingAway, "facing_away"},
+    {RejectionReason::kSelfCollision, "self_collision"},
+    {RejectionReason::kObstacle, "obstacle"},
+    {RejectionReason::kLineOfSight, "line_of_sight"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(RejectionReason, kRejectionReasonNames)
 
 const char* RejectionReasonLabel(RejectionReason reason) {
   switch (reason) {

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "activecal/core/validation.h"
+
 namespace activecal {
 
 namespace {
@@ -36,9 +38,7 @@ bool CheckStacked(const Matrix& stacked, int block_rows, std::string* error) {
       }
     }
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "activecal/core/enum_names.h"
+
 namespace activecal {
 
 FreeSet::FreeSet(const RobotModel& model) : free_(model.num_parameters()) {
@@ -37,28 +39,11 @@ RobotModel WithFreeSet(const RobotModel& model, const FreeSet& free) {
   return out;
 }
 
-const char* HoldStageToString(HoldStage stage) {
-  switch (stage) {
-    case HoldStage::kParameterSet:
-      return "parameter_set";
-    case HoldStage::kAutoFix:
-      return "auto_fix";
-    case HoldStage::kModelSelection:
-      return "model_selection";
-  }
-  return "unknown";
-}
-
-bool StringToHoldStage(const std::string& text, HoldStage* stage) {
-  for (HoldStage s : {HoldStage::kParameterSet, HoldStage::kAutoFix,
-                      HoldStage::kModelSelection}) {
-    if (text == HoldStageToString(s)) {
-      *stage = s;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<HoldStage> kHoldStageNames[] = {
+    {HoldStage::kParameterSet, "parameter_set"},
+    {HoldStage::kAutoFix, "auto_fix"},
+    {HoldStage::kModelSelection, "model_selection"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(HoldStage, kHoldStageNames)
 
 std::vector<std::string> HeldNames(const std::vector<HeldParameter>& held) {
   std::vector<std::string> names;

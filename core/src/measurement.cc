@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/validation.h"
 
 namespace activecal {
 namespace {
@@ -151,9 +152,7 @@ bool CheckMeasurement(const RobotModel& model, const Measurement& m,
       }
       break;
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 std::vector<Measurement> MeasurementPlan(const Eigen::MatrixXd& joints,

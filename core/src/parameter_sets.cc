@@ -3,34 +3,17 @@
 
 #include "activecal/core/parameter_sets.h"
 
+#include "activecal/core/enum_names.h"
 #include "activecal/core/random.h"
 
 namespace activecal {
 
-const char* ParameterSetToString(ParameterSet set) {
-  switch (set) {
-    case ParameterSet::kRegistration:
-      return "registration";
-    case ParameterSet::kOffsets:
-      return "offsets";
-    case ParameterSet::kFull:
-      return "full";
-    case ParameterSet::kFile:
-      return "file";
-  }
-  return "unknown";
-}
-
-bool StringToParameterSet(const std::string& text, ParameterSet* set) {
-  for (ParameterSet s : {ParameterSet::kRegistration, ParameterSet::kOffsets,
-                         ParameterSet::kFull, ParameterSet::kFile}) {
-    if (text == ParameterSetToString(s)) {
-      *set = s;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<ParameterSet> kParameterSetNames[] = {
+    {ParameterSet::kRegistration, "registration"},
+    {ParameterSet::kOffsets, "offsets"},
+    {ParameterSet::kFull, "full"},
+    {ParameterSet::kFile, "file"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(ParameterSet, kParameterSetNames)
 
 FreeSet ParameterSetFreeSet(const RobotModel& model, ParameterSet set,
                             bool with_orientation) {

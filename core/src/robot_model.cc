@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
+#include "activecal/core/validation.h"
 
 namespace activecal {
 namespace {
@@ -375,9 +376,7 @@ bool RobotModel::Validate(std::string* error) const {
       }
     }
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 bool RobotModel::CheckParameters(const Eigen::VectorXd& parameters,
@@ -395,9 +394,7 @@ bool RobotModel::CheckParameters(const Eigen::VectorXd& parameters,
       }
     }
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 double RobotModel::JointRangeExcess(int joint, double q) const {
@@ -442,9 +439,7 @@ bool RobotModel::CheckJointValues(const Eigen::VectorXd& q, std::string* error,
       break;
     }
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 Eigen::Vector3d RotationToRpy(const Eigen::Matrix3d& R) {

@@ -19,8 +19,10 @@
 #include <memory>
 #include <sstream>
 
+#include "activecal/core/enum_names.h"
 #include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
+#include "activecal/core/validation.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/residuals/joint_error_jacobian.h"
 #include "activecal/residuals/joint_error_residual.h"
@@ -35,28 +37,11 @@ constexpr double kNoEffectTolerance = kNoEffectRelativeNorm;
 constexpr double kChiSquareTail = 0.0005;
 }  // namespace
 
-const char* RobustLossToString(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::kNone:
-      return "none";
-    case RobustLoss::kHuber:
-      return "huber";
-    case RobustLoss::kCauchy:
-      return "cauchy";
-  }
-  return "unknown";
-}
-
-bool StringToRobustLoss(const std::string& text, RobustLoss* loss) {
-  for (RobustLoss l :
-       {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
-    if (text == RobustLossToString(l)) {
-      *loss = l;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<RobustLoss> kRobustLossNames[] = {
+    {RobustLoss::kNone, "none"},
+    {RobustLoss::kHuber, "huber"},
+    {RobustLoss::kCauchy, "cauchy"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(RobustLoss, kRobustLossNames)
 
 bool IdentificationOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
@@ -93,9 +78,7 @@ bool IdentificationOptions::IsValid(std::string* error) const {
   } else if (!(rank_tolerance > 0 && rank_tolerance < 1)) {
     msg << "rank_tolerance must be in (0, 1), got " << rank_tolerance;
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 std::string IdentifiabilityReport::Message() const {

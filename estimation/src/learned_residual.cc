@@ -12,6 +12,7 @@
 #include <map>
 #include <sstream>
 
+#include "activecal/core/enum_names.h"
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/model_selection.h"
@@ -165,30 +166,11 @@ void FitAll(const Rows& rows, const Eigen::MatrixXd& omega,
 
 }  // namespace
 
-const char* LearnedResidualModeToString(LearnedResidualMode mode) {
-  switch (mode) {
-    case LearnedResidualMode::kOff:
-      return "off";
-    case LearnedResidualMode::kOn:
-      return "on";
-    case LearnedResidualMode::kAuto:
-      return "auto";
-  }
-  return "unknown";
-}
-
-bool StringToLearnedResidualMode(const std::string& text,
-                                 LearnedResidualMode* mode) {
-  for (LearnedResidualMode m :
-       {LearnedResidualMode::kOff, LearnedResidualMode::kOn,
-        LearnedResidualMode::kAuto}) {
-    if (text == LearnedResidualModeToString(m)) {
-      *mode = m;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<LearnedResidualMode> kLearnedResidualModeNames[] = {
+    {LearnedResidualMode::kOff, "off"},
+    {LearnedResidualMode::kOn, "on"},
+    {LearnedResidualMode::kAuto, "auto"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(LearnedResidualMode, kLearnedResidualModeNames)
 
 bool LearnedResidualOptions::IsValid(std::string* error) const {
   std::string why;

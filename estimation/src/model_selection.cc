@@ -15,6 +15,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "activecal/core/enum_names.h"
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/registration_fit.h"
@@ -22,75 +23,25 @@
 
 namespace activecal {
 
-const char* ModelSelectionMethodToString(ModelSelectionMethod method) {
-  switch (method) {
-    case ModelSelectionMethod::kNone:
-      return "none";
-    case ModelSelectionMethod::kValidation:
-      return "validation";
-    case ModelSelectionMethod::kCrossValidation:
-      return "cv";
-    case ModelSelectionMethod::kAuto:
-      return "auto";
-  }
-  return "unknown";
-}
+constexpr EnumName<ModelSelectionMethod> kModelSelectionMethodNames[] = {
+    {ModelSelectionMethod::kNone, "none"},
+    {ModelSelectionMethod::kValidation, "validation"},
+    {ModelSelectionMethod::kCrossValidation, "cv"},
+    {ModelSelectionMethod::kAuto, "auto"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(ModelSelectionMethod,
+                                kModelSelectionMethodNames)
 
-bool StringToModelSelectionMethod(const std::string& text,
-                                  ModelSelectionMethod* method) {
-  for (ModelSelectionMethod m :
-       {ModelSelectionMethod::kNone, ModelSelectionMethod::kValidation,
-        ModelSelectionMethod::kCrossValidation, ModelSelectionMethod::kAuto}) {
-    if (text == ModelSelectionMethodToString(m)) {
-      *method = m;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<ParameterRanking> kParameterRankingNames[] = {
+    {ParameterRanking::kSignificance, "significance"},
+    {ParameterRanking::kJacobian, "jacobian"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(ParameterRanking, kParameterRankingNames)
 
-const char* ParameterRankingToString(ParameterRanking ranking) {
-  return ranking == ParameterRanking::kSignificance ? "significance"
-                                                    : "jacobian";
-}
-
-bool StringToParameterRanking(const std::string& text,
-                              ParameterRanking* ranking) {
-  for (ParameterRanking r :
-       {ParameterRanking::kSignificance, ParameterRanking::kJacobian}) {
-    if (text == ParameterRankingToString(r)) {
-      *ranking = r;
-      return true;
-    }
-  }
-  return false;
-}
-
-const char* SelectionRuleToString(SelectionRule rule) {
-  switch (rule) {
-    case SelectionRule::kMinimum:
-      return "min";
-    case SelectionRule::kFewestWithinOneSe:
-      return "1se";
-    case SelectionRule::kMostWithinOneSe:
-      return "1se_most";
-    case SelectionRule::kFTest:
-      return "ftest";
-  }
-  return "unknown";
-}
-
-bool StringToSelectionRule(const std::string& text, SelectionRule* rule) {
-  for (SelectionRule r :
-       {SelectionRule::kMinimum, SelectionRule::kFewestWithinOneSe,
-        SelectionRule::kMostWithinOneSe, SelectionRule::kFTest}) {
-    if (text == SelectionRuleToString(r)) {
-      *rule = r;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<SelectionRule> kSelectionRuleNames[] = {
+    {SelectionRule::kMinimum, "min"},
+    {SelectionRule::kFewestWithinOneSe, "1se"},
+    {SelectionRule::kMostWithinOneSe, "1se_most"},
+    {SelectionRule::kFTest, "ftest"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(SelectionRule, kSelectionRuleNames)
 
 bool ModelSelectionOptions::IsValid(std::string* error) const {
   std::string why;

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <utility>
 
+#include "activecal/core/enum_names.h"
+#include "activecal/core/validation.h"
 #include "number_text.h"
 #include "yaml_reader.h"
 
@@ -156,29 +158,11 @@ bool ValidName(const std::string& name) {
 
 }  // namespace
 
-const char* ProgramLanguageToString(ProgramLanguage language) {
-  switch (language) {
-    case ProgramLanguage::kUrScript:
-      return "urscript";
-    case ProgramLanguage::kKrl:
-      return "krl";
-    case ProgramLanguage::kRapid:
-      return "rapid";
-  }
-  return "unknown";
-}
-
-bool StringToProgramLanguage(const std::string& text,
-                             ProgramLanguage* language) {
-  for (ProgramLanguage l : {ProgramLanguage::kUrScript, ProgramLanguage::kKrl,
-                            ProgramLanguage::kRapid}) {
-    if (text == ProgramLanguageToString(l)) {
-      *language = l;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr EnumName<ProgramLanguage> kProgramLanguageNames[] = {
+    {ProgramLanguage::kUrScript, "urscript"},
+    {ProgramLanguage::kKrl, "krl"},
+    {ProgramLanguage::kRapid, "rapid"}};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(ProgramLanguage, kProgramLanguageNames)
 
 ControllerConvention IdentityConvention(const RobotModel& model) {
   ControllerConvention c;
@@ -231,9 +215,7 @@ bool ControllerProgramOptions::IsValid(std::string* error) const {
   } else if (comment.find('\n') != std::string::npos) {
     msg << "the comment must be one line";
   }
-  if (msg.tellp() == 0) return true;
-  *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 bool ControllerProgramText(const RobotModel& model,

@@ -12,6 +12,7 @@ import pathlib
 import re
 import subprocess
 
+import numpy as np
 import pytest
 
 import activecal
@@ -43,6 +44,21 @@ def program(name):
     if not path.exists():
         pytest.skip(f"{path} is not built (ACTIVECAL_BUILD_APPS=OFF?)")
     return str(path)
+
+
+def perturbed_session(robot, amplitude, wave, num_poses, noise_m, **select):
+    """Measurements of `robot` whose truth is its nominal with every
+    parameter of the full set moved by amplitude * wave(index): at a design
+    of num_poses poses (select(levels=3, seed=1, **select)), simulated with
+    noise_m (seed 3). Returns (measurements, truth)."""
+    full = robot.with_parameter_set("full")
+    truth = robot.nominal + np.where(full.free, amplitude, 0.0) * wave(
+        np.arange(robot.num_parameters))
+    design = activecal.select(robot, levels=3, num_poses=num_poses, seed=1,
+                              **select)
+    m = activecal.simulate(robot, design.joint_angles, noise_m=noise_m,
+                           seed=3, parameters=truth)
+    return m, truth
 
 
 def run(args):

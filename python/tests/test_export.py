@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 import activecal
-from conftest import PUMA, UR10, program, run
+from conftest import PUMA, UR10, perturbed_session, program, run
 
 
 def rpy_matrix(rx, ry, rz):
@@ -41,13 +41,8 @@ def block(robot, estimate, prefix):
 @pytest.fixture(scope="module")
 def ur10_fit(tmp_path_factory):
     ur10 = activecal.load_robot(UR10, tip_link="tool0")
-    full = ur10.with_parameter_set("full")
-    truth = ur10.nominal + np.where(full.free, 1e-3, 0.0) * np.cos(
-        np.arange(ur10.num_parameters))
-    design = activecal.select(ur10, levels=3, num_poses=30, seed=1,
-                              pool_size=300)
-    m = activecal.simulate(ur10, design.joint_angles, noise_m=5e-5, seed=3,
-                           parameters=truth)
+    m, _ = perturbed_session(ur10, 1e-3, np.cos, num_poses=30, noise_m=5e-5,
+                             pool_size=300)
     d = tmp_path_factory.mktemp("export")
     csv = d / "ur10.csv"
     activecal.write_measurements(ur10, csv, m)

@@ -8,7 +8,7 @@ import pytest
 import yaml
 
 import activecal
-from conftest import PUMA, SOURCE_DIR, program, run
+from conftest import PUMA, SOURCE_DIR, perturbed_session, program, run
 
 UR10E = str(SOURCE_DIR / "data" / "ur10e.urdf")
 
@@ -45,13 +45,8 @@ def test_column_map_reads_a_german_export(tmp_path):
 @pytest.fixture(scope="module")
 def ur10e_fit(tmp_path_factory):
     ur = activecal.load_robot(UR10E, tip_link="tool0")
-    full = ur.with_parameter_set("full")
-    truth = ur.nominal + np.where(full.free, 5e-4, 0.0) * np.sin(
-        np.arange(ur.num_parameters))
-    design = activecal.select(ur, levels=3, num_poses=30, seed=1,
-                              pool_size=300)
-    m = activecal.simulate(ur, design.joint_angles, noise_m=2e-5, seed=3,
-                           parameters=truth)
+    m, _ = perturbed_session(ur, 5e-4, np.sin, num_poses=30, noise_m=2e-5,
+                             pool_size=300)
     csv = tmp_path_factory.mktemp("ur") / "ur10e.csv"
     activecal.write_measurements(ur, csv, m)
     return ur, csv, activecal.identify(ur, m, model_selection="none")

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import activecal
-from conftest import PUMA, SOURCE_DIR, UR10, program, run
+from conftest import PUMA, SOURCE_DIR, UR10, perturbed_session, program, run
 
 
 @pytest.fixture(scope="module")
@@ -72,13 +72,8 @@ def test_same_estimates_as_the_program(puma, puma_data, tmp_path,
 def test_same_estimates_as_the_program_urdf(ur10, tmp_path):
     # A URDF robot: the full set reduced to what the data separate, the
     # base registered in closed form; simulated from perturbed values.
-    full = ur10.with_parameter_set("full")
-    truth = ur10.nominal + np.where(full.free, 1e-3, 0.0) * np.cos(
-        np.arange(ur10.num_parameters))
-    design = activecal.select(ur10, levels=3, num_poses=40, seed=1,
-                              restarts=2)
-    m = activecal.simulate(ur10, design.joint_angles, noise_m=5e-5, seed=3,
-                           parameters=truth)
+    m, _ = perturbed_session(ur10, 1e-3, np.cos, num_poses=40, noise_m=5e-5,
+                             restarts=2)
     path = tmp_path / "ur10.csv"
     activecal.write_measurements(ur10, str(path), m)
     report, _ = program_report(tmp_path, [f"--robot={UR10}", "--tip_link=tool0"],

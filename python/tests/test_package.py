@@ -96,8 +96,10 @@ def test_pip_install_into_a_venv(tmp_path):
     assert (source / "build" / "wheel").is_dir()
 
 
-def test_python_build_makes_a_wheel(tmp_path):
-    check_cmake_build()
+def python_build(kind, tmp_path, env):
+    """python3 -m build <kind> (--wheel, --sdist) of a copy of the source
+    into tmp_path/dist; skips when python3-build is missing. Returns the
+    copy's folder and the finished run."""
     try:
         import build  # noqa: F401  (python3-build)
     except ImportError:
@@ -105,11 +107,18 @@ def test_python_build_makes_a_wheel(tmp_path):
                     "python3-build): no python3 -m build")
     source = copy_source(tmp_path / "src")
     done = subprocess.run(
-        [sys.executable, "-m", "build", "--no-isolation", "--wheel",
+        [sys.executable, "-m", "build", "--no-isolation", kind,
          "--outdir", str(tmp_path / "dist"), str(source)],
-        env=clean_env(ACTIVECAL_CMAKE_BUILD_DIR=str(BUILD_DIR.resolve())),
-        capture_output=True, text=True)
+        env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr
+    return source, done
+
+
+def test_python_build_makes_a_wheel(tmp_path):
+    check_cmake_build()
+    _, done = python_build(
+        "--wheel", tmp_path,
+        clean_env(ACTIVECAL_CMAKE_BUILD_DIR=str(BUILD_DIR.resolve())))
     wheels = list((tmp_path / "dist").glob("activecal-0.1.0-*.whl"))
     assert len(wheels) == 1, done.stdout
     with zipfile.ZipFile(wheels[0]) as wheel:
@@ -136,17 +145,7 @@ def test_python_build_makes_a_wheel(tmp_path):
 def test_sdist_holds_the_whole_source(tmp_path):
     # python3 -m build (sdist, then the wheel from it) needs every file the
     # CMake build reads: MANIFEST.in takes the whole checkout.
-    try:
-        import build  # noqa: F401
-    except ImportError:
-        pytest.skip("python3-build is missing (Debian: apt-get install "
-                    "python3-build): no python3 -m build")
-    source = copy_source(tmp_path / "src")
-    done = subprocess.run(
-        [sys.executable, "-m", "build", "--no-isolation", "--sdist",
-         "--outdir", str(tmp_path / "dist"), str(source)],
-        env=clean_env(), capture_output=True, text=True)
-    assert done.returncode == 0, done.stdout + done.stderr
+    source, _ = python_build("--sdist", tmp_path, clean_env())
     import tarfile
     with tarfile.open(tmp_path / "dist" / "activecal-0.1.0.tar.gz") as sdist:
         names = {n.split("/", 1)[1] for n in sdist.getnames() if "/" in n}

@@ -12,6 +12,7 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/information_matrix.h"
 #include "selection_internal.h"
@@ -27,9 +28,7 @@ bool ApproximateDesignOptions::IsValid(std::string* error) const {
   } else if (max_rounds <= 0 || max_inner_iterations <= 0) {
     msg << "max_rounds and max_inner_iterations must be > 0";
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 namespace {

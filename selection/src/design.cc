@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "activecal/core/parallel.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
 #include "selection_internal.h"
 
@@ -209,9 +210,7 @@ bool PrepareCandidates(const CandidatePool& pool, int num_poses,
           << " parameters: every such design is singular";
     }
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 std::string SelectionStep::name() const {

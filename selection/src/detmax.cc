@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "activecal/core/random.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
 #include "selection_internal.h"
 
@@ -20,17 +21,14 @@ namespace activecal {
 
 bool DetmaxOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0)
-    msg << "num_poses must be > 0, got " << num_poses;
-  else if (restarts <= 0)
-    msg << "restarts must be > 0, got " << restarts;
-  else if (max_excursion <= 0)
-    msg << "max_excursion must be > 0";
-  else if (max_iterations < 0)
-    msg << "max_iterations must be >= 0";
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  if (internal::PositiveCounts(
+          {{"num_poses", num_poses}, {"restarts", restarts}}, &msg)) {
+    if (max_excursion <= 0)
+      msg << "max_excursion must be > 0";
+    else if (max_iterations < 0)
+      msg << "max_iterations must be >= 0";
+  }
+  return FinishValidation(msg, error);
 }
 
 namespace internal {
@@ -121,9 +119,7 @@ bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
           step.log_det = LogDetFromScratch(pool, poses);
           result.history.push_back(step);
         }
-        result.design = poses;
-        result.log_det = LogDetFromScratch(pool, result.design);
-        result.ok = std::isfinite(result.log_det);
+        internal::FinishRestart(pool, poses, &result);
         return result;
       },
       options.progress);

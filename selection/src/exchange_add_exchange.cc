@@ -13,6 +13,7 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
 #include "selection_internal.h"
 
@@ -32,9 +33,7 @@ bool ExchangeAddExchangeOptions::IsValid(std::string* error) const {
   } else if (!(min_improvement >= 0)) {
     msg << "min_improvement must be >= 0";
   }
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 namespace internal {
@@ -225,19 +224,13 @@ bool ExchangeAddExchange(const CandidatePool& pool,
                          const ExchangeAddExchangeOptions& options,
                          SelectionSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
-  *summary = SelectionSummary();
-  summary->algorithm =
+  const char* algorithm =
       options.criterion == SelectionCriterion::kDeterminantUpdate
           ? "exchange-add-exchange (determinant update)"
           : "exchange-add-exchange (eigenvalue OI)";
-  summary->num_parameters = pool.num_parameters();
-  summary->pool_size = pool.size();
-  std::string error;
-  std::vector<char> eligible;
-  if (!options.IsValid(&error) ||
-      !PrepareCandidates(pool, options.num_poses, constraints, &eligible,
-                         &error)) {
-    summary->message = error;
+  std::vector<char> eligible, is_fixed;
+  if (!internal::PrepareSelection(pool, constraints, options, algorithm,
+                                  summary, &eligible, &is_fixed)) {
     return false;
   }
   const int num_fixed = static_cast<int>(constraints.fixed.size());
@@ -248,8 +241,6 @@ bool ExchangeAddExchange(const CandidatePool& pool,
                        std::to_string(num_fixed) + ")";
     return false;
   }
-  std::vector<char> is_fixed(pool.size(), 0);
-  for (int64_t f : constraints.fixed) is_fixed[f] = 1;
 
   std::vector<std::string> notes(options.restarts);
   const internal::RestartResult best = internal::BestOfRestarts(
@@ -300,9 +291,7 @@ bool ExchangeAddExchange(const CandidatePool& pool,
         result.hit_bound |= internal::ExchangeStep(
             scorer.get(), eligible, is_fixed, options.max_exchanges,
             options.min_improvement, &result.history);
-        result.design = scorer->poses();
-        result.log_det = LogDetFromScratch(pool, result.design);
-        result.ok = std::isfinite(result.log_det);
+        internal::FinishRestart(pool, scorer->poses(), &result);
         return result;
       },
       options.progress);

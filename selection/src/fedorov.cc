@@ -18,6 +18,7 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
 #include "selection_internal.h"
 #include "sub_pool.h"
@@ -26,23 +27,20 @@ namespace activecal {
 
 bool FedorovOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0)
-    msg << "num_poses must be > 0, got " << num_poses;
-  else if (restarts <= 0)
-    msg << "restarts must be > 0, got " << restarts;
-  else if (max_swaps < 0)
-    msg << "max_swaps must be >= 0";
-  else if (refresh_interval <= 0)
-    msg << "refresh_interval must be > 0";
-  else if (reduced_pool_per_pose < 0)
-    msg << "reduced_pool_per_pose must be >= 0";
-  else if (max_polish_rounds <= 0)
-    msg << "max_polish_rounds must be > 0";
-  else if (!(min_improvement >= 0))
-    msg << "min_improvement must be >= 0";
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  if (internal::PositiveCounts(
+          {{"num_poses", num_poses}, {"restarts", restarts}}, &msg)) {
+    if (max_swaps < 0)
+      msg << "max_swaps must be >= 0";
+    else if (refresh_interval <= 0)
+      msg << "refresh_interval must be > 0";
+    else if (reduced_pool_per_pose < 0)
+      msg << "reduced_pool_per_pose must be >= 0";
+    else if (max_polish_rounds <= 0)
+      msg << "max_polish_rounds must be > 0";
+    else if (!(min_improvement >= 0))
+      msg << "min_improvement must be >= 0";
+  }
+  return FinishValidation(msg, error);
 }
 
 namespace {
@@ -495,9 +493,7 @@ RestartResult FedorovRestart(const CandidatePool& pool,
     step.log_det = design.log_det();
     result.history.push_back(step);
   }
-  result.design = design.poses();
-  result.log_det = LogDetFromScratch(pool, result.design);
-  result.ok = std::isfinite(result.log_det);
+  internal::FinishRestart(pool, design.poses(), &result);
   return result;
 }
 
@@ -632,14 +628,8 @@ bool FedorovExchange(const CandidatePool& pool,
         "information matrix is singular";
     return false;
   }
-  const CandidatePool& work_pool = reduced ? reduced->pool() : pool;
-  DesignConstraints work_constraints;
-  work_constraints.fixed =
-      reduced ? reduced->ToSub(constraints.fixed) : constraints.fixed;
-  const std::vector<char> work_eligible =
-      reduced ? reduced->Restrict(eligible) : eligible;
-  const std::vector<char> work_fixed =
-      reduced ? reduced->Restrict(is_fixed) : is_fixed;
+  const internal::WorkingSet work(pool, reduced.get(), constraints, eligible,
+                                  is_fixed);
   const ApproximateDesignSummary* work_approximate =
       reduced ? &reduced_approximate : approximate;
   std::vector<std::string> notes(options.restarts);
@@ -647,11 +637,11 @@ bool FedorovExchange(const CandidatePool& pool,
       options.restarts, options.num_threads,
       [&](int r, int threads) {
         const std::vector<int64_t> initial = internal::InitialDesign(
-            work_pool, work_constraints, work_eligible, options.num_poses,
+            work.pool, work.constraints, work.eligible, options.num_poses,
             Random::StreamSeed(options.seed, r), work_approximate, r > 0,
             threads, &notes[r]);
         if (initial.empty()) return RestartResult();
-        return FedorovRestart(work_pool, work_eligible, work_fixed, initial,
+        return FedorovRestart(work.pool, work.eligible, work.is_fixed, initial,
                               options, threads);
       },
       options.progress);

@@ -41,9 +41,7 @@ bool GreedyDesign(const CandidatePool& pool,
     result.history.push_back({SelectionStep::kAdd, best, -1,
                               LogDetFromScratch(pool, design.poses())});
   }
-  result.design = design.poses();
-  result.log_det = LogDetFromScratch(pool, result.design);
-  result.ok = std::isfinite(result.log_det);
+  internal::FinishRestart(pool, design.poses(), &result);
   internal::FinishSummary(
       result, 1, start,
       "ridge " + std::to_string(eps) + " while the design was singular",

@@ -9,19 +9,17 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
+#include "selection_internal.h"
 
 namespace activecal {
 
 bool RandomDesignOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0)
-    msg << "num_poses must be > 0, got " << num_poses;
-  else if (num_designs <= 0)
-    msg << "num_designs must be > 0, got " << num_designs;
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  internal::PositiveCounts(
+      {{"num_poses", num_poses}, {"num_designs", num_designs}}, &msg);
+  return FinishValidation(msg, error);
 }
 
 bool SelectRandomDesigns(const CandidatePool& pool,
@@ -30,16 +28,9 @@ bool SelectRandomDesigns(const CandidatePool& pool,
                          SelectionSummary* summary,
                          std::vector<double>* log_dets) {
   const auto start = std::chrono::steady_clock::now();
-  *summary = SelectionSummary();
-  summary->algorithm = "random";
-  summary->num_parameters = pool.num_parameters();
-  summary->pool_size = pool.size();
-  std::string error;
-  std::vector<char> eligible;
-  if (!options.IsValid(&error) ||
-      !PrepareCandidates(pool, options.num_poses, constraints, &eligible,
-                         &error)) {
-    summary->message = error;
+  std::vector<char> eligible, is_fixed;
+  if (!internal::PrepareSelection(pool, constraints, options, "random", summary,
+                                  &eligible, &is_fixed)) {
     return false;
   }
   std::vector<int64_t> candidates;

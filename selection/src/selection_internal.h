@@ -12,12 +12,16 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <limits>
+#include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "activecal/core/candidate_pool.h"
 #include "activecal/selection/approximate_design.h"
+#include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
 
 namespace activecal {
@@ -127,6 +131,15 @@ struct RestartResult {
   double log_det = -std::numeric_limits<double>::infinity();
 };
 
+// Ends a restart on `design`: the design, its log det (from scratch) and
+// ok if that is finite.
+inline void FinishRestart(const CandidatePool& pool,
+                          std::vector<int64_t> design, RestartResult* result) {
+  result->design = std::move(design);
+  result->log_det = LogDetFromScratch(pool, result->design);
+  result->ok = std::isfinite(result->log_det);
+}
+
 // Runs restarts 0..restarts-1 (in parallel when there are at least as many
 // restarts as threads, otherwise one after the other with all threads each)
 // and returns the best by log det, the lowest restart on ties.
@@ -147,6 +160,21 @@ std::vector<int64_t> InitialDesign(const CandidatePool& pool,
                                    const ApproximateDesignSummary* approximate,
                                    bool randomized, int num_threads,
                                    std::string* note);
+
+// The checks the designs' options start with: for the first of `counts`
+// ({name, value}) that is not > 0, "<name> must be > 0, got <value>" into
+// *msg and false; true if all are.
+inline bool PositiveCounts(
+    std::initializer_list<std::pair<const char*, int>> counts,
+    std::ostream* msg) {
+  for (const auto& [name, value] : counts) {
+    if (value <= 0) {
+      *msg << name << " must be > 0, got " << value;
+      return false;
+    }
+  }
+  return true;
+}
 
 // Resets the summary, checks the options and the constraints, and marks the
 // eligible and the fixed poses.

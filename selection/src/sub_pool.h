@@ -56,6 +56,28 @@ class SubPool {
   std::vector<int64_t> to_sub_;
 };
 
+// What an exchange's restarts work on: the pool, the fixed poses (the
+// constraints' other fields left empty: the eligible flags hold the
+// exclusions) and the eligible and fixed flags, those of the sub-pool when
+// `reduced` is set, else the full pool's.
+struct WorkingSet {
+  WorkingSet(const CandidatePool& full, const SubPool* reduced,
+             const DesignConstraints& full_constraints,
+             const std::vector<char>& full_eligible,
+             const std::vector<char>& full_fixed)
+      : pool(reduced ? reduced->pool() : full),
+        eligible(reduced ? reduced->Restrict(full_eligible) : full_eligible),
+        is_fixed(reduced ? reduced->Restrict(full_fixed) : full_fixed) {
+    constraints.fixed = reduced ? reduced->ToSub(full_constraints.fixed)
+                                : full_constraints.fixed;
+  }
+
+  const CandidatePool& pool;
+  DesignConstraints constraints;
+  std::vector<char> eligible;
+  std::vector<char> is_fixed;
+};
+
 }  // namespace internal
 }  // namespace activecal
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "activecal/core/validation.h"
 #include "activecal/selection/task_criterion.h"
 
 namespace activecal {
@@ -19,9 +20,7 @@ bool TargetSizeOptions::IsValid(std::string* error) const {
     msg << "the noise sigma must be > 0 m, got " << sigma_m;
   else if (!(target_rms_m > 0) || !std::isfinite(target_rms_m))
     msg << "the target RMS must be > 0 m, got " << target_rms_m;
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 bool FindSizeForTarget(const CandidatePool& pool, const Eigen::MatrixXd& W,

@@ -16,6 +16,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "activecal/core/validation.h"
 #include "activecal/selection/information_matrix.h"
 #include "activecal/selection/task_criterion.h"
 #include "selection_internal.h"
@@ -30,9 +31,7 @@ bool TaskApproximateOptions::IsValid(std::string* error) const {
     msg << "max_rounds must be > 0, got " << max_rounds;
   else if (inner_iterations <= 0)
     msg << "inner_iterations must be > 0, got " << inner_iterations;
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  return FinishValidation(msg, error);
 }
 
 std::string TaskApproximateSummary::BriefReport() const {

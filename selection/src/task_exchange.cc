@@ -17,6 +17,7 @@
 
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
+#include "activecal/core/validation.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/greedy.h"
 #include "activecal/selection/task_approximate.h"
@@ -28,17 +29,14 @@ namespace activecal {
 
 bool TaskExchangeOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (num_poses <= 0)
-    msg << "num_poses must be > 0, got " << num_poses;
-  else if (restarts <= 0)
-    msg << "restarts must be > 0, got " << restarts;
-  else if (max_swaps < 0)
-    msg << "max_swaps must be >= 0, got " << max_swaps;
-  else if (!(min_improvement >= 0))
-    msg << "min_improvement must be >= 0";
-  if (msg.tellp() == 0) return true;
-  if (error) *error = msg.str();
-  return false;
+  if (internal::PositiveCounts(
+          {{"num_poses", num_poses}, {"restarts", restarts}}, &msg)) {
+    if (max_swaps < 0)
+      msg << "max_swaps must be >= 0, got " << max_swaps;
+    else if (!(min_improvement >= 0))
+      msg << "min_improvement must be >= 0";
+  }
+  return FinishValidation(msg, error);
 }
 
 namespace {
@@ -322,14 +320,8 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
       reduced = std::make_unique<internal::SubPool>(pool, keep);
     }
   }
-  const CandidatePool& work_pool = reduced ? reduced->pool() : pool;
-  DesignConstraints work_constraints;
-  work_constraints.fixed =
-      reduced ? reduced->ToSub(constraints.fixed) : constraints.fixed;
-  const std::vector<char> work_eligible =
-      reduced ? reduced->Restrict(eligible) : eligible;
-  const std::vector<char> work_fixed =
-      reduced ? reduced->Restrict(is_fixed) : is_fixed;
+  const internal::WorkingSet work(pool, reduced.get(), constraints, eligible,
+                                  is_fixed);
   const ApproximateDesignSummary work_rounding =
       reduced ? reduced->Restrict(rounding) : rounding;
   std::vector<std::string> notes(options.restarts);
@@ -342,10 +334,10 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
           // alone, so the start is not completed on the design's own M: the
           // fixed poses and a random draw (the restart fails if prior and
           // start are singular together).
-          initial = work_constraints.fixed;
+          initial = work.constraints.fixed;
           std::vector<int64_t> candidates;
-          for (int64_t i = 0; i < work_pool.size(); ++i) {
-            if (work_eligible[i]) candidates.push_back(i);
+          for (int64_t i = 0; i < work.pool.size(); ++i) {
+            if (work.eligible[i]) candidates.push_back(i);
           }
           Random random(Random::StreamSeed(options.seed, r));
           for (int64_t k : random.SampleWithoutReplacement(
@@ -354,14 +346,14 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
           }
         } else {
           initial = internal::InitialDesign(
-              work_pool, work_constraints, work_eligible, options.num_poses,
+              work.pool, work.constraints, work.eligible, options.num_poses,
               Random::StreamSeed(options.seed, r),
               has_approximate ? &work_rounding : nullptr, r > 0, threads,
               &notes[r]);
         }
         if (initial.empty()) return RestartResult();
-        return TaskRestart(work_pool, W, prior_rows, work_eligible, work_fixed,
-                           initial, options, threads);
+        return TaskRestart(work.pool, W, prior_rows, work.eligible,
+                           work.is_fixed, initial, options, threads);
       },
       options.progress);
   std::string note = internal::NoteOf(notes, best.restart);
