@@ -386,26 +386,16 @@ Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
       MatrixArg(joint_angles, "joint_angles", model.num_joints(), false);
   // The plan as activecal_simulate makes it from a poses file.
   std::vector<Measurement> plan;
-  const int n = static_cast<int>(joints.rows());
-  if (type == MeasurementType::kDistance) {
-    if (n < 2) {
-      Fail("type=distance needs at least 2 poses, got " + std::to_string(n));
+  int identical = -1;
+  if (!SimulationPlan(joints, type, &plan, &identical)) {
+    if (identical < 0) {
+      Fail("type=distance needs at least 2 poses, got " +
+           std::to_string(joints.rows()));
     }
-    for (int i = 0; i + 1 < n; ++i) {
-      if (joints.row(i) == joints.row(i + 1)) {
-        Fail("type=distance: poses " + std::to_string(i) + " and " +
-             std::to_string(i + 1) +
-             " (rows of joint_angles) are identical: a distance between "
-             "them measures nothing; remove one");
-      }
-      Measurement m;
-      m.type = type;
-      m.joints = joints.row(i).transpose();
-      m.joints2 = joints.row(i + 1).transpose();
-      plan.push_back(m);
-    }
-  } else {
-    plan = MeasurementPlan(joints, type);
+    Fail("type=distance: poses " + std::to_string(identical) + " and " +
+         std::to_string(identical + 1) +
+         " (rows of joint_angles) are identical: a distance between "
+         "them measures nothing; remove one");
   }
   SimulationNoise noise;
   noise.position_m = noise_m;

@@ -129,6 +129,31 @@ bool SimulateAtRandomLatticePoses(const RobotModel& model,
                               Random::StreamSeed(seed, 1), out, error);
 }
 
+bool SimulationPlan(const Eigen::MatrixXd& joints, MeasurementType type,
+                    std::vector<Measurement>* plan, int* identical_row) {
+  plan->clear();
+  *identical_row = -1;
+  if (type != MeasurementType::kDistance) {
+    *plan = MeasurementPlan(joints, type);
+    return true;
+  }
+  const int n = static_cast<int>(joints.rows());
+  if (n < 2) return false;
+  for (int i = 0; i + 1 < n; ++i) {
+    if (joints.row(i) == joints.row(i + 1)) {
+      plan->clear();
+      *identical_row = i;
+      return false;
+    }
+    Measurement m;
+    m.type = type;
+    m.joints = joints.row(i).transpose();
+    m.joints2 = joints.row(i + 1).transpose();
+    plan->push_back(m);
+  }
+  return true;
+}
+
 bool PerturbParameters(const RobotModel& model, const Eigen::VectorXd& values,
                        double length_std_m, double angle_std_rad, uint64_t seed,
                        Eigen::VectorXd* perturbed, std::string* error) {

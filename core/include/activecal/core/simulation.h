@@ -38,6 +38,17 @@ bool SimulateMeasurements(const RobotModel& model,
                           const SimulationNoise& noise, uint64_t seed,
                           std::vector<Measurement>* out, std::string* error);
 
+// The plan of measurements of `type` at the rows of `joints` (num_poses x
+// num_joints) that SimulateMeasurements takes: kPosition or kPose one at
+// each row (MeasurementPlan), kDistance one between each pair of
+// consecutive rows (0-1, 1-2, ...). For kDistance false with
+// *identical_row -1 when there are fewer than 2 rows, or the first of two
+// identical consecutive rows (0-based; a distance between them measures
+// nothing). What activecal_simulate and the Python module's simulate
+// measure.
+bool SimulationPlan(const Eigen::MatrixXd& joints, MeasurementType type,
+                    std::vector<Measurement>* plan, int* identical_row);
+
 // A simulated session at random lattice poses (what activecal_identify
 // simulates without --measurements): num_poses distinct poses of `lattice`
 // drawn without replacement (Random stream (seed, 0); their indices in
