@@ -20,7 +20,7 @@
 
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/defaults.h"
-#include "activecal/calibration/iso9283_cube.h"
+#include "activecal/calibration/iso9283_cube_poses.h"
 #include "activecal/calibration/select_workflow.h"
 #include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/cell_setup.h"
@@ -168,23 +168,19 @@ int Iso9283CubeMain(const RobotModel& model, const CellSetup& cell) {
   if (FLAGS_poses_csv.empty()) app::Fail("--iso9283_cube needs --poses_csv");
   app::CheckWritableOrDie(FLAGS_poses_csv, "poses_csv");
   app::CheckWritableOrDie(FLAGS_iso9283_targets_csv, "iso9283_targets_csv");
-  Iso9283CubeOptions options;
-  std::string error;
-  if (!ParseIso9283Cube(FLAGS_iso9283_cube, FLAGS_iso9283_orientation, &options,
-                        &error)) {
-    app::Fail(error);
-  }
-  if (cell.checker) options.check = CellCompensationCheck(*cell.checker);
-  Iso9283CubeSummary summary;
-  const bool ok = DesignIso9283Cube(model, model.nominal, options, &summary);
-  std::printf("%s", summary.TableText().c_str());
-  if (!ok) app::Fail("--iso9283_cube: " + summary.message);
-  app::WriteTextOrDie(FLAGS_poses_csv, Iso9283CubePosesCsvText(model, summary));
-  std::printf("  wrote %s\n", FLAGS_poses_csv.c_str());
-  if (!FLAGS_iso9283_targets_csv.empty()) {
-    app::WriteTextOrDie(FLAGS_iso9283_targets_csv,
-                        Iso9283CubeTargetsCsvText(model, summary));
-    std::printf("  wrote %s\n", FLAGS_iso9283_targets_csv.c_str());
+  Iso9283CubePoses poses;
+  const bool ok = MakeIso9283CubePoses(
+      model,
+      {FLAGS_iso9283_cube, FLAGS_iso9283_orientation, cell.checker.get()},
+      &poses);
+  std::printf("%s", poses.table.c_str());
+  if (!ok) app::Fail(poses.message);
+  for (const auto& [path, text] :
+       {std::pair(FLAGS_poses_csv, poses.poses_csv),
+        std::pair(FLAGS_iso9283_targets_csv, poses.targets_csv)}) {
+    if (path.empty()) continue;
+    app::WriteTextOrDie(path, text);
+    std::printf("  wrote %s\n", path.c_str());
   }
   return 0;
 }

@@ -14,10 +14,8 @@
 #include <memory>
 #include <string>
 
-#include "activecal/calibration/pool_builder.h"
-#include "activecal/cell/cell_setup.h"
+#include "activecal/calibration/simulated_cell_setup.h"
 #include "activecal/driver/simulated_cell.h"
-#include "activecal/io/robot_file.h"
 #include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
@@ -109,59 +107,36 @@ int Main() {
   std::string error;
   if (!options.IsValid(&error)) app::Fail("--" + error);
   RobotDescription robot = app::LoadRobotOrDie();
-  // The cell: its targets as the markers; its notes on stderr (not stdout).
-  CellSetup cell_setup;
-  if (!FLAGS_cell.empty()) {
-    CellSetupOptions setup;
-    setup.cell_path = FLAGS_cell;
-    setup.robot_path = FLAGS_robot;
-    setup.chain.base_link = FLAGS_base_link;
-    setup.chain.tip_link = FLAGS_tip_link;
-    setup.targets_as_markers = FLAGS_frames.empty();
-    if (!SetUpCell(setup, &robot, &cell_setup, &error)) {
-      app::Fail("--cell: " + error);
-    }
-    for (const std::string& note : cell_setup.notes) {
-      std::fprintf(stderr, "activecal_sim_cell: --cell: note: %s\n",
-                   note.c_str());
-    }
+  // The cell (its targets as the markers; its notes on stderr, not stdout),
+  // the free set and the truth.
+  SimulatedCellSetupOptions setup_options;
+  setup_options.cell_path = FLAGS_cell;
+  setup_options.robot_path = FLAGS_robot;
+  setup_options.chain.base_link = FLAGS_base_link;
+  setup_options.chain.tip_link = FLAGS_tip_link;
+  setup_options.targets_as_markers = FLAGS_frames.empty();
+  setup_options.parameter_set = FLAGS_parameter_set;
+  setup_options.cell = options;
+  SimulatedCellSetup setup;
+  const bool set_up = SetUpSimulatedCell(setup_options, &robot, &setup);
+  for (const std::string& note : setup.cell.notes) {
+    std::fprintf(stderr, "activecal_sim_cell: --cell: note: %s\n",
+                 note.c_str());
   }
-  RobotModel& model = robot.model;
-  const bool urdf = !FLAGS_robot.empty() && IsUrdfPath(FLAGS_robot);
-  if (urdf || !FLAGS_parameter_set.empty()) {
-    const JointLattice lattice = app::MakeLatticeOrDie(model, 3);
-    const Eigen::MatrixXd joints = lattice.AllJointValues();
-    // Several markers: the truth is every marker's, each measured at every
-    // pose (marker 0's alone held the others' offsets).
-    std::vector<uint32_t> every_marker;
-    if (model.num_markers() > 1) {
-      every_marker.assign(joints.rows(), EveryMarkerMask(model));
-    }
-    model =
-        WithFreeSet(model, app::ReducedParameterSetOrDie(
-                               model, urdf, joints,
-                               every_marker.empty() ? nullptr : &every_marker));
-  }
-  Eigen::VectorXd truth;
-  if (!MakeSimulatedCellTruth(model, robot.true_parameters, options, &truth,
-                              &error)) {
-    app::Fail("--" + error);
-  }
+  std::printf("%s", setup.log.c_str());
+  if (!set_up) app::Fail(setup.message);
+  const RobotModel& model = robot.model;
+  const Eigen::VectorXd& truth = setup.truth;
   // --listen's socket before --truth_out: a run that fails writes nothing.
   options.listen = FLAGS_listen;
-  SimulatedCell cell(model, truth, options, cell_setup.checker.get());
+  SimulatedCell cell(model, truth, options, setup.cell.checker.get());
   int status = 0;
   if (!cell.Run(
           STDIN_FILENO, g_protocol_out,
           [&] {
             if (FLAGS_truth_out.empty()) return;
-            RobotFileOptions file;
-            file.true_parameters = truth;
-            file.comment = "The robot of activecal_sim_cell --seed=" +
-                           std::to_string(FLAGS_seed) +
-                           " (nominal values and the cell's true values)";
-            app::WriteTextOrDie(FLAGS_truth_out,
-                                RobotFileText(model, model.nominal, file));
+            app::WriteTextOrDie(FLAGS_truth_out, SimulatedCellTruthText(
+                                                     model, truth, FLAGS_seed));
             app::CommitOutputsOrDie();  // read while the cell serves
           },
           &status, &error)) {
