@@ -26,6 +26,16 @@
 #include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
+constexpr char kUsage[] =
+    "The active calibration loop: a D-optimal first batch, then "
+    "task-optimal batches designed at each new estimate, until the "
+    "predicted task RMS meets --target_rms_m. Measured by a robot cell "
+    "(--driver, docs/driver_protocol.md) or simulated (--robot with "
+    "'true:' values; default the Sun & Hollerbach PUMA 560).\n"
+    "  activecal_active --target_rms_m=5e-5 --compare --json_out=loop.json\n"
+    "  activecal_active --driver=\"activecal_sim_cell --seed=7\" "
+    "--session=run1   (then --resume after a crash)";
+
 DEFINE_int32(levels, 4,
              "Lattice values per joint of the pool (and of the task: the "
              "robot works over the whole lattice).");
@@ -186,15 +196,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "The active calibration loop: a D-optimal first batch, then "
-      "task-optimal batches designed at each new estimate, until the "
-      "predicted task RMS meets --target_rms_m. Measured by a robot cell "
-      "(--driver, docs/driver_protocol.md) or simulated (--robot with "
-      "'true:' values; default the Sun & Hollerbach PUMA 560).\n"
-      "  activecal_active --target_rms_m=5e-5 --compare --json_out=loop.json\n"
-      "  activecal_active --driver=\"activecal_sim_cell --seed=7\" "
-      "--session=run1   (then --resume after a crash)");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

@@ -15,6 +15,19 @@
 #include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
+constexpr char kUsage[] =
+    "Compensates a robot program with a calibrated model: the joints at "
+    "which the real robot (--robot, calibrated) reaches what the program "
+    "meant (--nominal geometry placed with the calibrated base frame), the "
+    "smallest joint change inside the joint limits. Exit status 0: every "
+    "target converged; 2: some did not (each is written with its status); "
+    "1: bad input.\n  activecal_compensate --robot=calibrated.yaml "
+    "--nominal=data/puma560.yaml --poses_csv=program.csv "
+    "--out=compensated.csv --json_out=compensation.json\n  "
+    "activecal_compensate --robot=cal.urdf --tip_link=tool0 "
+    "--frames=frames.yaml --targets_csv=path.csv --match=pose "
+    "--out=path_joints.csv";
+
 DEFINE_string(nominal, "",
               "The nominal model the program was taught or computed with "
               "(YAML, or URDF with the same --base_link/--tip_link as "
@@ -146,18 +159,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Compensates a robot program with a calibrated model: the joints at "
-      "which the real robot (--robot, calibrated) reaches what the program "
-      "meant (--nominal geometry placed with the calibrated base frame), the "
-      "smallest joint change inside the joint limits. Exit status 0: every "
-      "target converged; 2: some did not (each is written with its status); "
-      "1: bad input.\n  activecal_compensate --robot=calibrated.yaml "
-      "--nominal=data/puma560.yaml --poses_csv=program.csv "
-      "--out=compensated.csv --json_out=compensation.json\n  "
-      "activecal_compensate --robot=cal.urdf --tip_link=tool0 "
-      "--frames=frames.yaml --targets_csv=path.csv --match=pose "
-      "--out=path_joints.csv");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

@@ -15,6 +15,15 @@
 #include "app_common.h"
 #include "gnuplot.h"
 
+constexpr char kUsage[] =
+    "Predicts every measurement of a measurements CSV with --robot as "
+    "given (no fitting) and reports the errors: position RMSE (norm and "
+    "per axis), mean, 95th percentile and max; orientation and distance "
+    "errors separately.\n  activecal_evaluate --robot=calibrated.yaml "
+    "--measurements=validation.csv --json_out=evaluation.json\n  "
+    "activecal_evaluate --robot=cal.urdf --tip_link=tool0 "
+    "--frames=frames.yaml --measurements=session2.csv";
+
 DEFINE_string(measurements, "",
               "Measurements CSV (docs/formats.md) to predict. Required.");
 DEFINE_string(points, "",
@@ -159,14 +168,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Predicts every measurement of a measurements CSV with --robot as "
-      "given (no fitting) and reports the errors: position RMSE (norm and "
-      "per axis), mean, 95th percentile and max; orientation and distance "
-      "errors separately.\n  activecal_evaluate --robot=calibrated.yaml "
-      "--measurements=validation.csv --json_out=evaluation.json\n  "
-      "activecal_evaluate --robot=cal.urdf --tip_link=tool0 "
-      "--frames=frames.yaml --measurements=session2.csv");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

@@ -23,6 +23,16 @@
 #include "app_common.h"
 #include "gnuplot.h"
 
+constexpr char kUsage[] =
+    "Identifies the free kinematic parameters of --robot (default: the Sun "
+    "& Hollerbach PUMA 560) from a measurements CSV, or from simulated "
+    "position measurements when none is given (Ceres, "
+    "Levenberg-Marquardt). Checks identifiability first, validates on "
+    "held-out measurements, and writes the calibrated model and a JSON "
+    "report.\n  activecal_identify --robot=data/puma560.yaml "
+    "--measurements=measurements.csv --validation_fraction=0.2 "
+    "--model_out=calibrated.yaml --json_out=report.json";
+
 DEFINE_string(measurements, "",
               "Measurements CSV (docs/formats.md): position, pose and "
               "distance rows, mixed freely. Empty: simulate --num_poses "
@@ -324,15 +334,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Identifies the free kinematic parameters of --robot (default: the Sun "
-      "& Hollerbach PUMA 560) from a measurements CSV, or from simulated "
-      "position measurements when none is given (Ceres, "
-      "Levenberg-Marquardt). Checks identifiability first, validates on "
-      "held-out measurements, and writes the calibrated model and a JSON "
-      "report.\n  activecal_identify --robot=data/puma560.yaml "
-      "--measurements=measurements.csv --validation_fraction=0.2 "
-      "--model_out=calibrated.yaml --json_out=report.json");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

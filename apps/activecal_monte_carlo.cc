@@ -15,6 +15,12 @@
 #include "activecal/calibration/monte_carlo_study.h"
 #include "app_common.h"
 
+constexpr char kUsage[] =
+    "Repeats the identification over many noise realisations on a fixed "
+    "design and compares the empirical covariance of the estimates with "
+    "the predicted sigma^2 (J^T J)^-1.\n  activecal_monte_carlo "
+    "--trials=1000 --noise_m=0.01 --json_out=monte_carlo.json";
+
 DEFINE_string(poses_csv, "",
               "The design: a poses CSV (e.g. from activecal_select). Empty: "
               "the exchange-add-exchange design of the 5-level lattice "
@@ -61,11 +67,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Repeats the identification over many noise realisations on a fixed "
-      "design and compares the empirical covariance of the estimates with "
-      "the predicted sigma^2 (J^T J)^-1.\n  activecal_monte_carlo "
-      "--trials=1000 --noise_m=0.01 --json_out=monte_carlo.json");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

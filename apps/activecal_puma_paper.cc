@@ -22,6 +22,12 @@
 #include "activecal/calibration/paper_example.h"
 #include "app_common.h"
 
+constexpr char kUsage[] =
+    "Reproduces Section V of Sun & Hollerbach, 'Active Robot Calibration "
+    "Algorithm', end to end on the PUMA 560 and prints the results beside "
+    "the paper's figures. Writes CSV/JSON for Figs. 2-6 to --out_dir.\n"
+    "  activecal_puma_paper --seed=1";
+
 DEFINE_uint64(seed, 1,
               "Seed of the random designs, the initial design and "
               "the measurement noise.");
@@ -89,11 +95,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Reproduces Section V of Sun & Hollerbach, 'Active Robot Calibration "
-      "Algorithm', end to end on the PUMA 560 and prints the results beside "
-      "the paper's figures. Writes CSV/JSON for Figs. 2-6 to --out_dir.\n"
-      "  activecal_puma_paper --seed=1");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

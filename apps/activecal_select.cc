@@ -27,6 +27,16 @@
 #include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
+constexpr char kUsage[] =
+    "Selects calibration poses from a lattice of joint values (or a pool "
+    "read from CSV), maximising det(X^T X) of the measurement Jacobian at "
+    "the nominal parameters, or (--criterion=task_rms) minimising the "
+    "predicted RMS position error over the task poses; --target_rms_m "
+    "finds the fewest poses meeting a target, --measured_csv counts the "
+    "poses already measured. The robot is --robot (default: the Sun & "
+    "Hollerbach PUMA 560).\n  activecal_select --algorithm=fedorov "
+    "--seed=1 --json_out=design.json --poses_csv=poses.csv";
+
 DEFINE_int32(levels, activecal::defaults::kLevels,
              "Lattice values per joint, both range ends included (>= 2). "
              "The pool has levels^(number of joints) poses.");
@@ -327,15 +337,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Selects calibration poses from a lattice of joint values (or a pool "
-      "read from CSV), maximising det(X^T X) of the measurement Jacobian at "
-      "the nominal parameters, or (--criterion=task_rms) minimising the "
-      "predicted RMS position error over the task poses; --target_rms_m "
-      "finds the fewest poses meeting a target, --measured_csv counts the "
-      "poses already measured. The robot is --robot (default: the Sun & "
-      "Hollerbach PUMA 560).\n  activecal_select --algorithm=fedorov "
-      "--seed=1 --json_out=design.json --poses_csv=poses.csv");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }

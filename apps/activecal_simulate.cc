@@ -21,6 +21,16 @@
 #include "activecal/io/robot_loader.h"
 #include "app_common.h"
 
+constexpr char kUsage[] =
+    "Writes the measurements a device would report at the poses of a "
+    "poses CSV, from the true values of --robot (default: the Sun & "
+    "Hollerbach PUMA 560, Table I) plus Gaussian noise.\n"
+    "  activecal_simulate --robot=data/puma560.yaml --poses_csv=poses.csv "
+    "--noise_m=0.01 --seed=1 --out=measurements.csv\n"
+    "  activecal_simulate --robot=data/ur10e.urdf --tip_link=tool0 "
+    "--poses_csv=poses.csv --perturb_m=0.001 --perturb_rad=0.001 "
+    "--seed=1 --true_model_out=true.yaml --out=measurements.csv";
+
 DEFINE_string(poses_csv, "",
               "Poses to measure (a poses CSV, e.g. from activecal_select "
               "--poses_csv). Required.");
@@ -149,15 +159,5 @@ int Main() {
 }  // namespace activecal
 
 int main(int argc, char** argv) {
-  activecal::app::Init(
-      &argc, &argv,
-      "Writes the measurements a device would report at the poses of a "
-      "poses CSV, from the true values of --robot (default: the Sun & "
-      "Hollerbach PUMA 560, Table I) plus Gaussian noise.\n"
-      "  activecal_simulate --robot=data/puma560.yaml --poses_csv=poses.csv "
-      "--noise_m=0.01 --seed=1 --out=measurements.csv\n"
-      "  activecal_simulate --robot=data/ur10e.urdf --tip_link=tool0 "
-      "--poses_csv=poses.csv --perturb_m=0.001 --perturb_rad=0.001 "
-      "--seed=1 --true_model_out=true.yaml --out=measurements.csv");
-  return activecal::app::Finish(activecal::Main());
+  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
 }
