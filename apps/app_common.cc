@@ -277,22 +277,6 @@ void WriteJsonOrDie(const std::string& path, const nlohmann::json& json) {
   WriteTextOrDie(path, json.dump(2) + "\n");
 }
 
-JointLattice MakeLatticeOrDie(const RobotModel& model, int levels,
-                              MeasurementType type) {
-  JointLattice lattice;
-  std::string error;
-  if (!JointLattice::Create(model, levels, &lattice, &error)) {
-    Fail("--levels=" + std::to_string(levels) + ": " + error);
-  }
-  if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
-    Fail("--levels=" + std::to_string(levels) + ": " + error);
-  }
-  for (const std::string& note : lattice.OneTurnNotes(model)) {
-    std::printf("note: %s\n", note.c_str());
-  }
-  return lattice;
-}
-
 CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
                          RobotDescription* robot,
                          const std::string& collision_fallback) {
@@ -346,53 +330,6 @@ RobotDescription LoadRobotOrDie() {
                 robot.model.num_joints(), names.c_str());
   }
   return robot;
-}
-
-CandidatePool BuildPoolOrDie(const RobotModel& model,
-                             const Eigen::MatrixXd& joints,
-                             CandidatePoolOptions options,
-                             const std::string& what, double* seconds,
-                             std::vector<std::string>* fixed) {
-  ProgressLine line("Jacobians of the pool poses");
-  options.progress = line.callback();
-  CandidatePool pool;
-  CandidatePoolSummary summary;
-  if (!BuildCandidatePool(model, model.nominal, joints, options, &pool,
-                          &summary)) {
-    if (options.check_identifiability &&
-        !summary.identifiability.identifiable() &&
-        summary.identifiability.num_free > 0) {
-      FailUnidentifiable(summary.identifiability, what, options.auto_fix);
-    }
-    Fail(summary.message);
-  }
-  NoteAutoFixed(HeldNames(summary.held), summary.num_free_before, what,
-                "--auto_fix");
-  if (seconds) *seconds = summary.jacobian_seconds;
-  if (fixed) *fixed = HeldNames(summary.held);
-  return pool;
-}
-
-void FailUnidentifiable(const IdentifiabilityReport& report,
-                        const std::string& what, bool auto_fix) {
-  if (auto_fix || report.num_equations < report.num_free) {
-    Fail(what + ": " + report.Message());
-  }
-  Fail(what + ": " + report.Message() +
-       ". Fix them in the robot file (remove them from 'free') or pass "
-       "--auto_fix");
-}
-
-void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
-                   const std::string& what, const std::string& label) {
-  if (fixed.empty()) return;
-  std::string list;
-  for (const std::string& f : fixed) list += (list.empty() ? "" : ", ") + f;
-  // On stdout: a note, not an error (stderr keeps one line for errors).
-  std::cout << g_program << ": " << label << ": " << what << " cannot identify "
-            << fixed.size() << " of " << num_free_before
-            << " free parameters; holding them at their nominal values: "
-            << list << std::endl;
 }
 
 // kProgressAfterNs, or ACTIVECAL_PROGRESS_AFTER_S (seconds, >= 0) when set:

@@ -166,31 +166,6 @@ void CommitOutputsOrDie();
 // The end of main: commits the pending outputs and returns `status`.
 int Finish(int status);
 
-// The lattice over the model with `levels` values per joint, its one-turn
-// joints noted on stdout. Dies with a message on bad input or when a pool
-// of `type` measurements over it cannot fit in memory
-// (CheckSelectionPoolSize).
-JointLattice MakeLatticeOrDie(
-    const RobotModel& model, int levels,
-    MeasurementType type = MeasurementType::kPosition);
-
-// BuildCandidatePool with a progress line, the identifiability check on
-// (options->check_identifiability) and auto_fix as given; fails naming the
-// unidentifiable combinations ("<what>: ...") and prints the --auto_fix
-// note on stderr. *fixed (may be null): the parameters held fixed.
-CandidatePool BuildPoolOrDie(const RobotModel& model,
-                             const Eigen::MatrixXd& joints,
-                             CandidatePoolOptions options,
-                             const std::string& what, double* seconds,
-                             std::vector<std::string>* fixed);
-
-// Prints (for a failed identifiability check) or notes on stderr (for
-// --auto_fix) what the library reported.
-[[noreturn]] void FailUnidentifiable(const IdentifiabilityReport& report,
-                                     const std::string& what, bool auto_fix);
-void NoteAutoFixed(const std::vector<std::string>& fixed, int num_free_before,
-                   const std::string& what, const std::string& label);
-
 // A progress line on stderr, "<program>: <label>: 12288/15625 (41000/s,
 // 0.1 s left)", once the step has taken kProgressAfterNs (2 s: a short
 // step prints nothing), flushed as it is written: on a terminal rewritten
@@ -243,21 +218,6 @@ ProgramRequest ProgramRequestOrDie(const RobotModel& model,
 // one line saying so.
 void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
                        const PoseList& poses, const std::string& comment);
-
-// The free set of --parameter_set (ParameterSetOrDie) on `model`, reduced
-// to what position measurements at the rows of `joints` separate
-// (ReduceForPool, calibration/pool_reduction.h: at most 2,000 of them,
-// evenly spaced). seen_masks: null, marker 0 at every pose; otherwise
-// the markers seen at each row (a cell's targets_seen). Prints the
-// parameters held fixed; dies when nothing is left to identify. point:
-// when not null, the analysis point (PoolReduction::point: the nominal, a
-// marker at the tip frame's origin moved to a generic point ~1 mm away),
-// where the kept set is separated: linearise there (a design at the exact
-// nominal can be singular for it). (app_parameter_set.cc)
-FreeSet ReducedParameterSetOrDie(
-    const RobotModel& model, bool urdf_robot, const Eigen::MatrixXd& joints,
-    const std::vector<uint32_t>* seen_masks = nullptr,
-    Eigen::VectorXd* point = nullptr);
 
 }  // namespace app
 }  // namespace activecal

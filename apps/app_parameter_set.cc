@@ -3,7 +3,7 @@
 
 // --parameter_set and the function that reads it. A file of its own: the
 // programs link activecal_app_common as a static library, so only those
-// that call ParameterSetOrDie or ReducedParameterSetOrDie have (and list in
+// that call ParameterSetOrDie have (and list in
 // --help) the flag.
 
 #include <gflags/gflags.h>
@@ -13,7 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "activecal/calibration/pool_reduction.h"
 #include "app_common.h"
 
 DEFINE_string(parameter_set, "",
@@ -35,26 +34,6 @@ ParameterSet ParameterSetOrDie(bool urdf_robot) {
          FLAGS_parameter_set + "'");
   }
   return set;
-}
-
-FreeSet ReducedParameterSetOrDie(const RobotModel& model, bool urdf_robot,
-                                 const Eigen::MatrixXd& joints,
-                                 const std::vector<uint32_t>* seen_masks,
-                                 Eigen::VectorXd* point) {
-  const ParameterSet set = ParameterSetOrDie(urdf_robot);
-  PoolReductionOptions options;
-  options.evenly_spaced = true;
-  PoolReduction reduction;
-  if (!ReduceForPool(model, set, joints, seen_masks, options, &reduction)) {
-    Fail("--parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
-         reduction.message);
-  }
-  for (const HeldParameter& d : reduction.held) {
-    std::printf("  --parameter_set=%s: %s held fixed: %s\n",
-                ParameterSetToString(set), d.name.c_str(), d.reason.c_str());
-  }
-  if (point != nullptr) *point = reduction.point;
-  return reduction.free;
 }
 
 }  // namespace app
