@@ -143,11 +143,7 @@ int Main() {
   }
   // The pool (with a cell its checks, once), and a named parameter set
   // reduced to what the poses the loop may design separate.
-  options.stage_progress = [](const std::string& stage) {
-    auto line = std::make_shared<app::ProgressLine>(stage);
-    return ProgressCallback(
-        [line](int64_t done, int64_t total) { line->Update(done, total); });
-  };
+  options.stage_progress = app::StageProgressLines();
   ActivePool pool;
   const bool pool_ok =
       MakeActivePool(robot.model, robot.true_parameters,

@@ -46,11 +46,7 @@ int Main() {
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
   options.program_name = app::ProgramName();
-  options.progress = [](const std::string& stage) {
-    auto line = std::make_shared<app::ProgressLine>(stage);
-    return ProgressCallback(
-        [line](int64_t done, int64_t total) { line->Update(done, total); });
-  };
+  options.progress = app::StageProgressLines();
   MonteCarloStudySummary summary;
   const bool ok =
       RunMonteCarloStudy(robot.model, robot.true_parameters, options, &summary);

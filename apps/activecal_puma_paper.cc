@@ -67,11 +67,7 @@ int Main() {
   options.num_threads = FLAGS_threads;
   options.out_dir = FLAGS_out_dir;
   options.program_name = app::ProgramName();
-  options.progress = [](const std::string& stage) {
-    auto line = std::make_shared<app::ProgressLine>(stage);
-    return ProgressCallback(
-        [line](int64_t done, int64_t total) { line->Update(done, total); });
-  };
+  options.progress = app::StageProgressLines();
   PaperExampleSummary summary;
   const bool ok = ReproducePaperExample(robot.model, robot.true_parameters,
                                         options, &summary);

@@ -301,11 +301,7 @@ int Main() {
   options.chain.tip_link = FLAGS_tip_link;
   options.rejected_csv = !FLAGS_rejected_csv.empty();
   options.program_name = app::ProgramName();
-  options.progress = [](const std::string& stage) {
-    auto line = std::make_shared<app::ProgressLine>(stage);
-    return ProgressCallback(
-        [line](int64_t done, int64_t total) { line->Update(done, total); });
-  };
+  options.progress = app::StageProgressLines();
 
   SelectSummary summary;
   const bool ok = Select(model, options, &summary);

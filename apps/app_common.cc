@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -393,6 +394,14 @@ void ProgressLine::Update(int64_t done, int64_t total) {
     std::cerr << line << std::endl;
   }
   printed_ = true;
+}
+
+std::function<ProgressCallback(const std::string& stage)> StageProgressLines() {
+  return [](const std::string& stage) {
+    auto line = std::make_shared<ProgressLine>(stage);
+    return ProgressCallback(
+        [line](int64_t done, int64_t total) { line->Update(done, total); });
+  };
 }
 
 int64_t NowNs() {

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -196,6 +197,11 @@ class ProgressLine {
   bool printed_ = false;
   bool finished_ = false;
 };
+
+// For the library's stage progress options (SelectOptions::progress,
+// PaperExampleOptions::progress, ...): each stage its own ProgressLine,
+// labelled with the stage's name, living as long as its callback.
+std::function<ProgressCallback(const std::string& stage)> StageProgressLines();
 
 double Seconds(int64_t start_ns);
 int64_t NowNs();
