@@ -137,6 +137,42 @@ TEST(CompensateTest, InMemoryProgramAndTargetsNeedNoFiles) {
   EXPECT_EQ(summary.labels, (std::vector<int64_t>{5, 1}));
   EXPECT_FALSE(summary.has_correction);
 
+  // With a nominal file (the size of the correction) the in-memory targets
+  // are still what is compensated (the reviewer: the joint branch ran on an
+  // empty joint_program and reported success).
+  options.nominal_path = std::string(ACTIVECAL_DATA_DIR) + "/puma560.yaml";
+  Compensate(robot, options, &summary);
+  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
+      << summary.message;
+  EXPECT_EQ(summary.labels, (std::vector<int64_t>{5, 1}));
+  EXPECT_EQ(summary.compensation.results.size(), 2u);
+  EXPECT_TRUE(summary.has_correction);
+  options.nominal_path.clear();
+
+  // Shapes the file readers would refuse: one line each, no solve.
+  CompensateOptions bad = options;
+  bad.targets.points.resize(2, 2);
+  Compensate(robot, bad, &summary);
+  EXPECT_EQ(summary.message,
+            "targets.points: expected (n >= 1, 3) points, got (2, 2)");
+  bad = options;
+  bad.targets.start_joints.resize(2, 5);
+  Compensate(robot, bad, &summary);
+  EXPECT_EQ(summary.message,
+            "targets.start_joints: expected (2, 6) or none, got (2, 5)");
+  bad = options;
+  bad.compensation.ik.match = IkMatch::kPose;
+  Compensate(robot, bad, &summary);
+  EXPECT_EQ(summary.message,
+            "match=pose needs the target orientations "
+            "(targets.rotation_vectors)");
+  bad = options;
+  bad.nominal_model = &robot.model;
+  bad.joint_program.resize(3, 4);
+  Compensate(robot, bad, &summary);
+  EXPECT_EQ(summary.message,
+            "joint_program: expected (n >= 1, 6) joint values, got (3, 4)");
+
   // In memory and a file: not exactly one program.
   options.poses_csv = "program.csv";
   Compensate(robot, options, &summary);

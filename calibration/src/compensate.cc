@@ -237,14 +237,66 @@ bool Run(const RobotDescription& robot, const CompensateOptions& given,
     meaning = ProgramMeaningParameters(model, model.nominal, *nominal_model,
                                        nominal_model->nominal);
   }
+  // In memory: the shapes the file readers would have checked.
+  const int n_joints = model.num_joints();
+  if (options.in_memory && options.nominal_model != nullptr) {
+    if (!CheckSameChain(model, *options.nominal_model, &error)) {
+      return Fail("the robot and nominal_model: " + error, s);
+    }
+    if (options.joint_program.rows() == 0 ||
+        options.joint_program.cols() != n_joints) {
+      return Fail("joint_program: expected (n >= 1, " +
+                      std::to_string(n_joints) + ") joint values, got (" +
+                      std::to_string(options.joint_program.rows()) + ", " +
+                      std::to_string(options.joint_program.cols()) + ")",
+                  s);
+    }
+  } else if (options.in_memory) {
+    const TargetList& t = options.targets;
+    const int64_t n = t.points.rows();
+    const auto shape = [](const Eigen::MatrixXd& m) {
+      return "(" + std::to_string(m.rows()) + ", " + std::to_string(m.cols()) +
+             ")";
+    };
+    if (n == 0 || t.points.cols() != 3) {
+      return Fail(
+          "targets.points: expected (n >= 1, 3) points, got " + shape(t.points),
+          s);
+    }
+    if (t.rotation_vectors.rows() != 0 &&
+        (t.rotation_vectors.rows() != n || t.rotation_vectors.cols() != 3)) {
+      return Fail("targets.rotation_vectors: expected (" + std::to_string(n) +
+                      ", 3) or none, got " + shape(t.rotation_vectors),
+                  s);
+    }
+    if (t.start_joints.rows() != 0 &&
+        (t.start_joints.rows() != n || t.start_joints.cols() != n_joints)) {
+      return Fail("targets.start_joints: expected (" + std::to_string(n) +
+                      ", " + std::to_string(n_joints) + ") or none, got " +
+                      shape(t.start_joints),
+                  s);
+    }
+    if (static_cast<int64_t>(t.pose_indices.size()) > n) {
+      return Fail("targets.pose_indices: more labels than points", s);
+    }
+    if (compensation.ik.match == IkMatch::kPose &&
+        t.rotation_vectors.rows() == 0) {
+      return Fail(
+          "match=pose needs the target orientations "
+          "(targets.rotation_vectors)",
+          s);
+    }
+  }
   CompensationSummary& summary = s->compensation;
-  if (options.in_memory && nominal_model) {
+  // The program is in memory as joints only with options.nominal_model: a
+  // nominal_path with in-memory targets is the size of the correction.
+  if (options.in_memory && options.nominal_model != nullptr) {
     s->starts = options.joint_program;
     for (int64_t i = 0; i < options.joint_program.rows(); ++i) {
       s->labels.push_back(i);
     }
-    CompensateProgram(model, model.nominal, *nominal_model,
-                      nominal_model->nominal, options.joint_program,
+    CompensateProgram(model, model.nominal, *options.nominal_model,
+                      options.nominal_model->nominal, options.joint_program,
                       compensation, &summary);
   } else if (options.in_memory) {
     s->labels = options.targets.pose_indices;
