@@ -564,7 +564,7 @@ void BindMeasurements(py::module_& m);  // measurements_files.cc: Measurements,
                                         // the CSV readers/writers, simulate
 void BindDesign(py::module_& m);        // design.cc: Design, select
 void BindIdentify(py::module_& m);      // identify.cc: Estimate, identify,
-                                    // evaluate, iso9283
+                                        // evaluate, iso9283
 void BindCompensate(py::module_& m);  // compensate.cc: Compensation, compensate
 // export.cc: Estimate.write_urdf, write_frames, write_ros_frames and
 // read_ros_frames, added to the module's classes.
