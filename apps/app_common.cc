@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <gflags/gflags.h>
 #include <glog/logging.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -146,14 +147,32 @@ extern "C" void RemoveTemporariesAndDie(int signal_number) {
   std::raise(signal_number);
 }
 
+// Installs RemoveTemporariesAndDie for the three signals, each blocking the
+// others while it runs (one handler at a time), where the signal is not
+// ignored: the disposition is looked at first, so an ignored signal is never
+// caught, not even for an instant.
+void InstallTemporaryRemoval() {
+  constexpr int kSignals[] = {SIGTERM, SIGINT, SIGHUP};
+  struct sigaction action = {};
+  action.sa_handler = RemoveTemporariesAndDie;
+  sigemptyset(&action.sa_mask);
+  for (const int signal_number : kSignals) {
+    sigaddset(&action.sa_mask, signal_number);
+  }
+  for (const int signal_number : kSignals) {
+    struct sigaction current = {};
+    if (sigaction(signal_number, nullptr, &current) != 0 ||
+        current.sa_handler == SIG_IGN) {
+      continue;
+    }
+    sigaction(signal_number, &action, nullptr);
+  }
+}
+
 }  // namespace
 
 void Init(int* argc, char*** argv, const char* usage) {
-  for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) {
-    if (std::signal(signal_number, RemoveTemporariesAndDie) == SIG_IGN) {
-      std::signal(signal_number, SIG_IGN);
-    }
-  }
+  InstallTemporaryRemoval();
   g_program = (*argv)[0];
   const size_t slash = g_program.rfind('/');
   if (slash != std::string::npos) g_program = g_program.substr(slash + 1);

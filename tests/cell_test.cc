@@ -413,6 +413,34 @@ TEST(CellCheckTest, MocapNeedsMinCamerasAndCameraIntrinsics) {
   EXPECT_NE(left, right);
 }
 
+// The device's eyes come from the device itself: a cell made in code is
+// checked as a read one is (then named by field alone), a read one names
+// the file position of its device.
+TEST(CellFileTest, DeviceEyesComeFromTheDevice) {
+  Cell made;
+  EXPECT_TRUE(DeviceEyes(made).empty());
+  made.has_device = true;
+  made.device.type = DeviceType::kMocap;
+  made.device.cameras.resize(2);
+  made.device.cameras[1].position = Eigen::Vector3d(1, 2, 3);
+  const std::vector<Cell::Eye> mocap = DeviceEyes(made);
+  ASSERT_EQ(mocap.size(), 2u);
+  EXPECT_EQ(mocap[1].position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(mocap[1].field, "device.cameras[1].xyz_m");
+  EXPECT_EQ(mocap[1].where, "device.cameras[1].xyz_m");
+  made.device.type = DeviceType::kLaserTracker;
+  made.device.position = Eigen::Vector3d(2.2, 0.4, 0.9);
+  ASSERT_EQ(DeviceEyes(made).size(), 1u);
+  EXPECT_EQ(DeviceEyes(made)[0].position, made.device.position);
+
+  const Cell read = ParseCellOrDie(
+      "device: {type: laser_tracker, xyz_m: [2.2, 0.4, 0.9]}\n"
+      "targets:\n"
+      "  - {xyz_m: [0, 0, 0.06], normal: [0, 0, 1], acceptance_deg: 30}\n");
+  ASSERT_EQ(DeviceEyes(read).size(), 1u);
+  EXPECT_EQ(DeviceEyes(read)[0].where, "cell.yaml:1:9: device.xyz_m");
+}
+
 // ---------------------------------------------------------------------
 // The UR10e of data/ with its collision geometry.
 

@@ -302,6 +302,13 @@ TEST(DriverClientTest, ADriverOverTcp) {
   options.driver = "tcp://nohost";
   EXPECT_FALSE(DriverClient::Start(options, TwoJoints(), &client, &error));
   EXPECT_NE(error.find("is not tcp://HOST:PORT"), std::string::npos) << error;
+  for (const char* bad : {"tcp://127.0.0.1:0", "tcp://127.0.0.1:70000",
+                          "tcp://127.0.0.1:99999999999"}) {
+    options.driver = bad;
+    EXPECT_FALSE(DriverClient::Start(options, TwoJoints(), &client, &error));
+    EXPECT_NE(error.find("the port must be in 1..65535"), std::string::npos)
+        << error;
+  }
 }
 
 // Writing to a driver that has gone is an error, never a SIGPIPE, and the
@@ -719,6 +726,29 @@ std::vector<std::string> ServeSimulatedCell(
   return lines;
 }
 
+// The hello names the program and the robot as JSON strings, whatever
+// characters the names hold (a quote or a backslash stays in the string).
+TEST(SimulatedCellTest, HelloNamesTheProgramAsAJsonString) {
+  const RobotModel model = Puma560PaperModel();
+  DriverHello hello;
+  for (const Link& link : model.links) hello.joint_names.push_back(link.name);
+  hello.robot = model.name;
+  SimulatedCellOptions options;
+  options.program_name = R"(my "cell" \ 2)";
+  options.seed = 7;
+  int status = -1;
+  bool served = false;
+  const std::vector<std::string> lines = ServeSimulatedCell(
+      options, {HelloMessage(hello), ByeMessage()}, &status, &served);
+  ASSERT_EQ(lines.size(), 1u);
+  std::string error;
+  EXPECT_TRUE(ParseDriverHello(lines[0], &error)) << error;
+  EXPECT_NE(lines[0].find(R"("driver":"my \"cell\" \\ 2")"), std::string::npos)
+      << lines[0];
+  EXPECT_NE(lines[0].find(R"("seed":7)"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[0].find("\"about\""), std::string::npos) << lines[0];
+}
+
 TEST(SimulatedCellTest, AnswersArePerPoseAndTheCellDiesOnDemand) {
   const RobotModel model = Puma560PaperModel();
   DriverHello hello;
@@ -840,6 +870,15 @@ TEST(SimulatedCellTest, OptionsAndListenAddressesAreChecked) {
   EXPECT_EQ(port, 0);
   EXPECT_FALSE(ParseListenAddress("host:", &host, &port, &error));
   EXPECT_EQ(error, "must be PORT or HOST:PORT, got 'host:'");
+  // 16 bits: the last port, then one past it, one that wraps to 4464
+  // modulo 65536, and one beyond an int are refused by name.
+  ASSERT_TRUE(ParseListenAddress("65535", &host, &port, &error));
+  EXPECT_EQ(port, 65535);
+  for (const char* bad : {"65536", "70000", "localhost:99999999999"}) {
+    EXPECT_FALSE(ParseListenAddress(bad, &host, &port, &error)) << bad;
+    EXPECT_EQ(error.rfind("the port must be in 0..65535, got '", 0), 0u)
+        << error;
+  }
 
   // No true values and no perturbation: nothing to simulate from.
   const RobotModel model = Puma560PaperModel();

@@ -303,6 +303,14 @@ TEST(EvaluateTest, BeforeAfterPositionErrorsLeaveOutDistanceRows) {
   EXPECT_NEAR(rows[0][1], 1.0, 1e-12);
   EXPECT_NEAR(rows[1][0], 2.0, 1e-12);
   EXPECT_NEAR(rows[1][1], 0.0, 1e-12);
+  // A summary of other measurements (one error short): refused, no rows.
+  summary.after.position_errors.pop_back();
+  EXPECT_FALSE(
+      BeforeAfterPositionErrorsMm(measurements, summary, &rows, &error));
+  EXPECT_EQ(error,
+            "the errors before (3) and after (2) are not one per "
+            "measurement (3)");
+  EXPECT_TRUE(rows.empty());
 }
 
 TEST(EvaluateTest, HistogramScriptAndNoFramesNote) {

@@ -13,6 +13,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +22,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace activecal {
 namespace {
@@ -256,6 +260,35 @@ TEST(OutputSetTest, AProcessKilledBeforeItsCommitLeavesTheOldFilesOnly) {
   EXPECT_EQ(Read(dir + "/a.csv"), "old a");
   close(ready[0]);
   close(ready[1]);
+}
+
+// A handler's RemoveOwnTemporaries runs while other threads track and
+// untrack: it removes only paths that were tracked, never one read half
+// from the old path of a slot and half from the new (every such mixture
+// exists as a file here and must survive).
+TEST(OutputSetTest, RemoveOwnTemporariesNeverReadsAPathHalfRewritten) {
+  const std::string dir = MakeFolder("torn");
+  const std::string a(6, 'a'), b(6, 'b');
+  std::vector<std::string> mixtures;
+  for (int bits = 1; bits < 63; ++bits) {
+    std::string name;
+    for (int k = 0; k < 6; ++k) name += (bits >> k & 1) ? 'b' : 'a';
+    mixtures.push_back(name);
+    Write(dir + "/" + name, "keep");
+  }
+  std::atomic<bool> stop{false};
+  std::thread tracker([&] {
+    for (int k = 0; !stop.load(); ++k) {
+      const TrackedTemporary temporary(dir + "/" + (k % 2 ? b : a));
+    }
+  });
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  while (std::chrono::steady_clock::now() < end) RemoveOwnTemporaries();
+  stop = true;
+  tracker.join();
+  for (const std::string& name : mixtures) {
+    EXPECT_EQ(Read(dir + "/" + name), "keep") << name;
+  }
 }
 
 }  // namespace

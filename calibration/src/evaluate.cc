@@ -473,7 +473,17 @@ bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
         "none (distances only)";
     return false;
   }
-  for (size_t i = 0; i < summary.after.position_errors.size(); ++i) {
+  const size_t n = measurements.size();
+  if (summary.before.position_errors.size() != n ||
+      summary.after.position_errors.size() != n) {
+    *error = "the errors before (" +
+             std::to_string(summary.before.position_errors.size()) +
+             ") and after (" +
+             std::to_string(summary.after.position_errors.size()) +
+             ") are not one per measurement (" + std::to_string(n) + ")";
+    return false;
+  }
+  for (size_t i = 0; i < n; ++i) {
     // A distance row has no position error (stored as zero): not a 0 mm
     // bar in the histogram.
     if (measurements[i].type == MeasurementType::kDistance) continue;

@@ -129,7 +129,9 @@ bool SimulateAtPoses(const RobotDescription& robot,
     int identical = -1;
     if (!SimulationPlan(joints, type, &plan, &identical)) {
       if (identical < 0) {
-        return Fail("--type=distance needs at least 2 poses, got 1", summary);
+        return Fail(
+            "--type=distance needs at least 2 poses, got " + std::to_string(n),
+            summary);
       }
       return Fail("--type=distance: poses " + std::to_string(identical + 1) +
                       " and " + std::to_string(identical + 2) + " of " +

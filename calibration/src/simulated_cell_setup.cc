@@ -39,7 +39,9 @@ bool SetUpSimulatedCell(const SimulatedCellSetupOptions& options,
     if (!JointLattice::Create(model, 3, &lattice, &error) ||
         !CheckSelectionPoolSize(lattice.size(), model,
                                 MeasurementType::kPosition, &error)) {
-      setup->message = "--levels=3: " + error;
+      // sim_cell has no --levels: the lattice is its own.
+      setup->message =
+          "the 3-level joint lattice the free set is reduced over: " + error;
       return false;
     }
     for (const std::string& note : lattice.OneTurnNotes(model)) {

@@ -155,23 +155,10 @@ class CellParser : public internal::YamlReader {
     }
     // The device must see from outside every obstacle.
     if (cell->has_device) {
-      const CellDevice& d = cell->device;
       const YAML::Mark mark = root["device"].Mark();
-      auto eye = [&](const Eigen::Vector3d& position,
-                     const std::string& field) {
-        cell->device_eyes.push_back({position, field, Where(mark, field)});
-      };
-      if (d.type == DeviceType::kLaserTracker) {
-        eye(d.position, "device.xyz_m");
-      } else if (d.type == DeviceType::kCamera) {
-        eye(d.cameras[0].position, "device.xyz_m");
-      } else {
-        for (size_t c = 0; c < d.cameras.size(); ++c) {
-          eye(d.cameras[c].position,
-              "device.cameras[" + std::to_string(c) + "].xyz_m");
-        }
-      }
-      for (const Cell::Eye& e : cell->device_eyes) {
+      cell->device_where = source_ + ":" + std::to_string(mark.line + 1) + ":" +
+                           std::to_string(mark.column + 1);
+      for (const Cell::Eye& e : DeviceEyes(*cell)) {
         for (const Obstacle& o : cell->obstacles) {
           if (PointInsideObstacle(o, e.position)) {
             return Fail(mark, e.field,
@@ -652,6 +639,28 @@ bool ParseCellFile(const std::string& text, const std::string& source,
     return false;
   }
   return true;
+}
+
+std::vector<Cell::Eye> DeviceEyes(const Cell& cell) {
+  std::vector<Cell::Eye> eyes;
+  if (!cell.has_device) return eyes;
+  const CellDevice& d = cell.device;
+  auto eye = [&](const Eigen::Vector3d& position, const std::string& field) {
+    eyes.push_back(
+        {position, field,
+         cell.device_where.empty() ? field : cell.device_where + ": " + field});
+  };
+  if (d.type == DeviceType::kLaserTracker) {
+    eye(d.position, "device.xyz_m");
+  } else if (d.type == DeviceType::kCamera) {
+    if (!d.cameras.empty()) eye(d.cameras[0].position, "device.xyz_m");
+  } else {
+    for (size_t c = 0; c < d.cameras.size(); ++c) {
+      eye(d.cameras[c].position,
+          "device.cameras[" + std::to_string(c) + "].xyz_m");
+    }
+  }
+  return eyes;
 }
 
 bool LoadCellFile(const std::string& path, Cell* cell, std::string* error) {

@@ -155,10 +155,11 @@ bool SetUpCell(const CellSetupOptions& options, RobotDescription* robot,
   }
   // The device must see from outside the robot's fixed links too (frame 0:
   // they never move out of its way).
+  const std::vector<Cell::Eye> eyes = DeviceEyes(setup->cell);
   for (const CollisionBody& body : setup->collision.bodies) {
     if (body.frame != 0) continue;
     for (const CollisionShape& shape : body.shapes) {
-      for (const Cell::Eye& eye : setup->cell.device_eyes) {
+      for (const Cell::Eye& eye : eyes) {
         const Eigen::Vector3d in_body =
             body.in_frame.rotation.transpose() *
             (eye.position - body.in_frame.translation);

@@ -23,6 +23,8 @@
 #include <limits>
 #include <thread>
 
+#include "activecal/io/sigpipe_block.h"
+
 extern char** environ;
 
 namespace activecal {
@@ -36,33 +38,14 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// write(2) that cannot raise SIGPIPE: the signal is blocked in this thread
-// for the write, and one the write raised is taken off the pending set (one
-// pending before is left), so a driver that has gone is an EPIPE while the
-// process's disposition of SIGPIPE stays its own (activecal_active | head
-// still ends activecal when head exits). The write may also return a part
-// written and raise SIGPIPE (the reader left during it): what is pending
-// after it is looked at, whatever it returned.
+// write(2) that cannot raise SIGPIPE (SigpipeBlock): a driver that has gone
+// is an EPIPE while the process's disposition of SIGPIPE stays its own
+// (activecal_active | head still ends activecal when head exits). The write
+// may also return a part written and raise SIGPIPE (the reader left during
+// it): the block takes it off whatever the write returned.
 ssize_t WriteWithoutSigpipe(int fd, const char* data, size_t size) {
-  sigset_t sigpipe, old, pending;
-  sigemptyset(&sigpipe);
-  sigaddset(&sigpipe, SIGPIPE);
-  sigemptyset(&pending);
-  sigpending(&pending);
-  const bool was_pending = sigismember(&pending, SIGPIPE) == 1;
-  pthread_sigmask(SIG_BLOCK, &sigpipe, &old);
-  const ssize_t n = write(fd, data, size);
-  const int saved = errno;
-  sigemptyset(&pending);
-  sigpending(&pending);
-  if (!was_pending && sigismember(&pending, SIGPIPE) == 1) {
-    const timespec zero{0, 0};
-    while (sigtimedwait(&sigpipe, nullptr, &zero) < 0 && errno == EINTR) {
-    }
-  }
-  pthread_sigmask(SIG_SETMASK, &old, nullptr);
-  errno = saved;
-  return n;
+  const SigpipeBlock block;
+  return write(fd, data, size);
 }
 
 // Milliseconds for poll(2), at most INT_MAX.
@@ -239,6 +222,12 @@ bool ConnectTcp(const std::string& spec, double timeout_s,
       port.find_first_not_of("0123456789") != std::string::npos) {
     *error = "--driver: '" + spec +
              "' is not tcp://HOST:PORT (e.g. tcp://127.0.0.1:7000)";
+    return false;
+  }
+  // A port is 16 bits: 70000 is refused, not taken modulo 65536.
+  if (port.size() > 5 || std::stoi(port) < 1 || std::stoi(port) > 65535) {
+    *error = "--driver: " + spec + ": the port must be in 1..65535, got '" +
+             port + "'";
     return false;
   }
   addrinfo hints{};

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <thread>
@@ -138,6 +139,11 @@ bool ParseListenAddress(const std::string& text, std::string* host, int* port,
     *error = "must be PORT or HOST:PORT, got '" + text + "'";
     return false;
   }
+  // A port is 16 bits: 70000 is refused, not taken modulo 65536.
+  if (digits.size() > 5 || std::stoi(digits) > 65535) {
+    *error = "the port must be in 0..65535, got '" + digits + "'";
+    return false;
+  }
   *port = std::stoi(digits);
   return true;
 }
@@ -225,14 +231,14 @@ bool SimulatedCell::Hello(const DriverHello& hello, LineChannel* channel,
     *status = 2;
     return false;
   }
-  char about[512];
-  std::snprintf(about, sizeof(about),
-                "{\"driver\":\"%s\",\"robot\":\"%s\","
-                "\"noise_m\":%.17g,\"seed\":%llu}",
-                options_.program_name.c_str(), model_.name.c_str(),
-                options_.noise_m,
-                static_cast<unsigned long long>(options_.seed));
-  return Send(DriverHelloMessage(about), channel);
+  // Made as JSON (not printed into a format): a program or robot name with
+  // a quote or a backslash stays a string.
+  const nlohmann::ordered_json about = {
+      {"driver", options_.program_name},
+      {"robot", model_.name},
+      {"noise_m", options_.noise_m},
+      {"seed", static_cast<unsigned long long>(options_.seed)}};
+  return Send(DriverHelloMessage(about.dump()), channel);
 }
 
 bool SimulatedCell::Send(const std::string& text, LineChannel* channel) {

@@ -110,23 +110,36 @@ namespace {
 
 // The temporaries RemoveOwnTemporaries removes: fixed slots, so that a
 // signal handler reads them without a lock or an allocation. A slot is
-// claimed (used), its path copied, then published (ready).
+// claimed (used), its path written between two steps of its generation
+// (odd while it is written: a seqlock), then published (ready). The
+// handler copies a path and uses it only if the generation was even and
+// unchanged around the copy: a slot another thread reuses meanwhile is
+// never read half old, half new. Its characters are atomics (relaxed), so
+// that reading one while it is written is no data race.
 constexpr int kNumSlots = 64;
 constexpr size_t kMaxPath = 4096;
 struct TemporarySlot {
   std::atomic<bool> used{false};
   std::atomic<bool> ready{false};
-  char path[kMaxPath];
+  std::atomic<unsigned> generation{0};
+  std::atomic<char> path[kMaxPath];
 };
 TemporarySlot g_slots[kNumSlots];
 
 int Track(const std::string& tmp) {
   if (tmp.size() >= kMaxPath) return -1;
   for (int k = 0; k < kNumSlots; ++k) {
+    TemporarySlot& slot = g_slots[k];
     bool unused = false;
-    if (!g_slots[k].used.compare_exchange_strong(unused, true)) continue;
-    std::memcpy(g_slots[k].path, tmp.c_str(), tmp.size() + 1);
-    g_slots[k].ready.store(true, std::memory_order_release);
+    if (!slot.used.compare_exchange_strong(unused, true)) continue;
+    const unsigned generation = slot.generation.load(std::memory_order_relaxed);
+    slot.generation.store(generation + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    for (size_t i = 0; i <= tmp.size(); ++i) {
+      slot.path[i].store(tmp.c_str()[i], std::memory_order_relaxed);
+    }
+    slot.generation.store(generation + 2, std::memory_order_release);
+    slot.ready.store(true, std::memory_order_release);
     return k;
   }
   return -1;
@@ -138,11 +151,28 @@ void Untrack(int slot) {
   g_slots[slot].used.store(false, std::memory_order_release);
 }
 
+// The path of `slot` as one Track wrote it, into `path`; false when the
+// slot holds none or was being rewritten during the copy.
+bool CopyTrackedPath(const TemporarySlot& slot, char (&path)[kMaxPath]) {
+  if (!slot.ready.load(std::memory_order_acquire)) return false;
+  const unsigned before = slot.generation.load(std::memory_order_acquire);
+  if (before % 2 != 0) return false;
+  size_t i = 0;
+  for (; i + 1 < kMaxPath; ++i) {
+    path[i] = slot.path[i].load(std::memory_order_relaxed);
+    if (path[i] == '\0') break;
+  }
+  path[i] = '\0';
+  std::atomic_thread_fence(std::memory_order_acquire);
+  return slot.generation.load(std::memory_order_relaxed) == before;
+}
+
 }  // namespace
 
 void RemoveOwnTemporaries() {
-  for (TemporarySlot& slot : g_slots) {
-    if (slot.ready.load(std::memory_order_acquire)) unlink(slot.path);
+  for (const TemporarySlot& slot : g_slots) {
+    char path[kMaxPath];
+    if (CopyTrackedPath(slot, path)) unlink(path);
   }
 }
 

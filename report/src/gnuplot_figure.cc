@@ -3,13 +3,13 @@
 
 #include "activecal/report/gnuplot_figure.h"
 
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 
 #include "activecal/io/output_files.h"
+#include "activecal/io/sigpipe_block.h"
 
 namespace activecal {
 
@@ -36,7 +36,10 @@ bool RenderGnuplotPng(const std::string& script, const std::string& png_path,
   // killed while gnuplot draws: RemoveStaleTemporaries).
   const std::string scratch_path = TemporaryPath(png_path);
   const TrackedTemporary tracked(scratch_path);
+  // gnuplot's messages, removed here and, if the run is killed while
+  // gnuplot draws, by the programs' signal handler.
   const std::string log = png_path + ".gnuplot.log";
+  const TrackedTemporary tracked_log(log);
   // The output path is quoted for gnuplot; refuse quotes in it.
   if (png_path.find_first_of("'\"\n") != std::string::npos) {
     *error = "the plot path must not contain quotes: " + png_path;
@@ -64,11 +67,13 @@ bool RenderGnuplotPng(const std::string& script, const std::string& png_path,
       "set output '" +
       scratch_path + "'\n" + script + "\nunset output\n";
   // gnuplot may exit before it has read the script: a failed write, not
-  // a SIGPIPE.
-  void (*previous)(int) = std::signal(SIGPIPE, SIG_IGN);
-  std::fwrite(full.data(), 1, full.size(), pipe);
-  const int status = pclose(pipe);
-  std::signal(SIGPIPE, previous);
+  // a SIGPIPE (pclose flushes what fwrite buffered: both under the block).
+  int status = 0;
+  {
+    const SigpipeBlock block;
+    std::fwrite(full.data(), 1, full.size(), pipe);
+    status = pclose(pipe);
+  }
   std::ifstream in(log);
   std::string first;
   std::getline(in, first);

@@ -130,7 +130,8 @@ std::vector<Measurement> PostureGroupSubset(
 // left out). False with *error when there is nothing to compare: "no
 // 'before' to compare with (--before=none)" (or ": <why the fit failed>"),
 // "the histograms are of position errors, and the measurements have none
-// (distances only)".
+// (distances only)"; or when the summary's errors are not one per
+// measurement (a summary of other measurements).
 bool BeforeAfterPositionErrorsMm(const std::vector<Measurement>& measurements,
                                  const EvaluateSummary& summary,
                                  std::vector<std::vector<double>>* rows,

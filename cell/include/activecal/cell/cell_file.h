@@ -123,16 +123,15 @@ struct Cell {
   std::vector<Obstacle> obstacles;
   bool has_device = false;
   CellDevice device;
-  // Where the device sees from (the tracker, or each camera) and where the
-  // file gives it ("<file>:<line>:<col>: device.xyz_m"), for the checks
-  // that it lies outside every obstacle and outside the robot's fixed base
-  // (SetUpCell).
+  // Where the file gives the device ("<file>:<line>:<col>"; empty for a
+  // cell made in code), for messages about it (DeviceEyes).
+  std::string device_where;
+  // A point the device sees from (the tracker, or one camera).
   struct Eye {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     std::string field;  // "device.xyz_m", "device.cameras[1].xyz_m"
-    std::string where;  // "<file>:<line>:<col>: <field>"
+    std::string where;  // "<file>:<line>:<col>: <field>", or <field>
   };
-  std::vector<Eye> device_eyes;
   std::vector<CellTarget> targets;
   // Pairs not checked against each other: two robot links (by link name),
   // or a robot link and an obstacle (by the obstacle's name).
@@ -145,6 +144,12 @@ struct Cell {
   // checked (m): the target's own mount.
   double line_of_sight_margin_m = 0.02;
 };
+
+// Where `cell`'s device sees from: the tracker, or each camera (none
+// without a device), for the checks that it lies outside every obstacle
+// (the reader) and outside the robot's fixed links (SetUpCell). Computed
+// from cell.device, so a cell made in code is checked as a read one is.
+std::vector<Cell::Eye> DeviceEyes(const Cell& cell);
 
 // Reads and checks a cell file: every field, the meshes, the SRDF file, a
 // device (or camera) outside every obstacle, non-zero normals, acceptance

@@ -152,7 +152,8 @@ bool MakeSimulatedCellTruth(const RobotModel& model,
                             Eigen::VectorXd* truth, std::string* error);
 
 // --listen's address: "PORT" or "HOST:PORT" (HOST default 127.0.0.1; PORT
-// digits). False with "must be PORT or HOST:PORT, got 'TEXT'".
+// digits, 0..65535, 0: any free port). False with "must be PORT or
+// HOST:PORT, got 'TEXT'" or "the port must be in 0..65535, got 'PORT'".
 bool ParseListenAddress(const std::string& text, std::string* host, int* port,
                         std::string* error);
 

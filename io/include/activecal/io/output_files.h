@@ -51,7 +51,10 @@ int RemoveStaleTemporaries(const std::string& path);
 // SIGTERM, SIGINT or SIGHUP, so that a killed run leaves none behind. The
 // programs install such a handler. A kill -9 cannot be caught: the next
 // run removes those (RemoveStaleTemporaries). At most 64 are tracked at
-// once; beyond that they are left to RemoveStaleTemporaries.
+// once; beyond that they are left to RemoveStaleTemporaries. Other threads
+// may track and untrack meanwhile: a path is read whole or not at all, so
+// only this process's temporaries are removed (one tracked during the call
+// may be left, for RemoveStaleTemporaries).
 void RemoveOwnTemporaries();
 
 // A temporary file that code writes itself (gnuplot's figure), tracked for
