@@ -45,8 +45,7 @@ int Main() {
   options.noise_m = FLAGS_noise_m;
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
-  options.program_name = app::ProgramName();
-  options.progress = app::StageProgressLines();
+  app::NameProgramAndShowStages(&options);
   MonteCarloStudySummary summary;
   const bool ok =
       RunMonteCarloStudy(robot.model, robot.true_parameters, options, &summary);
@@ -62,6 +61,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)
