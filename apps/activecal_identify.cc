@@ -211,14 +211,12 @@ int Main() {
   options.register_base = FLAGS_register_base;
   options.validation_fraction = FLAGS_validation_fraction;
   options.seed = FLAGS_seed;
-  options.num_threads = FLAGS_threads;
-  options.learned_residual.num_features = FLAGS_learned_features;
-  options.learned_residual.num_standard_errors = FLAGS_learned_standard_errors;
   // The named choices and the values checked with them, in this order.
-  CalibrationChoices choices{FLAGS_model_selection,   FLAGS_selection_rule,
-                             FLAGS_selection_ranking, {},
-                             FLAGS_robust_loss,       FLAGS_robust_scale_m,
-                             FLAGS_rotation_weight,   FLAGS_learned_residual};
+  CalibrationChoices choices{FLAGS_model_selection,     FLAGS_selection_rule,
+                             FLAGS_selection_ranking,   {},
+                             FLAGS_robust_loss,         FLAGS_robust_scale_m,
+                             FLAGS_outlier_probability, FLAGS_rotation_weight,
+                             FLAGS_learned_residual};
   choices.terms = {FLAGS_compliance,    FLAGS_harmonics, FLAGS_payload_kg,
                    FLAGS_payload_com_m, FLAGS_gravity,   FLAGS_robot,
                    urdf_robot,          app::Chain()};
@@ -227,22 +225,24 @@ int Main() {
     app::Fail(error);
   }
   options.num_folds = FLAGS_folds;
-  options.term_standard_errors = FLAGS_term_standard_errors;
-  options.identification.outlier_probability = FLAGS_outlier_probability;
+  options.num_threads = FLAGS_threads;
   options.identification.default_sigma_m = FLAGS_default_sigma_m;
   options.identification.default_sigma_rad = FLAGS_default_sigma_rad;
   options.identification.prior_std_m = FLAGS_prior_std_m;
   options.identification.prior_std_rad = FLAGS_prior_std_rad;
-  // The outputs' paths (each checked before the work), the robot file the
-  // report names, and how the texts name the options.
+  options.term_standard_errors = FLAGS_term_standard_errors;
+  options.learned_residual.num_features = FLAGS_learned_features;
+  options.learned_residual.num_standard_errors = FLAGS_learned_standard_errors;
+  // The outputs' paths (each checked before the work), how the texts name
+  // the options, and the robot file the reports name.
   CalibrationOutputOptions out;
   out.model_out = FLAGS_model_out;
   out.urdf_out = FLAGS_urdf_out;
   out.ur_calibration_out = FLAGS_ur_calibration_out;
   out.frames_out = FLAGS_frames_out;
-  out.json_out = FLAGS_json_out;
   out.text = {OptionSpelling::kFlags, app::ProgramName(), robot.angle_unit,
               robot.true_parameters, !FLAGS_model_out.empty()};
+  out.json_out = FLAGS_json_out;
   out.report_html = FLAGS_report_html;
   out.robot_file = FLAGS_robot;
   // Before the file is read: the flags' own messages.

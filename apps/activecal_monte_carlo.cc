@@ -40,12 +40,12 @@ namespace {
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   MonteCarloStudyOptions options;
+  app::NameProgramAndShowStages(&options);
   options.poses_csv = FLAGS_poses_csv;
   options.num_trials = FLAGS_trials;
   options.noise_m = FLAGS_noise_m;
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
-  app::NameProgramAndShowStages(&options);
   MonteCarloStudySummary summary;
   const bool ok =
       RunMonteCarloStudy(robot.model, robot.true_parameters, options, &summary);

@@ -57,6 +57,7 @@ int Main() {
               "': " + ec.message());
   const RobotDescription robot = app::LoadRobotOrDie();
   PaperExampleOptions options;
+  app::NameProgramAndShowStages(&options);
   options.seed = FLAGS_seed;
   options.random_designs = FLAGS_random_designs;
   options.num_poses = FLAGS_num_poses;
@@ -66,7 +67,6 @@ int Main() {
   options.certificate = FLAGS_certificate;
   options.num_threads = FLAGS_threads;
   options.out_dir = FLAGS_out_dir;
-  app::NameProgramAndShowStages(&options);
   PaperExampleSummary summary;
   const bool ok = ReproducePaperExample(robot.model, robot.true_parameters,
                                         options, &summary);

@@ -457,12 +457,20 @@ TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
   EXPECT_EQ(outputs.files.size(), 1u);
 }
 
+// Calibrate's summary of `data` on `model` with `options`.
+CalibrationSummary CalibratedWith(const RobotModel& model,
+                                  const std::vector<Measurement>& data,
+                                  const CalibrationOptions& options) {
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  return summary;
+}
+
 TEST(CalibrationWorkflowTest, CalibrationRunPrintsAndWritesInOrder) {
   const RobotModel model = Puma560PaperModel();
   const std::vector<Measurement> data = SmoothPuma();
-  CalibrationOptions options;
-  CalibrationSummary summary;
-  Calibrate(model, data, options, &summary);
+  const CalibrationOptions options;
+  const CalibrationSummary summary = CalibratedWith(model, data, options);
   ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
   CalibrationRunOptions o;
   o.outputs.json_out = "r.json";
@@ -506,8 +514,7 @@ TEST(CalibrationWorkflowTest, CalibrationRunDrawsTheSelectionCurveFirst) {
   options.model_selection = ModelSelectionMethod::kCrossValidation;
   options.num_folds = 2;
   options.num_threads = 2;
-  CalibrationSummary summary;
-  Calibrate(model, data, options, &summary);
+  const CalibrationSummary summary = CalibratedWith(model, data, options);
   ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
   CalibrationRunOptions o;
   o.outputs.json_out = "r.json";

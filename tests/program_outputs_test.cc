@@ -31,6 +31,7 @@ TEST(ProgramOutputsTest, ChoicesSetInOrderWithTheFirstError) {
   choices.selection_ranking = "jacobian";
   choices.robust_loss = "huber";
   choices.robust_scale_m = 0.003;
+  choices.outlier_probability = 0.02;
   choices.rotation_weight = 0.5;
   choices.learned_residual = "auto";
   CalibrationOptions options;
@@ -48,6 +49,7 @@ TEST(ProgramOutputsTest, ChoicesSetInOrderWithTheFirstError) {
   EXPECT_EQ(options.selection_ranking, ParameterRanking::kJacobian);
   EXPECT_EQ(options.identification.robust_loss, RobustLoss::kHuber);
   EXPECT_EQ(options.identification.robust_scale_m, 0.003);
+  EXPECT_EQ(options.identification.outlier_probability, 0.02);
   EXPECT_EQ(options.identification.rotation_weight_m_per_rad, 0.5);
   EXPECT_EQ(options.learned_residual.mode, LearnedResidualMode::kAuto);
   EXPECT_TRUE(options.term_families.empty());

@@ -43,6 +43,7 @@ bool SetCalibrationChoices(const RobotModel& model,
     return false;
   }
   fit.robust_scale_m = choices.robust_scale_m;
+  fit.outlier_probability = choices.outlier_probability;
   const double weight = choices.rotation_weight;
   if (!(weight > 0) || !std::isfinite(weight)) {
     *error = p + "rotation_weight must be finite and > 0 (m per rad), got " +

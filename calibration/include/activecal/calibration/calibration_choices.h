@@ -36,8 +36,11 @@ struct CalibrationChoices {
   TermFamilyOptions terms;
   // none, huber or cauchy (StringToRobustLoss).
   std::string robust_loss = defaults::kRobustLoss;
-  // Its scale (m), set as it is (CalibrationOptions::IsValid checks it).
+  // Its scale (m) and the outliers' probability
+  // (IdentificationOptions::outlier_probability), set as they are
+  // (CalibrationOptions::IsValid checks them).
   double robust_scale_m = 0.0;
+  double outlier_probability = IdentificationOptions().outlier_probability;
   // Of 6D pose orientation rows, m per rad: finite and > 0 (the option
   // rotation_weight).
   double rotation_weight = defaults::kRotationWeightMPerRad;
@@ -46,8 +49,9 @@ struct CalibrationChoices {
 };
 
 // Sets options->model_selection, selection_rule, selection_ranking,
-// term_families, identification.robust_loss, robust_scale_m and
-// rotation_weight_m_per_rad, and learned_residual.mode from
+// term_families, identification.robust_loss, robust_scale_m,
+// outlier_probability and rotation_weight_m_per_rad, and
+// learned_residual.mode from
 // `choices`, checked in that order; the other fields are left as they
 // are. False at the first bad value with one line naming the option in
 // `spelling` ("--model_selection must be auto, none, validation or cv, got
