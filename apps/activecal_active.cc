@@ -131,8 +131,7 @@ int Main() {
   options.order_shortest = FLAGS_order == "shortest";
   options.order_resolution_deg = FLAGS_order_resolution_deg;
   options.robot_path = FLAGS_robot;
-  options.chain.base_link = FLAGS_base_link;
-  options.chain.tip_link = FLAGS_tip_link;
+  options.chain = app::Chain();
   options.compare = FLAGS_compare;
   options.verbose = FLAGS_verbose;
   std::string error;
@@ -158,7 +157,7 @@ int Main() {
     std::printf("%s", pool.report.c_str());
     if (!reduced) app::Fail(pool.message);
   }
-  const app::ProgramRequest program = app::ProgramRequestOrDie(
+  const ProgramRequest program = app::ProgramRequestOrDie(
       pool.model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
   app::CheckWritableOrDie(FLAGS_json_out, "json_out");
   options.log_to_stdout = true;
@@ -191,6 +190,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

@@ -127,7 +127,7 @@ int Main() {
   options.cell_path = FLAGS_cell;
   options.marker = FLAGS_marker;
   options.robot_path = FLAGS_robot;
-  options.chain = {FLAGS_base_link, FLAGS_tip_link};
+  options.chain = app::Chain();
   options.frames_path = FLAGS_frames;
   options.nominal_path = FLAGS_nominal;
   options.columns_strict = app::ColumnsStrict();
@@ -141,9 +141,7 @@ int Main() {
   if (summary.termination_type == TerminationType::kUserFailure) {
     app::Fail(summary.message);
   }
-  for (const OutputFile& file : summary.outputs) {
-    app::WriteTextOrDie(file.path, file.text);
-  }
+  app::WriteFilesOrDie(summary.outputs);
   std::printf("%s", summary.report.c_str());
   app::PrintResult(summary.result_line);
   if (summary.termination_type == TerminationType::kFailure) {
@@ -158,6 +156,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

@@ -92,16 +92,9 @@ void PlotHistograms(const std::vector<Measurement>& measurements,
   if (!BeforeAfterPositionErrorsMm(measurements, summary, &rows, &error)) {
     app::Fail("--plot: " + error);
   }
-  if (!app::GnuplotAvailable()) {
-    std::printf("  --plot: gnuplot is not installed; no plot\n");
-    return;
-  }
-  if (!app::RunGnuplot(app::GnuplotData("errors", rows) +
-                           PositionErrorHistogramGnuplot(rows),
-                       FLAGS_plot, &error)) {
-    app::Fail("--plot: " + error);
-  }
-  std::printf("  --plot: wrote %s\n", FLAGS_plot.c_str());
+  app::PlotOrNote(
+      GnuplotDataBlock("errors", rows) + PositionErrorHistogramGnuplot(rows),
+      FLAGS_plot, "plot");
 }
 
 int Main() {
@@ -117,10 +110,9 @@ int Main() {
       FLAGS_points, app::ReadMeasurementsOrDie(FLAGS_measurements, model,
                                                "measurements", &options.lines));
   options.robot_path = FLAGS_robot;
+  options.chain = app::Chain();
   options.measurements_path = FLAGS_measurements;
   options.nominal_robot_path = FLAGS_nominal_robot;
-  options.chain.base_link = FLAGS_base_link;
-  options.chain.tip_link = FLAGS_tip_link;
   options.rotation_weight = FLAGS_rotation_weight;
   options.iso9283 = FLAGS_iso9283;
   if (FLAGS_iso9283) {
@@ -149,9 +141,7 @@ int Main() {
   }
   std::printf("%s", summary.report.c_str());
   if (!FLAGS_plot.empty()) PlotHistograms(measurements, summary);
-  for (const OutputFile& file : summary.outputs) {
-    app::WriteTextOrDie(file.path, file.text);
-  }
+  app::WriteFilesOrDie(summary.outputs);
   std::string html, error;
   if (!FLAGS_report_html.empty()) {
     if (!EvaluationHtmlText(robot, measurements, options, summary, &html,
@@ -167,6 +157,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

@@ -13,15 +13,12 @@
 #include <cstdio>
 
 #include "activecal/calibration/calibrate.h"
-#include "activecal/calibration/calibration_notes.h"
-#include "activecal/calibration/calibration_outputs.h"
+#include "activecal/calibration/calibration_choices.h"
 #include "activecal/calibration/calibration_setup.h"
 #include "activecal/calibration/defaults.h"
-#include "activecal/io/column_map.h"
 #include "activecal/io/robot_loader.h"
-#include "activecal/report/html_report.h"
+#include "activecal/report/calibration_run.h"
 #include "app_common.h"
-#include "gnuplot.h"
 
 constexpr char kUsage[] =
     "Identifies the free kinematic parameters of --robot (default: the Sun "
@@ -190,27 +187,23 @@ namespace {
 
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
-  const RobotModel& model = robot.model;
   const bool simulated = FLAGS_measurements.empty();
   std::vector<int64_t> simulated_poses;
   std::vector<Measurement> all;
   std::string error, notes;
   if (simulated) {
     const bool ok = SimulateCalibrationMeasurements(
-        robot, {FLAGS_levels, FLAGS_num_poses, FLAGS_noise_m, FLAGS_seed},
+        robot,
+        {FLAGS_levels, FLAGS_num_poses, FLAGS_noise_m, FLAGS_seed,
+         !FLAGS_points.empty()},
         OptionSpelling::kFlags, &simulated_poses, &all, &notes, &error);
     std::printf("%s", notes.c_str());
     if (!ok) app::Fail(error);
-    if (!FLAGS_points.empty()) {
-      app::Fail("--points needs --measurements with type=point rows");
-    }
   } else {
     all = app::WithPointsFileOrDie(
-        FLAGS_points, app::ReadMeasurementsOrDie(FLAGS_measurements, model));
+        FLAGS_points,
+        app::ReadMeasurementsOrDie(FLAGS_measurements, robot.model));
   }
-  // The columns read (no file read, no column map, when simulated).
-  const std::optional<ColumnMap> map =
-      simulated ? std::nullopt : app::ColumnMapOrDie();
   CalibrationOptions options;
   const bool urdf_robot = IsUrdfPath(FLAGS_robot);
   options.parameter_set = app::ParameterSetOrDie(urdf_robot);
@@ -218,67 +211,48 @@ int Main() {
   options.register_base = FLAGS_register_base;
   options.validation_fraction = FLAGS_validation_fraction;
   options.seed = FLAGS_seed;
-  app::EnumFlagOrDie(StringToModelSelectionMethod, "model_selection",
-                     FLAGS_model_selection, "auto, none, validation or cv",
-                     &options.model_selection);
-  app::EnumFlagOrDie(StringToSelectionRule, "selection_rule",
-                     FLAGS_selection_rule, "1se_most, min, 1se or ftest",
-                     &options.selection_rule);
-  app::EnumFlagOrDie(StringToParameterRanking, "selection_ranking",
-                     FLAGS_selection_ranking, "significance or jacobian",
-                     &options.selection_ranking);
-  options.num_folds = FLAGS_folds;
-  options.num_threads = FLAGS_threads;
-  const TermFamilyOptions terms{
-      FLAGS_compliance, FLAGS_harmonics,
-      FLAGS_payload_kg, FLAGS_payload_com_m,
-      FLAGS_gravity,    FLAGS_robot,
-      urdf_robot,       {FLAGS_base_link, FLAGS_tip_link}};
-  if (!MakeTermFamilies(model, terms, OptionSpelling::kFlags,
-                        &options.term_families, &error)) {
+  // The named choices and the values checked with them, in this order.
+  CalibrationChoices choices{FLAGS_model_selection,     FLAGS_selection_rule,
+                             FLAGS_selection_ranking,   {},
+                             FLAGS_robust_loss,         FLAGS_robust_scale_m,
+                             FLAGS_outlier_probability, FLAGS_rotation_weight,
+                             FLAGS_learned_residual};
+  choices.terms = {FLAGS_compliance,    FLAGS_harmonics, FLAGS_payload_kg,
+                   FLAGS_payload_com_m, FLAGS_gravity,   FLAGS_robot,
+                   urdf_robot,          app::Chain()};
+  if (!SetCalibrationChoices(robot.model, choices, OptionSpelling::kFlags,
+                             &options, &error)) {
     app::Fail(error);
   }
+  options.num_folds = FLAGS_folds;
+  options.num_threads = FLAGS_threads;
+  options.identification.default_sigma_m = FLAGS_default_sigma_m;
+  options.identification.default_sigma_rad = FLAGS_default_sigma_rad;
+  options.identification.prior_std_m = FLAGS_prior_std_m;
+  options.identification.prior_std_rad = FLAGS_prior_std_rad;
   options.term_standard_errors = FLAGS_term_standard_errors;
-  IdentificationOptions& fit = options.identification;
-  app::EnumFlagOrDie(StringToRobustLoss, "robust_loss", FLAGS_robust_loss,
-                     "none, huber or cauchy", &fit.robust_loss);
-  fit.robust_scale_m = FLAGS_robust_scale_m;
-  fit.outlier_probability = FLAGS_outlier_probability;
-  if (!(FLAGS_rotation_weight > 0) || !std::isfinite(FLAGS_rotation_weight)) {
-    app::Fail("--rotation_weight must be finite and > 0 (m per rad), got " +
-              std::to_string(FLAGS_rotation_weight));
-  }
-  fit.rotation_weight_m_per_rad = FLAGS_rotation_weight;
-  fit.default_sigma_m = FLAGS_default_sigma_m;
-  fit.default_sigma_rad = FLAGS_default_sigma_rad;
-  fit.prior_std_m = FLAGS_prior_std_m;
-  fit.prior_std_rad = FLAGS_prior_std_rad;
-  LearnedResidualOptions& learned = options.learned_residual;
-  app::EnumFlagOrDie(StringToLearnedResidualMode, "learned_residual",
-                     FLAGS_learned_residual, "off, on or auto", &learned.mode);
-  learned.num_features = FLAGS_learned_features;
-  learned.num_standard_errors = FLAGS_learned_standard_errors;
-  // The outputs' paths (each checked before the work), the robot file the
-  // report names, and how the texts name the options.
+  options.learned_residual.num_features = FLAGS_learned_features;
+  options.learned_residual.num_standard_errors = FLAGS_learned_standard_errors;
+  // The outputs' paths (each checked before the work), how the texts name
+  // the options, and the robot file the reports name.
   CalibrationOutputOptions out;
   out.model_out = FLAGS_model_out;
   out.urdf_out = FLAGS_urdf_out;
   out.ur_calibration_out = FLAGS_ur_calibration_out;
   out.frames_out = FLAGS_frames_out;
+  out.text = {OptionSpelling::kFlags, app::ProgramName(), robot.angle_unit,
+              robot.true_parameters, !FLAGS_model_out.empty()};
   out.json_out = FLAGS_json_out;
   out.report_html = FLAGS_report_html;
   out.robot_file = FLAGS_robot;
-  CalibrationTextOptions& text = out.text;
-  text = {OptionSpelling::kFlags, app::ProgramName(), robot.angle_unit,
-          robot.true_parameters, !FLAGS_model_out.empty()};
   // Before the file is read: the flags' own messages.
-  if (!CheckOptionsBeforeReading(options, !FLAGS_validation.empty(), text,
+  if (!CheckOptionsBeforeReading(options, !FLAGS_validation.empty(), out.text,
                                  &error)) {
     app::Fail(error);
   }
   if (!FLAGS_validation.empty()) {
     options.selection_validation =
-        app::ReadMeasurementsOrDie(FLAGS_validation, model, "validation");
+        app::ReadMeasurementsOrDie(FLAGS_validation, robot.model, "validation");
   }
   for (const auto& [path, flag] : out.Paths()) {
     app::CheckWritableOrDie(path, flag);
@@ -291,41 +265,31 @@ int Main() {
     app::ProgressLine splits(
         "model selection: splits fitted (the training set and each fold)");
     options.selection_progress = splits.callback();
-    Calibrate(model, all, options, &summary);
+    Calibrate(robot.model, all, options, &summary);
   }
-  const CalibrationPrintout printout = MakeCalibrationPrintout(
-      model, all, summary,
-      map && map->has_orientation ? ColumnMapOrientationText(*map) : "",
-      !app::Quiet() &&
-          gflags::GetCommandLineFlagInfoOrDie("rotation_weight").is_default,
-      text);
-  std::printf("%s", printout.stages.c_str());
-  if (!FLAGS_selection_plot.empty() && printout.has_selection_curve) {
-    app::PlotOrNote(app::GnuplotData("curve", SelectionCurveRows(summary)) +
-                        SelectionCurveGnuplot(summary),
-                    FLAGS_selection_plot, "selection_plot");
-  }
-  std::printf("%s", printout.report.c_str());
-  if (!printout.failure.empty()) app::Fail(printout.failure);
-
   // Every output is made and checked before any is written: a run that
   // fails writes nothing (each file then atomically).
   out.source =
       simulated ? std::string("simulated measurements") : FLAGS_measurements;
   if (urdf_robot) out.urdf.source_path = FLAGS_robot;
-  out.urdf.chain = {FLAGS_base_link, FLAGS_tip_link};
+  out.urdf.chain = app::Chain();
   out.json = {FLAGS_measurements, FLAGS_validation, robot.true_parameters,
               simulated_poses,    FLAGS_noise_m,    simulated};
-  CalibrationOutputs outputs;
-  const bool made =
-      MakeCalibrationOutputsAndReport(summary, all, out, &outputs, &error);
-  std::printf("%s", outputs.notes_before.c_str());
-  if (!made) app::Fail(error);
+  CalibrationRunOptions run_options;
+  run_options.outputs = out;
+  // The columns read (no file read, no column map, when simulated).
+  if (!simulated) run_options.column_map = app::ColumnMapOrDie();
+  run_options.rotation_weight_note =
+      !app::Quiet() && app::IsDefault("rotation_weight");
+  run_options.selection_plot = FLAGS_selection_plot;
+  CalibrationRunOutputs run;
+  MakeCalibrationRunOutputs(robot.model, all, summary, run_options, &run);
+  std::printf("%s", run.printed.c_str());
+  if (!run.failure.empty()) app::Fail(run.failure);
   // One set with --selection_plot's figure: all written, or none.
-  for (const OutputFile& file : outputs.files)
-    app::WriteTextOrDie(file.path, file.text);
+  app::WriteFilesOrDie(run.files);
   app::CommitOutputsOrDie();
-  std::printf("%s", outputs.notes_after.c_str());
+  std::printf("%s", run.notes_after.c_str());
   app::PrintResult(app::ProgramName() + ": " + CalibrationResultLine(summary));
   return 0;
 }
@@ -333,6 +297,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

@@ -40,13 +40,12 @@ namespace {
 int Main() {
   const RobotDescription robot = app::LoadRobotOrDie();
   MonteCarloStudyOptions options;
+  app::NameProgramAndShowStages(&options);
   options.poses_csv = FLAGS_poses_csv;
   options.num_trials = FLAGS_trials;
   options.noise_m = FLAGS_noise_m;
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
-  options.program_name = app::ProgramName();
-  options.progress = app::StageProgressLines();
   MonteCarloStudySummary summary;
   const bool ok =
       RunMonteCarloStudy(robot.model, robot.true_parameters, options, &summary);
@@ -62,6 +61,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

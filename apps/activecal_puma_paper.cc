@@ -57,6 +57,7 @@ int Main() {
               "': " + ec.message());
   const RobotDescription robot = app::LoadRobotOrDie();
   PaperExampleOptions options;
+  app::NameProgramAndShowStages(&options);
   options.seed = FLAGS_seed;
   options.random_designs = FLAGS_random_designs;
   options.num_poses = FLAGS_num_poses;
@@ -66,8 +67,6 @@ int Main() {
   options.certificate = FLAGS_certificate;
   options.num_threads = FLAGS_threads;
   options.out_dir = FLAGS_out_dir;
-  options.program_name = app::ProgramName();
-  options.progress = app::StageProgressLines();
   PaperExampleSummary summary;
   const bool ok = ReproducePaperExample(robot.model, robot.true_parameters,
                                         options, &summary);
@@ -90,6 +89,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

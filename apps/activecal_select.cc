@@ -195,15 +195,10 @@ int Iso9283CubeMain(const RobotModel& model, const CellSetup& cell) {
   return 0;
 }
 
-// Whether --<flag> was left at its default.
-bool IsDefault(const char* flag) {
-  return gflags::GetCommandLineFlagInfoOrDie(flag).is_default;
-}
-
 int Main() {
   const int64_t start = app::NowNs();
   RobotDescription robot = app::LoadRobotOrDie();
-  const app::ProgramRequest program = app::ProgramRequestOrDie(
+  const ProgramRequest program = app::ProgramRequestOrDie(
       robot.model, FLAGS_program_out, FLAGS_program_language, FLAGS_controller);
   app::CheckTourFlagsOrDie(FLAGS_order, FLAGS_order_resolution_deg);
   if (!FLAGS_rejected_csv.empty() && FLAGS_cell.empty()) {
@@ -234,7 +229,7 @@ int Main() {
       !ParseDesignCriterion(FLAGS_criterion, &criterion, &error)) {
     app::Fail("--" + error);
   }
-  if (criterion == DesignCriterion::kTaskRms && IsDefault("algorithm")) {
+  if (criterion == DesignCriterion::kTaskRms && app::IsDefault("algorithm")) {
     algorithm = DesignAlgorithm::kFedorov;
   }
   SelectOptions options;
@@ -245,8 +240,8 @@ int Main() {
   options.pool_csv = FLAGS_pool_csv;
   options.cell = with_cell ? &cell : nullptr;
   options.type = type;
-  if (!IsDefault("pool_size")) options.pool_size = FLAGS_pool_size;
-  if (!IsDefault("max_draws")) options.max_draws = FLAGS_max_draws;
+  if (!app::IsDefault("pool_size")) options.pool_size = FLAGS_pool_size;
+  if (!app::IsDefault("max_draws")) options.max_draws = FLAGS_max_draws;
   // The pool's checks first: they name the pool's flags before the
   // storage's and the parameters'.
   if (!options.IsValid(model, &error)) app::Fail(error);
@@ -282,14 +277,14 @@ int Main() {
   design.certificate = FLAGS_certificate;
   design.approx_tolerance = FLAGS_approx_tolerance;
   // The task design: 1e-2 unless set (docs/design_algorithms.md).
-  if (!IsDefault("approx_tolerance")) {
+  if (!app::IsDefault("approx_tolerance")) {
     design.task_approx_tolerance = FLAGS_approx_tolerance;
   }
   design.polish_pool_size = FLAGS_polish_pool_size;
   design.initial_poses = FLAGS_initial_poses;
   design.random_designs = FLAGS_random_designs;
   design.noise_m = FLAGS_noise_m;
-  if (!IsDefault("target_rms_m")) design.target_rms_m = FLAGS_target_rms_m;
+  if (!app::IsDefault("target_rms_m")) design.target_rms_m = FLAGS_target_rms_m;
   options.task_poses_csv = FLAGS_task_poses_csv;
   options.measured_csv = FLAGS_measured_csv;
   if (!FLAGS_measured_csv.empty()) options.column_map = app::ColumnMapOrDie();
@@ -297,11 +292,9 @@ int Main() {
   options.order_shortest = FLAGS_order == "shortest";
   options.order_resolution_deg = FLAGS_order_resolution_deg;
   options.robot_path = FLAGS_robot;
-  options.chain.base_link = FLAGS_base_link;
-  options.chain.tip_link = FLAGS_tip_link;
+  options.chain = app::Chain();
   options.rejected_csv = !FLAGS_rejected_csv.empty();
-  options.program_name = app::ProgramName();
-  options.progress = app::StageProgressLines();
+  app::NameProgramAndShowStages(&options);
 
   SelectSummary summary;
   const bool ok = Select(model, options, &summary);
@@ -332,6 +325,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

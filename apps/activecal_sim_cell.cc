@@ -112,8 +112,7 @@ int Main() {
   SimulatedCellSetupOptions setup_options;
   setup_options.cell_path = FLAGS_cell;
   setup_options.robot_path = FLAGS_robot;
-  setup_options.chain.base_link = FLAGS_base_link;
-  setup_options.chain.tip_link = FLAGS_tip_link;
+  setup_options.chain = app::Chain();
   setup_options.targets_as_markers = FLAGS_frames.empty();
   setup_options.parameter_set = FLAGS_parameter_set;
   setup_options.cell = options;

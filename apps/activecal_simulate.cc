@@ -158,6 +158,4 @@ int Main() {
 }  // namespace
 }  // namespace activecal
 
-int main(int argc, char** argv) {
-  return activecal::app::Run(argc, argv, kUsage, activecal::Main);
-}
+ACTIVECAL_APP_MAIN(kUsage, activecal::Main)

@@ -9,7 +9,6 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <csignal>
@@ -17,17 +16,16 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
 
+#include "activecal/calibration/program_output.h"
+#include "activecal/calibration/robot_setup.h"
 #include "activecal/calibration/selection_pool.h"
-#include "activecal/core/puma560.h"
 #include "activecal/estimation/identification.h"
-#include "activecal/io/frames_file.h"
 #include "activecal/io/output_files.h"
-#include "activecal/io/robot_loader.h"
+#include "activecal/report/closest_name.h"
 #include "activecal/selection/criteria.h"
 
 DEFINE_bool(quiet, false,
@@ -70,23 +68,6 @@ void Fail(const std::string& message) {
 
 namespace {
 
-// Levenshtein distance.
-int EditDistance(const std::string& a, const std::string& b) {
-  std::vector<int> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
-  for (size_t i = 1; i <= a.size(); ++i) {
-    int diagonal = row[0];
-    row[0] = static_cast<int>(i);
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const int up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1,
-                         diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // "unknown command line flag 'x' (did you mean --y?)" (gflags' words) for an
 // argument naming no declared flag; empty for a known flag or an argument that
 // is not a flag.
@@ -107,34 +88,19 @@ std::string UnknownFlagMessage(const std::string& arg) {
   }
   std::vector<gflags::CommandLineFlagInfo> flags;
   gflags::GetAllFlags(&flags);
-  std::string best;
-  int best_distance = std::numeric_limits<int>::max();
+  std::vector<std::string> names;
   for (const gflags::CommandLineFlagInfo& f : flags) {
     // The program's own flags (apps/) and gflags' help flags.
-    if (f.filename.find("/apps/") == std::string::npos &&
-        f.filename.find("gflags") == std::string::npos) {
-      continue;
-    }
-    const int d = EditDistance(name, f.name);
-    if (d < best_distance) {
-      best_distance = d;
-      best = f.name;
+    if (f.filename.find("/apps/") != std::string::npos ||
+        f.filename.find("gflags") != std::string::npos) {
+      names.push_back(f.name);
     }
   }
-  const int tolerance =
-      std::max(2, static_cast<int>(name.size()) / 3);  // --num_pose: 1
+  const std::string best = ClosestName(name, names);
   std::string message = "unknown command line flag '" + name + "'";
-  if (!best.empty() && best_distance <= tolerance) {
-    message += " (did you mean --" + best + "?)";
-  } else {
-    message += " (see --help)";
-  }
+  message += best.empty() ? " (see --help)" : " (did you mean --" + best + "?)";
   return message;
 }
-
-}  // namespace
-
-namespace {
 
 // SIGTERM, SIGINT, SIGHUP: the outputs not yet renamed are removed (old
 // files stay as they were), then the signal's default action ends the
@@ -224,6 +190,10 @@ int Run(int argc, char** argv, const char* usage, int (*program)()) {
 
 bool Quiet() { return FLAGS_quiet; }
 
+bool IsDefault(const char* flag) {
+  return gflags::GetCommandLineFlagInfoOrDie(flag).is_default;
+}
+
 void PrintResult(const std::string& line) {
   std::fflush(stdout);
   const std::string text = line + "\n";
@@ -245,6 +215,10 @@ void PrintProgress(const std::string& line) {
 void WriteTextOrDie(const std::string& path, const std::string& text) {
   std::string error;
   if (!AddOutput(path, text, &error)) Fail(error);
+}
+
+void WriteFilesOrDie(const std::vector<OutputFile>& files) {
+  for (const OutputFile& file : files) WriteTextOrDie(file.path, file.text);
 }
 
 bool AddOutput(const std::string& path, const std::string& text,
@@ -304,8 +278,7 @@ CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
   options.collision_fallback_path = collision_fallback;
   options.cell_path = cell_path;
   options.robot_path = FLAGS_robot;
-  options.chain.base_link = FLAGS_base_link;
-  options.chain.tip_link = FLAGS_tip_link;
+  options.chain = Chain();
   options.targets_as_markers = targets_as_markers;
   CellSetup cell;
   std::string error;
@@ -316,61 +289,29 @@ CellSetup SetUpCellOrDie(const std::string& cell_path, bool targets_as_markers,
   return cell;
 }
 
+UrdfChainOptions Chain() { return {FLAGS_base_link, FLAGS_tip_link}; }
+
 RobotDescription LoadRobotOrDie() {
   RobotDescription robot;
-  if (FLAGS_robot.empty()) {
-    if (!FLAGS_base_link.empty() || !FLAGS_tip_link.empty() ||
-        !FLAGS_frames.empty()) {
-      Fail(
-          "--base_link, --tip_link and --frames need a --robot file (the "
-          "built-in PUMA has neither a URDF chain nor a 6-DOF base)");
-    }
-    robot.model = Puma560PaperModel();
-    robot.true_parameters = Puma560TrueParameters();
-    return robot;
+  std::string note, error;
+  if (!SetUpRobot({FLAGS_robot, Chain(), FLAGS_frames}, &robot, &note,
+                  &error)) {
+    Fail(error);
   }
-  RobotLoadOptions options;
-  options.chain.base_link = FLAGS_base_link;
-  options.chain.tip_link = FLAGS_tip_link;
-  std::string error;
-  if (!LoadRobot(FLAGS_robot, options, &robot, &error)) {
-    Fail("--robot: " + error);
-  }
-  if (!FLAGS_frames.empty() && !LoadFramesFile(FLAGS_frames, &robot, &error)) {
-    Fail("--frames: " + error);
-  }
-  if (IsUrdfPath(FLAGS_robot)) {
-    // The CSV files name joints q1..qn in chain order: say which is which.
-    std::string names;
-    for (int j = 0; j < robot.model.num_joints(); ++j) {
-      names += (j ? ", " : "") + std::string("q") + std::to_string(j + 1) +
-               " " + robot.model.links[j].name;
-    }
-    std::printf("robot '%s': %d joints: %s\n", robot.model.name.c_str(),
-                robot.model.num_joints(), names.c_str());
-  }
+  std::printf("%s", note.c_str());
   return robot;
 }
 
-// kProgressAfterNs, or ACTIVECAL_PROGRESS_AFTER_S (seconds, >= 0) when set:
-// 0 prints every update (what the tests of the lines use).
-static int64_t ProgressAfterNs() {
-  static const int64_t after = [] {
-    const char* text = std::getenv("ACTIVECAL_PROGRESS_AFTER_S");
-    if (text == nullptr || *text == '\0') return kProgressAfterNs;
-    char* end = nullptr;
-    const double s = std::strtod(text, &end);
-    if (*end != '\0' || !(s >= 0) || s > 1e6) return kProgressAfterNs;
-    return static_cast<int64_t>(s * 1e9);
-  }();
-  return after;
-}
-
 ProgressLine::ProgressLine(std::string label)
-    : label_(std::move(label)), tty_(isatty(2)), start_ns_(NowNs()) {}
+    : tty_(isatty(2)),
+      clock_(g_program + ": " + label, tty_,
+             // 0: every update a line (what the tests of the lines use).
+             ProgressAfterNs(std::getenv("ACTIVECAL_PROGRESS_AFTER_S"),
+                             kProgressAfterNs),
+             NowNs()) {}
 
 ProgressLine::~ProgressLine() {
-  if (tty_ && printed_) std::cerr << std::endl;
+  if (tty_ && clock_.printed()) std::cerr << std::endl;
 }
 
 ProgressCallback ProgressLine::callback() {
@@ -380,39 +321,13 @@ ProgressCallback ProgressLine::callback() {
 void ProgressLine::Update(int64_t done, int64_t total) {
   if (FLAGS_quiet) return;
   std::lock_guard<std::mutex> lock(mutex_);
-  const int64_t now = NowNs();
-  // Nothing in the first kProgressAfterNs: a short step prints no line.
-  const int64_t after = ProgressAfterNs();
-  if (now - start_ns_ < after) return;
-  // On a terminal the line is rewritten 5 times a second; in a file or a
-  // pipe a new line every 2 s (the threshold), and the last one.
-  const int64_t every = tty_ ? std::min<int64_t>(200000000, after) : after;
-  if (done < total && printed_ && now - last_ns_ < every) return;
-  if (done >= total && !tty_ && finished_) return;
-  last_ns_ = now;
-  finished_ = done >= total;
-  const double elapsed = (now - start_ns_) * 1e-9;
-  const double rate = elapsed > 0 ? done / elapsed : 0.0;
-  char line[256];
-  if (done < total && rate > 0) {
-    std::snprintf(line, sizeof(line), "%s: %s: %lld/%lld (%.3g/s, %.1f s left)",
-                  g_program.c_str(), label_.c_str(),
-                  static_cast<long long>(done), static_cast<long long>(total),
-                  rate, (total - done) / rate);
-  } else {
-    std::snprintf(line, sizeof(line),
-                  done < total ? "%s: %s: %lld/%lld (%.1f s so far)"
-                               : "%s: %s: %lld/%lld (%.1f s)",
-                  g_program.c_str(), label_.c_str(),
-                  static_cast<long long>(done), static_cast<long long>(total),
-                  elapsed);
-  }
+  const std::string line = clock_.Update(done, total, NowNs());
+  if (line.empty()) return;
   if (tty_) {
     std::cerr << "\r" << line << "\033[K" << std::flush;
   } else {
     std::cerr << line << std::endl;
   }
-  printed_ = true;
 }
 
 std::function<ProgressCallback(const std::string& stage)> StageProgressLines() {
@@ -436,21 +351,10 @@ ProgramRequest ProgramRequestOrDie(const RobotModel& model,
                                    const std::string& language,
                                    const std::string& controller) {
   ProgramRequest request;
-  request.path = path;
-  if (path.empty()) {
-    if (!controller.empty()) Fail("--controller needs --program_out");
-    return request;
-  }
-  if (!StringToProgramLanguage(language, &request.language)) {
-    Fail("--program_language must be urscript, krl or rapid, got '" + language +
-         "'");
-  }
   std::string error;
-  if (controller.empty()) {
-    request.convention = IdentityConvention(model);
-  } else if (!ReadControllerConvention(controller, model, &request.convention,
-                                       &error)) {
-    Fail("--controller: " + error);
+  if (!MakeProgramRequest(model, path, language, controller, &request,
+                          &error)) {
+    Fail(error);
   }
   CheckWritableOrDie(path, "program_out");
   return request;
@@ -459,29 +363,13 @@ ProgramRequest ProgramRequestOrDie(const RobotModel& model,
 void WriteProgramOrDie(const RobotModel& model, const ProgramRequest& request,
                        const PoseList& poses, const std::string& comment) {
   if (request.path.empty()) return;
-  ControllerProgramOptions options;
-  options.language = request.language;
-  options.comment = comment;
-  // The program's name: the file's, made an identifier.
-  std::string stem = request.path.substr(request.path.rfind('/') + 1);
-  stem = stem.substr(0, stem.find('.'));
-  std::string name;
-  for (char c : stem) {
-    name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  OutputFile file;
+  std::string note, error;
+  if (!MakeProgramFile(model, request, poses, comment, &file, &note, &error)) {
+    Fail(error);
   }
-  if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) {
-    name = "p" + name;
-  }
-  options.name = name.substr(0, 24);
-  std::string text, error;
-  if (!ControllerProgramText(model, request.convention, poses, options, &text,
-                             &error)) {
-    Fail("--program_out: " + error);
-  }
-  WriteTextOrDie(request.path, text);
-  std::printf("wrote %s: a %s program through %lld poses\n",
-              request.path.c_str(), ProgramLanguageToString(request.language),
-              static_cast<long long>(poses.joints.rows()));
+  WriteTextOrDie(file.path, file.text);
+  std::printf("%s", note.c_str());
 }
 
 }  // namespace app

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/program_output.h"
 #include "activecal/cell/cell_setup.h"
 #include "activecal/core/candidate_pool.h"
 #include "activecal/core/lattice.h"
@@ -37,7 +38,9 @@
 #include "activecal/estimation/identification.h"
 #include "activecal/io/controller_programs.h"
 #include "activecal/io/csv_files.h"
+#include "activecal/io/output_files.h"
 #include "activecal/io/robot_file.h"
+#include "activecal/report/progress_line.h"
 #include "activecal/selection/design.h"
 
 // --robot (with --base_link, --tip_link, --frames), shared by every program.
@@ -56,6 +59,9 @@ namespace app {
 // paper (with its true values) when --robot is empty. Dies with
 // file:line:field on errors.
 RobotDescription LoadRobotOrDie();
+
+// The URDF chain of --base_link and --tip_link.
+UrdfChainOptions Chain();
 
 // The cell file `cell_path` (a program's --cell) on *robot, with --robot's
 // collision geometry (--base_link, --tip_link); the cell's targets become
@@ -129,9 +135,18 @@ void Init(int* argc, char*** argv, const char* usage);
 // then `program`, then the pending outputs committed (Finish); returns the
 // exit status.
 int Run(int argc, char** argv, const char* usage, int (*program)());
+// A program's main function, Run with `usage` and `program`:
+//   ACTIVECAL_APP_MAIN(kUsage, activecal::Main)
+#define ACTIVECAL_APP_MAIN(usage, program)                  \
+  int main(int argc, char** argv) {                         \
+    return activecal::app::Run(argc, argv, usage, program); \
+  }
 
 // --quiet was given.
 bool Quiet();
+
+// Whether --<flag> was left at its default.
+bool IsDefault(const char* flag);
 
 // The program's one-line result, on stdout even with --quiet (its last
 // line: a script reads it with `tail -1`).
@@ -158,6 +173,8 @@ void CheckWritableOrDie(const std::string& path, const std::string& flag);
 // named as the user wrote it).
 void CheckTourFlagsOrDie(const std::string& order, double resolution_deg);
 void WriteTextOrDie(const std::string& path, const std::string& text);
+// WriteTextOrDie of each file.
+void WriteFilesOrDie(const std::vector<OutputFile>& files);
 // WriteTextOrDie's pending write, false with *error instead of dying.
 bool AddOutput(const std::string& path, const std::string& text,
                std::string* error);
@@ -189,13 +206,9 @@ class ProgressLine {
   void Update(int64_t done, int64_t total);
 
  private:
-  std::string label_;
   bool tty_;
   std::mutex mutex_;
-  int64_t start_ns_;
-  int64_t last_ns_ = 0;
-  bool printed_ = false;
-  bool finished_ = false;
+  ProgressLineClock clock_;  // report/progress_line.h
 };
 
 // For the library's stage progress options (SelectOptions::progress,
@@ -203,17 +216,21 @@ class ProgressLine {
 // labelled with the stage's name, living as long as its callback.
 std::function<ProgressCallback(const std::string& stage)> StageProgressLines();
 
+// The options of a library workflow with program_name (the texts' program)
+// and progress (SelectOptions, PaperExampleOptions, ...): this program's
+// name, and its stages' progress lines (StageProgressLines).
+template <typename Options>
+void NameProgramAndShowStages(Options* options) {
+  options->program_name = ProgramName();
+  options->progress = StageProgressLines();
+}
+
 double Seconds(int64_t start_ns);
 int64_t NowNs();
 
 // A controller program to write (--program_out, --program_language,
 // --controller of activecal_select and activecal_active): checked before the
-// work, written after it.
-struct ProgramRequest {
-  std::string path;  // empty: none
-  ProgramLanguage language = ProgramLanguage::kUrScript;
-  ControllerConvention convention;
-};
+// work (MakeProgramRequest, calibration/program_output.h), written after it.
 // Dies with "--program_language: ..." or "--controller: file:line: ..." on
 // bad values, or when `path` cannot be written.
 ProgramRequest ProgramRequestOrDie(const RobotModel& model,

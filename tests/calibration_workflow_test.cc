@@ -4,12 +4,13 @@
 // The parts of activecal_identify's workflow in the library: the learned
 // residual as a stage of Calibrate (calibrate.h), the joint error families
 // from plain values (calibration_setup.h), the rotation-weight note and the
-// orientation hint (calibration_notes.h) and the output files
-// (calibration_outputs.h).
+// orientation hint (calibration_notes.h), the output files
+// (calibration_outputs.h) and all of them in order (report/calibration_run.h).
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -24,6 +25,8 @@
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
+#include "activecal/report/calibration_run.h"
+#include "activecal/report/gnuplot_figure.h"
 #include "activecal/report/html_report.h"
 
 namespace activecal {
@@ -452,6 +455,98 @@ TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
   ASSERT_TRUE(
       MakeCalibrationOutputsAndReport(summary, data, o, &outputs, &error));
   EXPECT_EQ(outputs.files.size(), 1u);
+}
+
+// Calibrate's summary of `data` on `model` with `options`.
+CalibrationSummary CalibratedWith(const RobotModel& model,
+                                  const std::vector<Measurement>& data,
+                                  const CalibrationOptions& options) {
+  CalibrationSummary summary;
+  Calibrate(model, data, options, &summary);
+  return summary;
+}
+
+TEST(CalibrationWorkflowTest, CalibrationRunPrintsAndWritesInOrder) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  const CalibrationOptions options;
+  const CalibrationSummary summary = CalibratedWith(model, data, options);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  CalibrationRunOptions o;
+  o.outputs.json_out = "r.json";
+  o.outputs.report_html = "r.html";
+  o.outputs.source = "data.csv";
+  o.selection_plot = "curve.png";  // no model selection ran: no figure
+  CalibrationRunOutputs run;
+  MakeCalibrationRunOutputs(model, data, summary, o, &run);
+  EXPECT_TRUE(run.failure.empty()) << run.failure;
+  const CalibrationPrintout printout =
+      MakeCalibrationPrintout(model, data, summary, "", false, o.outputs.text);
+  CalibrationOutputs outputs;
+  std::string error;
+  ASSERT_TRUE(MakeCalibrationOutputsAndReport(summary, data, o.outputs,
+                                              &outputs, &error))
+      << error;
+  EXPECT_EQ(run.printed,
+            printout.stages + printout.report + outputs.notes_before);
+  ASSERT_EQ(run.files.size(), 2u);
+  EXPECT_EQ(run.files[0].path, "r.json");
+  EXPECT_EQ(run.files[0].text, outputs.files[0].text);
+  EXPECT_EQ(run.files[1].path, "r.html");
+  EXPECT_EQ(run.notes_after, outputs.notes_after);
+  // A calibration that failed: its failure after the report, no files.
+  CalibrationSummary failed = summary;
+  failed.stage = CalibrationStage::kValidation;
+  failed.message = "validation: failed";
+  MakeCalibrationRunOutputs(model, data, failed, o, &run);
+  const CalibrationPrintout f =
+      MakeCalibrationPrintout(model, data, failed, "", false, o.outputs.text);
+  EXPECT_EQ(run.failure, f.failure);
+  EXPECT_FALSE(run.failure.empty());
+  EXPECT_EQ(run.printed, f.stages + f.report);
+  EXPECT_TRUE(run.files.empty());
+}
+
+TEST(CalibrationWorkflowTest, CalibrationRunDrawsTheSelectionCurveFirst) {
+  const RobotModel model = Puma560PaperModel();
+  const std::vector<Measurement> data = SmoothPuma();
+  CalibrationOptions options;
+  options.model_selection = ModelSelectionMethod::kCrossValidation;
+  options.num_folds = 2;
+  options.num_threads = 2;
+  const CalibrationSummary summary = CalibratedWith(model, data, options);
+  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+  CalibrationRunOptions o;
+  o.outputs.json_out = "r.json";
+  o.selection_plot = ::testing::TempDir() + "program_outputs_curve.png";
+  CalibrationRunOutputs run;
+  MakeCalibrationRunOutputs(model, data, summary, o, &run);
+  ASSERT_TRUE(run.failure.empty()) << run.failure;
+  const CalibrationPrintout printout =
+      MakeCalibrationPrintout(model, data, summary, "", false, o.outputs.text);
+  ASSERT_TRUE(printout.has_selection_curve);
+  const std::string note =
+      GnuplotAvailable()
+          ? "  --selection_plot: wrote " + o.selection_plot + "\n"
+          : "  --selection_plot: gnuplot is not installed; no plot\n";
+  EXPECT_EQ(run.printed.substr(0, printout.stages.size() + note.size()),
+            printout.stages + note);
+  ASSERT_EQ(run.files.size(), GnuplotAvailable() ? 2u : 1u);
+  if (GnuplotAvailable()) {
+    EXPECT_EQ(run.files[0].path, o.selection_plot);
+    EXPECT_EQ(run.files[0].text.substr(1, 3), "PNG");
+  }
+  EXPECT_EQ(run.files.back().path, "r.json");
+  // Named in the keywords' spelling; a folder refused before any file.
+  if (!GnuplotAvailable()) return;
+  o.outputs.text.option_spelling = OptionSpelling::kKeywords;
+  o.selection_plot = ::testing::TempDir() + "program_outputs_folder";
+  std::filesystem::create_directories(o.selection_plot);
+  MakeCalibrationRunOutputs(model, data, summary, o, &run);
+  EXPECT_EQ(run.failure, "selection_plot: cannot write '" + o.selection_plot +
+                             "': it is a directory");
+  EXPECT_EQ(run.printed, printout.stages);
+  EXPECT_TRUE(run.files.empty());
 }
 
 TEST(CalibrationWorkflowTest, EvaluationHtmlNamesTheFilesAndErrors) {

@@ -134,6 +134,10 @@ bool SimulateCalibrationMeasurements(
     *error = p + *error;
     return false;
   }
+  if (options.points) {
+    *error = p + "points needs " + p + "measurements with type=point rows";
+    return false;
+  }
   return true;
 }
 

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -90,6 +91,29 @@ bool RenderGnuplotPng(const std::string& script, const std::string& png_path,
     *png = bytes.str();
   }
   std::remove(scratch_path.c_str());
+  return true;
+}
+
+bool MakeGnuplotFigure(const std::string& script, const std::string& png_path,
+                       const std::string& option, OutputFile* png,
+                       std::string* note, std::string* error) {
+  *png = OutputFile();
+  if (!GnuplotAvailable()) {
+    *note = "  " + option + ": gnuplot is not installed; no plot\n";
+    return true;
+  }
+  std::string bytes;
+  if (!RenderGnuplotPng(script, png_path, &bytes, error)) {
+    *error = option + ": " + *error;
+    return false;
+  }
+  std::error_code ec;
+  if (std::filesystem::is_directory(png_path, ec)) {
+    *error = option + ": cannot write '" + png_path + "': it is a directory";
+    return false;
+  }
+  *png = {png_path, bytes};
+  *note = "  " + option + ": wrote " + png_path + "\n";
   return true;
 }
 

@@ -82,6 +82,9 @@ struct CalibrationSimulationOptions {
   int num_poses = 30;
   double noise_m = 0.01;
   uint64_t seed = 1;
+  // A points file was given (--points): refused, the simulation having no
+  // type=point rows for its distances.
+  bool points = false;
 };
 
 // The simulated measurements into *measurements and their lattice poses
@@ -89,7 +92,8 @@ struct CalibrationSimulationOptions {
 // to print also when false). False with *error naming the options in
 // `spelling`: "no --measurements given and --robot has no true values to
 // simulate from (...)", "--levels=1: <the lattice's error>", "--num_poses
-// must be in [1, N], got k".
+// must be in [1, N], got k", "--points needs --measurements with
+// type=point rows" (once simulated).
 bool SimulateCalibrationMeasurements(
     const RobotDescription& robot, const CalibrationSimulationOptions& options,
     OptionSpelling spelling, std::vector<int64_t>* poses,

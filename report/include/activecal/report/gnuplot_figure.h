@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "activecal/io/output_files.h"
+
 namespace activecal {
 
 // Whether a gnuplot is on the PATH.
@@ -29,6 +31,16 @@ std::string GnuplotDataBlock(const std::string& name,
 // folder named. On failure, false with gnuplot's first line of error.
 bool RenderGnuplotPng(const std::string& script, const std::string& png_path,
                       std::string* png, std::string* error);
+
+// The figure of a program's option (`option`, e.g. "--plot"): with gnuplot
+// installed, `script` drawn (RenderGnuplotPng) into *png = {png_path, the
+// PNG's bytes} and *note "  <option>: wrote <png_path>\n"; without, *png
+// left empty (no path) and *note "  <option>: gnuplot is not installed; no
+// plot\n". False with *error "<option>: <why>" (gnuplot's error, or
+// "cannot write '<png_path>': it is a directory", as an output set says).
+bool MakeGnuplotFigure(const std::string& script, const std::string& png_path,
+                       const std::string& option, OutputFile* png,
+                       std::string* note, std::string* error);
 
 }  // namespace activecal
 
