@@ -19,6 +19,23 @@ int CountLines(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
+// A quick design: 12 poses of the 3-level lattice, greedily.
+SelectOptions GreedyOnTheLattice() {
+  SelectOptions o;
+  o.levels = 3;
+  o.design.algorithm = DesignAlgorithm::kGreedy;
+  o.design.num_poses = 12;
+  return o;
+}
+
+// Select's message for options it refuses.
+std::string FailureOf(const RobotModel& model, const SelectOptions& o) {
+  SelectSummary s;
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.termination_type, TerminationType::kFailure);
+  return s.message;
+}
+
 // The nominal model's position of marker 0 at `q`: a measurement made.
 Measurement PositionAt(const RobotModel& model, const Eigen::VectorXd& q) {
   Measurement like;
@@ -41,10 +58,7 @@ TEST(SelectWorkflowTest, PoolNamesRoundTrip) {
 
 TEST(SelectWorkflowTest, LatticeDesignWithItsOutputs) {
   const RobotModel model = Puma560PaperModel();
-  SelectOptions o;
-  o.levels = 3;
-  o.design.algorithm = DesignAlgorithm::kGreedy;
-  o.design.num_poses = 12;
+  SelectOptions o = GreedyOnTheLattice();
   int stages = 0;
   o.progress = [&stages](const std::string&) {
     ++stages;
@@ -90,16 +104,24 @@ TEST(SelectWorkflowTest, LatticeDesignWithItsOutputs) {
 TEST(SelectWorkflowTest, FailuresNameTheFlags) {
   const RobotModel model = Puma560PaperModel();
   SelectOptions o;
-  o.levels = 3;
-  o.design.num_poses = 1000;
   SelectSummary s;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
-            "--num_poses must be in [1, 729] (the pool size), got 1000");
-  o.design.num_poses = 12;
-  o.levels = 1;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message.rfind("--levels=1: ", 0), 0u) << s.message;
+  // As flags or, spelt as the Python keywords, without the dashes.
+  for (OptionSpelling spelling :
+       {OptionSpelling::kFlags, OptionSpelling::kKeywords}) {
+    const std::string dashes = spelling == OptionSpelling::kFlags ? "--" : "";
+    o = SelectOptions();
+    o.option_spelling = spelling;
+    o.levels = 3;
+    o.design.num_poses = 1000;
+    EXPECT_FALSE(Select(model, o, &s));
+    EXPECT_EQ(s.message, dashes +
+                             "num_poses must be in [1, 729] (the pool "
+                             "size), got 1000");
+    o.design.num_poses = 12;
+    o.levels = 1;
+    EXPECT_FALSE(Select(model, o, &s));
+    EXPECT_EQ(s.message.rfind(dashes + "levels=1: ", 0), 0u) << s.message;
+  }
   o = SelectOptions();
   o.pool = SelectPool::kMeasurable;
   EXPECT_FALSE(Select(model, o, &s));
@@ -163,10 +185,7 @@ TEST(SelectWorkflowTest, PoolOptionsAreCheckedBeforeThePoolIsMade) {
 
 TEST(SelectWorkflowTest, PoolTaskAndMeasuredGivenInMemory) {
   const RobotModel model = Puma560PaperModel();
-  SelectOptions o;
-  o.levels = 3;
-  o.design.algorithm = DesignAlgorithm::kGreedy;
-  o.design.num_poses = 12;
+  SelectOptions o = GreedyOnTheLattice();
   SelectSummary lattice;
   ASSERT_TRUE(Select(model, o, &lattice)) << lattice.message;
   // The lattice's poses given as the pool, labelled: the same design, its
@@ -211,22 +230,18 @@ TEST(SelectWorkflowTest, PoolTaskAndMeasuredGivenInMemory) {
 
   // Measured poses need the task criterion; the labels are checked.
   o.design.criterion = DesignCriterion::kDet;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
+  EXPECT_EQ(FailureOf(model, o),
             "--measured_csv needs --criterion=task_rms (the D-criterion "
             "algorithms take no prior information)");
   o.measured.clear();
   o.pool_poses.pose_indices.assign(3, 7);
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
+  EXPECT_EQ(FailureOf(model, o),
             "pool_indices: expected 729 values (one per pool pose), got 3");
   o.pool_poses.pose_indices.assign(729, 7);
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message.rfind("pool_indices: pose_indices[1] = 7", 0), 0u)
-      << s.message;
+  EXPECT_EQ(FailureOf(model, o).rfind("pool_indices: pose_indices[1] = 7", 0),
+            0u);
   o.pool = SelectPool::kLattice;  // poses given for another pool
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
+  EXPECT_EQ(FailureOf(model, o),
             "pool_poses give the poses of pool=poses, got pool=lattice");
 }
 
@@ -235,39 +250,25 @@ TEST(SelectWorkflowTest, MessagesSpeltAsTheKeywords) {
   SelectOptions o;
   o.option_spelling = OptionSpelling::kKeywords;
   o.levels = 3;
-  o.design.num_poses = 1000;
-  SelectSummary s;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
-            "num_poses must be in [1, 729] (the pool size), got 1000");
   o.design.num_poses = 12;
-  o.levels = 1;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message.rfind("levels=1: ", 0), 0u) << s.message;
-  o.levels = 3;
+  SelectSummary s;
   o.design.criterion = DesignCriterion::kTaskRms;  // eae has no task version
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
+  EXPECT_EQ(FailureOf(model, o),
             "criterion=task_rms: algorithm must be fedorov, greedy or "
             "approx, got 'eae'");
   o.design.algorithm = DesignAlgorithm::kGreedy;
   o.measured.push_back(PositionAt(model, Eigen::VectorXd::Zero(6)));
   o.design.criterion = DesignCriterion::kDet;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
+  EXPECT_EQ(FailureOf(model, o),
             "measured needs criterion='task_rms' (the D-criterion "
             "algorithms take no prior information)");
   o.measured.clear();
   o.pool = SelectPool::kRandom;
   o.pool_size = 100000000000;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message.rfind("pool_size: ", 0), 0u) << s.message;
+  EXPECT_EQ(FailureOf(model, o).rfind("pool_size: ", 0), 0u);
   // A tour without a cell: its moves not checked, for want of cell=.
-  o = SelectOptions();
+  o = GreedyOnTheLattice();
   o.option_spelling = OptionSpelling::kKeywords;
-  o.levels = 3;
-  o.design.algorithm = DesignAlgorithm::kGreedy;
-  o.design.num_poses = 12;
   o.order_shortest = true;
   ASSERT_TRUE(Select(model, o, &s)) << s.message;
   EXPECT_EQ(s.json["tour"]["moves_not_checked"], "no cell=");
