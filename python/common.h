@@ -3,8 +3,8 @@
 
 // Shared by the files of the Python module `activecal` (module.cc binds
 // what they define): conversions between numpy and Eigen, errors, the
-// GIL-aware progress bridge, the result classes, and the declarations of
-// each file's functions.
+// arguments several files take (a Robot, a cell, Measurements), the
+// Estimate, and each file's Bind function.
 //
 // Every function composes the library's free functions the way the
 // programs under apps/ do, with the same defaults, so that a call gives
@@ -17,7 +17,6 @@
 #ifndef ACTIVECAL_PYTHON_COMMON_H_
 #define ACTIVECAL_PYTHON_COMMON_H_
 
-#include <glog/logging.h>
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -26,55 +25,17 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <limits>
 #include <memory>
-#include <optional>
-#include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "activecal/calibration/calibrate.h"
-#include "activecal/calibration/calibration_report.h"
-#include "activecal/calibration/cell_planning.h"
-#include "activecal/calibration/pool_builder.h"
-#include "activecal/calibration/select_design.h"
-#include "activecal/calibration/selection_pool.h"
 #include "activecal/cell/cell_setup.h"
-#include "activecal/cell/tour.h"
-#include "activecal/core/joint_sampling.h"
-#include "activecal/core/kinematics.h"
-#include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
-#include "activecal/core/puma560.h"
-#include "activecal/core/random.h"
-#include "activecal/core/simulation.h"
-#include "activecal/estimation/estimate_warnings.h"
-#include "activecal/estimation/evaluation.h"
-#include "activecal/estimation/identification.h"
-#include "activecal/estimation/model_selection.h"
-#include "activecal/estimation/parameter_reduction.h"
-#include "activecal/estimation/registration.h"
-#include "activecal/estimation/registration_fit.h"
-#include "activecal/io/csv_files.h"
+#include "activecal/core/robot_model.h"
 #include "activecal/io/robot_file.h"
-#include "activecal/io/robot_loader.h"
-#include "activecal/io/targets_csv.h"
 #include "activecal/io/urdf_robot.h"
-#include "activecal/kinematics/compensation.h"
-#include "activecal/kinematics/inverse_kinematics.h"
-#include "activecal/residuals/jacobians.h"
-#include "activecal/selection/approximate_design.h"
-#include "activecal/selection/criteria.h"
-#include "activecal/selection/exchange_add_exchange.h"
-#include "activecal/selection/fedorov.h"
-#include "activecal/selection/random_designs.h"
-#include "activecal/selection/target_size.h"
-#include "activecal/selection/task_approximate.h"
-#include "activecal/selection/task_criterion.h"
-#include "activecal/selection/task_exchange.h"
 
 namespace py = pybind11;
 
@@ -185,6 +146,14 @@ inline Eigen::VectorXd VectorArg(const py::handle& obj, const std::string& what,
   return v;
 }
 
+// What `get` gives for each of `items`, in order (a property's list).
+template <typename Items, typename Get>
+auto Each(const Items& items, Get get) {
+  std::vector<std::decay_t<decltype(get(*std::begin(items)))>> out;
+  for (const auto& item : items) out.push_back(get(item));
+  return out;
+}
+
 inline std::string Join(const std::vector<std::string>& items) {
   std::string s;
   for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
@@ -202,44 +171,6 @@ inline void NoUnknownOptions(const char* function, const py::kwargs& kwargs,
          (known.empty() ? "" : " (options: " + Join(known) + ")"));
   }
 }
-
-// Progress callbacks from C++ (any worker thread) into a Python callable
-// progress(stage, done, total). The GIL is taken for each call; an
-// exception raised by the callable is kept, later calls are skipped, and
-// it is raised again once the C++ work is over (the library's work cannot
-// be cancelled, so it runs to its end).
-class Progress {
- public:
-  explicit Progress(py::object callable) : callable_(std::move(callable)) {
-    if (!callable_.is_none() && !PyCallable_Check(callable_.ptr())) {
-      Fail("progress: expected a callable progress(stage, done, total)");
-    }
-  }
-  ProgressCallback Callback(const std::string& stage) {
-    if (callable_.is_none()) return {};
-    return [this, stage](int64_t done, int64_t total) {
-      py::gil_scoped_acquire gil;
-      if (error_) return;
-      try {
-        callable_(stage, done, total);
-      } catch (py::error_already_set& e) {
-        error_.emplace(std::move(e));
-      }
-    };
-  }
-  // With the GIL held: raises what the callable raised, if anything.
-  void RaiseIfFailed() {
-    if (error_) {
-      py::error_already_set e = std::move(*error_);
-      error_.reset();
-      throw e;
-    }
-  }
-
- private:
-  py::object callable_;
-  std::optional<py::error_already_set> error_;
-};
 
 // --------------------------------------------------------------- classes
 
@@ -273,23 +204,6 @@ inline Eigen::VectorXd ParametersArg(const Robot& robot,
   std::string error;
   if (!robot.model().CheckParameters(p, &error)) Fail("parameters: " + error);
   return p;
-}
-
-inline void CheckQ(const RobotModel& model, const Eigen::VectorXd& q, int row,
-                   bool batch) {
-  // Inside every range and finite: valid without building a message.
-  bool inside = q.size() == model.num_joints();
-  for (int j = 0; inside && j < q.size(); ++j) {
-    const Link& link = model.links[j];
-    inside =
-        std::isfinite(q[j]) && q[j] >= link.joint_min && q[j] <= link.joint_max;
-  }
-  if (inside) return;
-  std::string error;
-  if (!model.CheckJointValues(q, &error, kMeasuredJointToleranceRad,
-                              kMeasuredJointToleranceM)) {
-    Fail(batch ? "q row " + std::to_string(row) + ": " + error : "q: " + error);
-  }
 }
 
 // The model's parameter set by name (None: full for a URDF robot, file
@@ -342,32 +256,6 @@ inline void CheckMarkers(const RobotModel& model,
   }
 }
 
-struct DesignResult {
-  SelectionSummary summary;
-  Eigen::MatrixXd joint_angles;
-  std::vector<int64_t> pose_indices;
-  std::vector<std::string> free_parameters;
-  std::vector<std::string> auto_fixed;
-  std::vector<std::string> notes;
-  std::string criterion;
-  double predicted_task_rms_m = 0;
-  double noise_m = 0;
-  int64_t num_task_poses = 0;
-  bool certificate = false;
-  bool with_approx = false;
-  ApproximateDesignSummary approx;
-  bool with_task_approx = false;
-  TaskApproximateSummary task_approx;
-  bool with_target = false;
-  TargetSizeSummary target;
-  int num_measured = 0;
-  bool single_precision = false;  // the pool's storage
-  // With cell=: feasible_poses, rejected, targets_seen (as
-  // activecal_select --cell's JSON); with order="shortest": tour. Null
-  // members are None.
-  nlohmann::json cell_info = nlohmann::json::object();
-};
-
 struct EstimateResult {
   RobotPtr robot;  // the robot identified (its file's units)
   CalibrationSummary calibration;
@@ -384,178 +272,11 @@ struct EstimateResult {
   const RobotModel& model() const { return calibration.model; }
 };
 
-// A column of the measurements as an array; rows without it are NaN.
-template <typename Get>
-Eigen::MatrixXd Column(const Measurements& m, int cols, Get get) {
-  Eigen::MatrixXd out(m.items.size(), cols);
-  for (size_t i = 0; i < m.items.size(); ++i) {
-    const Eigen::RowVectorXd row = get(m.items[i]);
-    // Rows of another robot's joint count (Measurements joined with +):
-    // NaN, not an out-of-bounds write.
-    if (row.size() == cols) {
-      out.row(i) = row;
-    } else {
-      out.row(i).setConstant(NAN);
-    }
-  }
-  return out;
-}
-
-// identify's option `name` taken out of kwargs: `value` when absent or
-// None, else the value converted to T or a ValueError naming what T takes.
-template <typename T>
-T Option(py::kwargs& kwargs, const char* name, T value) {
-  if (kwargs.contains(name)) {
-    const py::object given = kwargs[name];
-    if (!given.is_none()) {
-      try {
-        value = py::cast<T>(given);
-      } catch (const py::cast_error&) {
-        const char* want =
-            std::is_same<T, std::string>::value ? "a string"
-            : std::is_same<T, bool>::value      ? "True or False"
-            : std::is_integral<T>::value && std::is_unsigned<T>::value
-                ? "a non-negative integer"
-            : std::is_integral<T>::value ? "an integer"
-                                         : "a number";
-        Fail(std::string("identify: option ") + name + ": expected " + want +
-             ", got " + Repr(given));
-      }
-    }
-    PyDict_DelItemString(kwargs.ptr(), name);
-  }
-  return value;
-}
-
-struct CompensationResult {
-  CompensationSummary summary;
-  RobotPtr robot;
-  std::vector<int64_t> pose_indices;
-  Eigen::MatrixXd starts;  // the program, or the targets' starts
-};
-
-// robot.cc: Robot: load_robot, puma560, forward, frame, jacobian,
-// with_parameter_set, save.
-RobotPtr LoadRobotPy(const py::object& path, const py::object& base_link,
-                     const py::object& tip_link, const py::object& frames);
-
-RobotPtr Puma560();
-
-py::array_t<bool> FreeFlags(const RobotModel& model);
-
-py::array_t<double> Forward(const Robot& robot, const py::object& q_obj,
-                            const py::object& parameters, int marker);
-
-Eigen::Matrix4d Frame(const Robot& robot, const py::object& q_obj,
-                      const py::object& parameters, int marker);
-
-py::array_t<double> JacobianPy(const Robot& robot, const py::object& q_obj,
-                               const py::object& parameters, int marker,
-                               const std::string& type_name,
-                               double rotation_weight);
-
-RobotPtr WithParameterSet(const Robot& robot, const std::string& name,
-                          const std::string& measurement);
-
-// Robot.perturbed: PerturbParameters (core/simulation.h).
-Eigen::VectorXd PerturbedPy(const Robot& robot, double perturb_m,
-                            double perturb_rad, uint64_t seed,
-                            const py::object& parameters);
-void SaveRobot(const Robot& robot, const py::object& path,
-               const py::object& parameters);
-
-// Pickling: a Robot as its robot file text (radians, true values) with its
-// path and kind; Measurements as arrays.
-py::tuple RobotState(const Robot& robot);
-RobotPtr RobotFromState(const py::tuple& state);
-py::tuple MeasurementsState(const Measurements& m);
-Measurements MeasurementsFromState(const py::tuple& state);
-
-// measurements_files.cc: Files (measurements, poses, targets CSV),
-// Measurements, simulate.
+// measurements_files.cc: `text` written to `path`, or a ValueError naming
+// it; a Measurements argument, or a ValueError naming `what`.
 void WriteText(const std::string& path, const std::string& text);
-
-Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path,
-                                bool strict_limits, bool columns_strict,
-                                const py::object& column_map);
-
-void WriteMeasurementsPy(const Robot& robot, const py::object& path,
-                         const Measurements& m, bool millimetres,
-                         bool joint_degrees, bool joint_names,
-                         const std::string& orientation);
-
-py::tuple ReadPosesPy(const Robot& robot, const py::object& path,
-                      bool reject_duplicates);
-
-py::tuple ReadTargetsPy(const Robot& robot, const py::object& path);
-
-void WritePosesPy(const Robot& robot, const py::object& path,
-                  const py::object& joints, const py::object& indices);
-
-Measurements MakeMeasurements(
-    const std::string& type_name, const py::object& joints_obj,
-    const py::object& positions, const py::object& rotations,
-    const py::object& joints2, const py::object& distances,
-    const py::object& markers, const py::object& sigma_m,
-    const py::object& sigma_rad);
-
 const Measurements& MeasurementsArg(const py::object& obj,
                                     const std::string& what);
-
-int NumJoints(const Measurements& m);
-
-Measurements Subset(const Measurements& m, const py::object& key);
-
-Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
-                        double noise_m, uint64_t seed,
-                        const std::string& type_name, double rotation_noise_rad,
-                        const py::object& parameters, const py::kwargs& kwargs);
-
-// design.cc: select: the pool, the task and the design, by the library
-// (selection_pool.h, select_design.h).
-std::shared_ptr<DesignResult> SelectPy(
-    const Robot& robot, std::string algorithm, int num_poses, uint64_t seed,
-    int levels, const py::object& pool_obj, const std::string& criterion,
-    int64_t pool_size, const py::object& pool_indices,
-    const std::string& measurement, double rotation_weight,
-    const py::object& parameter_set, bool auto_fix, int restarts,
-    int initial_poses, int random_designs, bool certificate,
-    double approx_tolerance, int64_t polish_pool_size,
-    const std::string& pool_storage, int64_t max_double_pool_mib,
-    double noise_m, const py::object& task_poses, const py::object& measured,
-    const py::object& target_rms_m, int num_threads, const py::object& progress,
-    const py::kwargs& kwargs);
-
-py::array_t<double> HistoryLog10(const SelectionSummary& s);
-
-// identify.cc: identify and evaluate.
-std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
-                                           const Measurements& measurements,
-                                           py::kwargs kwargs);
-
-std::string EstimateFileText(const EstimateResult& e);
-// The learned residual's summary as a dict (None when it was off).
-py::object LearnedResidualPy(const EstimateResult& e);
-
-RobotPtr CalibratedRobot(const EstimateResult& e);
-
-py::dict Stats(const ErrorStatistics& s);
-
-py::dict EvaluatePy(const Robot& robot, const Measurements& measurements,
-                    const py::object& parameters);
-// The ISO 9283 figures of a cycles file (activecal_evaluate --iso9283):
-// the JSON's "iso9283" object as a dict.
-py::object Iso9283Py(const Robot& robot, const std::string& path,
-                     const py::object& parameters);
-
-// compensate.cc: compensate.
-std::shared_ptr<CompensationResult> CompensatePy(
-    const RobotPtr& robot, const py::object& program, const py::object& nominal,
-    const py::object& targets, const py::object& rotations,
-    const py::object& starts, const py::object& pose_indices,
-    const std::string& match, int marker, double position_tolerance_m,
-    double rotation_tolerance_rad, double rotation_weight_m, int max_iterations,
-    double singular_threshold, int num_threads, const py::kwargs& kwargs);
 
 // The module's classes and functions, one area a file (module.cc calls
 // them in this order: a class is bound before the functions that return it).

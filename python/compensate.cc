@@ -7,6 +7,11 @@
 
 #include "activecal/calibration/compensate.h"
 
+#include <sstream>
+
+#include "activecal/calibration/cell_planning.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/kinematics/inverse_kinematics.h"
 #include "common.h"
 
 namespace activecal {
@@ -14,11 +19,20 @@ namespace python {
 
 // ----------------------------------------------------------- compensate
 
+namespace {
+
+struct CompensationResult {
+  CompensationSummary summary;
+  RobotPtr robot;
+  std::vector<int64_t> pose_indices;
+  Eigen::MatrixXd starts;  // the program, or the targets' starts
+};
+
 // Joint rows given to compensate: finite, within the ranges widened by the
 // tolerance for measured joints (a NaN row is bad input, not a target
 // that did not converge).
-static void CheckRows(const RobotModel& model, const Eigen::MatrixXd& rows,
-                      const std::string& what) {
+void CheckRows(const RobotModel& model, const Eigen::MatrixXd& rows,
+               const std::string& what) {
   for (int r = 0; r < rows.rows(); ++r) {
     std::string error;
     if (!model.CheckJointValues(rows.row(r).transpose(), &error,
@@ -31,7 +45,7 @@ static void CheckRows(const RobotModel& model, const Eigen::MatrixXd& rows,
 
 // Rows of numbers given to compensate: every value finite (a NaN rotation
 // vector was read as the identity and its target reported converged).
-static void CheckFinite(const Eigen::MatrixXd& rows, const std::string& what) {
+void CheckFinite(const Eigen::MatrixXd& rows, const std::string& what) {
   for (int r = 0; r < rows.rows(); ++r) {
     for (int c = 0; c < rows.cols(); ++c) {
       if (!std::isfinite(rows(r, c))) {
@@ -154,6 +168,18 @@ std::shared_ptr<CompensationResult> CompensatePy(
   return result;
 }
 
+// Per target, a number of its result.
+Eigen::VectorXd PerTarget(const CompensationResult& c,
+                          double InverseKinematicsResult::*field) {
+  Eigen::VectorXd e(c.summary.results.size());
+  for (size_t i = 0; i < c.summary.results.size(); ++i) {
+    e[i] = c.summary.results[i].*field;
+  }
+  return e;
+}
+
+}  // namespace
+
 void BindCompensate(py::module_& m) {
   py::class_<CompensationResult, std::shared_ptr<CompensationResult>>(
       m, "Compensation", "A compensated program (compensate).")
@@ -176,40 +202,30 @@ void BindCompensate(py::module_& m) {
       .def_property_readonly(
           "status",
           [](const CompensationResult& c) {
-            std::vector<std::string> s;
-            for (const InverseKinematicsResult& r : c.summary.results) {
-              s.push_back(IkStatusName(r.status));
-            }
-            return s;
+            return Each(c.summary.results,
+                        [](const InverseKinematicsResult& r) {
+                          return std::string(IkStatusName(r.status));
+                        });
           },
           "Per target: converged, singular, limit, unreachable, invalid, "
           "iteration_cap, collision (cell=)")
-      .def_property_readonly("messages",
-                             [](const CompensationResult& c) {
-                               std::vector<std::string> s;
-                               for (const auto& r : c.summary.results) {
-                                 s.push_back(r.message);
-                               }
-                               return s;
-                             })
-      .def_property_readonly("position_error_m",
-                             [](const CompensationResult& c) {
-                               Eigen::VectorXd e(c.summary.results.size());
-                               for (size_t i = 0; i < c.summary.results.size();
-                                    ++i) {
-                                 e[i] = c.summary.results[i].position_error_m;
-                               }
-                               return e;
-                             })
-      .def_property_readonly("rotation_error_rad",
-                             [](const CompensationResult& c) {
-                               Eigen::VectorXd e(c.summary.results.size());
-                               for (size_t i = 0; i < c.summary.results.size();
-                                    ++i) {
-                                 e[i] = c.summary.results[i].rotation_error_rad;
-                               }
-                               return e;
-                             })
+      .def_property_readonly(
+          "messages",
+          [](const CompensationResult& c) {
+            return Each(
+                c.summary.results,
+                [](const InverseKinematicsResult& r) { return r.message; });
+          })
+      .def_property_readonly(
+          "position_error_m",
+          [](const CompensationResult& c) {
+            return PerTarget(c, &InverseKinematicsResult::position_error_m);
+          })
+      .def_property_readonly(
+          "rotation_error_rad",
+          [](const CompensationResult& c) {
+            return PerTarget(c, &InverseKinematicsResult::rotation_error_rad);
+          })
       .def_property_readonly(
           "target_points",
           [](const CompensationResult& c) {

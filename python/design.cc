@@ -1,12 +1,18 @@
 // Copyright (c) 2026, the activecal authors.
 // SPDX-License-Identifier: BSD-3-Clause
 
-// The Python module `activecal`: select: the pool, the task and the design, by
-// the library (selection_pool.h, select_design.h); with cell= the pool is
-// the feasible one (cell_planning.h), as activecal_select --cell.
+// The Python module `activecal`: select, by the library's Select
+// (select_workflow.h, what activecal_select calls); with cell= the pool is
+// the feasible one, as activecal_select --cell.
+
+#include <optional>
+#include <sstream>
 
 #include "activecal/calibration/defaults.h"
 #include "activecal/calibration/select_workflow.h"
+#include "activecal/core/free_set.h"
+#include "activecal/selection/criteria.h"
+#include "activecal/selection/task_criterion.h"
 #include "common.h"
 
 namespace activecal {
@@ -37,6 +43,94 @@ std::unique_ptr<CellSetup> CellArg(const Robot& robot, const py::kwargs& kwargs,
 
 // --------------------------------------------------------------- select
 
+namespace {
+
+// Progress callbacks from C++ (any worker thread) into a Python callable
+// progress(stage, done, total). The GIL is taken for each call; an
+// exception raised by the callable is kept, later calls are skipped, and
+// it is raised again once the C++ work is over (the library's work cannot
+// be cancelled, so it runs to its end).
+class Progress {
+ public:
+  explicit Progress(py::object callable) : callable_(std::move(callable)) {
+    if (!callable_.is_none() && !PyCallable_Check(callable_.ptr())) {
+      Fail("progress: expected a callable progress(stage, done, total)");
+    }
+  }
+  ProgressCallback Callback(const std::string& stage) {
+    if (callable_.is_none()) return {};
+    return [this, stage](int64_t done, int64_t total) {
+      py::gil_scoped_acquire gil;
+      if (error_) return;
+      try {
+        callable_(stage, done, total);
+      } catch (py::error_already_set& e) {
+        error_.emplace(std::move(e));
+      }
+    };
+  }
+  // With the GIL held: raises what the callable raised, if anything.
+  void RaiseIfFailed() {
+    if (error_) {
+      py::error_already_set e = std::move(*error_);
+      error_.reset();
+      throw e;
+    }
+  }
+
+ private:
+  py::object callable_;
+  std::optional<py::error_already_set> error_;
+};
+
+struct DesignResult {
+  SelectionSummary summary;
+  Eigen::MatrixXd joint_angles;
+  std::vector<int64_t> pose_indices;
+  std::vector<std::string> free_parameters;
+  std::vector<std::string> auto_fixed;
+  std::vector<std::string> notes;
+  std::string criterion;
+  double predicted_task_rms_m = 0;
+  double noise_m = 0;
+  int64_t num_task_poses = 0;
+  bool certificate = false;
+  bool with_approx = false;
+  ApproximateDesignSummary approx;
+  bool with_task_approx = false;
+  TaskApproximateSummary task_approx;
+  bool with_target = false;
+  TargetSizeSummary target;
+  int num_measured = 0;
+  bool single_precision = false;  // the pool's storage
+  // With cell=: feasible_poses, rejected, targets_seen (as
+  // activecal_select --cell's JSON); with order="shortest": tour. Null
+  // members are None.
+  nlohmann::json cell_info = nlohmann::json::object();
+};
+
+// The library's stages (Select's progress) as the module names them
+// ("jacobians", "approximate", "restarts"); its other stages unreported.
+StageProgress StagesOf(Progress* bridge) {
+  return [bridge](const std::string& stage) -> ProgressCallback {
+    if (stage == "Jacobians of the pool poses") {
+      return bridge->Callback("jacobians");
+    }
+    if (stage == "approximate design, rounds") {
+      return bridge->Callback("approximate");
+    }
+    const std::string restarts = " restarts";
+    if (stage.size() > restarts.size() &&
+        stage.compare(stage.size() - restarts.size(), restarts.size(),
+                      restarts) == 0) {
+      return bridge->Callback("restarts");
+    }
+    return {};
+  };
+}
+
+// select: the keywords as the library's SelectOptions, one Select (the
+// work of activecal_select), its summary as a Design.
 std::shared_ptr<DesignResult> SelectPy(
     const Robot& robot, std::string algorithm, int num_poses, uint64_t seed,
     int levels, const py::object& pool_obj, const std::string& criterion,
@@ -58,7 +152,7 @@ std::shared_ptr<DesignResult> SelectPy(
   RobotDescription described;
   const std::unique_ptr<CellSetup> cell =
       CellArg(robot, kwargs, &result->notes, !robot.with_frames, &described);
-  RobotModel model = cell ? described.model : robot.model();
+  const RobotModel& model = cell ? described.model : robot.model();
   // order= (kwarg): "none" (default) or "shortest" (a short tour, as
   // activecal_select --order=shortest; with a cell every move checked).
   std::string order = "none";
@@ -68,316 +162,152 @@ std::shared_ptr<DesignResult> SelectPy(
   if (order != "none" && order != "shortest") {
     Fail("order must be 'none' or 'shortest', got '" + order + "'");
   }
-  const MeasurementType type =
-      MeasurementTypeArg(measurement, false, "measurement");
-  DesignAlgorithm design_algorithm;
-  DesignCriterion design_criterion;
+  SelectOptions options;
+  options.option_spelling = OptionSpelling::kKeywords;
+  options.type = MeasurementTypeArg(measurement, false, "measurement");
+  SelectDesignOptions& design = options.design;
   {
     std::string error;
-    if (!ParseDesignAlgorithm(algorithm, &design_algorithm, &error) ||
-        !ParseDesignCriterion(criterion, &design_criterion, &error)) {
+    if (!ParseDesignAlgorithm(algorithm, &design.algorithm, &error) ||
+        !ParseDesignCriterion(criterion, &design.criterion, &error)) {
       Fail(error);
     }
   }
-
-  // The candidate poses: a lattice, sampled, or given.
-  Eigen::MatrixXd pool_joints;
-  std::vector<int64_t> labels;
-  std::string pool_kind = "lattice";
-  if (!pool_obj.is_none() && py::isinstance<py::str>(pool_obj)) {
-    pool_kind = py::str(pool_obj);
-  } else if (!pool_obj.is_none()) {
-    pool_kind = "array";
-  }
-  // With a cell the lattice and the draws span the ranges inside the joint
-  // margins, as activecal_select --cell.
-  const RobotModel pool_model =
-      cell ? WithinJointMargins(*cell->checker, model) : model;
-  // The drawn pools and the lattice, as activecal_select's --pool (not
-  // measurable: the module has no such pool).
-  SelectPool drawn = SelectPool::kLattice;
-  const bool given = pool_kind == "array";
-  if (!given && (!StringToSelectPool(pool_kind, &drawn) ||
-                 drawn == SelectPool::kMeasurable)) {
-    Fail(
-        "pool must be 'lattice', 'sobol', 'random' or an array of joint "
-        "values, got '" +
-        pool_kind + "'");
-  }
-  if (given) {
-    pool_joints = MatrixArg(pool_obj, "pool", model.num_joints(), false);
+  // The candidate poses: a lattice, drawn, or given (labelled by
+  // pool_indices).
+  if (!pool_obj.is_none() && !py::isinstance<py::str>(pool_obj)) {
+    options.pool = SelectPool::kPoses;
+    options.pool_poses.joints =
+        MatrixArg(pool_obj, "pool", model.num_joints(), false);
     if (!pool_indices.is_none()) {
-      labels = IntegerVector(pool_indices, "pool_indices");
-      if (static_cast<int64_t>(labels.size()) != pool_joints.rows()) {
-        Fail("pool_indices: expected " + std::to_string(pool_joints.rows()) +
-             " values (one per pool pose), got " +
-             std::to_string(labels.size()));
-      }
-      std::string error;
-      if (!CheckPoseIndices(labels, /*unique=*/true, &error)) {
-        Fail("pool_indices: " + error);
-      }
+      options.pool_poses.pose_indices =
+          IntegerVector(pool_indices, "pool_indices");
     }
-  } else if (drawn == SelectPool::kLattice) {
-    JointLattice lattice;
-    std::string error;
-    if (!JointLattice::Create(pool_model, levels, &lattice, &error)) {
-      Fail("levels=" + std::to_string(levels) + ": " + error);
-    }
-    if (!CheckSelectionPoolSize(lattice.size(), model, type, &error)) {
-      Fail("levels=" + std::to_string(levels) + ": " + error);
-    }
-    for (const std::string& note : lattice.OneTurnNotes(model)) {
-      result->notes.push_back(note);
-    }
-    pool_joints = lattice.AllJointValues();
   } else {
-    const JointSampling sampling = drawn == SelectPool::kRandom
-                                       ? JointSampling::kRandom
-                                       : JointSampling::kSobol;
-    // A pool too large for memory is refused up front (the alternative is
-    // std::bad_alloc midway), by the library's check, as activecal_select.
-    std::string error;
-    if (!CheckSelectionPoolSize(pool_size, model, type, &error)) {
-      Fail("pool_size: " + error);
+    const std::string kind =
+        pool_obj.is_none() ? "lattice" : std::string(py::str(pool_obj));
+    if (!StringToSelectPool(kind, &options.pool) ||
+        options.pool == SelectPool::kMeasurable) {
+      Fail(
+          "pool must be 'lattice', 'sobol', 'random' or an array of joint "
+          "values, got '" +
+          kind + "'");
     }
-    if (!SampleJointValues(pool_model, sampling, pool_size, seed, &pool_joints,
-                           &error)) {
-      Fail("pool=" + pool_kind + ": " + error);
+    if (!pool_indices.is_none()) {
+      Fail("pool_indices label a pool given as an array; pool is '" + kind +
+           "'");
     }
+    if (options.pool != SelectPool::kLattice) options.pool_size = pool_size;
   }
-  if (!pool_indices.is_none() && pool_kind != "array") {
-    Fail("pool_indices label a pool given as an array; pool is '" + pool_kind +
-         "'");
-  }
-  const bool with_target = !target_rms_m.is_none();
-  double target_rms = 0.0;
-  if (with_target) {
+  options.levels = levels;
+  if (!target_rms_m.is_none()) {
+    double target_rms = 0.0;
     try {
       target_rms = py::cast<double>(target_rms_m);
     } catch (const py::cast_error&) {
       Fail("target_rms_m: expected a number (m), got " + Repr(target_rms_m));
     }
+    if (!(target_rms > 0) || !std::isfinite(target_rms)) {
+      Fail("target_rms_m must be > 0 (m)");
+    }
+    design.target_rms_m = target_rms;
   }
-  if (with_target && (!(target_rms > 0) || !std::isfinite(target_rms))) {
-    Fail("target_rms_m must be > 0 (m)");
-  }
-  std::vector<Measurement> measured_items;
   if (!measured.is_none()) {
-    measured_items = MeasurementsArg(measured, "measured").items;
-    CheckMarkers(model, measured_items, "measured");
+    options.measured = MeasurementsArg(measured, "measured").items;
+    CheckMarkers(model, options.measured, "measured");
   }
-  if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
-    Fail("num_poses must be in [1, " + std::to_string(pool_joints.rows()) +
-         "] (the pool size), got " + std::to_string(num_poses));
-  }
-  SelectDesignOptions options;
-  options.algorithm = design_algorithm;
-  options.criterion = design_criterion;
-  options.num_poses = num_poses;
-  options.restarts = restarts;
-  options.seed = seed;
-  options.num_threads = num_threads;
-  options.certificate = certificate;
-  options.approx_tolerance = approx_tolerance;
-  options.polish_pool_size = polish_pool_size;
-  options.initial_poses = initial_poses;
-  options.random_designs = random_designs;
-  options.noise_m = noise_m;
-  if (with_target) options.target_rms_m = target_rms;
+  design.num_poses = num_poses;
+  design.restarts = restarts;
+  design.seed = seed;
+  design.num_threads = num_threads;
+  design.certificate = certificate;
+  design.approx_tolerance = approx_tolerance;
+  design.polish_pool_size = polish_pool_size;
+  design.initial_poses = initial_poses;
+  design.random_designs = random_designs;
+  design.noise_m = noise_m;
   {
     std::string error;
-    if (!options.IsValid(&error)) Fail(error);
+    if (!design.IsValid(&error)) Fail(error);  // before the pool's work
   }
-  const bool task = options.task();
-  if (!measured_items.empty() && !task) {
-    Fail(
-        "measured needs criterion='task_rms' (the D-criterion algorithms "
-        "take no prior information)");
-  }
-  Eigen::MatrixXd task_joints;
   if (!task_poses.is_none()) {
-    task_joints =
+    options.task_joints =
         MatrixArg(task_poses, "task_poses", model.num_joints(), false);
   }
-  SelectionPoolOptions pool_options;
-  pool_options.parameter_set = ParameterSetArg(robot, parameter_set);
-  pool_options.type = type;
-  pool_options.rotation_weight_m_per_rad = rotation_weight;
-  pool_options.num_threads = num_threads;
-  pool_options.auto_fix = auto_fix;
-  // Single precision past the budget, as activecal_select --pool_storage.
-  pool_options.reads_float = ReadsFloatPool(design_algorithm, design_criterion);
-  if (!PoolStorageFromString(pool_storage, &pool_options.storage)) {
+  options.parameter_set = ParameterSetArg(robot, parameter_set);
+  options.rotation_weight_m_per_rad = rotation_weight;
+  options.auto_fix = auto_fix;
+  if (!PoolStorageFromString(pool_storage, &options.storage)) {
     Fail("pool_storage must be 'auto', 'double' or 'float', got '" +
          pool_storage + "'");
   }
-  pool_options.max_double_pool_mib = max_double_pool_mib;
-  {
-    std::string error;
-    if (!pool_options.IsValid(&error)) Fail(error);
-  }
-  PoolFilterSummary feasibility;
-  if (cell) {
-    PoolFilterOptions o;
-    o.num_threads = num_threads;
-    SetCellPoolFilter(*cell->checker, model, o, &feasibility, &pool_options);
-  }
-  pool_options.progress = bridge.Callback("jacobians");
-  options.approximate_progress = bridge.Callback("approximate");
-  options.restarts_progress = bridge.Callback("restarts");
+  options.max_double_pool_mib = max_double_pool_mib;
+  options.cell = cell.get();
+  options.cell_efficiency = false;
+  options.order_shortest = order == "shortest";
+  options.robot_path = robot.path;
+  options.chain = robot.chain;
+  options.progress = StagesOf(&bridge);
 
-  std::string failure;  // set inside the GIL-free block
+  SelectSummary summary;
   {
     py::gil_scoped_release release;
-    [&] {
-      // The parameters, the pool, the task and the design, as
-      // activecal_select.
-      CandidatePool pool;
-      SelectionPoolSummary pool_summary;
-      const bool pool_built = BuildSelectionPool(
-          &model, pool_joints, pool_options, &pool, &pool_summary);
-      result->single_precision = pool_summary.single_precision;
-      if (pool_summary.filtered && pool_summary.kept.empty()) {
-        failure = "cell: " + pool_summary.message;
-        return;
-      }
-      for (const HeldParameter& d : pool_summary.dropped) {
-        result->notes.push_back(
-            "parameter_set=" +
-            std::string(ParameterSetToString(pool_options.parameter_set)) +
-            ": " + d.name + " held fixed: " + d.reason);
-      }
-      if (!pool_built) {
-        const IdentifiabilityReport& report = pool_summary.pool.identifiability;
-        if (!pool_summary.reduction_failed && !report.identifiable() &&
-            report.num_free > 0) {
-          failure =
-              (pool_summary.filtered
-                   ? "the feasible pool (" + pool_summary.filter_note + "): "
-                   : "the pool: ") +
-              report.Message();
-          if (!auto_fix && report.num_equations >= report.num_free) {
-            failure +=
-                ". Fix them in the robot file (remove them from 'free') or "
-                "pass auto_fix=True";
-          }
-        } else {
-          failure = pool_summary.message;
-        }
-        return;
-      }
-      if (pool_summary.filtered) {
-        // From here on the pool is the feasible one, its rows labelled by
-        // their place in the pool given (or their pool_indices).
-        std::string line = feasibility.BriefReport(*cell->checker);
-        if (!line.empty() && line.back() == '\n') line.pop_back();
-        result->notes.push_back(line);
-        std::vector<int64_t> kept_labels;
-        for (int64_t row : pool_summary.kept) {
-          kept_labels.push_back(labels.empty() ? row : labels[row]);
-        }
-        pool_joints = feasibility.FeasibleJoints(pool_joints);
-        labels = std::move(kept_labels);
-        if (!with_target && num_poses > pool_joints.rows()) {
-          failure = "num_poses=" + std::to_string(num_poses) +
-                    ": the feasible pool has only " + pool_summary.filter_note;
-          return;
-        }
-      }
-      result->auto_fixed = pool_summary.HeldFixed();
-      for (const std::string& f : HeldNames(pool_summary.pool.held)) {
-        result->notes.push_back("auto_fix: " + f + " held fixed");
-      }
-      result->num_task_poses =
-          task_joints.rows() ? task_joints.rows() : pool_joints.rows();
-      CandidatePool task_pool;
-      bool task_is_pool = false;
-      std::string error;
-      if (!BuildTaskPool(model, pool_joints, task_joints, pool_options,
-                         &task_pool, &task_is_pool, &error)) {
-        failure = "task_poses: " + error;
-        return;
-      }
-      const Eigen::MatrixXd W = TaskMatrix(task_is_pool ? pool : task_pool);
-      // The poses already measured, whitened to noise_m.
-      RowMatrixXd prior(0, pool.num_parameters());
-      if (!measured_items.empty() &&
-          !MeasuredInformationRows(model, model.nominal, measured_items,
-                                   rotation_weight, noise_m, &prior, &error)) {
-        failure = "measured: " + error;
-        return;
-      }
-      SelectDesignSummary select;
-      if (!SelectDesign(pool, W, prior, options, &select)) {
-        failure = select.message;
-        return;
-      }
-      result->summary = select.selection;
-      result->predicted_task_rms_m = select.predicted_task_rms_m;
-      result->with_approx = select.with_approx;
-      result->approx = std::move(select.approx);
-      result->with_task_approx = select.with_task_approx;
-      result->task_approx = std::move(select.task_approx);
-      result->target = std::move(select.target);
-    }();
+    Select(model, options, &summary);
   }
   bridge.RaiseIfFailed();
-  if (!failure.empty()) Fail(failure);
+  if (!summary.IsSolutionUsable()) Fail(summary.message);
 
-  SelectionSummary& summary = result->summary;
-  result->criterion = task ? "task_rms" : "d";
-  result->with_target = with_target;
-  result->num_measured = static_cast<int>(measured_items.size());
+  // The notes: the lattice's, the parameters held and why, the cell's
+  // counts.
+  for (const std::string& note : summary.lattice_notes) {
+    result->notes.push_back(note);
+  }
+  for (const HeldParameter& d : summary.pool.dropped) {
+    result->notes.push_back(
+        "parameter_set=" +
+        std::string(ParameterSetToString(options.parameter_set)) + ": " +
+        d.name + " held fixed: " + d.reason);
+  }
+  if (summary.pool.filtered) {
+    std::string line = summary.feasibility.BriefReport(*cell->checker);
+    if (!line.empty() && line.back() == '\n') line.pop_back();
+    result->notes.push_back(line);
+  }
+  for (const std::string& f : HeldNames(summary.pool.pool.held)) {
+    result->notes.push_back("auto_fix: " + f + " held fixed");
+  }
+  const nlohmann::json& j = summary.json;
+  SelectDesignSummary& select = summary.design;
+  result->summary = select.selection;
+  result->predicted_task_rms_m = select.predicted_task_rms_m;
+  result->with_approx = select.with_approx;
+  result->approx = std::move(select.approx);
+  result->with_task_approx = select.with_task_approx;
+  result->task_approx = std::move(select.task_approx);
+  result->target = std::move(select.target);
+  result->single_precision = summary.pool.single_precision;
+  result->auto_fixed = summary.pool.HeldFixed();
+  result->num_task_poses = j["num_task_poses"].get<int64_t>();
+  result->criterion = j["criterion"].get<std::string>();
+  result->with_target = design.target_rms_m.has_value();
+  result->num_measured = j["num_measured"].get<int>();
   result->noise_m = noise_m;
   result->certificate = certificate;
-  result->free_parameters = model.FreeParameterNames();
-  result->joint_angles.resize(summary.design.size(), model.num_joints());
-  for (size_t k = 0; k < summary.design.size(); ++k) {
-    const int64_t i = summary.design[k];
-    result->joint_angles.row(k) = pool_joints.row(i);
-    result->pose_indices.push_back(labels.empty() ? i : labels[i]);
-  }
-  if (order == "shortest") {
-    // The design as a short tour, as activecal_select --order=shortest
-    // (1 deg steps).
-    TourOptions o;
-    o.velocity_limits = RobotVelocityLimits(robot.path, robot.chain, model);
-    o.resolution_rad = M_PI / 180.0;
-    o.resolution_m = 1e-3;
-    o.check_moves = cell != nullptr;
-    TourSummary tour;
-    if (!OrderTour(cell ? cell->checker.get() : nullptr, result->joint_angles,
-                   o, &tour)) {
-      Fail("order='shortest': " + tour.message);
-    }
-    const std::vector<int64_t> design = summary.design;
-    const Eigen::MatrixXd joints = result->joint_angles;
-    const std::vector<int64_t> labels_before = result->pose_indices;
-    for (size_t k = 0; k < design.size(); ++k) {
-      summary.design[k] = design[tour.order[k]];
-      result->joint_angles.row(k) = joints.row(tour.order[k]);
-      result->pose_indices[k] = labels_before[tour.order[k]];
-    }
-    result->cell_info["tour"] =
-        TourJson(tour, 1.0, result->pose_indices,
-                 cell ? MovesCheckedJson(true, *cell)
-                      : MovesCheckedJson(false, CellSetup(), "no cell="),
-                 AssumedVelocityNote(model, o.velocity_limits));
+  result->free_parameters =
+      j["free_parameters"].get<std::vector<std::string>>();
+  result->joint_angles = summary.chosen.joints;
+  result->pose_indices = summary.chosen.pose_indices;
+  // As activecal_select's JSON: the tour, the cell's counts and the
+  // targets each chosen pose sees.
+  for (const char* key :
+       {"tour", "feasible_poses", "rejected", "targets_seen"}) {
+    if (j.contains(key)) result->cell_info[key] = j[key];
   }
   if (cell) {
-    // As activecal_select --cell's JSON.
-    result->cell_info.update(CellPoolJson(cell->cell, feasibility));
-    if (!cell->cell.targets.empty()) {
-      nlohmann::json seen = nlohmann::json::array();
-      for (int64_t i : summary.design) {
-        seen.push_back(
-            TargetsSeenJson(cell->cell, feasibility.targets_seen[i]));
-      }
-      result->cell_info["targets_seen"] = seen;
-    }
     // pool_rows: rows of the pool given, not of the feasible one.
-    for (int64_t& i : summary.design) i = feasibility.feasible[i];
+    for (int64_t& i : result->summary.design) {
+      i = summary.feasibility.feasible[i];
+    }
   }
   return result;
 }
@@ -391,7 +321,11 @@ py::array_t<double> HistoryLog10(const SelectionSummary& s) {
   return h;
 }
 
-namespace {
+// A Design's property: the selection's `field` (a copy).
+template <typename T>
+auto Selected(T SelectionSummary::*field) {
+  return [field](const DesignResult& d) -> T { return d.summary.*field; };
+}
 
 // DesignResult::cell_info[key] as Python (through json.loads: exact for
 // the JSON's numbers and nesting); None when absent.
@@ -467,22 +401,16 @@ void BindDesign(py::module_& m) {
       .def_property_readonly(
           "history_steps",
           [](const DesignResult& d) {
-            std::vector<std::string> s;
-            for (const SelectionStep& x : d.summary.history) {
-              s.push_back(x.name());
-            }
-            return s;
+            return Each(d.summary.history,
+                        [](const SelectionStep& x) { return x.name(); });
           })
-      .def_property_readonly(
-          "algorithm",
-          [](const DesignResult& d) { return d.summary.algorithm; })
+      .def_property_readonly("algorithm",
+                             Selected(&SelectionSummary::algorithm))
       .def_readonly("criterion", &DesignResult::criterion)
-      .def_property_readonly(
-          "num_parameters",
-          [](const DesignResult& d) { return d.summary.num_parameters; })
-      .def_property_readonly(
-          "pool_size",
-          [](const DesignResult& d) { return d.summary.pool_size; })
+      .def_property_readonly("num_parameters",
+                             Selected(&SelectionSummary::num_parameters))
+      .def_property_readonly("pool_size",
+                             Selected(&SelectionSummary::pool_size))
       .def_property_readonly(
           "pool_storage",
           [](const DesignResult& d) {

@@ -13,7 +13,9 @@
 #include <fstream>
 
 #include "activecal/calibration/calibration_export.h"
+#include "activecal/io/csv_files.h"
 #include "activecal/io/frames_file.h"
+#include "activecal/io/robot_loader.h"
 #include "activecal/io/ros_frames.h"
 #include "activecal/io/urdf_export.h"
 #include "common.h"

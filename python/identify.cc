@@ -4,10 +4,14 @@
 // The Python module `activecal`: identify and evaluate.
 
 #include <cctype>
+#include <sstream>
 
 #include "activecal/calibration/calibration_notes.h"
+#include "activecal/calibration/calibration_report.h"
 #include "activecal/calibration/defaults.h"
 #include "activecal/calibration/iso9283_cycles.h"
+#include "activecal/core/free_set.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/io/csv_files.h"
 #include "common.h"
 
@@ -15,6 +19,46 @@ namespace activecal {
 namespace python {
 
 namespace {
+
+using namespace pybind11::literals;  // "name"_a = value
+
+// identify's option `name` taken out of kwargs: `value` when absent or
+// None, else the value converted to T or a ValueError naming what T takes.
+template <typename T>
+T Option(py::kwargs& kwargs, const char* name, T value) {
+  if (kwargs.contains(name)) {
+    const py::object given = kwargs[name];
+    if (!given.is_none()) {
+      try {
+        value = py::cast<T>(given);
+      } catch (const py::cast_error&) {
+        const char* want =
+            std::is_same<T, std::string>::value ? "a string"
+            : std::is_same<T, bool>::value      ? "True or False"
+            : std::is_integral<T>::value && std::is_unsigned<T>::value
+                ? "a non-negative integer"
+            : std::is_integral<T>::value ? "an integer"
+                                         : "a number";
+        Fail(std::string("identify: option ") + name + ": expected " + want +
+             ", got " + Repr(given));
+      }
+    }
+    PyDict_DelItemString(kwargs.ptr(), name);
+  }
+  return value;
+}
+
+// An Estimate's property: the fit's `field` (a copy).
+template <typename T>
+auto Fitted(T IdentificationSummary::*field) {
+  return [field](const EstimateResult& e) -> T { return e.fit().*field; };
+}
+
+// An Estimate's property: the calibration's `field` (a copy).
+template <typename T>
+auto Calibrated(T CalibrationSummary::*field) {
+  return [field](const EstimateResult& e) -> T { return e.calibration.*field; };
+}
 
 // The value of option `name` (a string) as the library's enum, or a
 // ValueError "<name> must be <choices>, got '<text>'".
@@ -29,8 +73,6 @@ Enum EnumOption(py::kwargs& kwargs, const char* name, const char* fallback,
   }
   return value;
 }
-
-}  // namespace
 
 std::shared_ptr<EstimateResult> IdentifyPy(const RobotPtr& robot_ptr,
                                            const Measurements& measurements,
@@ -182,31 +224,29 @@ py::object LearnedResidualPy(const EstimateResult& e) {
     return py::none();
   }
   const LearnedResidualSummary& l = c.learned;
-  py::dict d;
-  d["mode"] = LearnedResidualModeToString(l.mode);
-  d["kept"] = l.kept;
-  d["num_features"] = l.correction.num_features();
-  d["num_measurements"] = l.num_measurements;
-  d["num_poses"] = l.num_poses;
-  d["num_folds"] = l.num_folds;
-  d["length_scale"] = l.length_scale;
-  d["ridge"] = l.ridge;
-  d["held_out_rms_parametric_m"] = l.held_out_rms_parametric_m;
-  d["held_out_rms_hybrid_m"] = l.held_out_rms_hybrid_m;
-  d["gain_m2"] = l.gain_m2;
-  d["gain_se_m2"] = l.gain_se_m2;
-  d["num_standard_errors"] = l.num_standard_errors;
-  d["training_rms_parametric_m"] = l.training_rms_parametric_m;
-  d["training_rms_hybrid_m"] = l.training_rms_hybrid_m;
-  py::object none = py::none();
+  // The validation's figures: None without validation rows.
   const bool v = c.learned_validation_count > 0;
-  d["validation_count"] = c.learned_validation_count;
-  d["validation_rms_parametric_m"] =
-      v ? py::object(py::float_(c.learned_validation_rms_parametric_m)) : none;
-  d["validation_rms_hybrid_m"] =
-      v ? py::object(py::float_(c.learned_validation_rms_hybrid_m)) : none;
-  d["report"] = LearnedResidualText(c);
-  return d;
+  const auto validation = [v](double rms) -> py::object {
+    return v ? py::object(py::float_(rms)) : py::object(py::none());
+  };
+  return py::dict("mode"_a = LearnedResidualModeToString(l.mode),
+                  "kept"_a = l.kept,
+                  "num_features"_a = l.correction.num_features(),
+                  "num_measurements"_a = l.num_measurements,
+                  "num_poses"_a = l.num_poses, "num_folds"_a = l.num_folds,
+                  "length_scale"_a = l.length_scale, "ridge"_a = l.ridge,
+                  "held_out_rms_parametric_m"_a = l.held_out_rms_parametric_m,
+                  "held_out_rms_hybrid_m"_a = l.held_out_rms_hybrid_m,
+                  "gain_m2"_a = l.gain_m2, "gain_se_m2"_a = l.gain_se_m2,
+                  "num_standard_errors"_a = l.num_standard_errors,
+                  "training_rms_parametric_m"_a = l.training_rms_parametric_m,
+                  "training_rms_hybrid_m"_a = l.training_rms_hybrid_m,
+                  "validation_count"_a = c.learned_validation_count,
+                  "validation_rms_parametric_m"_a =
+                      validation(c.learned_validation_rms_parametric_m),
+                  "validation_rms_hybrid_m"_a =
+                      validation(c.learned_validation_rms_hybrid_m),
+                  "report"_a = LearnedResidualText(c));
 }
 
 RobotPtr CalibratedRobot(const EstimateResult& e) {
@@ -219,13 +259,8 @@ RobotPtr CalibratedRobot(const EstimateResult& e) {
 // ------------------------------------------------------------- evaluate
 
 py::dict Stats(const ErrorStatistics& s) {
-  py::dict d;
-  d["count"] = s.count;
-  d["rms"] = s.rms;
-  d["mean"] = s.mean;
-  d["p95"] = s.p95;
-  d["max"] = s.max;
-  return d;
+  return py::dict("count"_a = s.count, "rms"_a = s.rms, "mean"_a = s.mean,
+                  "p95"_a = s.p95, "max"_a = s.max);
 }
 
 py::dict EvaluatePy(const Robot& robot, const Measurements& measurements,
@@ -290,42 +325,37 @@ py::object Iso9283Py(const Robot& robot, const std::string& path,
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
+}  // namespace
+
 void BindIdentify(py::module_& m) {
   py::class_<EstimateResult, std::shared_ptr<EstimateResult>>(
       m, "Estimate", "An identification result (identify).")
+      .def_property_readonly("parameter_names",
+                             Fitted(&IdentificationSummary::names),
+                             "The identified (free) parameters, in order")
+      .def_property_readonly("estimates",
+                             Fitted(&IdentificationSummary::estimates))
       .def_property_readonly(
-          "parameter_names",
-          [](const EstimateResult& e) { return e.fit().names; },
-          "The identified (free) parameters, in order")
-      .def_property_readonly(
-          "estimates",
-          [](const EstimateResult& e) { return e.fit().estimates; })
-      .def_property_readonly(
-          "std",
-          [](const EstimateResult& e) { return e.fit().standard_deviations; },
+          "std", Fitted(&IdentificationSummary::standard_deviations),
           "Standard deviations of the estimates")
-      .def_property_readonly(
-          "covariance",
-          [](const EstimateResult& e) { return e.fit().covariance; })
-      .def_property_readonly(
-          "correlation",
-          [](const EstimateResult& e) { return e.fit().correlation; })
+      .def_property_readonly("covariance",
+                             Fitted(&IdentificationSummary::covariance))
+      .def_property_readonly("correlation",
+                             Fitted(&IdentificationSummary::correlation))
       .def_property_readonly(
           "nominal",
           [](const EstimateResult& e) {
             return ExtractFree(e.model(), e.robot->model().nominal);
           },
           "The nominal values of the identified parameters")
+      .def_property_readonly("parameters",
+                             Fitted(&IdentificationSummary::parameters),
+                             "The full parameter vector identified")
       .def_property_readonly(
-          "parameters",
-          [](const EstimateResult& e) { return e.fit().parameters; },
-          "The full parameter vector identified")
-      .def_property_readonly(
-          "rms_before_m",
-          [](const EstimateResult& e) { return e.fit().initial_rms_m; },
+          "rms_before_m", Fitted(&IdentificationSummary::initial_rms_m),
           "RMS residual norm at the start (nominal, base registered)")
-      .def_property_readonly(
-          "rms_after_m", [](const EstimateResult& e) { return e.fit().rms_m; })
+      .def_property_readonly("rms_after_m",
+                             Fitted(&IdentificationSummary::rms_m))
       .def_property_readonly(
           "registration_only_rms_m",
           [](const EstimateResult& e) -> py::object {
@@ -333,14 +363,11 @@ void BindIdentify(py::module_& m) {
             return py::float_(e.calibration.baseline.rms_m);
           },
           "RMS residual with only the base and markers fitted, or None")
-      .def_property_readonly(
-          "sigma_m", [](const EstimateResult& e) { return e.fit().sigma_m; })
-      .def_property_readonly(
-          "iterations",
-          [](const EstimateResult& e) { return e.fit().iterations; })
-      .def_property_readonly(
-          "residual_norms",
-          [](const EstimateResult& e) { return e.fit().residual_norms; })
+      .def_property_readonly("sigma_m", Fitted(&IdentificationSummary::sigma_m))
+      .def_property_readonly("iterations",
+                             Fitted(&IdentificationSummary::iterations))
+      .def_property_readonly("residual_norms",
+                             Fitted(&IdentificationSummary::residual_norms))
       .def_property_readonly("outliers",
                              [](const EstimateResult& e) {
                                return py::array(py::cast(e.fit().outliers));
@@ -355,12 +382,10 @@ void BindIdentify(py::module_& m) {
           [](const EstimateResult& e) { return HeldNames(e.calibration.held); },
           "Parameters held at nominal: the parameter set's reduction, "
           "auto_fix, model selection")
-      .def_property_readonly(
-          "warnings",
-          [](const EstimateResult& e) { return e.calibration.warnings; })
-      .def_property_readonly(
-          "registered_base",
-          [](const EstimateResult& e) { return e.calibration.registered_base; })
+      .def_property_readonly("warnings",
+                             Calibrated(&CalibrationSummary::warnings))
+      .def_property_readonly("registered_base",
+                             Calibrated(&CalibrationSummary::registered_base))
       .def_property_readonly(
           "parameter_set",
           [](const EstimateResult& e) {
@@ -371,13 +396,10 @@ void BindIdentify(py::module_& m) {
           [](const EstimateResult& e) {
             py::list curve;
             for (const ModelSelectionPoint& p : e.calibration.selection.curve) {
-              py::dict d;
-              d["num_kept"] = p.num_kept;
-              d["added"] = p.added;
-              d["ok"] = p.ok;
-              d["training_rms_m"] = p.training_rms_m;
-              d["held_out_rms_m"] = p.held_out_rms_m;
-              curve.append(d);
+              curve.append(py::dict("num_kept"_a = p.num_kept,
+                                    "added"_a = p.added, "ok"_a = p.ok,
+                                    "training_rms_m"_a = p.training_rms_m,
+                                    "held_out_rms_m"_a = p.held_out_rms_m));
             }
             return curve;
           })

@@ -4,7 +4,15 @@
 // The Python module `activecal`: Files (measurements, poses, targets CSV),
 // Measurements, simulate.
 
+#include <fstream>
+#include <sstream>
+#include <utility>
+
 #include "activecal/calibration/defaults.h"
+#include "activecal/core/simulation.h"
+#include "activecal/io/column_map.h"
+#include "activecal/io/csv_files.h"
+#include "activecal/io/targets_csv.h"
 #include "common.h"
 
 namespace activecal {
@@ -17,6 +25,25 @@ void WriteText(const std::string& path, const std::string& text) {
   out << text;
   out.flush();
   if (!out) Fail("cannot write '" + path + "'");
+}
+
+namespace {
+
+// A column of the measurements as an array; rows without it are NaN.
+template <typename Get>
+Eigen::MatrixXd Column(const Measurements& m, int cols, Get get) {
+  Eigen::MatrixXd out(m.items.size(), cols);
+  for (size_t i = 0; i < m.items.size(); ++i) {
+    const Eigen::RowVectorXd row = get(m.items[i]);
+    // Rows of another robot's joint count (Measurements joined with +):
+    // NaN, not an out-of-bounds write.
+    if (row.size() == cols) {
+      out.row(i) = row;
+    } else {
+      out.row(i).setConstant(NAN);
+    }
+  }
+  return out;
 }
 
 Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path_obj,
@@ -45,29 +72,29 @@ Measurements ReadMeasurementsPy(const Robot& robot, const py::object& path_obj,
   return m;
 }
 
+// write_measurements' orientation= as the writer's format.
+OrientationFormat OrientationArg(const std::string& name) {
+  constexpr std::pair<const char*, OrientationFormat> kFormats[] = {
+      {"rotation_vector", OrientationFormat::kRotationVector},
+      {"quaternion", OrientationFormat::kQuaternion},
+      {"rpy_rad", OrientationFormat::kRpyRad},
+      {"rpy_deg", OrientationFormat::kRpyDeg}};
+  for (const auto& [text, format] : kFormats) {
+    if (name == text) return format;
+  }
+  Fail(
+      "orientation must be rotation_vector, quaternion, rpy_rad or "
+      "rpy_deg, got '" +
+      name + "'");
+}
+
 void WriteMeasurementsPy(const Robot& robot, const py::object& path_obj,
                          const Measurements& m, bool millimetres,
                          bool joint_degrees, bool joint_names,
                          const std::string& orientation) {
   const std::string path = PathArg(path_obj);
-  MeasurementsCsvFormat format;
-  format.millimetres = millimetres;
-  format.joint_degrees = joint_degrees;
-  format.joint_names = joint_names;
-  if (orientation == "rotation_vector") {
-    format.orientation = OrientationFormat::kRotationVector;
-  } else if (orientation == "quaternion") {
-    format.orientation = OrientationFormat::kQuaternion;
-  } else if (orientation == "rpy_rad") {
-    format.orientation = OrientationFormat::kRpyRad;
-  } else if (orientation == "rpy_deg") {
-    format.orientation = OrientationFormat::kRpyDeg;
-  } else {
-    Fail(
-        "orientation must be rotation_vector, quaternion, rpy_rad or "
-        "rpy_deg, got '" +
-        orientation + "'");
-  }
+  const MeasurementsCsvFormat format{millimetres, joint_degrees, joint_names,
+                                     OrientationArg(orientation)};
   CheckMarkers(robot.model(), m.items, "measurements");
   for (size_t i = 0; i < m.items.size(); ++i) {
     std::string error;
@@ -224,6 +251,8 @@ Measurements MakeMeasurements(
   return out;
 }
 
+}  // namespace
+
 const Measurements& MeasurementsArg(const py::object& obj,
                                     const std::string& what) {
   if (!py::isinstance<Measurements>(obj)) {
@@ -232,6 +261,8 @@ const Measurements& MeasurementsArg(const py::object& obj,
   }
   return py::cast<const Measurements&>(obj);
 }
+
+namespace {
 
 int NumJoints(const Measurements& m) {
   return m.items.empty() ? m.num_joints
@@ -412,6 +443,8 @@ Measurements SimulatePy(const Robot& robot, const py::object& joint_angles,
   if (!ok) Fail(error);
   return out;
 }
+
+}  // namespace
 
 void BindMeasurements(py::module_& m) {
   py::class_<Measurements, std::shared_ptr<Measurements>>(

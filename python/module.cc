@@ -5,6 +5,8 @@
 // numpy in and out (docs/python.md). One file a library area binds its
 // classes and functions (BindRobot, ..., common.h); this file calls them.
 
+#include <glog/logging.h>
+
 #include "common.h"
 
 using namespace activecal;

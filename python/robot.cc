@@ -4,10 +4,37 @@
 // The Python module `activecal`: Robot: load_robot, puma560, forward, frame,
 // jacobian, with_parameter_set, perturbed, save.
 
+#include <fstream>
+#include <sstream>
+
+#include "activecal/core/kinematics.h"
+#include "activecal/core/puma560.h"
+#include "activecal/core/simulation.h"
+#include "activecal/io/robot_loader.h"
+#include "activecal/residuals/jacobians.h"
 #include "common.h"
 
 namespace activecal {
 namespace python {
+
+namespace {
+
+inline void CheckQ(const RobotModel& model, const Eigen::VectorXd& q, int row,
+                   bool batch) {
+  // Inside every range and finite: valid without building a message.
+  bool inside = q.size() == model.num_joints();
+  for (int j = 0; inside && j < q.size(); ++j) {
+    const Link& link = model.links[j];
+    inside =
+        std::isfinite(q[j]) && q[j] >= link.joint_min && q[j] <= link.joint_max;
+  }
+  if (inside) return;
+  std::string error;
+  if (!model.CheckJointValues(q, &error, kMeasuredJointToleranceRad,
+                              kMeasuredJointToleranceM)) {
+    Fail(batch ? "q row " + std::to_string(row) + ": " + error : "q: " + error);
+  }
+}
 
 // ------------------------------------------------------------- load_robot
 
@@ -232,6 +259,8 @@ RobotPtr RobotFromState(const py::tuple& state) {
   }
   return robot;
 }
+
+}  // namespace
 
 void BindRobot(py::module_& m) {
   py::class_<Robot, std::shared_ptr<Robot>>(

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "activecal/calibration/cell_planning.h"
+#include "activecal/core/measurement.h"
 #include "activecal/core/puma560.h"
 
 namespace activecal {
@@ -16,6 +17,30 @@ namespace {
 
 int CountLines(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// A quick design: 12 poses of the 3-level lattice, greedily.
+SelectOptions GreedyOnTheLattice() {
+  SelectOptions o;
+  o.levels = 3;
+  o.design.algorithm = DesignAlgorithm::kGreedy;
+  o.design.num_poses = 12;
+  return o;
+}
+
+// Select's message for options it refuses.
+std::string FailureOf(const RobotModel& model, const SelectOptions& o) {
+  SelectSummary s;
+  EXPECT_FALSE(Select(model, o, &s));
+  EXPECT_EQ(s.termination_type, TerminationType::kFailure);
+  return s.message;
+}
+
+// The nominal model's position of marker 0 at `q`: a measurement made.
+Measurement PositionAt(const RobotModel& model, const Eigen::VectorXd& q) {
+  Measurement like;
+  like.joints = q;
+  return PredictMeasurement(model, model.nominal, like);
 }
 
 TEST(SelectWorkflowTest, PoolNamesRoundTrip) {
@@ -33,10 +58,7 @@ TEST(SelectWorkflowTest, PoolNamesRoundTrip) {
 
 TEST(SelectWorkflowTest, LatticeDesignWithItsOutputs) {
   const RobotModel model = Puma560PaperModel();
-  SelectOptions o;
-  o.levels = 3;
-  o.design.algorithm = DesignAlgorithm::kGreedy;
-  o.design.num_poses = 12;
+  SelectOptions o = GreedyOnTheLattice();
   int stages = 0;
   o.progress = [&stages](const std::string&) {
     ++stages;
@@ -82,16 +104,24 @@ TEST(SelectWorkflowTest, LatticeDesignWithItsOutputs) {
 TEST(SelectWorkflowTest, FailuresNameTheFlags) {
   const RobotModel model = Puma560PaperModel();
   SelectOptions o;
-  o.levels = 3;
-  o.design.num_poses = 1000;
   SelectSummary s;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message,
-            "--num_poses must be in [1, 729] (the pool size), got 1000");
-  o.design.num_poses = 12;
-  o.levels = 1;
-  EXPECT_FALSE(Select(model, o, &s));
-  EXPECT_EQ(s.message.rfind("--levels=1: ", 0), 0u) << s.message;
+  // As flags or, spelt as the Python keywords, without the dashes.
+  for (OptionSpelling spelling :
+       {OptionSpelling::kFlags, OptionSpelling::kKeywords}) {
+    const std::string dashes = spelling == OptionSpelling::kFlags ? "--" : "";
+    o = SelectOptions();
+    o.option_spelling = spelling;
+    o.levels = 3;
+    o.design.num_poses = 1000;
+    EXPECT_FALSE(Select(model, o, &s));
+    EXPECT_EQ(s.message, dashes +
+                             "num_poses must be in [1, 729] (the pool "
+                             "size), got 1000");
+    o.design.num_poses = 12;
+    o.levels = 1;
+    EXPECT_FALSE(Select(model, o, &s));
+    EXPECT_EQ(s.message.rfind(dashes + "levels=1: ", 0), 0u) << s.message;
+  }
   o = SelectOptions();
   o.pool = SelectPool::kMeasurable;
   EXPECT_FALSE(Select(model, o, &s));
@@ -151,6 +181,97 @@ TEST(SelectWorkflowTest, PoolOptionsAreCheckedBeforeThePoolIsMade) {
   EXPECT_FALSE(Select(model, o, &s));
   EXPECT_EQ(s.message, error);
   EXPECT_TRUE(s.report.empty()) << s.report;
+}
+
+TEST(SelectWorkflowTest, PoolTaskAndMeasuredGivenInMemory) {
+  const RobotModel model = Puma560PaperModel();
+  SelectOptions o = GreedyOnTheLattice();
+  SelectSummary lattice;
+  ASSERT_TRUE(Select(model, o, &lattice)) << lattice.message;
+  // The lattice's poses given as the pool, labelled: the same design, its
+  // labels the pool's.
+  o.pool = SelectPool::kPoses;
+  o.pool_poses.joints = lattice.pool_joints;
+  {
+    SelectSummary unlabelled;
+    EXPECT_TRUE(Select(model, o, &unlabelled)) << unlabelled.message;
+    EXPECT_EQ(o.pool_poses.joints.rows(), 729);
+    EXPECT_EQ(unlabelled.design.selection.design,
+              lattice.design.selection.design);
+  }
+  for (int64_t i = 0; i < o.pool_poses.joints.rows(); ++i) {
+    o.pool_poses.pose_indices.push_back(1000 + i);
+  }
+  SelectSummary s;
+  ASSERT_TRUE(Select(model, o, &s)) << s.message;
+  EXPECT_EQ(s.design.selection.design, lattice.design.selection.design);
+  ASSERT_EQ(s.chosen.pose_indices.size(), 12u);
+  EXPECT_EQ(s.chosen.pose_indices[0], 1000 + s.design.selection.design[0]);
+  EXPECT_EQ(s.json["pool"], "poses");
+  EXPECT_FALSE(s.json.contains("levels"));
+  EXPECT_TRUE(s.lattice_notes.empty());
+  EXPECT_FALSE(s.pool.filtered);  // no cell
+  EXPECT_EQ(s.json["num_task_poses"], 729);
+
+  // The task: 40 poses given; the measured poses counted.
+  o.design.criterion = DesignCriterion::kTaskRms;
+  o.design.algorithm = DesignAlgorithm::kFedorov;
+  o.design.restarts = 2;
+  o.task_joints = lattice.pool_joints.topRows(40);
+  for (int k = 0; k < 3; ++k) {
+    o.measured.push_back(
+        PositionAt(model, lattice.pool_joints.row(k).transpose()));
+  }
+  ASSERT_TRUE(Select(model, o, &s)) << s.message;
+  EXPECT_EQ(s.json["num_task_poses"], 40);
+  EXPECT_EQ(s.json["num_measured"], 3);
+  EXPECT_NE(s.report.find(", 3 measured poses counted"), std::string::npos)
+      << s.report;
+
+  // Measured poses need the task criterion; the labels are checked.
+  o.design.criterion = DesignCriterion::kDet;
+  EXPECT_EQ(FailureOf(model, o),
+            "--measured_csv needs --criterion=task_rms (the D-criterion "
+            "algorithms take no prior information)");
+  o.measured.clear();
+  o.pool_poses.pose_indices.assign(3, 7);
+  EXPECT_EQ(FailureOf(model, o),
+            "pool_indices: expected 729 values (one per pool pose), got 3");
+  o.pool_poses.pose_indices.assign(729, 7);
+  EXPECT_EQ(FailureOf(model, o).rfind("pool_indices: pose_indices[1] = 7", 0),
+            0u);
+  o.pool = SelectPool::kLattice;  // poses given for another pool
+  EXPECT_EQ(FailureOf(model, o),
+            "pool_poses give the poses of pool=poses, got pool=lattice");
+}
+
+TEST(SelectWorkflowTest, MessagesSpeltAsTheKeywords) {
+  const RobotModel model = Puma560PaperModel();
+  SelectOptions o;
+  o.option_spelling = OptionSpelling::kKeywords;
+  o.levels = 3;
+  o.design.num_poses = 12;
+  SelectSummary s;
+  o.design.criterion = DesignCriterion::kTaskRms;  // eae has no task version
+  EXPECT_EQ(FailureOf(model, o),
+            "criterion=task_rms: algorithm must be fedorov, greedy or "
+            "approx, got 'eae'");
+  o.design.algorithm = DesignAlgorithm::kGreedy;
+  o.measured.push_back(PositionAt(model, Eigen::VectorXd::Zero(6)));
+  o.design.criterion = DesignCriterion::kDet;
+  EXPECT_EQ(FailureOf(model, o),
+            "measured needs criterion='task_rms' (the D-criterion "
+            "algorithms take no prior information)");
+  o.measured.clear();
+  o.pool = SelectPool::kRandom;
+  o.pool_size = 100000000000;
+  EXPECT_EQ(FailureOf(model, o).rfind("pool_size: ", 0), 0u);
+  // A tour without a cell: its moves not checked, for want of cell=.
+  o = GreedyOnTheLattice();
+  o.option_spelling = OptionSpelling::kKeywords;
+  o.order_shortest = true;
+  ASSERT_TRUE(Select(model, o, &s)) << s.message;
+  EXPECT_EQ(s.json["tour"]["moves_not_checked"], "no cell=");
 }
 
 TEST(SelectWorkflowTest, TourJsonNamesTheBlockedMovesByTheRun) {

@@ -59,6 +59,18 @@ bool IsDrawn(SelectPool pool) {
   return pool == SelectPool::kSobol || pool == SelectPool::kRandom;
 }
 
+// An option as options.option_spelling names it: "--<name>" (a flag) or
+// "<name>" (a Python keyword).
+std::string Flag(const SelectOptions& options, const std::string& name) {
+  return (options.option_spelling == OptionSpelling::kFlags ? "--" : "") + name;
+}
+
+// A flag's text or, spelt as keywords, the keyword's.
+std::string Spelt(const SelectOptions& options, const std::string& flag,
+                  const std::string& keyword) {
+  return options.option_spelling == OptionSpelling::kFlags ? flag : keyword;
+}
+
 }  // namespace
 
 const char* SelectPoolToString(SelectPool pool) {
@@ -73,6 +85,8 @@ const char* SelectPoolToString(SelectPool pool) {
       return "measurable";
     case SelectPool::kCsv:
       return "csv";
+    case SelectPool::kPoses:
+      return "poses";
   }
   return "unknown";
 }
@@ -149,11 +163,28 @@ bool SelectOptions::IsValid(const RobotModel& model, std::string* error) const {
                         ? "the lattice has --levels poses per joint"
                         : "--pool_csv has its rows") +
         ": give --pool or drop --pool_size";
+  } else if (pool != SelectPool::kPoses && (pool_poses.joints.size() > 0 ||
+                                            !pool_poses.pose_indices.empty())) {
+    e = "pool_poses give the poses of pool=poses, got pool=" + name;
+  } else if (pool == SelectPool::kPoses &&
+             pool_poses.joints.cols() != model.num_joints()) {
+    e = "pool: expected " + std::to_string(model.num_joints()) +
+        " joint values per pose, got " +
+        std::to_string(pool_poses.joints.cols());
+  } else if (pool == SelectPool::kPoses && !pool_poses.pose_indices.empty() &&
+             static_cast<int64_t>(pool_poses.pose_indices.size()) !=
+                 pool_poses.joints.rows()) {
+    e = "pool_indices: expected " + std::to_string(pool_poses.joints.rows()) +
+        " values (one per pool pose), got " +
+        std::to_string(pool_poses.pose_indices.size());
+  } else if (pool == SelectPool::kPoses &&
+             !CheckPoseIndices(pool_poses.pose_indices, /*unique=*/true, &e)) {
+    e = "pool_indices: " + e;
   } else if (drawn &&
              !CheckSelectionPoolSize(pool_size.value_or(defaults::kPoolSize),
                                      model, type, &e)) {
     // Refused before the pool is listed (it was a std::bad_alloc).
-    e = "--pool_size: " + e;
+    e = Flag(*this, "pool_size: ") + e;
   } else if (!measurable && max_draws) {
     e = "--max_draws caps the draws of --pool=measurable, got --pool=" + name;
   } else if (max_draws.value_or(0) < 0) {
@@ -239,9 +270,11 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
             with_cell ? WithinJointMargins(*cell.checker, model) : model,
             options.levels, &lattice, &error) ||
         !CheckSelectionPoolSize(lattice.size(), model, options.type, &error)) {
-      return fail("--levels=" + std::to_string(options.levels) + ": " + error);
+      return fail(Flag(options, "levels=") + std::to_string(options.levels) +
+                  ": " + error);
     }
-    for (const std::string& note : lattice.OneTurnNotes(model)) {
+    out.lattice_notes = lattice.OneTurnNotes(model);
+    for (const std::string& note : out.lattice_notes) {
       Append(&report, "note: %s\n", note.c_str());
     }
     pool_joints = lattice.AllJointValues();
@@ -252,8 +285,11 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
             pool_kind == SelectPool::kRandom ? JointSampling::kRandom
                                              : JointSampling::kSobol,
             pool_size, seed, &pool_joints, &error)) {
-      return fail("--pool=" + pool_name + ": " + error);
+      return fail(Flag(options, "pool=") + pool_name + ": " + error);
     }
+  } else if (pool_kind == SelectPool::kPoses) {
+    pool_joints = options.pool_poses.joints;
+    labels = options.pool_poses.pose_indices;
   } else {
     PoseList list;
     std::string error;
@@ -265,7 +301,7 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     labels = std::move(list.pose_indices);
   }
   if (!with_target && (num_poses <= 0 || num_poses > pool_joints.rows())) {
-    return fail("--num_poses must be in [1, " +
+    return fail(Flag(options, "num_poses") + " must be in [1, " +
                 std::to_string(pool_joints.rows()) + "] (the pool size), got " +
                 std::to_string(num_poses));
   }
@@ -285,7 +321,7 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   pool_options.auto_fix = options.auto_fix;
   pool_options.num_threads = num_threads;
   // The preprocess: the cell's checks of every pose.
-  PoolFilterSummary feasibility;
+  PoolFilterSummary& feasibility = out.feasibility;
   if (with_cell) {
     pool_options.filter = [&](const Eigen::MatrixXd& joints,
                               std::vector<int64_t>* kept, std::string* note) {
@@ -300,7 +336,7 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     }
   }
   CandidatePool pool;
-  SelectionPoolSummary pool_summary;
+  SelectionPoolSummary& pool_summary = out.pool;
   pool_options.progress = Stage(options, "Jacobians of the pool poses");
   const bool pool_built = BuildSelectionPool(&model, pool_joints, pool_options,
                                              &pool, &pool_summary);
@@ -309,9 +345,11 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     Append(&report, "  %s", feasibility.BriefReport(*cell.checker).c_str());
   }
   if (pool_summary.filtered && pool_summary.kept.empty()) {
-    return fail("--cell: " + pool_summary.message);
+    return fail(Flag(options, "cell: ") + pool_summary.message);
   }
-  if (pool_summary.reduction_failed) return fail("--" + pool_summary.message);
+  if (pool_summary.reduction_failed) {
+    return fail(Flag(options, pool_summary.message));
+  }
   if (pool_summary.termination_type == TerminationType::kUserFailure) {
     return fail(pool_summary.message);
   }
@@ -338,7 +376,8 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
       }
       return fail(what + ": " + r.Message() +
                   ". Fix them in the robot file (remove them from 'free') or "
-                  "pass --auto_fix");
+                  "pass " +
+                  Spelt(options, "--auto_fix", "auto_fix=True"));
     }
     return fail(pool_summary.message);
   }
@@ -372,7 +411,7 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     pool_joints = feasibility.FeasibleJoints(pool_joints);
     labels = std::move(kept_labels);
     if (!with_target && num_poses > pool_joints.rows()) {
-      return fail("--num_poses=" + std::to_string(num_poses) +
+      return fail(Flag(options, "num_poses=") + std::to_string(num_poses) +
                   ": the feasible pool has only " + pool_summary.filter_note);
     }
   }
@@ -386,16 +425,19 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     if (!design.IsValid(&error)) {
       // The options' names are the flags'.
       const std::string task_prefix = "criterion=task_rms: ";
+      if (options.option_spelling == OptionSpelling::kKeywords) {
+        return fail(error);
+      }
       return fail(error.rfind(task_prefix, 0) == 0
                       ? "--" + task_prefix + "--" +
                             error.substr(task_prefix.size())
                       : "--" + error);
     }
   }
-  if (!options.measured_csv.empty() && !task) {
-    return fail(
-        "--measured_csv needs --criterion=task_rms (the D-criterion "
-        "algorithms take no prior information)");
+  if ((!options.measured_csv.empty() || !options.measured.empty()) && !task) {
+    return fail(Spelt(options, "--measured_csv needs --criterion=task_rms",
+                      "measured needs criterion='task_rms'") +
+                " (the D-criterion algorithms take no prior information)");
   }
 
   // The task: position rows at the task poses (the pool by default).
@@ -403,7 +445,10 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   int64_t num_task_poses = pool_joints.rows();
   {
     Eigen::MatrixXd task_joints;
-    if (!options.task_poses_csv.empty()) {
+    if (options.task_joints.rows() > 0) {
+      task_joints = options.task_joints;
+      num_task_poses = task_joints.rows();
+    } else if (!options.task_poses_csv.empty()) {
       PoseList list;
       std::string error;
       if (!ReadPosesCsv(options.task_poses_csv, model,
@@ -418,26 +463,30 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     std::string error;
     if (!BuildTaskPool(model, pool_joints, task_joints, pool_options,
                        &task_pool, &task_is_pool, &error)) {
-      return fail("--task_poses_csv: " + error);
+      return fail(Spelt(options, "--task_poses_csv: ", "task_poses: ") + error);
     }
     W = TaskMatrix(task_is_pool ? pool : task_pool);
   }
   // The poses already measured, whitened to noise_m.
   RowMatrixXd prior(0, pool.num_parameters());
   int num_measured = 0;
-  if (!options.measured_csv.empty()) {
-    std::vector<Measurement> measured;
+  if (!options.measured_csv.empty() || !options.measured.empty()) {
+    std::vector<Measurement> measured = options.measured;
     std::string error;
-    MeasurementsCsvOptions o;
-    o.column_map = options.column_map;
-    if (!ReadMeasurementsCsv(options.measured_csv, model, o, &measured, nullptr,
-                             &error)) {
-      return fail("--measured_csv: " + error);
+    if (!options.measured_csv.empty()) {
+      std::vector<Measurement> read;
+      MeasurementsCsvOptions o;
+      o.column_map = options.column_map;
+      if (!ReadMeasurementsCsv(options.measured_csv, model, o, &read, nullptr,
+                               &error)) {
+        return fail("--measured_csv: " + error);
+      }
+      measured.insert(measured.end(), read.begin(), read.end());
     }
     if (!MeasuredInformationRows(model, model.nominal, measured,
                                  options.rotation_weight_m_per_rad, noise_m,
                                  &prior, &error)) {
-      return fail("--measured_csv: " + error);
+      return fail(Spelt(options, "--measured_csv: ", "measured: ") + error);
     }
     num_measured = static_cast<int>(measured.size());
   }
@@ -469,7 +518,11 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
                   "pose sees at most " +
                   std::to_string(most) + " of the " +
                   std::to_string(model.num_markers()) + " targets" +
-                  (with_prior ? "; with --measured_csv's rows" : "") + ")");
+                  (with_prior
+                       ? "; with " + Spelt(options, "--measured_csv's rows",
+                                           "the measured rows")
+                       : "") +
+                  ")");
     }
   }
 
@@ -484,7 +537,8 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     design.restarts_progress = nullptr;
     if (!designed) {
       // The target's failures name the flag.
-      return fail(select.message.rfind("target_rms_m: ", 0) == 0
+      return fail(select.message.rfind("target_rms_m: ", 0) == 0 &&
+                          options.option_spelling == OptionSpelling::kFlags
                       ? "--" + select.message
                       : select.message);
     }
@@ -588,7 +642,8 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
     o.check_moves = with_cell;
     if (!OrderTour(with_cell ? cell.checker.get() : nullptr, design_joints, o,
                    &tour)) {
-      return fail("--order=shortest: " + tour.message);
+      return fail(Spelt(options, "--order=shortest: ", "order='shortest': ") +
+                  tour.message);
     }
     for (size_t k = 0; k < chosen.size(); ++k) {
       select.selection.design[k] = chosen[tour.order[k]];
@@ -631,7 +686,10 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   Append(&report, "  Jacobians of %lld poses: %.3f s\n",
          static_cast<long long>(pool.size()), jacobian_seconds);
   report += cell_efficiency_line;
-  const nlohmann::json moves_checked = MovesCheckedJson(with_cell, cell);
+  const nlohmann::json moves_checked =
+      options.option_spelling == OptionSpelling::kFlags
+          ? MovesCheckedJson(with_cell, cell)
+          : MovesCheckedJson(with_cell, cell, "no cell=");
   const std::string velocity_note =
       ordered ? AssumedVelocityNote(model, velocity_limits) : std::string();
   if (ordered) {

@@ -61,6 +61,17 @@ def perturbed_session(robot, amplitude, wave, num_poses, noise_m, **select):
     return m, truth
 
 
+def puma_measurements(num_poses, pool_size):
+    """The PUMA file's robot and its nominal measured at a lattice design
+    of num_poses poses (select(levels=3, seed=2, pool_size=pool_size)),
+    simulated with 0.1 mm noise (seed 4). Returns (robot, measurements)."""
+    puma = activecal.load_robot(PUMA)
+    design = activecal.select(puma, levels=3, num_poses=num_poses, seed=2,
+                              pool_size=pool_size)
+    return puma, activecal.simulate(puma, design.joint_angles, noise_m=1e-4,
+                                    seed=4)
+
+
 def run(args):
     """Runs a program, failing the test with its stderr if it fails."""
     done = subprocess.run(args, capture_output=True, text=True)

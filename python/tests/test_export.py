@@ -10,7 +10,8 @@ import pytest
 import yaml
 
 import activecal
-from conftest import PUMA, UR10, perturbed_session, program, run
+from conftest import (PUMA, UR10, perturbed_session, program,
+                      puma_measurements, run)
 
 
 def rpy_matrix(rx, ry, rz):
@@ -77,10 +78,7 @@ def test_urdf_and_frames_as_the_program_urdf_robot(ur10_fit, tmp_path):
 
 
 def test_urdf_as_the_program_yaml_robot(tmp_path):
-    puma = activecal.load_robot(PUMA)
-    design = activecal.select(puma, levels=3, num_poses=30, seed=2,
-                              pool_size=300)
-    m = activecal.simulate(puma, design.joint_angles, noise_m=1e-4, seed=4)
+    puma, m = puma_measurements(30, 300)
     csv = tmp_path / "puma.csv"
     activecal.write_measurements(puma, csv, m)
     run([program("activecal_identify"), f"--robot={PUMA}",
@@ -173,10 +171,7 @@ def test_ros_frames_names_and_a_dh_base(ur10_fit, tmp_path):
     assert not (tmp_path / "x.yaml").exists()
     # The PUMA's base is DH geometry, not a registration: markers only,
     # below the tip of its URDF (UrdfFromModel's "tip").
-    puma = activecal.load_robot(PUMA)
-    design = activecal.select(puma, levels=3, num_poses=30, seed=2,
-                              pool_size=300)
-    m = activecal.simulate(puma, design.joint_angles, noise_m=1e-4, seed=4)
+    puma, m = puma_measurements(30, 300)
     e = activecal.identify(puma, m, model_selection="none")
     e.write_ros_frames(tmp_path / "puma.sh", format="script")
     frames = activecal.read_ros_frames(tmp_path / "puma.sh")

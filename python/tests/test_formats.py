@@ -8,16 +8,14 @@ import pytest
 import yaml
 
 import activecal
-from conftest import PUMA, SOURCE_DIR, perturbed_session, program, run
+from conftest import (SOURCE_DIR, perturbed_session, program,
+                      puma_measurements, run)
 
 UR10E = str(SOURCE_DIR / "data" / "ur10e.urdf")
 
 
 def test_column_map_reads_a_german_export(tmp_path):
-    puma = activecal.load_robot(PUMA)
-    design = activecal.select(puma, levels=3, num_poses=12, seed=2,
-                              pool_size=200)
-    m = activecal.simulate(puma, design.joint_angles, noise_m=1e-4, seed=4)
+    puma, m = puma_measurements(12, 200)
     own = tmp_path / "own.csv"
     activecal.write_measurements(puma, own, m, millimetres=True,
                                  joint_degrees=True)
@@ -72,10 +70,7 @@ def test_ur_calibration_as_the_program(ur10e_fit, tmp_path):
 
 
 def test_ur_calibration_refuses_another_robot(tmp_path):
-    puma = activecal.load_robot(PUMA)
-    design = activecal.select(puma, levels=3, num_poses=30, seed=2,
-                              pool_size=300)
-    m = activecal.simulate(puma, design.joint_angles, noise_m=1e-4, seed=4)
+    puma, m = puma_measurements(30, 300)
     estimate = activecal.identify(puma, m, model_selection="none")
     with pytest.raises(ValueError, match="the robot is not a UR"):
         estimate.write_ur_calibration(tmp_path / "x.yaml")

@@ -23,7 +23,11 @@
 //   std::cout << summary.report;
 //   summary.poses_csv, summary.json, summary.ResultLine()
 //
-// The messages name the options as the program's flags ("--pool_csv: ...").
+// The messages name the options as the program's flags ("--pool_csv: ...")
+// or, with option_spelling = kKeywords, as the Python module's keywords
+// ("pool_size: ...", "pass auto_fix=True"). The Python module's select is
+// the same call with the pool, the task poses and the measured poses given
+// in memory (pool_poses, task_joints, measured).
 
 #ifndef ACTIVECAL_CALIBRATION_SELECT_WORKFLOW_H_
 #define ACTIVECAL_CALIBRATION_SELECT_WORKFLOW_H_
@@ -36,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "activecal/calibration/calibration_report.h"
 #include "activecal/calibration/defaults.h"
 #include "activecal/calibration/select_design.h"
 #include "activecal/calibration/selection_pool.h"
@@ -59,12 +64,14 @@ enum class SelectPool {
   kRandom,      // pool_size random poses, seeded
   kMeasurable,  // with a cell: pool_size poses the device can measure
   kCsv,         // the poses CSV pool_csv
+  kPoses,       // the poses pool_poses, given in memory
 };
 
-// "lattice", "sobol", "random", "measurable", "csv".
+// "lattice", "sobol", "random", "measurable", "csv", "poses".
 const char* SelectPoolToString(SelectPool pool);
 // The inverse of SelectPoolToString for the drawn pools and the lattice
-// (not "csv": a CSV pool is named by its path); false on any other text.
+// (not "csv" nor "poses": those pools are named by their path or given);
+// false on any other text.
 bool StringToSelectPool(std::string text, SelectPool* pool);
 
 // A stage's progress: called when a stage that reports progress starts
@@ -86,6 +93,10 @@ struct SelectOptions {
   // error.
   std::optional<int64_t> max_draws;
   std::string pool_csv;  // kCsv
+  // kPoses: the candidate poses (rows: poses, the model's joints) and
+  // their labels (empty: the rows; else one per pose, unique, as
+  // CheckPoseIndices takes them); given for another pool, an error.
+  PoseList pool_poses;
   // The cell (may be null; kMeasurable needs one): the pool keeps the
   // poses it can run; cell_path names it in the JSON.
   const CellSetup* cell = nullptr;
@@ -104,6 +115,11 @@ struct SelectOptions {
   std::string task_poses_csv;
   std::string measured_csv;
   std::optional<ColumnMap> column_map;
+  // The same in memory: the task poses (rows; used when it has any, instead
+  // of task_poses_csv) and the measurements made (with measured_csv, read
+  // after them).
+  Eigen::MatrixXd task_joints;
+  std::vector<Measurement> measured;
   // With a cell and the D criterion: the design of an unconstrained pool
   // of the feasible pool's size, and the D-efficiency lost to the cell.
   bool cell_efficiency = true;
@@ -118,6 +134,9 @@ struct SelectOptions {
   // The program's name, in the --auto_fix note and the result line.
   std::string program_name = "activecal_select";
   StageProgress progress;  // may be empty
+  // How the messages name the options: the flags (kFlags, "--levels=1:
+  // ...") or the Python module's keywords (kKeywords, "levels=1: ...").
+  OptionSpelling option_spelling = OptionSpelling::kFlags;
 
   // The pool's options: one source (pool_csv or a drawn pool), a cell for
   // kMeasurable, a size only for a drawn pool and in memory's reach (for
@@ -141,6 +160,13 @@ struct SelectSummary {
   Eigen::MatrixXd pool_joints;
   std::vector<int64_t> labels;
   SelectDesignSummary design;
+  // What the report prints as text, as data: the lattice's notes (one
+  // line each), the pool's build (the parameters held and why, the rows a
+  // cell kept, the storage) and, with a cell, its checks of every pose of
+  // the pool listed (feasible: the kept rows; targets_seen, the counts).
+  std::vector<std::string> lattice_notes;
+  SelectionPoolSummary pool;
+  PoolFilterSummary feasibility;
   // The design's poses, labelled (for the poses CSV and a program).
   PoseList chosen;
   std::string poses_csv;     // PosesCsvText (with the targets seen)
