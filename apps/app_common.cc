@@ -6,12 +6,10 @@
 #include <fcntl.h>
 #include <gflags/gflags.h>
 #include <glog/logging.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <cctype>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -102,43 +100,10 @@ std::string UnknownFlagMessage(const std::string& arg) {
   return message;
 }
 
-// SIGTERM, SIGINT, SIGHUP: the outputs not yet renamed are removed (old
-// files stay as they were), then the signal's default action ends the
-// program as it would have without this handler. A signal ignored when the
-// program starts (nohup's SIGHUP, SIGINT of a background job) stays
-// ignored.
-extern "C" void RemoveTemporariesAndDie(int signal_number) {
-  RemoveOwnTemporaries();
-  std::signal(signal_number, SIG_DFL);
-  std::raise(signal_number);
-}
-
-// Installs RemoveTemporariesAndDie for the three signals, each blocking the
-// others while it runs (one handler at a time), where the signal is not
-// ignored: the disposition is looked at first, so an ignored signal is never
-// caught, not even for an instant.
-void InstallTemporaryRemoval() {
-  constexpr int kSignals[] = {SIGTERM, SIGINT, SIGHUP};
-  struct sigaction action = {};
-  action.sa_handler = RemoveTemporariesAndDie;
-  sigemptyset(&action.sa_mask);
-  for (const int signal_number : kSignals) {
-    sigaddset(&action.sa_mask, signal_number);
-  }
-  for (const int signal_number : kSignals) {
-    struct sigaction current = {};
-    if (sigaction(signal_number, nullptr, &current) != 0 ||
-        current.sa_handler == SIG_IGN) {
-      continue;
-    }
-    sigaction(signal_number, &action, nullptr);
-  }
-}
-
 }  // namespace
 
 void Init(int* argc, char*** argv, const char* usage) {
-  InstallTemporaryRemoval();
+  RemoveOwnTemporariesOnSignals();
   g_program = (*argv)[0];
   const size_t slash = g_program.rfind('/');
   if (slash != std::string::npos) g_program = g_program.substr(slash + 1);

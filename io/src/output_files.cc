@@ -176,6 +176,36 @@ void RemoveOwnTemporaries() {
   }
 }
 
+namespace {
+
+// The handler of RemoveOwnTemporariesOnSignals: the temporaries, then the
+// signal's default action.
+extern "C" void RemoveTemporariesAndDie(int signal_number) {
+  RemoveOwnTemporaries();
+  signal(signal_number, SIG_DFL);
+  raise(signal_number);
+}
+
+}  // namespace
+
+void RemoveOwnTemporariesOnSignals() {
+  constexpr int kSignals[] = {SIGTERM, SIGINT, SIGHUP};
+  struct sigaction action = {};
+  action.sa_handler = RemoveTemporariesAndDie;
+  sigemptyset(&action.sa_mask);
+  for (const int signal_number : kSignals) {
+    sigaddset(&action.sa_mask, signal_number);
+  }
+  for (const int signal_number : kSignals) {
+    struct sigaction current = {};
+    if (sigaction(signal_number, nullptr, &current) != 0 ||
+        current.sa_handler == SIG_IGN) {
+      continue;
+    }
+    sigaction(signal_number, &action, nullptr);
+  }
+}
+
 TrackedTemporary::TrackedTemporary(const std::string& path)
     : slot_(Track(path)) {}
 

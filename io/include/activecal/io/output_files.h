@@ -57,6 +57,15 @@ int RemoveStaleTemporaries(const std::string& path);
 // may be left, for RemoveStaleTemporaries).
 void RemoveOwnTemporaries();
 
+// Installs the programs' handler of SIGTERM, SIGINT and SIGHUP: the
+// temporaries not yet renamed are removed (RemoveOwnTemporaries; the old
+// files stay as they were), then the signal's default action ends the
+// program as it would have without it. The three are blocked while it runs.
+// A signal ignored when this is called (nohup's SIGHUP, SIGINT of a
+// background job) stays ignored: its disposition is looked at first, so it
+// is never caught, not even for an instant. For programs, not libraries.
+void RemoveOwnTemporariesOnSignals();
+
 // A temporary file that code writes itself (gnuplot's figure), tracked for
 // RemoveOwnTemporaries while this object lives; the file is neither made
 // nor removed by it.
