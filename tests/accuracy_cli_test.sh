@@ -13,8 +13,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/cli_lib.sh"
 cli_begin "$@"
 
-m="$data/figaroh_ur10e/measurements.csv"
-ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)
+figaroh_ur10e
 plot_flag=()
 command -v gnuplot >/dev/null && plot_flag=(--selection_plot=curve.png)
 

@@ -13,8 +13,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/cli_lib.sh"
 cli_begin "$@"
 
-m="$data/figaroh_ur10e/measurements.csv"
-ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)
+figaroh_ur10e
 
 "$apps/activecal_identify" "${ur[@]}" --measurements="$m" \
   --model_selection=none --compliance --payload_kg=1.0 \
@@ -50,20 +49,11 @@ grep -q "joint error terms by held-out error" terms.txt &&
   grep -q "held-out RMS" terms.txt && ok "terms printed" ||
   { fail "terms printout"; cat terms.txt; }
 
-cat >bare.urdf <<'XML'
-<robot name="r">
-  <link name="a"/><link name="b"/><link name="c"/>
-  <joint name="j1" type="revolute"><parent link="a"/><child link="b"/>
-    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-  <joint name="j2" type="revolute"><parent link="b"/><child link="c"/>
-    <origin xyz="1 0 0"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-</robot>
-XML
 printf 'type,q1_rad,q2_rad,x_m,y_m,z_m\nposition,0,0,1,0,0\n' >bare.csv
 expect_fail "compliance on a URDF without inertials names the links" \
   "compliance needs link masses: no <inertial> with a mass > 0 on links b, c" \
-  activecal_identify --robot=bare.urdf --measurements=bare.csv --compliance
+  activecal_identify --robot="$here/data/massless_arm.urdf" --measurements=bare.csv \
+  --compliance
 expect_fail "compliance on a robot YAML without a payload" \
   "--compliance needs link masses: --robot $data/puma560.yaml is not a URDF" \
   activecal_identify --robot="$data/puma560.yaml" --compliance

@@ -371,6 +371,20 @@ TEST(ActiveLoopTest, ResumingAfterAnyRoundGivesTheSameResult) {
       << refused.message;
 }
 
+// The identity the tests' PUMA sessions are made with.
+const SessionIdentity kPumaIdentity = {{"seed", "1"}, {"robot", "puma"}};
+
+// ActiveSession::Open with kPumaIdentity; a failure with its error.
+::testing::AssertionResult OpenPumaSession(
+    const std::string& dir, bool resume, const RobotModel& model,
+    std::unique_ptr<ActiveSession>* session) {
+  std::string error;
+  if (ActiveSession::Open(dir, resume, model, kPumaIdentity, session, &error)) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << error;
+}
+
 // A session run in a directory, crashed by the cell mid-round (after
 // `fail_after` answers, < 0: never), and continued until done; returns the
 // final summary.
@@ -380,12 +394,8 @@ ActiveLoopSummary RunSession(const Puma& p, const std::string& dir, bool resume,
                              int* asked_again = nullptr,
                              const BatchSelector& select = StridePoses) {
   ActiveLoopOptions options = SmallLoop(p);
-  const SessionIdentity identity = {{"seed", "1"}, {"robot", "puma"}};
   std::unique_ptr<ActiveSession> session;
-  std::string error;
-  EXPECT_TRUE(
-      ActiveSession::Open(dir, resume, p.model, identity, &session, &error))
-      << error;
+  EXPECT_TRUE(OpenPumaSession(dir, resume, p.model, &session));
   if (!session) return ActiveLoopSummary();
   if (notes) *notes = session->notes();
   std::set<int64_t> logged;
@@ -506,22 +516,19 @@ TEST(ActiveSessionTest, ALoopThatLeavesTheLogIsRefused) {
 TEST(ActiveSessionTest, ASessionIsContinuedOnlyAsItWasMade) {
   const Puma p;
   const std::string dir = TempDir("refuse");
-  const SessionIdentity identity = {{"seed", "1"}, {"robot", "puma"}};
   std::unique_ptr<ActiveSession> session;
+  ASSERT_TRUE(OpenPumaSession(dir, false, p.model, &session));
   std::string error;
-  ASSERT_TRUE(
-      ActiveSession::Open(dir, false, p.model, identity, &session, &error))
-      << error;
   // In use: a second process (here: a second open) is refused.
   std::unique_ptr<ActiveSession> twice;
   EXPECT_FALSE(
-      ActiveSession::Open(dir, true, p.model, identity, &twice, &error));
+      ActiveSession::Open(dir, true, p.model, kPumaIdentity, &twice, &error));
   EXPECT_NE(error.find("in use by another activecal process"),
             std::string::npos)
       << error;
   session.reset();
   EXPECT_FALSE(
-      ActiveSession::Open(dir, false, p.model, identity, &session, &error));
+      ActiveSession::Open(dir, false, p.model, kPumaIdentity, &session, &error));
   EXPECT_NE(error.find("holds a session already"), std::string::npos) << error;
   const SessionIdentity other = {{"seed", "2"}, {"robot", "puma"}};
   EXPECT_FALSE(
@@ -531,7 +538,7 @@ TEST(ActiveSessionTest, ASessionIsContinuedOnlyAsItWasMade) {
       << error;
   const std::string empty = TempDir("empty");
   EXPECT_FALSE(
-      ActiveSession::Open(empty, true, p.model, identity, &session, &error));
+      ActiveSession::Open(empty, true, p.model, kPumaIdentity, &session, &error));
   EXPECT_NE(error.find("holds no session"), std::string::npos) << error;
 }
 

@@ -59,16 +59,7 @@ CandidatePool FloatCopy(const CandidatePool& pool) {
   return out;
 }
 
-class ApproximateDesignScaleTest : public ::testing::Test {
- protected:
-  // 3^6 = 729 PUMA poses.
-  static void SetUpTestSuite() {
-    puma_ = new CandidatePool(testing::PumaPool(3));
-  }
-  static void TearDownTestSuite() { delete puma_; }
-  static CandidatePool* puma_;
-};
-CandidatePool* ApproximateDesignScaleTest::puma_ = nullptr;
+class ApproximateDesignScaleTest : public testing::PumaPoolSuite {};
 
 // A looser tolerance than the default keeps the solves short; the checks
 // below do not depend on it.
@@ -147,27 +138,38 @@ TEST_F(ApproximateDesignScaleTest, AboveSubsampleSizeCertifiesTheWholePool) {
   }
 }
 
+// rows x cols values drawn uniformly from [-scale, scale], row by row.
+RowMatrixXd UniformRows(int64_t rows, int cols, double scale, Random* random) {
+  RowMatrixXd m(rows, cols);
+  for (int64_t r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) m(r, c) = scale * (2 * random->Uniform() - 1);
+  }
+  return m;
+}
+
+// The candidate pool of those rows, t to a pose; a failure with the error.
+::testing::AssertionResult PoolOf(RowMatrixXd rows, int t,
+                                  CandidatePool* pool) {
+  std::string error;
+  if (CandidatePool::Create(std::move(rows), t, pool, &error)) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << error;
+}
+
 // A few strong poses hidden among many weak ones: a subsample of 1 in 20
 // very likely misses most of them, and the optimum lies on them.
 TEST(ApproximateDesignColumnGenerationTest, FindsStrongPosesOutsideSubsample) {
   const int p = 5, t = 3;
   const int64_t n = 6000;
   Random random(7);
-  RowMatrixXd rows(n * t, p);
-  for (int64_t r = 0; r < rows.rows(); ++r) {
-    for (int c = 0; c < p; ++c) rows(r, c) = 0.1 * (2 * random.Uniform() - 1);
-  }
+  RowMatrixXd rows = UniformRows(n * t, p, 0.1, &random);
   std::vector<int64_t> strong = random.SampleWithoutReplacement(n, 8);
   for (int64_t i : strong) {
-    for (int r = 0; r < t; ++r) {
-      for (int c = 0; c < p; ++c) {
-        rows(i * t + r, c) = 2 * random.Uniform() - 1;
-      }
-    }
+    rows.middleRows(i * t, t) = UniformRows(t, p, 1.0, &random);
   }
   CandidatePool pool;
-  std::string error;
-  ASSERT_TRUE(CandidatePool::Create(std::move(rows), t, &pool, &error));
+  ASSERT_TRUE(PoolOf(std::move(rows), t, &pool));
   ApproximateDesignOptions options;
   ApproximateDesignSummary whole, sub;
   ASSERT_TRUE(SolveApproximateDesign(pool, {}, options, &whole));
@@ -196,17 +198,13 @@ TEST(ApproximateDesignColumnGenerationTest, SingularSubsampleFallsBack) {
   const int p = 4, t = 2;
   const int64_t n = 2000;
   Random random(11);
-  RowMatrixXd rows(n * t, p);
-  for (int64_t r = 0; r < rows.rows(); ++r) {
-    for (int c = 0; c < p - 1; ++c) rows(r, c) = 2 * random.Uniform() - 1;
-    rows(r, p - 1) = 0.0;
-  }
+  RowMatrixXd rows = RowMatrixXd::Zero(n * t, p);
+  rows.leftCols(p - 1) = UniformRows(n * t, p - 1, 1.0, &random);
   for (int64_t i : {int64_t{17}, int64_t{900}, int64_t{1999}}) {
     for (int r = 0; r < t; ++r) rows(i * t + r, p - 1) = 1.0;
   }
   CandidatePool pool;
-  std::string error;
-  ASSERT_TRUE(CandidatePool::Create(std::move(rows), t, &pool, &error));
+  ASSERT_TRUE(PoolOf(std::move(rows), t, &pool));
   ApproximateDesignOptions options;
   ApproximateDesignSummary whole, sub;
   ASSERT_TRUE(SolveApproximateDesign(pool, {}, options, &whole));

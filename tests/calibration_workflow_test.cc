@@ -28,6 +28,7 @@
 #include "activecal/report/calibration_run.h"
 #include "activecal/report/gnuplot_figure.h"
 #include "activecal/report/html_report.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -55,6 +56,18 @@ std::vector<Measurement> SmoothPuma() {
   }
   return data;
 }
+
+// The PUMA, SmoothPuma() and their calibration with the default options.
+class DefaultCalibrationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    Calibrate(model_, data_, CalibrationOptions(), &summary_);
+    ASSERT_EQ(summary_.stage, CalibrationStage::kDone) << summary_.message;
+  }
+  const RobotModel model_ = Puma560PaperModel();
+  const std::vector<Measurement> data_ = SmoothPuma();
+  CalibrationSummary summary_;
+};
 
 TEST(CalibrationWorkflowTest, LearnedResidualIsAStageOfCalibrate) {
   const RobotModel model = Puma560PaperModel();
@@ -202,12 +215,8 @@ TEST(CalibrationWorkflowTest, TermFamiliesFromPlainValues) {
 
 TEST(CalibrationWorkflowTest, RotationWeightNoteAndOrientationHint) {
   RobotDescription robot;
-  UrdfChainOptions chain;
-  chain.tip_link = "tool0";
   std::string error;
-  ASSERT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10e.urdf",
-                            chain, &robot, &error))
-      << error;
+  ASSERT_TRUE(testing::LoadShippedUr("ur10e.urdf", &robot, &error)) << error;
   std::vector<Measurement> data;
   ASSERT_TRUE(ReadMeasurementsCsv(
       std::string(ACTIVECAL_DATA_DIR) + "/figaroh_ur10e/measurements.csv",
@@ -247,13 +256,7 @@ TEST(CalibrationWorkflowTest, RotationWeightNoteAndOrientationHint) {
   EXPECT_NE(hint.find("(a, b, c as XYZ)"), std::string::npos) << hint;
 }
 
-TEST(CalibrationWorkflowTest, OutputsMadeAndCheckedBeforeWriting) {
-  const RobotModel model = Puma560PaperModel();
-  const std::vector<Measurement> data = SmoothPuma();
-  CalibrationOptions options;
-  CalibrationSummary summary;
-  Calibrate(model, data, options, &summary);
-  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+TEST_F(DefaultCalibrationTest, OutputsMadeAndCheckedBeforeWriting) {
   CalibrationOutputOptions o;
   o.model_out = "m.yaml";
   o.urdf_out = "m.urdf";
@@ -262,7 +265,7 @@ TEST(CalibrationWorkflowTest, OutputsMadeAndCheckedBeforeWriting) {
   o.source = "data.csv";
   CalibrationOutputs outputs;
   std::string error;
-  ASSERT_TRUE(MakeCalibrationOutputs(summary, data, o, &outputs, &error))
+  ASSERT_TRUE(MakeCalibrationOutputs(summary_, data_, o, &outputs, &error))
       << error;
   ASSERT_EQ(outputs.files.size(), 4u);
   EXPECT_EQ(outputs.files[0].path, "m.yaml");
@@ -275,19 +278,19 @@ TEST(CalibrationWorkflowTest, OutputsMadeAndCheckedBeforeWriting) {
   EXPECT_EQ(outputs.files[3].path, "r.json");
   const nlohmann::json report = nlohmann::json::parse(outputs.files[3].text);
   EXPECT_EQ(report["num_measurements"].get<int>(),
-            static_cast<int>(data.size()));
+            static_cast<int>(data_.size()));
   EXPECT_DOUBLE_EQ(report["rms_residual_m"].get<double>(),
-                   summary.identification.rms_m);
+                   summary_.identification.rms_m);
   EXPECT_GT(report["rms_residual_m"].get<double>(), 0.0);
   EXPECT_EQ(report["parameters"].size(),
-            summary.identification.estimates.size());
+            summary_.identification.estimates.size());
   EXPECT_TRUE(StartsWith(outputs.notes_after,
                          "  --urdf_out: wrote m.urdf; reloaded, it predicts "
                          "every measured point within "))
       << outputs.notes_after;
   // Not a UR: no file at all, the option named.
   o.ur_calibration_out = "ur.yaml";
-  EXPECT_FALSE(MakeCalibrationOutputs(summary, data, o, &outputs, &error));
+  EXPECT_FALSE(MakeCalibrationOutputs(summary_, data_, o, &outputs, &error));
   EXPECT_TRUE(outputs.files.empty());
   EXPECT_TRUE(StartsWith(error, "--ur_calibration_out: ")) << error;
 }
@@ -396,46 +399,34 @@ TEST(CalibrationWorkflowTest, SimulatedMeasurementsWithoutAFile) {
   EXPECT_TRUE(StartsWith(error, "num_poses must be in [1, ")) << error;
 }
 
-TEST(CalibrationWorkflowTest, PrintoutInOrderAndWhereToFail) {
-  const RobotModel model = Puma560PaperModel();
-  const std::vector<Measurement> data = SmoothPuma();
-  CalibrationOptions options;
-  CalibrationSummary summary;
-  Calibrate(model, data, options, &summary);
-  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+TEST_F(DefaultCalibrationTest, PrintoutInOrderAndWhereToFail) {
   CalibrationTextOptions text;
   const CalibrationPrintout done =
-      MakeCalibrationPrintout(model, data, summary, "", false, text);
-  EXPECT_EQ(done.stages, CalibrationStagesText(summary, text));
+      MakeCalibrationPrintout(model_, data_, summary_, "", false, text);
+  EXPECT_EQ(done.stages, CalibrationStagesText(summary_, text));
   EXPECT_FALSE(done.has_selection_curve);  // a file set: no selection
-  EXPECT_EQ(done.report, OrientationHintText(summary, data, "", text) +
-                             CalibrationResultText(summary, text));
+  EXPECT_EQ(done.report, OrientationHintText(summary_, data_, "", text) +
+                             CalibrationResultText(summary_, text));
   EXPECT_TRUE(done.failure.empty());
   // A failed validation: the hint, no result, the failure.
-  CalibrationSummary failed = summary;
+  CalibrationSummary failed = summary_;
   failed.stage = CalibrationStage::kValidation;
   failed.message = "validation: failed";
   const CalibrationPrintout f =
-      MakeCalibrationPrintout(model, data, failed, "", true, text);
-  EXPECT_EQ(f.report, OrientationHintText(failed, data, "", text));
+      MakeCalibrationPrintout(model_, data_, failed, "", true, text);
+  EXPECT_EQ(f.report, OrientationHintText(failed, data_, "", text));
   EXPECT_EQ(f.failure, CalibrationFailureText(failed, text));
   EXPECT_FALSE(f.failure.empty());
   // The learned residual failed: the fit's report, then the failure.
   failed.stage = CalibrationStage::kLearnedResidual;
   const CalibrationPrintout l =
-      MakeCalibrationPrintout(model, data, failed, "", false, text);
+      MakeCalibrationPrintout(model_, data_, failed, "", false, text);
   EXPECT_NE(l.report.find(CalibrationResultText(failed, text)),
             std::string::npos);
   EXPECT_FALSE(l.failure.empty());
 }
 
-TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
-  const RobotModel model = Puma560PaperModel();
-  const std::vector<Measurement> data = SmoothPuma();
-  CalibrationOptions options;
-  CalibrationSummary summary;
-  Calibrate(model, data, options, &summary);
-  ASSERT_EQ(summary.stage, CalibrationStage::kDone) << summary.message;
+TEST_F(DefaultCalibrationTest, HtmlReportWithTheOtherOutputs) {
   CalibrationOutputOptions o;
   o.json_out = "r.json";
   o.report_html = "r.html";
@@ -443,7 +434,7 @@ TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
   CalibrationOutputs outputs;
   std::string error;
   ASSERT_TRUE(
-      MakeCalibrationOutputsAndReport(summary, data, o, &outputs, &error))
+      MakeCalibrationOutputsAndReport(summary_, data_, o, &outputs, &error))
       << error;
   ASSERT_EQ(outputs.files.size(), 2u);
   EXPECT_EQ(outputs.files[0].path, "r.json");
@@ -453,7 +444,7 @@ TEST(CalibrationWorkflowTest, HtmlReportWithTheOtherOutputs) {
   // Without report_html: MakeCalibrationOutputs' files alone.
   o.report_html.clear();
   ASSERT_TRUE(
-      MakeCalibrationOutputsAndReport(summary, data, o, &outputs, &error));
+      MakeCalibrationOutputsAndReport(summary_, data_, o, &outputs, &error));
   EXPECT_EQ(outputs.files.size(), 1u);
 }
 

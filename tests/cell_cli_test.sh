@@ -77,13 +77,9 @@ assert d["efficiency_lower_bound"] > 0.5
 EOF
 
 # The measurable pool: every pose feasible, far fewer draws than poses.
-if "$apps/activecal_select" "${ur[@]}" --cell="$cell" --pool=measurable \
-  --pool_size=300 --num_poses=12 --algorithm=fedorov --json_out=m.json \
-  >m.txt 2>m.err; then
-  ok "select --pool=measurable"
-else
-  fail "select --pool=measurable"; cat m.err
-fi
+expect_run "select --pool=measurable" m.txt m.err \
+  activecal_select "${ur[@]}" --cell="$cell" --pool=measurable \
+  --pool_size=300 --num_poses=12 --algorithm=fedorov --json_out=m.json
 python3 - <<'EOF' && ok "the measurable pool is all feasible" || fail "measurable pool"
 import json
 d = json.load(open("m.json"))
@@ -96,13 +92,10 @@ EOF
 # spans the ranges inside the margins, so no pose is rejected for it and no
 # design joint is within 3 deg of a stop (before: 2186 of 2187 rejected).
 printf 'joint_margin_deg: 3\nself_clearance_m: 0.0\n' >iiwa_margin.yaml
-if "$apps/activecal_select" --robot="$data/kuka_iiwa14.urdf" --tip_link=flange \
+expect_run "select --cell on the iiwa lattice" iiwa.out iiwa.err \
+  activecal_select --robot="$data/kuka_iiwa14.urdf" --tip_link=flange \
   --cell=iiwa_margin.yaml --levels=3 --num_poses=40 --algorithm=fedorov \
-  --restarts=2 --json_out=iiwa.json >iiwa.out 2>iiwa.err; then
-  ok "select --cell on the iiwa lattice"
-else
-  fail "select --cell on the iiwa lattice"; cat iiwa.err
-fi
+  --restarts=2 --json_out=iiwa.json
 python3 - <<'EOF' && ok "the iiwa lattice sits inside the margins" || fail "iiwa lattice margins"
 import json, math
 d = json.load(open("iiwa.json"))
@@ -131,18 +124,21 @@ else
 fi
 
 # Bad input: one line each.
-printf 'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 0], acceptance_deg: 30}]\n' >zero.yaml
-expect_fail "zero normal" "--cell: zero.yaml:2:38: targets[0].normal: a zero vector" \
-  activecal_select "${ur[@]}" --cell=zero.yaml --pool=sobol --pool_size=100
-printf 'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 95}]\n' >angle.yaml
-expect_fail "acceptance angle" "targets[0].acceptance_deg: must be in (0, 90], got 95" \
-  activecal_select "${ur[@]}" --cell=angle.yaml --pool=sobol --pool_size=100
-printf 'obstacles: [{name: box, type: box, size_m: [1, 1, 1], xyz_m: [2, 0, 1]}]\ndevice: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 30}]\n' >inside.yaml
-expect_fail "device inside an obstacle" "device.xyz_m: the device lies inside obstacle 'box'" \
-  activecal_select "${ur[@]}" --cell=inside.yaml --pool=sobol --pool_size=100
-printf 'obstacles: [{name: m, type: mesh, file: missing.stl}]\n' >mesh.yaml
-expect_fail "mesh that cannot be read" "obstacles[0].file: missing.stl: Unable to open file" \
-  activecal_select "${ur[@]}" --cell=mesh.yaml --pool=sobol --pool_size=100
+# expect_bad_cell <name> <text expected on stderr> <cell file> <its text, a
+# printf format>: select refuses the cell in one line.
+expect_bad_cell() {
+  printf "$4" >"$3"
+  expect_fail "$1" "$2" \
+    activecal_select "${ur[@]}" --cell="$3" --pool=sobol --pool_size=100
+}
+expect_bad_cell "zero normal" "--cell: zero.yaml:2:38: targets[0].normal: a zero vector" zero.yaml \
+  'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 0], acceptance_deg: 30}]\n'
+expect_bad_cell "acceptance angle" "targets[0].acceptance_deg: must be in (0, 90], got 95" angle.yaml \
+  'device: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 95}]\n'
+expect_bad_cell "device inside an obstacle" "device.xyz_m: the device lies inside obstacle 'box'" inside.yaml \
+  'obstacles: [{name: box, type: box, size_m: [1, 1, 1], xyz_m: [2, 0, 1]}]\ndevice: {type: laser_tracker, xyz_m: [2, 0, 1]}\ntargets: [{xyz_m: [0, 0, 0], normal: [0, 0, 1], acceptance_deg: 30}]\n'
+expect_bad_cell "mesh that cannot be read" "obstacles[0].file: missing.stl: Unable to open file" mesh.yaml \
+  'obstacles: [{name: m, type: mesh, file: missing.stl}]\n'
 expect_fail "missing cell file" "--cell: nothing.yaml: cannot open the file" \
   activecal_select "${ur[@]}" --cell=nothing.yaml --pool=sobol --pool_size=100
 expect_fail "measurable without a cell" "--pool=measurable needs --cell" \

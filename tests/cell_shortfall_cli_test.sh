@@ -42,14 +42,15 @@ expect_error() {
   fi
 }
 
+# table_cell_head <joint margin deg> <clearance m>: a cell's first lines,
+# those margins, a self clearance of 1 cm and a table plane at z = 0.
+table_cell_head() {
+  printf 'joint_margin_deg: %s\nclearance_m: %s\nself_clearance_m: 0.01\nobstacles:\n  - {name: table, type: plane, normal: [0, 0, 1], offset_m: 0.0}\n' "$1" "$2"
+}
+
 # The table at the base's height: the shoulder link (its collision
 # cylinder 2.7 cm above the base) is closer than clearance_m at every pose.
-cat >low_table.yaml <<'CELL'
-joint_margin_deg: 3
-clearance_m: 0.05
-self_clearance_m: 0.01
-obstacles:
-  - {name: table, type: plane, normal: [0, 0, 1], offset_m: 0.0}
+{ table_cell_head 3 0.05; cat <<'CELL'
 device:
   type: laser_tracker
   xyz_m: [2.2, 0.4, 0.9]
@@ -57,6 +58,7 @@ device:
 targets:
   - {name: smr, xyz_m: [0, 0, 0.06], normal: [0, 0, 1], acceptance_deg: 30}
 CELL
+} >low_table.yaml
 ur10=(--robot="$data/ur10.urdf" --tip_link=tool0 --cell=low_table.yaml)
 
 # It never ended ("measurable poses: 0/5000 (239.6 s so far)").
@@ -108,17 +110,13 @@ expect_fail "negative max_draws" "--max_draws must be >= 0, got -1" \
 # sees one, 3 equations, so 10 poses give 30 for the 34 parameters. Every
 # algorithm refuses up front, counting the rows the poses give (not 6 per
 # pose): fedorov returned 12 poses, greedy a false singular-start message.
-cat >apart.yaml <<'EOF'
-joint_margin_deg: 5
-clearance_m: 0.03
-self_clearance_m: 0.01
-obstacles:
-  - {name: table, type: plane, normal: [0, 0, 1], offset_m: 0.0}
+{ table_cell_head 5 0.03; cat <<'EOF'
 device: {type: laser_tracker, xyz_m: [2.5, -0.5, 1.2], range_m: [1.5, 5.0]}
 targets:
   - {name: front, xyz_m: [0, 0, 0.05], normal: [0, 0, 1], acceptance_deg: 25}
   - {name: side, xyz_m: [0.06, 0, 0.02], normal: [1, 0, 0], acceptance_deg: 25}
 EOF
+} >apart.yaml
 for algorithm in fedorov detmax greedy; do
   expect_error "select --algorithm=$algorithm, targets seen one at a time" \
     "10 poses give 30 equations, fewer than the 34 parameters: every such design is singular (a feasible pose sees at most 1 of the 2 targets)" \

@@ -19,13 +19,9 @@ puma=(--robot="$data/puma560.yaml")
 cell="$tdata/puma_two_targets_cell.yaml"
 
 # --- The design: a targets column as the JSON's targets_seen. ---
-if "$apps/activecal_select" "${puma[@]}" --cell="$cell" --levels=3 \
-  --num_poses=12 --algorithm=fedorov --json_out=d.json --poses_csv=p.csv \
-  >d.out 2>d.err; then
-  ok "select --cell with two targets"
-else
-  fail "select --cell with two targets"; cat d.err
-fi
+expect_run "select --cell with two targets" d.out d.err \
+  activecal_select "${puma[@]}" --cell="$cell" --levels=3 \
+  --num_poses=12 --algorithm=fedorov --json_out=d.json --poses_csv=p.csv
 python3 - <<'PY' && ok "the poses CSV's targets are those seen" || fail "targets column"
 import csv, json
 d = json.load(open("d.json"))

@@ -40,6 +40,7 @@
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/greedy.h"
 #include "activecal/selection/information_matrix.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -81,38 +82,7 @@ std::string CellError(const std::string& text, const std::string& dir = "") {
 // A one-joint stick: a revolute joint about z at (0, 0, 0.5), an arm box
 // 0.5 m along x, a prismatic slide along x at its end, the tip after it.
 
-const char kStickUrdf[] = R"(<?xml version="1.0"?>
-<robot name="stick">
-  <link name="base_link"/>
-  <link name="arm">
-    <collision>
-      <origin xyz="0.25 0 0" rpy="0 0 0"/>
-      <geometry><box size="0.4 0.04 0.04"/></geometry>
-    </collision>
-  </link>
-  <link name="slider">
-    <collision>
-      <origin xyz="-0.05 0 0" rpy="0 0 0"/>
-      <geometry><sphere radius="0.02"/></geometry>
-    </collision>
-  </link>
-  <link name="tip"/>
-  <joint name="j1" type="revolute">
-    <parent link="base_link"/><child link="arm"/>
-    <origin xyz="0 0 0.5" rpy="0 0 0"/><axis xyz="0 0 1"/>
-    <limit lower="-1" upper="1" effort="1" velocity="0.5"/>
-  </joint>
-  <joint name="j2" type="prismatic">
-    <parent link="arm"/><child link="slider"/>
-    <origin xyz="0.5 0 0" rpy="0 0 0"/><axis xyz="1 0 0"/>
-    <limit lower="0" upper="0.2" effort="1" velocity="0.1"/>
-  </joint>
-  <joint name="tip_joint" type="fixed">
-    <parent link="slider"/><child link="tip"/>
-    <origin xyz="0 0 0" rpy="0 0 0"/>
-  </joint>
-</robot>
-)";
+const std::string kStickUrdf = testing::TestDataText("stick.urdf");
 
 struct Fixture {
   RobotDescription robot;
@@ -585,42 +555,7 @@ double PointBoxDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& c,
 
 // A slide robot: a prismatic joint along x carrying a ball and a block,
 // against a sphere, an axis-aligned box, a turned box and a plane.
-const char kSlideUrdf[] = R"(<?xml version="1.0"?>
-<robot name="slide">
-  <link name="base_link"/>
-  <link name="carriage"/>
-  <link name="ball">
-    <collision>
-      <origin xyz="0 0 0" rpy="0 0 0"/>
-      <geometry><sphere radius="0.1"/></geometry>
-    </collision>
-  </link>
-  <link name="block">
-    <collision>
-      <origin xyz="0 0.8 0" rpy="0 0 0"/>
-      <geometry><box size="0.2 0.3 0.4"/></geometry>
-    </collision>
-  </link>
-  <link name="tip"/>
-  <joint name="slide" type="prismatic">
-    <parent link="base_link"/><child link="carriage"/>
-    <origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="1 0 0"/>
-    <limit lower="-3" upper="3" effort="1" velocity="1"/>
-  </joint>
-  <joint name="ball_joint" type="fixed">
-    <parent link="carriage"/><child link="ball"/>
-    <origin xyz="0 0 0" rpy="0 0 0"/>
-  </joint>
-  <joint name="block_joint" type="fixed">
-    <parent link="carriage"/><child link="block"/>
-    <origin xyz="0 0 0" rpy="0 0 0"/>
-  </joint>
-  <joint name="tip_joint" type="fixed">
-    <parent link="carriage"/><child link="tip"/>
-    <origin xyz="0 0 0" rpy="0 0 0"/>
-  </joint>
-</robot>
-)";
+const std::string kSlideUrdf = testing::TestDataText("slide.urdf");
 
 TEST(CellDistanceTest, PrimitivesAgainstAnalyticDistances) {
   Fixture f;

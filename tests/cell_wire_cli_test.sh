@@ -13,13 +13,10 @@
 #   tests/cell_wire_cli_test.sh <build/apps dir> <data dir> <tests/data dir>
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-tdata="$(cd "$3" && pwd)"
 source "$here/cli_lib.sh"
 cli_begin "$@"
 
-puma="$data/puma560.yaml"
-cell="$tdata/puma_table_cell.yaml"
-loop=(--robot="$puma" --levels=3 --max_rounds=3 --restarts=1 --threads=2)
+puma_table_cell "$3"
 
 # --- The active loop from the feasible pool. ---
 if "$apps/activecal_active" "${loop[@]}" --cell="$cell" --session=s \

@@ -71,26 +71,83 @@ YAML
 ok() { echo "ok   [$1]"; }
 fail() { echo "FAIL [$1]"; failures=$((failures + 1)); }
 
+# fail_because <name> <why> [<file>]: a FAIL line with the reason, then the
+# file's text; counted in $failures.
+fail_because() {
+  echo "FAIL [$1]: $2"
+  [ $# -lt 3 ] || cat "$3"
+  failures=$((failures + 1))
+}
+
+# run_prog <program> [flags...]: runs $apps/<program> with its stdout in
+# out.txt and its stderr in err.txt; its exit status is run_prog's.
+run_prog() {
+  local prog="$1"
+  shift
+  "$apps/$prog" "$@" >out.txt 2>err.txt
+}
+
 # expect_fail <name> <text expected on stderr> <program> [flags...]
 expect_fail() {
   local name="$1" want="$2"
   shift 2
-  local prog="$1"
-  shift
-  "$apps/$prog" "$@" >out.txt 2>err.txt
-  local status=$?
-  local lines
+  run_prog "$@"
+  local status=$? lines
   lines=$(wc -l <err.txt)
   if [ "$status" -ne 1 ]; then
-    echo "FAIL [$name]: exit status $status, expected 1"; failures=$((failures + 1))
+    fail_because "$name" "exit status $status, expected 1"
   elif [ "$lines" -ne 1 ]; then
-    echo "FAIL [$name]: $lines lines on stderr, expected 1:"; cat err.txt
-    failures=$((failures + 1))
+    fail_because "$name" "$lines lines on stderr, expected 1:" err.txt
   elif ! grep -qF -- "$want" err.txt; then
-    echo "FAIL [$name]: stderr lacks '$want':"; cat err.txt
-    failures=$((failures + 1))
+    fail_because "$name" "stderr lacks '$want':" err.txt
   else
     echo "ok   [$name]: $(cat err.txt)"
   fi
 }
 
+# expect_run <name> <stdout file> <stderr file> <program> [flags...]: ok
+# <name> where the program exits 0, else fail <name> and its stderr.
+expect_run() {
+  local name="$1" out="$2" err="$3" prog="$4"
+  shift 4
+  if "$apps/$prog" "$@" >"$out" 2>"$err"; then
+    ok "$name"
+  else
+    fail "$name"; cat "$err"
+  fi
+}
+
+# expect_ok <name> <text expected on stdout> <program> [flags...]: status 0,
+# nothing on stderr, the text on stdout.
+expect_ok() {
+  local name="$1" want="$2"
+  shift 2
+  run_prog "$@"
+  local status=$?
+  if [ "$status" -ne 0 ]; then
+    fail_because "$name" "exit status $status:" err.txt
+  elif [ -s err.txt ]; then
+    fail_because "$name" "stderr is not empty:" err.txt
+  elif ! grep -qF -- "$want" out.txt; then
+    fail_because "$name" "stdout lacks '$want':" out.txt
+  else
+    echo "ok   [$name]: $(grep -F -- "$want" out.txt)"
+  fi
+}
+
+# figaroh_ur10e: the FIGAROH UR10e measurements in $m, the UR10e flags
+# (URDF, tip, rotation weight) in the array $ur.
+figaroh_ur10e() {
+  m="$data/figaroh_ur10e/measurements.csv"
+  ur=(--robot="$data/ur10e.urdf" --tip_link=tool0 --rotation_weight=0.1)
+}
+
+# puma_table_cell <tests/data dir>: that folder (absolute) in $tdata, the
+# PUMA in $puma, its table cell in $cell and the active loop's flags for
+# it in the array $loop.
+puma_table_cell() {
+  tdata="$(cd "$1" && pwd)" || exit 1
+  puma="$data/puma560.yaml"
+  cell="$tdata/puma_table_cell.yaml"
+  loop=(--robot="$puma" --levels=3 --max_rounds=3 --restarts=1 --threads=2)
+}

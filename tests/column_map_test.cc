@@ -148,19 +148,10 @@ struct TwoFiles {
 
 TwoFiles Session(bool with_orientation) {
   const RobotModel model = Puma560PaperModel();
-  Random random(7);
-  Eigen::MatrixXd joints(30, model.num_joints());
-  for (int i = 0; i < joints.rows(); ++i) {
-    joints.row(i) = testing::RandomJoints(model, &random).transpose();
-  }
-  std::vector<Measurement> measured;
-  std::string error;
-  EXPECT_TRUE(SimulateMeasurements(
-      model, Puma560TrueParameters(),
-      MeasurementPlan(joints, with_orientation ? MeasurementType::kPose
-                                               : MeasurementType::kPosition),
-      {1e-4, 1e-4}, 3, &measured, &error))
-      << error;
+  const std::vector<Measurement> measured = testing::SimulatedPuma(
+      30, 7,
+      with_orientation ? MeasurementType::kPose : MeasurementType::kPosition,
+      {1e-4, 1e-4}, 3);
   TwoFiles f;
   f.german =
       "# Leica export\nPunkt;j1;j2;j3;j4;j5;j6;measurement_x;"

@@ -14,6 +14,29 @@ source "$here/cli_lib.sh"
 cli_begin "$@"
 
 puma="$data/puma560.yaml"
+
+# expect_one_line <name> <status> <expected status> <stderr file> <grep
+# flags> <pattern>: the status is the expected one and the stderr file one
+# line that matches the pattern.
+expect_one_line() {
+  if [ "$2" -eq "$3" ] && [ "$(wc -l <"$4")" -eq 1 ] && grep "$5" -- "$6" "$4"; then
+    ok "$1: $(cut -c1-100 "$4")"
+  else
+    fail "$1 (status $2)"; cat "$4"
+  fi
+}
+
+# all_converged <compensate JSON> <number of targets> <max joint change>:
+# that many targets, all converged, no joint changed by more than that.
+all_converged() {
+  python3 - "$@" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j['all_converged'] and j['num_targets'] == int(sys.argv[2]), j['message']
+assert j['max_joint_change'] <= float(sys.argv[3]), j['max_joint_change']
+PY
+}
+
 # --- the loop -------------------------------------------------------------
 "$apps/activecal_select" --robot="$puma" --algorithm=fedorov \
   --poses_csv=poses.csv >select.txt 2>&1 || { fail "select"; cat select.txt; }
@@ -41,12 +64,8 @@ EOF
 status=$?
 # Some targets of a program that spans the whole joint ranges need a joint
 # beyond its limit on the real robot: exit 2, one line, files complete.
-if [ "$status" -eq 2 ] && [ "$(wc -l <comp.err)" -eq 1 ] &&
-  grep -q "targets are not converged, written with their status to comp.csv: [0-9]* limit (the first, target [0-9]*, pose_index [0-9]*: " comp.err; then
-  ok "compensate: exit 2 and one line when some targets fail: $(cut -c1-90 comp.err)"
-else
-  fail "compensate exit status $status"; cat comp.err
-fi
+expect_one_line "compensate: exit 2 and one line when some targets fail" \
+  "$status" 2 comp.err -q "targets are not converged, written with their status to comp.csv: [0-9]* limit (the first, target [0-9]*, pose_index [0-9]*: "
 # The true robot at the program's and at the compensated joints (the poses
 # CSV reader checks every compensated configuration against the limits).
 "$apps/activecal_simulate" --robot="$puma" --poses_csv=program.csv --noise_m=0 \
@@ -169,12 +188,7 @@ for m in smr smr2; do
   if "$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
     --nominal="$ur" --marker=$m --poses_csv=ur_prog.csv --out=ur_same.csv \
     --json_out=ur_same.json >ur_same.txt 2>&1 &&
-    python3 -c "
-import json
-j = json.load(open('ur_same.json'))
-assert j['all_converged'] and j['num_targets'] == 30, j['message']
-assert j['max_joint_change'] <= 1e-12, j['max_joint_change']
-"; then
+    all_converged ur_same.json 30 1e-12; then
     ok "URDF + frames, marker $m: identical geometry leaves the program unchanged"
   else
     fail "URDF + frames, marker $m, identical geometry"; cat ur_same.txt
@@ -187,12 +201,8 @@ done
 "$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --nominal="$ur" \
   --poses_csv=ur_prog.csv --out=ur_noframes.csv >ur_noframes.txt 2>ur_noframes.err
 nstatus=$?
-if [ "$nstatus" -eq 0 ] && [ "$(wc -l <ur_noframes.err)" -eq 1 ] &&
-  grep -qF "activecal_compensate: note: --robot=$ur has no --frames: the device frame is taken as the chain's base link and the marker as the origin of the tip link 'tool0', with no offset" ur_noframes.err; then
-  ok "URDF without --frames: one note first on stderr: $(cut -c1-100 ur_noframes.err)"
-else
-  fail "URDF without --frames (status $nstatus)"; cat ur_noframes.err
-fi
+expect_one_line "URDF without --frames: one note first on stderr" \
+  "$nstatus" 0 ur_noframes.err -qF "activecal_compensate: note: --robot=$ur has no --frames: the device frame is taken as the chain's base link and the marker as the origin of the tip link 'tool0', with no offset"
 "$apps/activecal_compensate" --robot="$ur" --tip_link=tool0 --frames=frames.yaml \
   --nominal="$ur" --poses_csv=ur_prog.csv --out=ur_frames.csv >/dev/null 2>ur_frames.err
 [ ! -s ur_frames.err ] && ok "URDF with --frames: no note" ||
@@ -259,14 +269,9 @@ EOF
 tstatus=$?
 if [ "$tstatus" -eq 0 ] && [ ! -s ur_t.err ] &&
   grep -q "activecal_compensate: note: ur_targets.csv: ignored 1 column activecal does not read: temperature_c" ur_t.txt &&
-  python3 -c "
-import json
-j = json.load(open('ur_t.json'))
-assert j['all_converged'] and j['num_targets'] == 5, j['message']
-# The start joints were read (by name): the program's own joints reach
-# the targets, so they are kept (to the mm rounding of the points).
-assert j['max_joint_change'] <= 1e-6, j['max_joint_change']
-"; then
+  # The start joints were read (by name): the program's own joints reach
+  # the targets, so they are kept (to the mm rounding of the points).
+  all_converged ur_t.json 5 1e-6; then
   ok "targets CSV: joints by name and mm read, temperature_c named in a note"
 else
   fail "targets CSV with joint names (status $tstatus)"; cat ur_t.txt ur_t.err

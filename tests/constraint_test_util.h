@@ -7,7 +7,11 @@
 #ifndef ACTIVECAL_TESTS_CONSTRAINT_TEST_UTIL_H_
 #define ACTIVECAL_TESTS_CONSTRAINT_TEST_UTIL_H_
 
+#include <ceres/cost_function.h>
 #include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <memory>
 
 #include <set>
 #include <string>
@@ -15,7 +19,9 @@
 
 #include "activecal/core/free_set.h"
 #include "activecal/core/robot_model.h"
+#include "activecal/estimation/parameter_reduction.h"
 #include "activecal/io/urdf_robot.h"
+#include "activecal/residuals/measurement_residual.h"
 
 namespace activecal {
 
@@ -33,6 +39,54 @@ inline RobotModel LoadShippedWithBall(const std::string& file,
   RobotModel m = robot.model;
   m.nominal.segment(m.block_offset(m.marker_block(0)), 3) << 0.02, -0.01, 0.1;
   return m;
+}
+
+// The full parameter set reduced (ReduceParameterSet, weight 1) on the data
+// at the model's nominal values: the held parameters, the free set in *free.
+inline std::vector<HeldParameter> HeldOfFullSet(
+    const RobotModel& model, const std::vector<Measurement>& data,
+    FreeSet* free) {
+  Eigen::VectorXd point = model.nominal;
+  std::vector<HeldParameter> held;
+  std::string error;
+  EXPECT_TRUE(ReduceParameterSet(model, ParameterSet::kFull, data, 1.0, &point,
+                                 free, &held, &error))
+      << error;
+  return held;
+}
+
+// The residual of the measurement m on (a copy of) the model.
+inline std::unique_ptr<ceres::CostFunction> ResidualOf(const RobotModel& model,
+                                                       const Measurement& m) {
+  return std::unique_ptr<ceres::CostFunction>(
+      MeasurementResidual::Create(std::make_shared<const RobotModel>(model), m));
+}
+
+// A residual's parameter blocks: the model's blocks in *x, then `extra`
+// (the unknowns of a constraint: a point, a plane) in order.
+inline std::vector<double*> BlocksWith(const RobotModel& model,
+                                       Eigen::VectorXd* x,
+                                       const std::vector<double*>& extra) {
+  std::vector<double*> blocks;
+  for (int b = 0; b < model.num_blocks(); ++b) {
+    blocks.push_back(x->data() + model.block_offset(b));
+  }
+  blocks.insert(blocks.end(), extra.begin(), extra.end());
+  return blocks;
+}
+
+// Room for the Jacobian of each parameter block of the cost (row-major,
+// num_residuals rows), and the pointers to it in *ptrs.
+inline std::vector<std::vector<double>> JacobianStorage(
+    const ceres::CostFunction& cost, std::vector<double*>* ptrs) {
+  const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
+  std::vector<std::vector<double>> jac(sizes.size());
+  ptrs->clear();
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    jac[b].resize(cost.num_residuals() * sizes[b]);
+    ptrs->push_back(jac[b].data());
+  }
+  return jac;
 }
 
 // The names of the parameters a reduction held, as a set (the library's

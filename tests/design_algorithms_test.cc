@@ -36,15 +36,7 @@ double ExhaustiveBestLogDet(const CandidatePool& pool) {
   return best;
 }
 
-class DesignAlgorithmsTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    puma_ = new CandidatePool(testing::PumaPool(3));
-  }
-  static void TearDownTestSuite() { delete puma_; }
-  static CandidatePool* puma_;
-};
-CandidatePool* DesignAlgorithmsTest::puma_ = nullptr;
+class DesignAlgorithmsTest : public testing::PumaPoolSuite {};
 
 void ExpectNeverBelowStart(const SelectionSummary& s) {
   ASSERT_FALSE(s.history.empty());
@@ -312,19 +304,15 @@ TEST(CertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
     std::vector<int64_t> d = random.SampleWithoutReplacement(pool.size(), 3);
     if (std::isfinite(LogDetFromScratch(pool, d))) designs.push_back(d);
   }
-  for (const auto& d : designs) {
-    for (const ApproximateDesignSummary* a :
-         {static_cast<const ApproximateDesignSummary*>(nullptr),
-          static_cast<const ApproximateDesignSummary*>(&approx)}) {
-      SelectionSummary summary;
-      summary.design = d;
-      ASSERT_TRUE(CertifyDesign(pool, {}, a, 1, &summary));
-      const double log_det = LogDetFromScratch(pool, d);
-      const double true_efficiency = std::exp((log_det - optimum) / p);
-      EXPECT_LE(summary.efficiency_lower_bound, true_efficiency + 1e-12);
-      EXPECT_GE(summary.log_det_upper_bound, optimum - 1e-9);
-    }
-  }
+  testing::CheckEachDesign(designs, approx,
+                           [&](const ApproximateDesignSummary* a,
+                               SelectionSummary* summary) {
+    ASSERT_TRUE(CertifyDesign(pool, {}, a, 1, summary));
+    const double log_det = LogDetFromScratch(pool, summary->design);
+    const double true_efficiency = std::exp((log_det - optimum) / p);
+    EXPECT_LE(summary->efficiency_lower_bound, true_efficiency + 1e-12);
+    EXPECT_GE(summary->log_det_upper_bound, optimum - 1e-9);
+  });
 }
 
 }  // namespace

@@ -444,6 +444,20 @@ std::vector<std::vector<double>> MovesIn(const std::string& text,
   return rows;
 }
 
+// The program ControllerProgramText writes for the poses (in *text) and its
+// moves (MovesIn, in *rows); a failure with its error where it writes none.
+::testing::AssertionResult ProgramMoves(
+    const RobotModel& model, const ControllerConvention& convention,
+    const PoseList& poses, const ControllerProgramOptions& options,
+    std::string* text, std::vector<std::vector<double>>* rows) {
+  std::string error;
+  if (!ControllerProgramText(model, convention, poses, options, text, &error)) {
+    return ::testing::AssertionFailure() << error;
+  }
+  *rows = MovesIn(*text, options.language, model.num_joints());
+  return ::testing::AssertionSuccess();
+}
+
 // Program units per rad (a revolute joint).
 double UnitPerRad(ProgramLanguage language) {
   return language == ProgramLanguage::kUrScript ? 1.0 : 180 / M_PI;
@@ -491,10 +505,8 @@ TEST(ControllerProgramTest, TheProgramsHoldThePosesInTheControllersConvention) {
     const double unit = UnitPerRad(language);
     const double digits = language == ProgramLanguage::kUrScript ? 1e-9 : 1e-6;
     std::string text;
-    ASSERT_TRUE(
-        ControllerProgramText(model, convention, poses, options, &text, &error))
-        << error;
-    const std::vector<std::vector<double>> rows = MovesIn(text, language, 7);
+    std::vector<std::vector<double>> rows;
+    ASSERT_TRUE(ProgramMoves(model, convention, poses, options, &text, &rows));
     ASSERT_EQ(rows.size(), 3u) << text;
     for (int i = 0; i < 3; ++i) {
       ASSERT_EQ(rows[i].size(), 7u);
@@ -590,11 +602,9 @@ TEST(ControllerProgramTest, PosesAtTheLimitsAreWrittenInsideThem) {
     SCOPED_TRACE(ProgramLanguageToString(language));
     ControllerProgramOptions options;
     options.language = language;
-    std::string text, error;
-    ASSERT_TRUE(
-        ControllerProgramText(model, convention, poses, options, &text, &error))
-        << error;
-    const std::vector<std::vector<double>> rows = MovesIn(text, language, 7);
+    std::string text;
+    std::vector<std::vector<double>> rows;
+    ASSERT_TRUE(ProgramMoves(model, convention, poses, options, &text, &rows));
     ASSERT_EQ(rows.size(), 2u) << text;
     for (int i = 0; i < 2; ++i) {
       const std::vector<double>& values = rows[i];

@@ -35,70 +35,37 @@ Eigen::Matrix3d Rz(double a) {
   return R;
 }
 
-// The intrinsic product for each order, by hand (extrinsic: the reverse).
-Eigen::Matrix3d HandIntrinsic(EulerAxes axes, double a, double b, double c) {
-  switch (axes) {
-    case EulerAxes::kXYZ:
-      return Rx(a) * Ry(b) * Rz(c);
-    case EulerAxes::kXZY:
-      return Rx(a) * Rz(b) * Ry(c);
-    case EulerAxes::kYXZ:
-      return Ry(a) * Rx(b) * Rz(c);
-    case EulerAxes::kYZX:
-      return Ry(a) * Rz(b) * Rx(c);
-    case EulerAxes::kZXY:
-      return Rz(a) * Rx(b) * Ry(c);
-    case EulerAxes::kZYX:
-      return Rz(a) * Ry(b) * Rx(c);
-    case EulerAxes::kXYX:
-      return Rx(a) * Ry(b) * Rx(c);
-    case EulerAxes::kXZX:
-      return Rx(a) * Rz(b) * Rx(c);
-    case EulerAxes::kYXY:
-      return Ry(a) * Rx(b) * Ry(c);
-    case EulerAxes::kYZY:
-      return Ry(a) * Rz(b) * Ry(c);
-    case EulerAxes::kZXZ:
-      return Rz(a) * Rx(b) * Rz(c);
-    case EulerAxes::kZYZ:
-      return Rz(a) * Ry(b) * Rz(c);
-  }
-  return Eigen::Matrix3d::Zero();
-}
-Eigen::Matrix3d HandExtrinsic(EulerAxes axes, double a, double b, double c) {
-  switch (axes) {
-    case EulerAxes::kXYZ:
-      return Rz(c) * Ry(b) * Rx(a);
-    case EulerAxes::kXZY:
-      return Ry(c) * Rz(b) * Rx(a);
-    case EulerAxes::kYXZ:
-      return Rz(c) * Rx(b) * Ry(a);
-    case EulerAxes::kYZX:
-      return Rx(c) * Rz(b) * Ry(a);
-    case EulerAxes::kZXY:
-      return Ry(c) * Rx(b) * Rz(a);
-    case EulerAxes::kZYX:
-      return Rx(c) * Ry(b) * Rz(a);
-    case EulerAxes::kXYX:
-      return Rx(c) * Ry(b) * Rx(a);
-    case EulerAxes::kXZX:
-      return Rx(c) * Rz(b) * Rx(a);
-    case EulerAxes::kYXY:
-      return Ry(c) * Rx(b) * Ry(a);
-    case EulerAxes::kYZY:
-      return Ry(c) * Rz(b) * Ry(a);
-    case EulerAxes::kZXZ:
-      return Rz(c) * Rx(b) * Rz(a);
-    case EulerAxes::kZYZ:
-      return Rz(c) * Ry(b) * Rz(a);
-  }
-  return Eigen::Matrix3d::Zero();
-}
-
 const std::vector<EulerAxes> kAllAxes = {
     EulerAxes::kXYZ, EulerAxes::kXZY, EulerAxes::kYXZ, EulerAxes::kYZX,
     EulerAxes::kZXY, EulerAxes::kZYX, EulerAxes::kXYX, EulerAxes::kXZX,
     EulerAxes::kYXY, EulerAxes::kYZY, EulerAxes::kZXZ, EulerAxes::kZYZ};
+// The axes of kAllAxes[i], first to last: letters 4i to 4i + 2.
+const char kAxesLetters[] = "XYZ XZY YXZ YZX ZXY ZYX XYX XZX YXY YZY ZXZ ZYZ";
+
+// The rotation by a about the axis 'X', 'Y' or 'Z' (zero for another).
+Eigen::Matrix3d Elementary(char axis, double a) {
+  if (axis == 'X') return Rx(a);
+  if (axis == 'Y') return Ry(a);
+  return axis == 'Z' ? Rz(a) : Eigen::Matrix3d::Zero();
+}
+
+// The three axes of an order, by hand ("???" for none of kAllAxes).
+std::string AxesLetters(EulerAxes axes) {
+  for (size_t i = 0; i < kAllAxes.size(); ++i) {
+    if (kAllAxes[i] == axes) return std::string(kAxesLetters + 4 * i, 3);
+  }
+  return "???";
+}
+
+// The intrinsic product for each order (extrinsic: the reverse).
+Eigen::Matrix3d HandIntrinsic(EulerAxes axes, double a, double b, double c) {
+  const std::string r = AxesLetters(axes);
+  return Elementary(r[0], a) * Elementary(r[1], b) * Elementary(r[2], c);
+}
+Eigen::Matrix3d HandExtrinsic(EulerAxes axes, double a, double b, double c) {
+  const std::string r = AxesLetters(axes);
+  return Elementary(r[2], c) * Elementary(r[1], b) * Elementary(r[0], a);
+}
 
 // Every (order, frame, unit).
 std::vector<EulerConvention> AllConventions() {

@@ -16,6 +16,7 @@
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -43,7 +44,7 @@ Eigen::MatrixXd Configurations(const RobotModel& model, int n) {
 }
 
 std::string WriteFile(const std::string& name, const std::string& text) {
-  const std::string path = testing::TempDir() + name;
+  const std::string path = ::testing::TempDir() + name;
   std::ofstream(path) << text;
   return path;
 }
@@ -338,10 +339,8 @@ TEST(EvaluateTest, EnumNamesRoundTrip) {
   }
   BeforeBaseline b;
   EXPECT_FALSE(StringToBeforeBaseline("bogus", &b));
-  Iso9283Registration r;
-  EXPECT_TRUE(StringToIso9283Registration("file", &r));
-  EXPECT_EQ(r, Iso9283Registration::kFile);
-  EXPECT_FALSE(StringToIso9283Registration("bogus", &r));
+  testing::ExpectEnumParsing(StringToIso9283Registration, "file",
+                             Iso9283Registration::kFile, "bogus");
 }
 
 }  // namespace

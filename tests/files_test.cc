@@ -64,12 +64,10 @@ TEST(RobotFileTest, RoundTripInRadiansIsExactAndInDegreesClose) {
     options.angle_unit = unit;
     options.true_parameters = truth;
     options.comment = "two\nlines";
-    const std::string text = RobotFileText(m, m.nominal, options);
     RobotDescription back;
-    std::string error;
-    ASSERT_TRUE(ParseRobotDescription(text, "mem", &back, &error))
-        << error << "\n"
-        << text;
+    std::string text;
+    ASSERT_TRUE(testing::RobotFileRoundTrip(m, m.nominal, options, "mem", &back,
+                                            &text));
     ExpectSameStructure(back.model, m);
     if (unit == AngleUnit::kRadian) {
       EXPECT_EQ(back.model.nominal, m.nominal);
@@ -240,6 +238,17 @@ struct BadCsv {
   const char* message;
 };
 
+// Every case refused by parse(text, &error) with its message in the error.
+template <typename Parse>
+void ExpectRefused(const std::vector<BadCsv>& cases, Parse parse) {
+  for (const BadCsv& c : cases) {
+    std::string error;
+    EXPECT_FALSE(parse(c.text, &error)) << c.what;
+    EXPECT_NE(error.find(c.message), std::string::npos)
+        << c.what << "\n  got: " << error << "\n  want: " << c.message;
+  }
+}
+
 TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
   const RobotModel m = testing::MixedModel();
   const std::string h = "q1_rad,q2_rad,q3_m,q4_rad\n";
@@ -274,14 +283,10 @@ TEST(PosesCsvTest, MalformedFilesNameLineAndColumn) {
        "p.csv:4: pose_index: 7 is also the label of line 2 (the labels of a "
        "pool name its poses, each once)"},
   };
-  for (const BadCsv& c : cases) {
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
     PoseList poses;
-    std::string error;
-    EXPECT_FALSE(ParsePosesCsv(c.text, "p.csv", m, true, &poses, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+    return ParsePosesCsv(text, "p.csv", m, true, &poses, reason);
+  });
   PoseList poses;
   std::string error;
   EXPECT_FALSE(ReadPosesCsv("/nonexistent.csv", m, true, &poses, &error));
@@ -403,14 +408,10 @@ TEST(MeasurementsCsvTest, MalformedFilesNameLineAndColumn) {
       {"infinite", h + "position,0,0,0.1,0,1,2,inf,,,,,,,,\n",
        "m.csv:2: z_m: must be finite"},
   };
-  for (const BadCsv& c : cases) {
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
     std::vector<Measurement> out;
-    std::string error;
-    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "m.csv", m, &out, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+    return ParseMeasurementsCsv(text, "m.csv", m, &out, reason);
+  });
 }
 
 // ---------------------------------------------------------------------------
@@ -959,12 +960,9 @@ TEST(MeasurementFormatsTest, UncertaintyColumns) {
        "as "
        "sigma_x_mm,sigma_y_mm,sigma_z_mm"},
   };
-  for (const BadCsv& c : cases) {
-    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "m.csv", m, &out, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
+    return ParseMeasurementsCsv(text, "m.csv", m, &out, reason);
+  });
 }
 
 TEST(MeasurementFormatsTest, ColumnsADeviceAddsAreListedOrRefused) {
@@ -1071,12 +1069,9 @@ TEST(MeasurementFormatsTest, JointsByUrdfNameAndBadHeaders) {
       {"joint named for a missing joint", "q5_rad," + j + "x_m,y_m,z_m\n",
        "n.csv:1: header: column 'q5_rad' is for joint 5"},
   };
-  for (const BadCsv& c : cases) {
-    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "n.csv", m, &out, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
+    return ParseMeasurementsCsv(text, "n.csv", m, &out, reason);
+  });
 }
 
 // Issue 26, item 17: the targets CSV dropped the columns it did not know,
@@ -1170,12 +1165,9 @@ TEST(TargetsCsvTest, ReadsWhatTheMeasurementsCsvReads) {
       {"implausible length", "x_mm,y_mm,z_mm\n1e12,0,0\n",
        "t.csv:2: x_mm: 1e+12 mm is more than 1000 km"},
   };
-  for (const BadCsv& c : cases) {
-    EXPECT_FALSE(ParseTargetsCsv(c.text, "t.csv", m, &targets, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
+    return ParseTargetsCsv(text, "t.csv", m, &targets, reason);
+  });
 }
 
 // The poses CSV names joints as the measurements CSV does: q<j> or the
@@ -1281,12 +1273,9 @@ TEST(MeasurementFormatsTest, ExportQuirksReadAsThePlainFile) {
        "joint 4, "
        "nor 'joint4_rad' or 'joint4_deg' (its joint name)"},
   };
-  for (const BadCsv& c : cases) {
-    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "s.csv", m, &got, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
+    return ParseMeasurementsCsv(text, "s.csv", m, &got, reason);
+  });
 }
 
 // Empty columns a spreadsheet or mocap export adds (a ',' ending every
@@ -1333,12 +1322,9 @@ TEST(MeasurementFormatsTest, NamelessEmptyColumnsAndImplausibleLengths) {
        j + "x_m,y_m,z_m,u95_m\n0.1,0.2,0.05,0.3,1,2,3,1e300\n",
        "e.csv:2: u95_m: 1e+300 m is more than 1000 km"},
   };
-  for (const BadCsv& c : cases) {
-    EXPECT_FALSE(ParseMeasurementsCsv(c.text, "e.csv", m, &out, &error))
-        << c.what;
-    EXPECT_NE(error.find(c.message), std::string::npos)
-        << c.what << "\n  got: " << error << "\n  want: " << c.message;
-  }
+  ExpectRefused(cases, [&](const std::string& text, std::string* reason) {
+    return ParseMeasurementsCsv(text, "e.csv", m, &out, reason);
+  });
 }
 
 }  // namespace

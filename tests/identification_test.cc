@@ -40,6 +40,23 @@ std::vector<Measurement> PumaMeasurements(int num_poses, double noise,
   return out;
 }
 
+// m identified from data, starting at `start`.
+IdentificationSummary Identified(
+    const RobotModel& m, const std::vector<Measurement>& data,
+    const Eigen::VectorXd& start,
+    const IdentificationOptions& options = IdentificationOptions()) {
+  IdentificationSummary summary;
+  Identify(m, data, start, options, &summary);
+  return summary;
+}
+
+// The fit did not converge, and its message says `text`.
+void ExpectRefused(const IdentificationSummary& summary,
+                   const std::string& text) {
+  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
+  EXPECT_NE(summary.message.find(text), std::string::npos) << summary.message;
+}
+
 TEST(IdentificationTest, NoiseFreeRecoversTrueValues) {
   const RobotModel m = Puma560PaperModel();
   const Eigen::VectorXd truth = Puma560TrueParameters();
@@ -77,12 +94,10 @@ TEST(IdentificationTest, NoisyEstimatesWithinFourStd) {
 
 TEST(IdentificationTest, TooFewPosesIsReported) {
   const RobotModel m = Puma560PaperModel();
-  IdentificationSummary summary;
-  Identify(m, PumaMeasurements(8, 0.01, 1), m.nominal, IdentificationOptions(),
-           &summary);
+  const IdentificationSummary summary =
+      Identified(m, PumaMeasurements(8, 0.01, 1), m.nominal);
+  ExpectRefused(summary, "too few equations: 24");
   EXPECT_EQ(summary.termination_type, TerminationType::kFailure);
-  EXPECT_NE(summary.message.find("too few equations: 24"), std::string::npos)
-      << summary.message;
   EXPECT_EQ(summary.estimates.size(), 0);
 }
 
@@ -90,12 +105,9 @@ TEST(IdentificationTest, ZeroDegreesOfFreedomIsRefused) {
   // 9 position poses, 27 rows for 27 parameters: the estimates fit the data
   // exactly and nothing is left to estimate the noise; never std 0.
   const RobotModel m = Puma560PaperModel();
-  IdentificationSummary summary;
-  Identify(m, PumaMeasurements(9, 0.01, 1), m.nominal, IdentificationOptions(),
-           &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(summary.message.find("0 degrees of freedom"), std::string::npos)
-      << summary.message;
+  const IdentificationSummary summary =
+      Identified(m, PumaMeasurements(9, 0.01, 1), m.nominal);
+  ExpectRefused(summary, "0 degrees of freedom");
   EXPECT_EQ(summary.standard_deviations.size(), 0);
 }
 
@@ -128,12 +140,9 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
   // alpha = 0): together they are not identifiable.
   RobotModel m = Puma560PaperModel();
   m.markers[0].free[2] = true;
-  IdentificationSummary summary;
-  Identify(m, PumaMeasurements(30, 0.01, 1), m.nominal, IdentificationOptions(),
-           &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(summary.message.find("rank 27 < 28"), std::string::npos)
-      << summary.message;
+  const IdentificationSummary summary =
+      Identified(m, PumaMeasurements(30, 0.01, 1), m.nominal);
+  ExpectRefused(summary, "rank 27 < 28");
   EXPECT_NE(summary.message.find("L6.d"), std::string::npos);
   EXPECT_NE(summary.message.find("tool.z"), std::string::npos);
 }
@@ -141,36 +150,24 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
 TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   const RobotModel m = Puma560PaperModel();
   std::vector<Measurement> data = PumaMeasurements(30, 0.01, 1);
-  IdentificationSummary summary;
   data[4].position[1] = std::nan("");
-  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
+  const IdentificationSummary summary = Identified(m, data, m.nominal);
   EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
   EXPECT_NE(summary.message.find("measurement 4"), std::string::npos)
       << summary.message;
   data = PumaMeasurements(30, 0.01, 1);
   data[7].joints.resize(5);
-  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(
-      summary.message.find("measurement 7: joints: expected 6 joint values"),
-      std::string::npos)
-      << summary.message;
+  ExpectRefused(Identified(m, data, m.nominal),
+                "measurement 7: joints: expected 6 joint values");
   data = PumaMeasurements(30, 0.01, 1);
   data[2].joints[0] = std::nan("");
-  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(summary.message.find("measurement 2"), std::string::npos);
+  ExpectRefused(Identified(m, data, m.nominal), "measurement 2");
   Eigen::VectorXd initial = m.nominal;
   initial[5] = std::numeric_limits<double>::infinity();
-  Identify(m, PumaMeasurements(30, 0.01, 1), initial, IdentificationOptions(),
-           &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(summary.message.find("initial values"), std::string::npos);
-  Identify(m, std::vector<Measurement>{}, m.nominal, IdentificationOptions(),
-           &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(summary.message.find("too few equations: 0"), std::string::npos)
-      << summary.message;
+  ExpectRefused(Identified(m, PumaMeasurements(30, 0.01, 1), initial),
+                "initial values");
+  ExpectRefused(Identified(m, std::vector<Measurement>{}, m.nominal),
+                "too few equations: 0");
 }
 
 TEST(IdentificationTest, JointGainsAreRecovered) {
@@ -182,10 +179,7 @@ TEST(IdentificationTest, JointGainsAreRecovered) {
   const double gains[6] = {1.002, 0.995, 1.01, 0.99, 1.005, 0.98};
   for (int j = 0; j < 6; ++j) truth[6 * (j + 1) + kGain] = gains[j];
   Random random(9);
-  Eigen::MatrixXd joints(60, 6);
-  for (int i = 0; i < 60; ++i) {
-    joints.row(i) = testing::RandomJoints(m, &random).transpose();
-  }
+  const Eigen::MatrixXd joints = testing::RandomJointRows(m, 60, &random);
   std::vector<Measurement> data;
   std::string error;
   ASSERT_TRUE(SimulateMeasurements(m, truth, MeasurementPlan(joints), {}, 1,
@@ -204,18 +198,13 @@ TEST(IdentificationTest, MixedModelRedundanciesAreNamed) {
   // the analysis must name the overlapping ones rather than solve.
   const RobotModel m = testing::MixedModel();
   Random random(9);
-  Eigen::MatrixXd joints(60, 4);
-  for (int i = 0; i < 60; ++i) {
-    joints.row(i) = testing::RandomJoints(m, &random).transpose();
-  }
+  const Eigen::MatrixXd joints = testing::RandomJointRows(m, 60, &random);
   std::vector<Measurement> data;
   std::string error;
   ASSERT_TRUE(SimulateMeasurements(m, m.nominal, MeasurementPlan(joints), {}, 1,
                                    &data, &error));
-  IdentificationSummary summary;
-  Identify(m, data, m.nominal, IdentificationOptions(), &summary);
-  EXPECT_NE(summary.termination_type, TerminationType::kConvergence);
-  EXPECT_NE(summary.message.find("not identifiable"), std::string::npos);
+  const IdentificationSummary summary = Identified(m, data, m.nominal);
+  ExpectRefused(summary, "not identifiable");
   EXPECT_GT(summary.identifiability.unidentifiable.size(), 0u);
   EXPECT_EQ(summary.identifiability.num_free - summary.identifiability.rank,
             static_cast<int>(summary.identifiability.unidentifiable.size()));

@@ -60,6 +60,12 @@ int Column(const std::vector<std::string>& header, const std::string& name) {
   return -1;
 }
 
+// Neither CSV text (poses, targets) was made.
+void ExpectNoCsvText(const Iso9283CubePoses& poses) {
+  EXPECT_TRUE(poses.poses_csv.empty()) << poses.poses_csv;
+  EXPECT_TRUE(poses.targets_csv.empty()) << poses.targets_csv;
+}
+
 TEST(Iso9283CubePosesTest, BadCubeGivesTheMessageAndNoTable) {
   const RobotModel model = LoadUrdf("ur10.urdf").model;
   Iso9283CubePoses poses;
@@ -71,8 +77,7 @@ TEST(Iso9283CubePosesTest, BadCubeGivesTheMessageAndNoTable) {
             "--iso9283_cube: expected cx,cy,cz,edge_m or "
             "cx,cy,cz,edge_m,qw,qx,qy,qz (m, base frame), got 3 values");
   EXPECT_TRUE(poses.table.empty()) << poses.table;
-  EXPECT_TRUE(poses.poses_csv.empty());
-  EXPECT_TRUE(poses.targets_csv.empty());
+  ExpectNoCsvText(poses);
 
   EXPECT_FALSE(
       MakeIso9283CubePoses(model, {"0.6,0.2,0.5,0", "", nullptr}, &poses));
@@ -103,8 +108,7 @@ TEST(Iso9283CubePosesTest, OutOfReachNamesThePose) {
   EXPECT_EQ(poses.message.find('\n'), std::string::npos) << poses.message;
   // The table is kept (the poses not solved in it); no CSV text.
   EXPECT_NE(poses.table.find("P1"), std::string::npos) << poses.table;
-  EXPECT_TRUE(poses.poses_csv.empty());
-  EXPECT_TRUE(poses.targets_csv.empty());
+  ExpectNoCsvText(poses);
 }
 
 TEST(Iso9283CubePosesTest, ReachableCubeGivesBothCsvTexts) {

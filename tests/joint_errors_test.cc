@@ -66,14 +66,7 @@ TEST(UrdfInertials, ReadsTheShippedMassesIntoJointFrames) {
 }
 
 TEST(UrdfInertials, NamesTheLinksWithoutMass) {
-  const std::string xml = R"(<robot name="r">
-  <link name="a"/><link name="b"/><link name="c"/>
-  <joint name="j1" type="revolute"><parent link="a"/><child link="b"/>
-    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-  <joint name="j2" type="revolute"><parent link="b"/><child link="c"/>
-    <origin xyz="1 0 0"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
-</robot>)";
+  const std::string xml = testing::TestDataText("massless_arm.urdf");
   GravityModel g;
   std::string error;
   EXPECT_FALSE(ParseUrdfInertials(xml, "r.urdf", {}, &g, &error));

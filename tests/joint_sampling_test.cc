@@ -230,10 +230,8 @@ TEST(JointSamplingTest, BadInput) {
   JointLattice lattice;
   EXPECT_FALSE(JointLattice::Create(mixed, 3, &lattice, &error));
   EXPECT_EQ(error, "lattice: joint 3 (L3) has no finite range");
-  JointSampling s;
-  EXPECT_TRUE(JointSamplingFromString("random", &s));
-  EXPECT_EQ(s, JointSampling::kRandom);
-  EXPECT_FALSE(JointSamplingFromString("halton", &s));
+  testing::ExpectEnumParsing(JointSamplingFromString, "random",
+                             JointSampling::kRandom, "halton");
 }
 
 }  // namespace

@@ -80,14 +80,40 @@ double PredictionError(const RobotModel& model, const LearnedCorrection& c,
   return std::sqrt(e / n);
 }
 
+// A correction fitted with `options` to the data of the model at its
+// nominal values: success where the fit converged, else its message.
+::testing::AssertionResult Fits(const RobotModel& model,
+                                const std::vector<Measurement>& data,
+                                const LearnedResidualOptions& options,
+                                LearnedResidualSummary* summary) {
+  FitLearnedResidual(model, model.nominal, data, options, summary);
+  if (summary->termination_type == TerminationType::kConvergence) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << summary->message;
+}
+
+// Fits with mode on and num_features features: its correction in
+// *correction.
+::testing::AssertionResult FitsOn(const RobotModel& model,
+                                  const std::vector<Measurement>& data,
+                                  int num_features,
+                                  LearnedCorrection* correction) {
+  LearnedResidualOptions options;
+  options.mode = LearnedResidualMode::kOn;
+  options.num_features = num_features;
+  LearnedResidualSummary summary;
+  ::testing::AssertionResult fits = Fits(model, data, options, &summary);
+  *correction = summary.correction;
+  return fits;
+}
+
 TEST(LearnedResidual, RecoversAKnownSmoothFunction) {
   const RobotModel model = Puma560PaperModel();
   const std::vector<Measurement> data = Data(model, 800, 1.0, 5e-6, 3);
   LearnedResidualOptions options;
   LearnedResidualSummary summary;
-  FitLearnedResidual(model, model.nominal, data, options, &summary);
-  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
-      << summary.message;
+  ASSERT_TRUE(Fits(model, data, options, &summary));
   EXPECT_TRUE(summary.kept) << summary.BriefReport();
   double truth = 0;
   const double error = PredictionError(model, summary.correction, 1.0, &truth);
@@ -110,9 +136,7 @@ TEST(LearnedResidual, ZeroFunctionGivesANearZeroCorrection) {
   const std::vector<Measurement> data = Data(model, 400, 0.0, noise, 4);
   LearnedResidualOptions options;
   LearnedResidualSummary summary;
-  FitLearnedResidual(model, model.nominal, data, options, &summary);
-  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
-      << summary.message;
+  ASSERT_TRUE(Fits(model, data, options, &summary));
   EXPECT_FALSE(summary.kept) << summary.BriefReport();
   // The noise is not learned: predictions well below it, and the largest
   // ridge of the grid chosen.
@@ -166,10 +190,8 @@ TEST(LearnedResidual, OffFitsNothingAndBadOptionsAreNamed) {
   EXPECT_EQ(summary.message,
             "learned residual: num_folds must be >= 3 (nested "
             "cross-validation), got 2");
-  LearnedResidualMode mode;
-  EXPECT_TRUE(StringToLearnedResidualMode("auto", &mode));
-  EXPECT_EQ(mode, LearnedResidualMode::kAuto);
-  EXPECT_FALSE(StringToLearnedResidualMode("yes", &mode));
+  testing::ExpectEnumParsing(StringToLearnedResidualMode, "auto",
+                             LearnedResidualMode::kAuto, "yes");
 }
 
 // The hybrid prediction moves each point by its correction in the base
@@ -177,13 +199,8 @@ TEST(LearnedResidual, OffFitsNothingAndBadOptionsAreNamed) {
 TEST(LearnedResidual, CorrectedPredictionUsesTheBaseFrame) {
   const RobotModel model = Puma560PaperModel();
   const std::vector<Measurement> data = Data(model, 200, 1.0, 1e-6, 8);
-  LearnedResidualOptions options;
-  options.mode = LearnedResidualMode::kOn;
-  options.num_features = 50;
-  LearnedResidualSummary summary;
-  FitLearnedResidual(model, model.nominal, data, options, &summary);
-  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence);
-  const LearnedCorrection& c = summary.correction;
+  LearnedCorrection c;
+  ASSERT_TRUE(FitsOn(model, data, 50, &c));
   Measurement m = data[0];
   const Measurement plain = PredictMeasurement(model, model.nominal, m);
   const Measurement hybrid =
@@ -211,14 +228,15 @@ TEST(LearnedResidual, CorrectedPredictionUsesTheBaseFrame) {
 // predicts held-out poses better; purely geometric ones (errors the fit
 // removes, and noise) do not keep it, over several seeds.
 TEST(LearnedResidual, KeptExactlyWhenASmoothNonGeometricErrorIsThere) {
-  const std::string path = std::string(ACTIVECAL_DATA_DIR) + "/ur10.urdf";
+  RobotDescription robot;
+  std::string error;
+  ASSERT_TRUE(testing::LoadShippedUr("ur10.urdf", &robot, &error)) << error;
   UrdfChainOptions chain;
   chain.tip_link = "tool0";
-  RobotDescription robot;
   GravityModel gravity;
-  std::string error;
-  ASSERT_TRUE(LoadUrdfRobot(path, chain, &robot, &error)) << error;
-  ASSERT_TRUE(LoadUrdfInertials(path, chain, &gravity, &error)) << error;
+  ASSERT_TRUE(LoadUrdfInertials(std::string(ACTIVECAL_DATA_DIR) + "/ur10.urdf",
+                                chain, &gravity, &error))
+      << error;
   const RobotModel& m = robot.model;
   // Free: base frame, the marker's point, the offsets of joints 2-5.
   const RobotModel fitted = testing::UrdfOffsetsModel(m);
@@ -286,14 +304,10 @@ TEST(LearnedResidual, KeptExactlyWhenASmoothNonGeometricErrorIsThere) {
 TEST(LearnedResidualFile, RoundTripPredictsTheSame) {
   const RobotModel model = Puma560PaperModel();
   const std::vector<Measurement> data = Data(model, 150, 1.0, 1e-5, 9);
-  LearnedResidualOptions options;
-  options.mode = LearnedResidualMode::kOn;
-  options.num_features = 40;
-  LearnedResidualSummary summary;
-  FitLearnedResidual(model, model.nominal, data, options, &summary);
-  ASSERT_EQ(summary.termination_type, TerminationType::kConvergence);
+  LearnedCorrection fitted;
+  ASSERT_TRUE(FitsOn(model, data, 40, &fitted));
   RobotFileOptions file;
-  file.learned_correction = &summary.correction;
+  file.learned_correction = &fitted;
   const std::string text = RobotFileText(model, model.nominal, file);
   RobotDescription back;
   std::string error;
@@ -301,13 +315,13 @@ TEST(LearnedResidualFile, RoundTripPredictsTheSame) {
   const LearnedCorrection& c = back.learned_correction;
   ASSERT_FALSE(c.empty());
   EXPECT_EQ(c.num_features(), 40);
-  EXPECT_EQ(c.seed, summary.correction.seed);
+  EXPECT_EQ(c.seed, fitted.seed);
   EXPECT_EQ(c.num_training, 150);
-  EXPECT_EQ(c.held_out_rms_hybrid_m, summary.correction.held_out_rms_hybrid_m);
+  EXPECT_EQ(c.held_out_rms_hybrid_m, fitted.held_out_rms_hybrid_m);
   Random random(5);
   for (int i = 0; i < 50; ++i) {
     const Eigen::VectorXd q = RandomJoints(model, &random);
-    EXPECT_LE((c.Correction(q, 0) - summary.correction.Correction(q, 0))
+    EXPECT_LE((c.Correction(q, 0) - fitted.Correction(q, 0))
                   .cwiseAbs()
                   .maxCoeff(),
               1e-12);
@@ -355,13 +369,8 @@ TEST(LearnedResidualFile, RoundTripPredictsTheSame) {
 TEST(LearnedResidualUse, EvaluationAndCompensationApplyTheCorrection) {
   const RobotModel model = Puma560PaperModel();
   const std::vector<Measurement> data = Data(model, 200, 3.0, 1e-6, 21);
-  LearnedResidualOptions options;
-  options.mode = LearnedResidualMode::kOn;
-  options.num_features = 100;
-  LearnedResidualSummary learned;
-  FitLearnedResidual(model, model.nominal, data, options, &learned);
-  ASSERT_EQ(learned.termination_type, TerminationType::kConvergence);
-  const LearnedCorrection& c = learned.correction;
+  LearnedCorrection c;
+  ASSERT_TRUE(FitsOn(model, data, 100, &c));
 
   EvaluationSummary plain, empty, hybrid;
   ASSERT_TRUE(EvaluateModel(model, model.nominal, data, &plain));

@@ -17,29 +17,6 @@ docs="$(cd "$3" && pwd)"
 source "$here/cli_lib.sh"
 cli_begin "$@"
 
-# expect_ok <name> <text expected on stdout> <program> [flags...]: status 0,
-# nothing on stderr, the text on stdout.
-expect_ok() {
-  local name="$1" want="$2"
-  shift 2
-  local prog="$1"
-  shift
-  "$apps/$prog" "$@" >out.txt 2>err.txt
-  local status=$?
-  if [ "$status" -ne 0 ]; then
-    echo "FAIL [$name]: exit status $status:"; cat err.txt
-    failures=$((failures + 1))
-  elif [ -s err.txt ]; then
-    echo "FAIL [$name]: stderr is not empty:"; cat err.txt
-    failures=$((failures + 1))
-  elif ! grep -qF -- "$want" out.txt; then
-    echo "FAIL [$name]: stdout lacks '$want':"; cat out.txt
-    failures=$((failures + 1))
-  else
-    echo "ok   [$name]: $(grep -F -- "$want" out.txt)"
-  fi
-}
-
 # 40 poses of the built-in PUMA, 1 mm noise.
 "$apps/activecal_select" --algorithm=random --random_designs=20 \
   --num_poses=40 --certificate=false --poses_csv=poses.csv >/dev/null &&

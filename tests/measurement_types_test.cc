@@ -228,10 +228,8 @@ TEST(MeasurementTypesTest, RobustOptionsAreChecked) {
   options.rotation_weight_m_per_rad = -1;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("rotation_weight"), std::string::npos) << error;
-  RobustLoss loss;
-  EXPECT_TRUE(StringToRobustLoss("cauchy", &loss));
-  EXPECT_EQ(loss, RobustLoss::kCauchy);
-  EXPECT_FALSE(StringToRobustLoss("tukey", &loss));
+  testing::ExpectEnumParsing(StringToRobustLoss, "cauchy", RobustLoss::kCauchy,
+                             "tukey");
 }
 
 TEST(MeasurementTypesTest, BadMeasurementsAreNamed) {

@@ -290,12 +290,10 @@ TEST(ModelConventionsTest, RobotFileHoldsRotationsExactly) {
   for (AngleUnit unit : {AngleUnit::kRadian, AngleUnit::kDegree}) {
     RobotFileOptions options;
     options.angle_unit = unit;
-    const std::string text = RobotFileText(m, m.nominal, options);
     RobotDescription back;
-    std::string error;
-    ASSERT_TRUE(ParseRobotDescription(text, "r.yaml", &back, &error))
-        << error << "\n"
-        << text;
+    std::string text;
+    ASSERT_TRUE(testing::RobotFileRoundTrip(m, m.nominal, options, "r.yaml",
+                                            &back, &text));
     for (int j = 0; j < m.num_joints(); ++j) {
       EXPECT_EQ(back.model.links[j].origin_rotation, m.links[j].origin_rotation)
           << j << "\n"

@@ -19,20 +19,8 @@ namespace activecal {
 namespace {
 
 std::vector<Measurement> Poses(double noise) {
-  const RobotModel model = Puma560PaperModel();
-  Random random(5);
-  Eigen::MatrixXd joints(30, model.num_joints());
-  for (int i = 0; i < joints.rows(); ++i) {
-    joints.row(i) = testing::RandomJoints(model, &random).transpose();
-  }
-  std::vector<Measurement> out;
-  std::string error;
-  EXPECT_TRUE(
-      SimulateMeasurements(model, Puma560TrueParameters(),
-                           MeasurementPlan(joints, MeasurementType::kPose),
-                           {noise, noise}, 9, &out, &error))
-      << error;
-  return out;
+  return testing::SimulatedPuma(30, 5, MeasurementType::kPose, {noise, noise},
+                                9);
 }
 
 // The orientations as a device in `written` wrote them, read as `read`.

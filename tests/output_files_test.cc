@@ -61,9 +61,15 @@ void Write(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-TEST(OutputSetTest, CommitWritesEveryFileAndLeavesNoTemporary) {
-  const std::string dir = MakeFolder("commit");
+// A fresh folder (MakeFolder) holding a.csv with the text "old a".
+std::string FolderWithOldA(const std::string& name) {
+  const std::string dir = MakeFolder(name);
   Write(dir + "/a.csv", "old a");
+  return dir;
+}
+
+TEST(OutputSetTest, CommitWritesEveryFileAndLeavesNoTemporary) {
+  const std::string dir = FolderWithOldA("commit");
   OutputSet set;
   std::string error;
   ASSERT_TRUE(set.Add(dir + "/a.csv", "new a", &error)) << error;
@@ -170,8 +176,7 @@ TEST(OutputSetTest, WriteFilesAtomicallyWritesAllOrNone) {
 // temporary: the first rename moved it, the second found it gone, and the
 // run failed with one of its outputs already replaced).
 TEST(OutputSetTest, TwoOutputsOnOneFileAreRefused) {
-  const std::string dir = MakeFolder("same");
-  Write(dir + "/a.csv", "old a");
+  const std::string dir = FolderWithOldA("same");
   OutputSet set;
   std::string error;
   ASSERT_TRUE(set.Add(dir + "/a.csv", "poses", &error)) << error;
@@ -199,8 +204,7 @@ TEST(OutputSetTest, TwoOutputsOnOneFileAreRefused) {
 }
 
 TEST(OutputSetTest, RemoveOwnTemporariesTakesOnlyWhatIsNotRenamed) {
-  const std::string dir = MakeFolder("own");
-  Write(dir + "/a.csv", "old a");
+  const std::string dir = FolderWithOldA("own");
   std::string error;
   ASSERT_TRUE(WriteFileAtomically(dir + "/done.json", "done", &error));
   OutputSet set;
@@ -232,8 +236,7 @@ extern "C" void RemoveOwnTemporariesAndExit(int) {
 }
 
 TEST(OutputSetTest, AProcessKilledBeforeItsCommitLeavesTheOldFilesOnly) {
-  const std::string dir = MakeFolder("killed");
-  Write(dir + "/a.csv", "old a");
+  const std::string dir = FolderWithOldA("killed");
   int ready[2];
   ASSERT_EQ(pipe(ready), 0);
   const pid_t child = fork();

@@ -55,7 +55,6 @@ std::vector<Eigen::Vector4d> SingularPlanes() {
 
 TEST(PlaneConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
   const RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
-  auto shared = std::make_shared<const RobotModel>(model);
   const ceres::ProductManifold<ceres::SphereManifold<3>,
                                ceres::EuclideanManifold<1>>
       manifold{ceres::SphereManifold<3>(), ceres::EuclideanManifold<1>()};
@@ -66,22 +65,13 @@ TEST(PlaneConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
     m.plane = "table";
     m.probe_radius_m = 0.003;
     m.joints = Eigen::VectorXd::LinSpaced(model.num_joints(), -0.7, 0.9);
-    std::unique_ptr<ceres::CostFunction> cost(
-        MeasurementResidual::Create(shared, m));
+    const std::unique_ptr<ceres::CostFunction> cost = ResidualOf(model, m);
     ASSERT_EQ(cost->parameter_block_sizes().back(), 4);
     Eigen::VectorXd x = model.nominal;
     Eigen::Vector4d plane = truth;
-    std::vector<double*> blocks;
-    for (int b = 0; b < model.num_blocks(); ++b) {
-      blocks.push_back(x.data() + model.block_offset(b));
-    }
-    blocks.push_back(plane.data());
-    std::vector<std::vector<double>> jac(blocks.size());
+    std::vector<double*> blocks = BlocksWith(model, &x, {plane.data()});
     std::vector<double*> ptrs;
-    for (size_t b = 0; b < blocks.size(); ++b) {
-      jac[b].resize(cost->parameter_block_sizes()[b]);
-      ptrs.push_back(jac[b].data());
-    }
+    const std::vector<std::vector<double>> jac = JacobianStorage(*cost, &ptrs);
     double r = 0;
     ASSERT_TRUE(cost->Evaluate(blocks.data(), &r, ptrs.data()));
     const Eigen::Vector3d p = MeasuredPoint(model, x, m.joints);
@@ -228,13 +218,7 @@ PlaneSession Session(const RobotModel& model, const Eigen::VectorXd& values,
 TEST(PlaneConstraintsTest, ReductionHoldsWhatPlanesCannotSee) {
   const RobotModel model = LoadShippedWithBall("ur10e.urdf", "tool0");
   auto reduce = [&](const std::vector<Measurement>& data, FreeSet* free) {
-    Eigen::VectorXd point = model.nominal;
-    std::vector<HeldParameter> held;
-    std::string error;
-    EXPECT_TRUE(ReduceParameterSet(model, ParameterSet::kFull, data, 1.0,
-                                   &point, free, &held, &error))
-        << error;
-    return held;
+    return HeldOfFullSet(model, data, free);
   };
   const PlaneSession three = Session(model, model.nominal, 3, 20, 0.0, 5);
   std::vector<Measurement> positions = three.rows;

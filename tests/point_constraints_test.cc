@@ -52,28 +52,18 @@ std::vector<Measurement> PointRows(const RobotModel& model,
 
 TEST(PointConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
   const RobotModel model = LoadShippedWithBall("kuka_iiwa14.urdf", "flange");
-  auto shared = std::make_shared<const RobotModel>(model);
   Measurement m;
   m.type = MeasurementType::kPoint;
   m.point = "hole_0";
   m.joints = Eigen::VectorXd::LinSpaced(model.num_joints(), -0.7, 0.9);
-  std::unique_ptr<ceres::CostFunction> cost(
-      MeasurementResidual::Create(shared, m));
+  const std::unique_ptr<ceres::CostFunction> cost = ResidualOf(model, m);
   ASSERT_EQ(cost->parameter_block_sizes().size(),
             static_cast<size_t>(model.num_blocks() + 1));
   Eigen::VectorXd x = model.nominal;
   Eigen::Vector3d c(0.3, -0.2, 0.5);
-  std::vector<double*> blocks;
-  for (int b = 0; b < model.num_blocks(); ++b) {
-    blocks.push_back(x.data() + model.block_offset(b));
-  }
-  blocks.push_back(c.data());
-  std::vector<std::vector<double>> jac(blocks.size());
+  std::vector<double*> blocks = BlocksWith(model, &x, {c.data()});
   std::vector<double*> jac_ptrs;
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    jac[b].resize(3 * cost->parameter_block_sizes()[b]);
-    jac_ptrs.push_back(jac[b].data());
-  }
+  const std::vector<std::vector<double>> jac = JacobianStorage(*cost, &jac_ptrs);
   double r[3];
   ASSERT_TRUE(cost->Evaluate(blocks.data(), r, jac_ptrs.data()));
   // The residual: predicted point - c.
@@ -109,22 +99,15 @@ TEST(PointConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
 
 TEST(PointConstraintsTest, KnownDistanceResidualAndJacobian) {
   const RobotModel model = LoadShippedWithBall("ur10e.urdf", "tool0");
-  auto shared = std::make_shared<const RobotModel>(model);
   Measurement m;
   m.type = MeasurementType::kPointDistance;
   m.point = "a";
   m.point2 = "b";
   m.distance = 0.05;
-  std::unique_ptr<ceres::CostFunction> cost(
-      MeasurementResidual::Create(shared, m));
+  const std::unique_ptr<ceres::CostFunction> cost = ResidualOf(model, m);
   Eigen::VectorXd x = model.nominal;
   Eigen::Vector3d a(0.1, 0.2, 0.3), b(0.13, 0.24, 0.3);
-  std::vector<double*> blocks;
-  for (int k = 0; k < model.num_blocks(); ++k) {
-    blocks.push_back(x.data() + model.block_offset(k));
-  }
-  blocks.push_back(a.data());
-  blocks.push_back(b.data());
+  const std::vector<double*> blocks = BlocksWith(model, &x, {a.data(), b.data()});
   std::vector<double*> jac(blocks.size(), nullptr);
   double ja[3], jb[3];
   jac[model.num_blocks()] = ja;
@@ -178,13 +161,7 @@ TEST(PointConstraintsTest, ReductionHoldsBaseAndScale) {
     for (Measurement& m : positions) m.type = MeasurementType::kPosition;
 
     auto reduce = [&](const std::vector<Measurement>& data, FreeSet* free) {
-      Eigen::VectorXd point = model.nominal;
-      std::vector<HeldParameter> held;
-      std::string error;
-      EXPECT_TRUE(ReduceParameterSet(model, ParameterSet::kFull, data, 1.0,
-                                     &point, free, &held, &error))
-          << error;
-      return held;
+      return HeldOfFullSet(model, data, free);
     };
     FreeSet free_pos, free_pts, free_dist;
     const std::vector<HeldParameter> held_pos = reduce(positions, &free_pos);

@@ -123,6 +123,23 @@ TEST(PointJacobianTest, UrdfPrismaticFirstJoint) {
   ExpectAnalyticEqualsAutoDiff(UrdfWithFixedAndPrismaticStart(), 20, 5);
 }
 
+using Row3 = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The point Jacobian of the model at parameters x and joints q through the
+// workspace `reused` (returned), and through a fresh workspace (*fresh).
+Row3 JacobianReusedAndFresh(const RobotModel& model, const Eigen::VectorXd& x,
+                            const Eigen::VectorXd& q,
+                            PointJacobianWorkspace* reused, Row3* fresh) {
+  const std::vector<const double*> blocks = BlockPointers(model, x.data());
+  Row3 a(3, model.num_free());
+  fresh->resize(3, model.num_free());
+  MeasuredPointJacobian(model, blocks.data(), q.data(), 0, reused, a.data());
+  PointJacobianWorkspace workspace(model);
+  MeasuredPointJacobian(model, blocks.data(), q.data(), 0, &workspace,
+                        fresh->data());
+  return a;
+}
+
 // A workspace keeps the per-block trigonometry of URDF links between calls:
 // when the parameters change (one angle of one link, or every value), the
 // Jacobian is the one a fresh workspace computes, bit for bit, and the
@@ -130,22 +147,17 @@ TEST(PointJacobianTest, UrdfPrismaticFirstJoint) {
 TEST(PointJacobianTest, UrdfCacheFollowsTheParameters) {
   Random random(9);
   const RobotModel m = AllFree(testing::UrdfStyleModel(), &random);
-  const int p = m.num_free();
   Eigen::VectorXd other = m.nominal;
   other[m.block_offset(2) + kUrdfRy] += 0.01;  // one angle of one link
   Eigen::VectorXd moved = m.nominal;
   for (int i : m.FreeParameterIndices()) moved[i] += 0.02;
   PointJacobianWorkspace reused(m);
-  using Row3 = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
   for (int call = 0; call < 9; ++call) {
     const Eigen::VectorXd& params =
         call % 3 == 0 ? m.nominal : (call % 3 == 1 ? other : moved);
-    const std::vector<const double*> blocks = BlockPointers(m, params.data());
     const Eigen::VectorXd q = testing::RandomJoints(m, &random);
-    Row3 a(3, p), b(3, p);
-    MeasuredPointJacobian(m, blocks.data(), q.data(), 0, &reused, a.data());
-    PointJacobianWorkspace fresh(m);
-    MeasuredPointJacobian(m, blocks.data(), q.data(), 0, &fresh, b.data());
+    Row3 b;
+    const Row3 a = JacobianReusedAndFresh(m, params, q, &reused, &b);
     EXPECT_EQ(a, b) << "call " << call;
     Measurement meas;
     meas.joints = q;
@@ -174,16 +186,12 @@ TEST(PointJacobianTest, UrdfCacheFollowsTheLinkAndTheBits) {
   }
   ASSERT_TRUE(m2.Validate(nullptr));
   const int p = m.num_free();
-  using Row3 = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
   PointJacobianWorkspace reused(m);
   auto expect_fresh = [&](const RobotModel& model, const Eigen::VectorXd& x,
                           const char* what) {
-    const std::vector<const double*> blocks = BlockPointers(model, x.data());
     const Eigen::VectorXd q = testing::RandomJoints(model, &random);
-    Row3 a(3, p), b(3, p);
-    MeasuredPointJacobian(model, blocks.data(), q.data(), 0, &reused, a.data());
-    PointJacobianWorkspace fresh(model);
-    MeasuredPointJacobian(model, blocks.data(), q.data(), 0, &fresh, b.data());
+    Row3 b;
+    const Row3 a = JacobianReusedAndFresh(model, x, q, &reused, &b);
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), sizeof(double) * 3 * p))
         << what;
   };
@@ -229,10 +237,8 @@ TEST(PointJacobianTest, FreeColumnsOnly) {
 TEST(PointJacobianTest, PoolJacobiansAnalyticEqualsAutoDiff) {
   const RobotModel m = testing::MixedModel();
   Random random(7);
-  Eigen::MatrixXd joints(500, m.num_joints());
-  for (int i = 0; i < joints.rows(); ++i) {
-    joints.row(i) = testing::RandomJoints(m, &random).transpose();
-  }
+  const Eigen::MatrixXd joints =
+      testing::RandomJointRows(m, 500, &random);
   PoolJacobianOptions options;
   options.num_threads = 1;
   RowMatrixXd analytic, analytic2, autodiff;
@@ -331,10 +337,8 @@ TEST(PointJacobianTest, PoolJacobiansOfTheSecondMarker) {
   const RobotModel m = testing::UrdfStyleModel();
   ASSERT_GE(m.num_markers(), 2);
   Random random(13);
-  Eigen::MatrixXd joints(40, m.num_joints());
-  for (int i = 0; i < joints.rows(); ++i) {
-    joints.row(i) = testing::RandomJoints(m, &random).transpose();
-  }
+  const Eigen::MatrixXd joints =
+      testing::RandomJointRows(m, 40, &random);
   PoolJacobianOptions options;
   options.num_threads = 1;
   options.marker = 1;

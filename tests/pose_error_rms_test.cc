@@ -21,6 +21,7 @@
 #include "activecal/core/simulation.h"
 #include "activecal/io/csv_files.h"
 #include "activecal/io/robot_loader.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -35,12 +36,8 @@ struct Fit6d {
 Fit6d CalibrateUr10e(double rotation_weight) {
   Fit6d fit;
   RobotDescription robot;
-  UrdfChainOptions chain;
-  chain.tip_link = "tool0";
   std::string error;
-  EXPECT_TRUE(LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/ur10e.urdf",
-                            chain, &robot, &error))
-      << error;
+  EXPECT_TRUE(testing::LoadShippedUr("ur10e.urdf", &robot, &error)) << error;
   EXPECT_TRUE(ReadMeasurementsCsv(
       std::string(ACTIVECAL_DATA_DIR) + "/figaroh_ur10e/measurements.csv",
       robot.model, &fit.data, &error))

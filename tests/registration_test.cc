@@ -27,15 +27,6 @@
 namespace activecal {
 namespace {
 
-// data/<name>.urdf, the chain from base_link to tool0.
-bool LoadShippedUr(const std::string& name, RobotDescription* robot,
-                   std::string* error) {
-  UrdfChainOptions chain;
-  chain.tip_link = "tool0";
-  return LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + name + ".urdf",
-                       chain, robot, error);
-}
-
 Eigen::Vector3d RandomUnit(Random* random) {
   Eigen::Vector3d v(random->Gaussian(), random->Gaussian(), random->Gaussian());
   return v.normalized();
@@ -79,7 +70,7 @@ TEST(RegistrationTest, RigidTransformRecoversAKnownFrame) {
 TEST(RegistrationTest, UnknownFrameConvergesFromTwentyRandomFrames) {
   std::string error;
   RobotDescription robot;
-  ASSERT_TRUE(LoadShippedUr("ur10", &robot, &error)) << error;
+  ASSERT_TRUE(testing::LoadShippedUr("ur10.urdf", &robot, &error)) << error;
   RobotModel model = robot.model;
   model = WithFreeSet(
       model, ParameterSetFreeSet(model, ParameterSet::kRegistration, false));
@@ -142,16 +133,10 @@ TEST(RegistrationTest, ADhBaseIsNotRegistered) {
   EXPECT_EQ(p, puma.nominal);
 }
 
-}  // namespace
-}  // namespace activecal
-
-namespace activecal {
-namespace {
-
 TEST(ParameterSetTest, SetsFreeWhatTheyName) {
   std::string error;
   RobotDescription robot;
-  ASSERT_TRUE(LoadShippedUr("ur10", &robot, &error)) << error;
+  ASSERT_TRUE(testing::LoadShippedUr("ur10.urdf", &robot, &error)) << error;
   RobotModel m = robot.model;
   m = WithFreeSet(m,
                   ParameterSetFreeSet(m, ParameterSet::kRegistration, false));
@@ -200,19 +185,19 @@ TEST(ParameterSetTest, GenericPointMovesOnlyFreeMarkerParameters) {
   }
 }
 
-}  // namespace
-}  // namespace activecal
-
-namespace activecal {
-namespace {
-
-TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
-  // Columns: a, b, 2a - b (a combination), 0 (no effect), c.
+// testing::UrdfStyleModel() with only these base parameters free.
+RobotModel BaseFreeOnly(const std::array<bool, kMaxBlockSize>& base_free) {
   RobotModel m = testing::UrdfStyleModel();
   for (Link& l : m.links) l.free.fill(false);
   m.markers[0].free.fill(false);
   m.markers[1].free.fill(false);
-  m.base.free = {true, true, true, true, true, false};
+  m.base.free = base_free;
+  return m;
+}
+
+TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
+  // Columns: a, b, 2a - b (a combination), 0 (no effect), c.
+  const RobotModel m = BaseFreeOnly({true, true, true, true, true, false});
   Random random(3);
   Eigen::MatrixXd J(12, 5);
   for (int r = 0; r < 12; ++r) {
@@ -251,11 +236,7 @@ TEST(ParameterReductionTest, DropsInPriorityOrderAndSaysWhy) {
 // The parameter sets' tolerance, crossed: a column whose part outside the
 // kept span is 0.9 kRedundancyTolerance of its length is held, 1.1 kept.
 TEST(ParameterReductionTest, RedundancyToleranceIsCrossedExactly) {
-  RobotModel m = testing::UrdfStyleModel();
-  for (Link& l : m.links) l.free.fill(false);
-  m.markers[0].free.fill(false);
-  m.markers[1].free.fill(false);
-  m.base.free = {true, true, true, false, false, false};
+  const RobotModel m = BaseFreeOnly({true, true, true, false, false, false});
   for (double factor : {0.9, 1.1}) {
     // Columns a, b and sqrt(1 - e^2) a + e c, a, b, c orthonormal: the
     // third is a unit column whose part outside span(a, b) is e.
@@ -285,7 +266,7 @@ TEST(ParameterReductionTest, RedundancyToleranceIsCrossedExactly) {
 TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {
   std::string error;
   RobotDescription robot;
-  ASSERT_TRUE(LoadShippedUr("ur10e", &robot, &error)) << error;
+  ASSERT_TRUE(testing::LoadShippedUr("ur10e.urdf", &robot, &error)) << error;
   RobotModel model = robot.model;
   Random random(8);
   std::vector<Measurement> plan(40);
@@ -331,12 +312,6 @@ TEST(ParameterReductionTest, UrdfChainKeepsTheBaseFrameWhole) {
   EXPECT_EQ(point.head(tool), robot.model.nominal.head(tool));
 }
 
-}  // namespace
-}  // namespace activecal
-
-namespace activecal {
-namespace {
-
 // A laser tracker's reflector on the flange axis of a UR10e, 80 mm out
 // (its position given, so the fit starts on the axis and the truth is
 // there): the full set was reduced at a point 1 mm off the axis, where
@@ -345,7 +320,7 @@ namespace {
 TEST(ParameterReductionTest, ReflectorOnTheFlangeAxisIsReducedWhereTheFitIs) {
   std::string error;
   RobotDescription robot;
-  ASSERT_TRUE(LoadShippedUr("ur10e", &robot, &error)) << error;
+  ASSERT_TRUE(testing::LoadShippedUr("ur10e.urdf", &robot, &error)) << error;
   RobotModel model = robot.model;
   const int tool = model.block_offset(model.marker_block(0));
   model.nominal.segment(tool, 3) << 0.0, 0.0, 0.08;

@@ -135,13 +135,19 @@ TEST(MeasurementResidualTest,
   }
 }
 
-TEST(MeasurementResidualTest, PoseJacobianAtZeroRotationError) {
-  // At a perfect measurement the rotation log is at its small-angle branch.
-  const RobotModel model = MixedModelWithToolAngles();
-  Random random(7);
+// A pose measurement at random joints of the model (drawn from seed).
+Measurement RandomPose(const RobotModel& model, uint64_t seed) {
+  Random random(seed);
   Measurement m;
   m.type = MeasurementType::kPose;
   m.joints = testing::RandomJoints(model, &random);
+  return m;
+}
+
+TEST(MeasurementResidualTest, PoseJacobianAtZeroRotationError) {
+  // At a perfect measurement the rotation log is at its small-angle branch.
+  const RobotModel model = MixedModelWithToolAngles();
+  Measurement m = RandomPose(model, 7);
   m = PredictMeasurement(model, model.nominal, m);
   Eigen::MatrixXd J;
   std::string error;
@@ -189,10 +195,7 @@ TEST(MeasurementResidualTest, PoseAndDistanceResidualValues) {
 
 TEST(MeasurementResidualTest, ToolAnglesOnlyMoveTheOrientation) {
   const RobotModel model = MixedModelWithToolAngles();
-  Random random(4);
-  Measurement m;
-  m.type = MeasurementType::kPose;
-  m.joints = testing::RandomJoints(model, &random);
+  Measurement m = RandomPose(model, 4);
   Eigen::MatrixXd J;
   std::string error;
   ASSERT_TRUE(MeasurementJacobian(model, model.nominal, m, 1.0, &J, &error));
@@ -276,6 +279,27 @@ TEST(StackedJacobianTest, DistanceBetweenCoincidingPointsIsRefused) {
   EXPECT_NE(error.find("coincide"), std::string::npos) << error;
 }
 
+// The pool of the PUMA's 4^6 lattice with its identifiability analysed
+// through at most max_analysis_rows rows; a failure with the message.
+::testing::AssertionResult AnalysedPumaLattice(int max_analysis_rows,
+                                               CandidatePool* pool,
+                                               CandidatePoolSummary* summary) {
+  const RobotModel m = Puma560PaperModel();
+  JointLattice lattice;
+  std::string error;
+  if (!JointLattice::Create(m, 4, &lattice, &error)) {
+    return ::testing::AssertionFailure() << error;
+  }
+  CandidatePoolOptions options;
+  options.check_identifiability = true;
+  options.max_analysis_rows = max_analysis_rows;
+  if (!BuildCandidatePool(m, m.nominal, lattice.AllJointValues(), options,
+                          pool, summary)) {
+    return ::testing::AssertionFailure() << summary->message;
+  }
+  return ::testing::AssertionSuccess();
+}
+
 TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
   // Sampling every k-th row of a position pool with k a multiple of 3
   // analyses only the x rows (the --levels=9 bug); whole blocks it must be.
@@ -296,18 +320,9 @@ TEST(BuildCandidatePoolTest, SamplesWholeBlocksForTheIdentifiabilityCheck) {
 
   // A 4^6 lattice analysed through at most 300 rows: 100 whole poses, all
   // 27 parameters identifiable.
-  RobotModel m = Puma560PaperModel();
-  JointLattice lattice;
-  std::string error;
-  ASSERT_TRUE(JointLattice::Create(m, 4, &lattice, &error)) << error;
-  CandidatePoolOptions options;
-  options.check_identifiability = true;
-  options.max_analysis_rows = 300;
   CandidatePool pool;
   CandidatePoolSummary summary;
-  ASSERT_TRUE(BuildCandidatePool(m, m.nominal, lattice.AllJointValues(),
-                                 options, &pool, &summary))
-      << summary.message;
+  ASSERT_TRUE(AnalysedPumaLattice(300, &pool, &summary));
   EXPECT_EQ(summary.identifiability.num_equations, 300);
   EXPECT_EQ(summary.identifiability.rank, 27);
   EXPECT_EQ(pool.size(), 4096);
@@ -319,18 +334,9 @@ TEST(BuildCandidatePoolTest, SampleDoesNotAliasWithTheLattice) {
   // (the old stride) keeps joint 6 at one level and loses rank 4; a random
   // subset identifies all 27 parameters (the --levels=10 bug: 10^6 poses
   // through 10^5).
-  RobotModel m = Puma560PaperModel();
-  JointLattice lattice;
-  std::string error;
-  ASSERT_TRUE(JointLattice::Create(m, 4, &lattice, &error)) << error;
-  CandidatePoolOptions options;
-  options.check_identifiability = true;
-  options.max_analysis_rows = 3 * 1024;
   CandidatePool pool;
   CandidatePoolSummary summary;
-  ASSERT_TRUE(BuildCandidatePool(m, m.nominal, lattice.AllJointValues(),
-                                 options, &pool, &summary))
-      << summary.message;
+  ASSERT_TRUE(AnalysedPumaLattice(3 * 1024, &pool, &summary));
   EXPECT_EQ(summary.identifiability.rank, 27);
 }
 

@@ -253,6 +253,23 @@ std::vector<RosTransform> ReadScript(const std::string& text, bool* ok,
   return t;
 }
 
+// A text and the one error its reader gives.
+struct BadText {
+  std::string text, message;
+};
+
+// Every case refused by parse(text, &transforms, &error), the error
+// exactly its message.
+template <typename Parse>
+void ExpectRefused(const std::vector<BadText>& cases, Parse parse) {
+  for (const BadText& c : cases) {
+    std::vector<RosTransform> t;
+    std::string error;
+    EXPECT_FALSE(parse(c.text, &t, &error)) << c.text;
+    EXPECT_EQ(error, c.message) << c.text;
+  }
+}
+
 TEST(RosFramesTest, ScriptForms) {
   bool ok;
   std::string error;
@@ -287,9 +304,7 @@ TEST(RosFramesTest, ScriptForms) {
 
 TEST(RosFramesTest, ScriptErrors) {
   const std::string cmd = "ros2 run tf2_ros static_transform_publisher ";
-  const struct {
-    std::string text, message;
-  } cases[] = {
+  const std::vector<BadText> cases = {
       {"echo hi\n",
        "f.sh:1: expected a 'ros2 run tf2_ros static_transform_publisher ...' "
        "command, got 'echo hi'"},
@@ -316,13 +331,10 @@ TEST(RosFramesTest, ScriptErrors) {
       {cmd + "--x 1 \\\n",
        "f.sh:1: the file ends in a line continuation ('\\')"},
   };
-  for (const auto& c : cases) {
-    bool ok;
-    std::string error;
-    ReadScript(c.text, &ok, &error);
-    EXPECT_FALSE(ok) << c.text;
-    EXPECT_EQ(error, c.message) << c.text;
-  }
+  ExpectRefused(cases, [](const std::string& text,
+                          std::vector<RosTransform>* t, std::string* error) {
+    return ParseStaticTransformPublisherScript(text, "f.sh", t, error);
+  });
 }
 
 // tf2's tolerance: a squared norm within 0.01 of 1 is normalised, beyond
@@ -352,9 +364,7 @@ TEST(RosFramesTest, QuaternionNormThreshold) {
 }
 
 TEST(RosFramesTest, YamlErrors) {
-  const struct {
-    std::string text, message;
-  } cases[] = {
+  const std::vector<BadText> cases = {
       {"- 1\n",
        "tf.yaml:1:1: expected a mapping with transforms (a "
        "tf2_msgs/msg/TFMessage)"},
@@ -377,13 +387,10 @@ TEST(RosFramesTest, YamlErrors) {
       {"transforms:\n  - {header: {frame_id: ''}, child_frame_id: b}\n",
        "tf.yaml:2:5: transforms[0]: empty frame id"},
   };
-  for (const auto& c : cases) {
-    std::vector<RosTransform> t;
-    std::string error;
-    EXPECT_FALSE(ParseTf2StaticTransformsYaml(c.text, "tf.yaml", &t, &error))
-        << c.text;
-    EXPECT_EQ(error, c.message) << c.text;
-  }
+  ExpectRefused(cases, [](const std::string& text,
+                          std::vector<RosTransform>* t, std::string* error) {
+    return ParseTf2StaticTransformsYaml(text, "tf.yaml", t, error);
+  });
 }
 
 }  // namespace

@@ -23,27 +23,11 @@
 namespace activecal {
 namespace {
 
-class SelectionTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    pool_ = new CandidatePool(testing::PumaPool(3));
-  }
-  static void TearDownTestSuite() { delete pool_; }
-  static CandidatePool* pool_;
-};
-CandidatePool* SelectionTest::pool_ = nullptr;
+class SelectionTest : public testing::PumaPoolSuite {};
 
-double BruteForceLogDet(const Eigen::MatrixXd& M) {
-  return 2.0 * Eigen::LLT<Eigen::MatrixXd>(M)
-                   .matrixLLT()
-                   .diagonal()
-                   .array()
-                   .log()
-                   .sum();
-}
 
 TEST_F(SelectionTest, IncrementalLogDetMatchesScratchOver10000Updates) {
-  const CandidatePool& pool = *pool_;
+  const CandidatePool& pool = *puma_;
   Design design(pool);
   Random random(5);
   // Start from 20 poses, then random adds and removes around 15-40 poses.
@@ -82,7 +66,7 @@ TEST_F(SelectionTest, IncrementalLogDetMatchesScratchOver10000Updates) {
 }
 
 TEST_F(SelectionTest, InverseStaysCurrent) {
-  const CandidatePool& pool = *pool_;
+  const CandidatePool& pool = *puma_;
   Design design(pool);
   for (int64_t i = 0; i < 60; ++i) design.Add(i * 7);
   for (int64_t i = 0; i < 20; ++i) ASSERT_TRUE(design.Remove(i * 7));
@@ -92,25 +76,25 @@ TEST_F(SelectionTest, InverseStaysCurrent) {
 }
 
 TEST_F(SelectionTest, GainsAndLossesEqualBruteForce) {
-  const CandidatePool& pool = *pool_;
+  const CandidatePool& pool = *puma_;
   Design design(pool);
   for (int64_t i : Random(8).SampleWithoutReplacement(pool.size(), 30)) {
     design.Add(i);
   }
   const Eigen::MatrixXd M = design.information().matrix();
-  const double base = BruteForceLogDet(M);
+  const double base = testing::CholeskyLogDet(M);
   Eigen::VectorXd gains;
   ComputeAddGains(pool, design.information(), 2, &gains);
   for (int64_t i = 0; i < pool.size(); i += 13) {
     const auto X = pool.block(i);
-    const double brute = BruteForceLogDet(M + X.transpose() * X) - base;
+    const double brute = testing::CholeskyLogDet(M + X.transpose() * X) - base;
     EXPECT_NEAR(gains[i], brute, 1e-9 * std::max(1.0, std::abs(brute)));
     EXPECT_NEAR(design.information().AddGain(X), brute,
                 1e-9 * std::max(1.0, std::abs(brute)));
   }
   for (int64_t i : design.poses()) {
     const auto Y = pool.block(i);
-    const double brute = BruteForceLogDet(M - Y.transpose() * Y) - base;
+    const double brute = testing::CholeskyLogDet(M - Y.transpose() * Y) - base;
     EXPECT_NEAR(design.information().RemoveLoss(Y), brute,
                 1e-9 * std::max(1.0, std::abs(brute)));
   }
@@ -121,7 +105,7 @@ TEST_F(SelectionTest, GainsAndLossesEqualBruteForce) {
 }
 
 TEST_F(SelectionTest, RemovalThatWouldMakeSingularIsRefused) {
-  const CandidatePool& pool = *pool_;
+  const CandidatePool& pool = *puma_;
   InformationMatrix info(pool.num_parameters());
   // Exactly nine poses (27 rows): removing any makes M singular.
   std::vector<int64_t> poses;
@@ -140,15 +124,15 @@ TEST_F(SelectionTest, RemovalThatWouldMakeSingularIsRefused) {
 }
 
 TEST_F(SelectionTest, ProgrammerErrorsOnADesignAreChecked) {
-  Design design(*pool_);
+  Design design(*puma_);
   design.Add(3);
   EXPECT_DEATH(design.Remove(4), "pose 4 is not in the design");
   EXPECT_DEATH(design.Add(3), "already in the design");
-  EXPECT_DEATH(design.Add(pool_->size()), "is not in the pool");
+  EXPECT_DEATH(design.Add(puma_->size()), "is not in the pool");
 }
 
 TEST_F(SelectionTest, ObservabilityIndicesAgreeWithLogDet) {
-  const CandidatePool& pool = *pool_;
+  const CandidatePool& pool = *puma_;
   const std::vector<int64_t> design =
       Random(4).SampleWithoutReplacement(pool.size(), 30);
   const ObservabilityIndices o =
@@ -177,7 +161,7 @@ TEST_F(SelectionTest, ExchangeAddExchangeNeverLowersLogDetAndKeepsFixed) {
   ExchangeAddExchangeOptions options = SmallEae();
   options.restarts = 3;
   SelectionSummary summary;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, constraints, options, &summary))
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, constraints, options, &summary))
       << summary.message;
   EXPECT_EQ(summary.design.size(), 20u);
   for (int64_t f : constraints.fixed) {
@@ -188,7 +172,7 @@ TEST_F(SelectionTest, ExchangeAddExchangeNeverLowersLogDetAndKeepsFixed) {
     EXPECT_GT(summary.history[k].log_det, summary.history[k - 1].log_det)
         << summary.history[k].name();
   }
-  EXPECT_NEAR(summary.log_det, LogDetFromScratch(*pool_, summary.design),
+  EXPECT_NEAR(summary.log_det, LogDetFromScratch(*puma_, summary.design),
               1e-12);
   // No removed pose is fixed.
   for (const SelectionStep& s : summary.history) {
@@ -203,7 +187,7 @@ TEST_F(SelectionTest, ExcludedPosesNeverAppear) {
   // Exclude every pose whose first level is 0 or whose index is even.
   constraints.excluded = [](int64_t i) { return i % 2 == 0 || i < 243; };
   SelectionSummary summary;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, constraints, SmallEae(), &summary));
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, constraints, SmallEae(), &summary));
   for (int64_t i : summary.design) EXPECT_FALSE(constraints.excluded(i)) << i;
   for (const SelectionStep& s : summary.history) {
     if (s.added >= 0) {
@@ -214,7 +198,7 @@ TEST_F(SelectionTest, ExcludedPosesNeverAppear) {
   random_options.num_poses = 20;
   random_options.num_designs = 50;
   ASSERT_TRUE(
-      SelectRandomDesigns(*pool_, constraints, random_options, &summary));
+      SelectRandomDesigns(*puma_, constraints, random_options, &summary));
   for (int64_t i : summary.design) EXPECT_FALSE(constraints.excluded(i)) << i;
 }
 
@@ -223,13 +207,13 @@ TEST_F(SelectionTest, AlgorithmsReproducibleForSeedAndThreadCount) {
   options.restarts = 2;
   SelectionSummary a, b, c;
   options.num_threads = 1;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &a));
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, {}, options, &a));
   options.num_threads = 3;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &b));
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, {}, options, &b));
   EXPECT_EQ(a.design, b.design);
   EXPECT_EQ(a.log_det, b.log_det);
   options.seed = 4;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &c));
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, {}, options, &c));
   EXPECT_NE(a.design, c.design);
 
   RandomDesignOptions ro;
@@ -237,9 +221,9 @@ TEST_F(SelectionTest, AlgorithmsReproducibleForSeedAndThreadCount) {
   ro.num_designs = 200;
   std::vector<double> v1, v2;
   ro.num_threads = 1;
-  ASSERT_TRUE(SelectRandomDesigns(*pool_, {}, ro, &a, &v1));
+  ASSERT_TRUE(SelectRandomDesigns(*puma_, {}, ro, &a, &v1));
   ro.num_threads = 4;
-  ASSERT_TRUE(SelectRandomDesigns(*pool_, {}, ro, &b, &v2));
+  ASSERT_TRUE(SelectRandomDesigns(*puma_, {}, ro, &b, &v2));
   EXPECT_EQ(a.design, b.design);
   EXPECT_EQ(v1, v2);
   EXPECT_EQ(a.log_det, *std::max_element(v1.begin(), v1.end()));
@@ -249,7 +233,7 @@ TEST_F(SelectionTest, SingularInitialDesignIsCompletedGreedily) {
   ExchangeAddExchangeOptions options = SmallEae();
   options.initial_poses = 4;  // 12 rows < 27 parameters
   SelectionSummary summary;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &summary))
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, {}, options, &summary))
       << summary.message;
   EXPECT_NE(summary.message.find("singular start was completed greedily"),
             std::string::npos)
@@ -262,9 +246,9 @@ TEST_F(SelectionTest, DeterminantAndEigenvalueCriteriaPickTheSamePoses) {
   ExchangeAddExchangeOptions options = SmallEae();
   options.num_poses = 16;
   SelectionSummary det, eig;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &det));
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, {}, options, &det));
   options.criterion = SelectionCriterion::kEigenvalueOi;
-  ASSERT_TRUE(ExchangeAddExchange(*pool_, {}, options, &eig));
+  ASSERT_TRUE(ExchangeAddExchange(*puma_, {}, options, &eig));
   EXPECT_EQ(det.design, eig.design);
   ASSERT_EQ(det.history.size(), eig.history.size());
   for (size_t k = 0; k < det.history.size(); ++k) {
@@ -328,21 +312,21 @@ TEST_F(SelectionTest, BadRequestsGiveMessages) {
   ExchangeAddExchangeOptions options = SmallEae();
   options.num_poses = 8;  // 24 rows < 27
   options.initial_poses = 8;
-  EXPECT_FALSE(ExchangeAddExchange(*pool_, {}, options, &summary));
+  EXPECT_FALSE(ExchangeAddExchange(*puma_, {}, options, &summary));
   EXPECT_NE(summary.message.find("fewer than the 27 parameters"),
             std::string::npos)
       << summary.message;
   options = SmallEae();
   options.num_poses = 1000;
-  EXPECT_FALSE(ExchangeAddExchange(*pool_, {}, options, &summary));
+  EXPECT_FALSE(ExchangeAddExchange(*puma_, {}, options, &summary));
   EXPECT_NE(summary.message.find("only 729 usable poses"), std::string::npos)
       << summary.message;
   DesignConstraints constraints;
   constraints.fixed = {3, 3};
-  EXPECT_FALSE(ExchangeAddExchange(*pool_, constraints, SmallEae(), &summary));
+  EXPECT_FALSE(ExchangeAddExchange(*puma_, constraints, SmallEae(), &summary));
   EXPECT_NE(summary.message.find("listed twice"), std::string::npos);
   constraints.fixed = {9999};
-  EXPECT_FALSE(ExchangeAddExchange(*pool_, constraints, SmallEae(), &summary));
+  EXPECT_FALSE(ExchangeAddExchange(*puma_, constraints, SmallEae(), &summary));
   EXPECT_NE(summary.message.find("outside the pool"), std::string::npos);
   CandidatePool bad;
   std::string error;

@@ -9,7 +9,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <array>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "activecal/calibration/pool_builder.h"
@@ -20,7 +24,10 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/core/robot_model.h"
+#include "activecal/core/simulation.h"
 #include "activecal/estimation/parameter_reduction.h"
+#include "activecal/io/robot_file.h"
+#include "activecal/io/urdf_robot.h"
 #include "activecal/residuals/jacobians.h"
 #include "activecal/selection/design.h"
 
@@ -162,15 +169,143 @@ inline Eigen::VectorXd RandomJoints(const RobotModel& model, Random* random) {
   return q;
 }
 
+// num_rows rows of RandomJoints, one configuration a row.
+inline Eigen::MatrixXd RandomJointRows(const RobotModel& model, int num_rows,
+                                       Random* random) {
+  Eigen::MatrixXd joints(num_rows, model.num_joints());
+  for (int i = 0; i < num_rows; ++i) {
+    joints.row(i) = RandomJoints(model, random).transpose();
+  }
+  return joints;
+}
+
+// The true PUMA (Puma560TrueParameters) measured at num_poses random
+// configurations (RandomJointRows of the paper model from joint_seed), rows
+// of that type with that noise, the noise drawn from noise_seed.
+inline std::vector<Measurement> SimulatedPuma(int num_poses, uint64_t joint_seed,
+                                              MeasurementType type,
+                                              const SimulationNoise& noise,
+                                              uint64_t noise_seed) {
+  const RobotModel model = Puma560PaperModel();
+  Random random(joint_seed);
+  const Eigen::MatrixXd joints = RandomJointRows(model, num_poses, &random);
+  std::vector<Measurement> out;
+  std::string error;
+  EXPECT_TRUE(SimulateMeasurements(model, Puma560TrueParameters(),
+                                   MeasurementPlan(joints, type), noise,
+                                   noise_seed, &out, &error))
+      << error;
+  return out;
+}
+
+// log det M of a symmetric positive definite M, by its Cholesky factor.
+inline double CholeskyLogDet(const Eigen::MatrixXd& M) {
+  return 2.0 * Eigen::LLT<Eigen::MatrixXd>(M)
+                   .matrixLLT()
+                   .diagonal()
+                   .array()
+                   .log()
+                   .sum();
+}
+
+// A test suite on the 3^6 = 729 PUMA poses of PumaPool(3) in puma_, built
+// once for the suite.
+class PumaPoolSuite : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { puma_ = new CandidatePool(PumaPool(3)); }
+  static void TearDownTestSuite() {
+    delete puma_;
+    puma_ = nullptr;
+  }
+  static inline CandidatePool* puma_ = nullptr;
+};
+
+// A model with no links yet, named `name`, whose base is the fixed link "B"
+// of that convention with those parameters free.
+inline RobotModel ModelWithBase(const std::string& name,
+                                LinkConvention convention,
+                                const std::array<bool, kMaxBlockSize>& free) {
+  RobotModel m;
+  m.name = name;
+  m.base.name = "B";
+  m.base.convention = convention;
+  m.base.joint_type = JointType::kFixed;
+  m.base.free = free;
+  return m;
+}
+
+// m at `values` written by RobotFileText with `options` into *text and read
+// back by ParseRobotDescription (as the file `source`) into *back.
+inline ::testing::AssertionResult RobotFileRoundTrip(
+    const RobotModel& m, const Eigen::VectorXd& values,
+    const RobotFileOptions& options, const std::string& source,
+    RobotDescription* back, std::string* text) {
+  *text = RobotFileText(m, values, options);
+  std::string error;
+  if (ParseRobotDescription(*text, source, back, &error)) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << error << "\n" << *text;
+}
+
+// parse(text, &value) reads `text` as `expected` and refuses `bad`: an
+// enum's StringToX.
+template <typename Enum, typename Parse>
+void ExpectEnumParsing(Parse parse, const std::string& text, Enum expected,
+                       const std::string& bad) {
+  Enum value{};
+  EXPECT_TRUE(parse(text, &value)) << text;
+  EXPECT_EQ(value, expected) << text;
+  EXPECT_FALSE(parse(bad, &value)) << bad;
+}
+
+// For each design, with no approximate design and with `approx`: a
+// SelectionSummary holding the design, given to check(a, &summary) (a:
+// nullptr, then &approx), until a fatal failure.
+template <typename Approx, typename Check>
+void CheckEachDesign(const std::vector<std::vector<int64_t>>& designs,
+                     const Approx& approx, Check check) {
+  for (const std::vector<int64_t>& d : designs) {
+    for (const Approx* a : {static_cast<const Approx*>(nullptr), &approx}) {
+      SelectionSummary summary;
+      summary.design = d;
+      check(a, &summary);
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+  }
+}
+
+// The whole text of the file at `path`, "" where it cannot be read.
+inline std::string FileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+#ifdef ACTIVECAL_TEST_DATA_DIR
+// The text of tests/data/<name>.
+inline std::string TestDataText(const std::string& name) {
+  return FileText(std::string(ACTIVECAL_TEST_DATA_DIR) + "/" + name);
+}
+#endif
+
+#ifdef ACTIVECAL_DATA_DIR
+// data/<file>, the URDF chain from its base link to tool0 (the URs').
+inline bool LoadShippedUr(const std::string& file, RobotDescription* robot,
+                          std::string* error) {
+  UrdfChainOptions chain;
+  chain.tip_link = "tool0";
+  return LoadUrdfRobot(std::string(ACTIVECAL_DATA_DIR) + "/" + file, chain,
+                       robot, error);
+}
+#endif
+
 // A model exercising every convention, a prismatic joint, free gains and a
 // free tool point.
 inline RobotModel MixedModel() {
-  RobotModel m;
-  m.name = "mixed";
-  m.base.name = "B";
-  m.base.convention = LinkConvention::kHayati;
-  m.base.joint_type = JointType::kFixed;
-  m.base.free = {true, true, true, true, true, false};
+  RobotModel m = ModelWithBase("mixed", LinkConvention::kHayati,
+                               {true, true, true, true, true, false});
   const LinkConvention conventions[4] = {
       LinkConvention::kStandardDH, LinkConvention::kHayati,
       LinkConvention::kModifiedDH, LinkConvention::kStandardDH};
@@ -201,12 +336,8 @@ inline RobotModel MixedModel() {
 // and two markers, every parameter free except the base's that the first
 // joint's corrections duplicate.
 inline RobotModel UrdfStyleModel() {
-  RobotModel m;
-  m.name = "urdf_style";
-  m.base.name = "B";
-  m.base.convention = LinkConvention::kFrame;
-  m.base.joint_type = JointType::kFixed;
-  m.base.free = {true, true, true, true, true, true};
+  RobotModel m = ModelWithBase("urdf_style", LinkConvention::kFrame,
+                               {true, true, true, true, true, true});
   const Eigen::Vector3d axes[4] = {
       Eigen::Vector3d::UnitZ(), Eigen::Vector3d(1, 2, 3).normalized(),
       Eigen::Vector3d::UnitY(), Eigen::Vector3d(0, -1, 1).normalized()};

@@ -16,15 +16,11 @@ m="$data/figaroh_ur10e/measurements.csv"
 # Identify the UR10e: registration of the unknown camera frame in closed
 # form, the full parameter set reduced to what 23 6D poses separate (every
 # one kept: model selection is accuracy_cli_test's).
-if "$apps/activecal_identify" --robot="$data/ur10e.urdf" --tip_link=tool0 \
+expect_run "identify UR10e" identify.txt identify.err \
+  activecal_identify --robot="$data/ur10e.urdf" --tip_link=tool0 \
   --model_selection=none \
   --measurements="$m" --rotation_weight=0.1 --urdf_out=cal.urdf \
-  --frames_out=frames.yaml --model_out=cal.yaml --json_out=report.json \
-  >identify.txt 2>identify.err; then
-  ok "identify UR10e"
-else
-  fail "identify UR10e"; cat identify.err
-fi
+  --frames_out=frames.yaml --model_out=cal.yaml --json_out=report.json
 python3 - <<'EOF' && ok "identify report means what it says" || fail "identify report"
 import json, math
 r = json.load(open("report.json"))

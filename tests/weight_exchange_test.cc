@@ -15,6 +15,7 @@
 #include <numeric>
 
 #include "activecal/core/random.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
@@ -38,15 +39,6 @@ Eigen::MatrixXd Information(const RowMatrixXd& X, int t,
   return M;
 }
 
-double LogDet(const Eigen::MatrixXd& M) {
-  return 2.0 * Eigen::LLT<Eigen::MatrixXd>(M)
-                   .matrixL()
-                   .toDenseMatrix()
-                   .diagonal()
-                   .array()
-                   .log()
-                   .sum();
-}
 
 // G of the pair (a gains, b loses) under V.
 Eigen::MatrixXd PairG(const RowMatrixXd& X, int t, int a, int b,
@@ -80,7 +72,7 @@ TEST(WeightExchangeTest, StepMaximisesLogDetAlongTheExchange) {
       int a = static_cast<int>(seed % m), b = static_cast<int>((seed + 1) % m);
       Eigen::MatrixXd G, B;
       OrderPair(X, t, V, &a, &b, &G, &B);
-      auto f = [&](double alpha) { return LogDet(M + alpha * B) - LogDet(M); };
+      auto f = [&](double alpha) { return testing::CholeskyLogDet(M + alpha * B) - testing::CholeskyLogDet(M); };
       double ratio = 0;
       const double alpha = internal::ExchangeStep(G, t, w[b], &ratio);
       ASSERT_GE(alpha, 0.0);
@@ -144,11 +136,11 @@ TEST(WeightExchangeTest, StepAgainstBruteForceOnAdversarialPairs) {
       const Eigen::MatrixXd V = M.inverse();
       Eigen::MatrixXd G, B;
       OrderPair(X, t, V, &a, &b, &G, &B);
-      const double l0 = LogDet(M);
+      const double l0 = testing::CholeskyLogDet(M);
       auto f = [&](double x) {
         const Eigen::LLT<Eigen::MatrixXd> llt(M + x * B);
         if (llt.info() != Eigen::Success) return -HUGE_VAL;
-        const double v = LogDet(M + x * B) - l0;
+        const double v = testing::CholeskyLogDet(M + x * B) - l0;
         return std::isfinite(v) ? v : -HUGE_VAL;
       };
       const double ms = w[b];
@@ -222,11 +214,11 @@ TEST(WeightExchangeTest, PairUpdateOfVMatchesRecomputation) {
       const int a = static_cast<int>(random.UniformInt(m));
       const int b = static_cast<int>(random.UniformInt(m));
       if (a == b) continue;
-      const double before = LogDet(Information(X, t, w));
+      const double before = testing::CholeskyLogDet(Information(X, t, w));
       moved += internal::ExchangePair(X, t, a, b, &w, &V, &work);
       const Eigen::MatrixXd M = Information(X, t, w);
       // Every step increases log det M(w) (or leaves it).
-      ASSERT_GE(LogDet(M), before - 1e-12);
+      ASSERT_GE(testing::CholeskyLogDet(M), before - 1e-12);
       const Eigen::MatrixXd V_exact = M.inverse();
       ASSERT_LE((V - V_exact).norm(), 1e-8 * V_exact.norm())
           << "t " << t << " step " << k;
@@ -302,7 +294,7 @@ TEST(WeightExchangeTest, SolverReachesTheEquivalenceTheoremAndIsSeeded) {
   const Eigen::MatrixXd M = Information(X, t, w);
   EXPECT_LE((info.M - M).norm(), 1e-12 * M.norm());
   EXPECT_LE((info.V - M.inverse()).norm(), 1e-9 * info.V.norm());
-  EXPECT_NEAR(info.log_det, LogDet(M), 1e-10);
+  EXPECT_NEAR(info.log_det, testing::CholeskyLogDet(M), 1e-10);
   for (int k = 0; k < m; ++k) {
     const auto B = X.middleRows(k * t, t);
     EXPECT_NEAR(d[k], (B * M.inverse() * B.transpose()).trace(), 1e-8);
