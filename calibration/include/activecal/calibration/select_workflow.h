@@ -65,7 +65,7 @@ enum class SelectPool {
 const char* SelectPoolToString(SelectPool pool);
 // The inverse of SelectPoolToString for the drawn pools and the lattice
 // (not "csv": a CSV pool is named by its path); false on any other text.
-bool StringToSelectPool(std::string text, SelectPool* pool);
+bool StringToSelectPool(const std::string& text, SelectPool* pool);
 
 // A stage's progress: called when a stage that reports progress starts
 // ("measurable poses", "cell checks", "Jacobians of the pool poses",
