@@ -11,10 +11,20 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
+#include "activecal/calibration/calibrate.h"
+#include "activecal/calibration/evaluate.h"
+#include "activecal/calibration/select_design.h"
+#include "activecal/calibration/select_workflow.h"
 #include "activecal/cell/cell_checker.h"
+#include "activecal/cell/cell_file.h"
+#include "activecal/cell/shape.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/free_set.h"
 #include "activecal/core/parameter_sets.h"
+#include "activecal/driver/protocol.h"
+#include "activecal/driver/simulated_cell.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/estimation/learned_residual.h"
 #include "activecal/estimation/model_selection.h"
@@ -53,7 +63,7 @@ TEST(EnumNamesTest, StringToEnumMatchesExactlyAndLeavesTheValueOnFailure) {
 template <typename Enum>
 void ExpectNames(const char* (*to_string)(Enum),
                  bool (*from_string)(const std::string&, Enum*),
-                 std::initializer_list<Enum> values,
+                 const std::vector<Enum>& values,
                  std::initializer_list<const char*> names) {
   ASSERT_EQ(values.size(), names.size());
   auto name = names.begin();
@@ -110,6 +120,103 @@ TEST(EnumNamesTest, TheLayersEnumsKeepTheirNames) {
   ExpectNames(RobustLossToString, StringToRobustLoss,
               {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy},
               {"none", "huber", "cauchy"});
+}
+
+constexpr const char* kColourList[] = {"red", "green"};
+
+TEST(EnumNamesTest, ANameListNamesTheValuesInTheirOrder) {
+  // The list's names are the table's; blue, past the list, has none.
+  for (Colour colour : {Colour::kRed, Colour::kGreen}) {
+    const char* name = EnumToString(kColourList, colour);
+    EXPECT_STREQ(name, EnumToString(kColourNames, colour));
+    Colour read = Colour::kBlue;
+    ASSERT_TRUE(StringToEnum(kColourList, name, &read)) << name;
+    EXPECT_EQ(read, colour) << name;
+  }
+  EXPECT_STREQ(EnumToString(kColourList, Colour::kBlue), "unknown");
+  EXPECT_STREQ(EnumToString(kColourList, static_cast<Colour>(-1), "none"),
+               "none");
+  Colour untouched = Colour::kBlue;
+  for (const char* bad : {"Green", "gree", "green ", "", "blue", "unknown"}) {
+    EXPECT_FALSE(StringToEnum(kColourList, bad, &untouched)) << bad;
+  }
+  EXPECT_EQ(untouched, Colour::kBlue);
+}
+
+// The same for an enum whose names are listed in its order (EnumName
+// lists, core/enum_name_list.h): `names[i]` is the name of value i.
+template <typename Enum>
+void ExpectNamesInOrder(const char* (*to_string)(Enum),
+                        bool (*from_string)(const std::string&, Enum*),
+                        std::initializer_list<const char*> names) {
+  std::vector<Enum> values;
+  for (size_t i = 0; i < names.size(); ++i) {
+    values.push_back(static_cast<Enum>(i));
+  }
+  EXPECT_STREQ(to_string(static_cast<Enum>(names.size())), "unknown");
+  ExpectNames(to_string, from_string, values, names);
+}
+
+TEST(EnumNamesTest, TheUpperLayersEnumsKeepTheirNames) {
+  ExpectNamesInOrder(
+      CalibrationStageToString, StringToCalibrationStage,
+      {"options", "split", "registration", "parameter_set", "identifiability",
+       "baseline", "model_selection", "term_selection", "fit", "validation",
+       "learned_residual", "done"});
+  EXPECT_STREQ(CalibrationStageToString(CalibrationStage::kDone), "done");
+  ExpectNamesInOrder(BeforeBaselineToString, StringToBeforeBaseline,
+                     {"auto", "training", "refit", "none"});
+  EXPECT_STREQ(BeforeBaselineToString(BeforeBaseline::kNone), "none");
+  ExpectNamesInOrder(Iso9283RegistrationToString, StringToIso9283Registration,
+                     {"robot", "file"});
+  EXPECT_STREQ(Iso9283RegistrationToString(Iso9283Registration::kFile), "file");
+  ExpectNamesInOrder(
+      DesignAlgorithmToString, StringToDesignAlgorithm,
+      {"eae", "random", "fedorov", "detmax", "greedy", "approx"});
+  EXPECT_STREQ(DesignAlgorithmToString(DesignAlgorithm::kApprox), "approx");
+  ExpectNamesInOrder(DesignCriterionToString, StringToDesignCriterion,
+                     {"det", "svd", "task_rms"});
+  EXPECT_STREQ(DesignCriterionToString(DesignCriterion::kTaskRms), "task_rms");
+  ExpectNamesInOrder(MeasureStatusToString, StringToMeasureStatus,
+                     {"ok", "not_visible", "unreachable", "error"});
+  EXPECT_STREQ(MeasureStatusToString(MeasureStatus::kError), "error");
+  // Names without a reading back.
+  EXPECT_STREQ(DeviceTypeName(DeviceType::kLaserTracker), "laser_tracker");
+  EXPECT_STREQ(DeviceTypeName(DeviceType::kMocap), "mocap");
+  EXPECT_STREQ(DeviceTypeName(DeviceType::kCamera), "camera");
+  EXPECT_STREQ(ShapeTypeName(ShapeType::kBox), "box");
+  EXPECT_STREQ(ShapeTypeName(ShapeType::kCylinder), "cylinder");
+  EXPECT_STREQ(ShapeTypeName(ShapeType::kCapsule), "capsule");
+  EXPECT_STREQ(ShapeTypeName(ShapeType::kSphere), "sphere");
+  EXPECT_STREQ(ShapeTypeName(ShapeType::kMesh), "mesh");
+}
+
+// The pools and the garbage kinds a user names are fewer than those named.
+TEST(EnumNamesTest, SomeNamedValuesAreNotReadBack) {
+  // A CSV pool is named by its path, a pool in memory is given.
+  const char* const pools[] = {"lattice", "sobol", "random",
+                               "measurable", "csv", "poses"};
+  for (int i = 0; i < 6; ++i) {
+    const auto pool = static_cast<SelectPool>(i);
+    EXPECT_STREQ(SelectPoolToString(pool), pools[i]);
+    const bool read_back =
+        pool != SelectPool::kCsv && pool != SelectPool::kPoses;
+    SelectPool read = SelectPool::kLattice;
+    EXPECT_EQ(StringToSelectPool(pools[i], &read), read_back) << pools[i];
+    EXPECT_EQ(read, read_back ? pool : SelectPool::kLattice) << pools[i];
+  }
+  const char* const garbage[] = {
+      "none",          "not_json",       "nan",  "wrong_id", "wrong_joints",
+      "wrong_markers", "unknown_status", "hang", "exit",     "line"};
+  for (int i = 0; i < 10; ++i) {
+    const auto kind = static_cast<DriverGarbage>(i);
+    EXPECT_STREQ(DriverGarbageToString(kind), garbage[i]);
+    DriverGarbage read = DriverGarbage::kNone;
+    const bool asked =
+        kind != DriverGarbage::kNone && kind != DriverGarbage::kLine;
+    EXPECT_EQ(StringToDriverGarbage(garbage[i], &read), asked) << garbage[i];
+    EXPECT_EQ(read, asked ? kind : DriverGarbage::kNone) << garbage[i];
+  }
 }
 
 }  // namespace

@@ -125,5 +125,44 @@ TEST(ReduceForPoolTest, SampleAndMaskCount) {
   EXPECT_EQ(c.message, "299 marker masks for 300 poses");
 }
 
+TEST(ReduceModelForPoolTest, TheModelReducedAndWhatWasHeldOneLineEach) {
+  RobotModel model = Ur10eWithTwoMarkers();
+  const Eigen::MatrixXd joints = Pool(model, 300);
+  const std::vector<uint32_t> masks(joints.rows(), 1u);
+  PoolReductionOptions even;
+  even.evenly_spaced = true;
+  PoolReduction expected;
+  ASSERT_TRUE(ReduceForPool(model, ParameterSet::kFull, joints, &masks, even,
+                            &expected));
+  std::string report = "before\n", error;
+  PoolReduction reduction;
+  ASSERT_TRUE(ReduceModelForPool(ParameterSet::kFull, joints, &masks, &model,
+                                 &report, &error, &reduction))
+      << error;
+  EXPECT_TRUE(error.empty());
+  EXPECT_TRUE(reduction.free == expected.free);
+  EXPECT_EQ(model.FreeParameterIndices(), expected.free.Indices());
+  ASSERT_FALSE(expected.held.empty());
+  const HeldParameter& first = expected.held[0];
+  EXPECT_EQ(report.rfind("before\n  --parameter_set=full: " + first.name +
+                             " held fixed: " + first.reason + "\n",
+                         0),
+            0u);
+  EXPECT_EQ(report,
+            "before\n" + HeldFixedLines(ParameterSet::kFull, expected.held));
+  EXPECT_EQ(HeldFixedLines(ParameterSet::kOffsets, {{"a", "why", {}}}),
+            "  --parameter_set=offsets: a held fixed: why\n");
+  EXPECT_EQ(HeldFixedLines(ParameterSet::kFull, {}), "");
+  // A failure: the message named by the option, the model untouched.
+  const std::vector<uint32_t> short_masks(joints.rows() - 1, 1u);
+  const RobotModel reduced = model;
+  report.clear();
+  EXPECT_FALSE(ReduceModelForPool(ParameterSet::kFull, joints, &short_masks,
+                                  &model, &report, &error));
+  EXPECT_EQ(error, "--parameter_set=full: 299 marker masks for 300 poses");
+  EXPECT_EQ(report, "");
+  EXPECT_EQ(model.FreeParameterIndices(), reduced.FreeParameterIndices());
+}
+
 }  // namespace
 }  // namespace activecal

@@ -167,6 +167,19 @@ TEST(ParameterSetTest, SetsFreeWhatTheyName) {
   EXPECT_TRUE(StringToParameterSet("offsets", &set));
   EXPECT_EQ(set, ParameterSet::kOffsets);
   EXPECT_FALSE(StringToParameterSet("all", &set));
+  // An option's parameter set: empty is the robot's default.
+  error.clear();
+  EXPECT_TRUE(ParseParameterSet("", true, &set, &error));
+  EXPECT_EQ(set, ParameterSet::kFull);
+  EXPECT_TRUE(ParseParameterSet("", false, &set, &error));
+  EXPECT_EQ(set, ParameterSet::kFile);
+  EXPECT_TRUE(ParseParameterSet("registration", true, &set, &error));
+  EXPECT_EQ(set, ParameterSet::kRegistration);
+  EXPECT_TRUE(error.empty());
+  EXPECT_FALSE(ParseParameterSet("all", false, &set, &error));
+  EXPECT_EQ(error,
+            "parameter_set must be registration, offsets, full or file, got "
+            "'all'");
 }
 
 TEST(ParameterSetTest, GenericPointMovesOnlyFreeMarkerParameters) {

@@ -56,6 +56,31 @@ TEST(SelectWorkflowTest, PoolNamesRoundTrip) {
   EXPECT_EQ(p, SelectPool::kSobol);
 }
 
+TEST(SelectWorkflowTest, MakeLatticePoolChecksThePoolAndNotesTheLattice) {
+  const RobotModel model = Puma560PaperModel();
+  JointLattice lattice;
+  std::string notes = "before\n", error;
+  ASSERT_TRUE(MakeLatticePool(model, nullptr, 3, MeasurementType::kPosition,
+                              "--", &lattice, &notes, &error))
+      << error;
+  EXPECT_EQ(lattice.size(), 729);  // 3^6
+  std::string expected = "before\n";
+  for (const std::string& note : lattice.OneTurnNotes(model)) {
+    expected += "note: " + note + "\n";
+  }
+  EXPECT_EQ(notes, expected);
+  EXPECT_TRUE(error.empty());
+  // Refused: the option named, with the prefix given.
+  EXPECT_FALSE(MakeLatticePool(model, nullptr, 1, MeasurementType::kPosition,
+                               "", &lattice, &notes, &error));
+  EXPECT_EQ(error.rfind("levels=1: ", 0), 0u) << error;
+  EXPECT_FALSE(MakeLatticePool(model, nullptr, 100000,
+                               MeasurementType::kPosition, "--", &lattice,
+                               &notes, &error));
+  EXPECT_EQ(error.rfind("--levels=100000: lattice: ", 0), 0u) << error;
+  EXPECT_EQ(notes, expected);  // no notes on a failure
+}
+
 TEST(SelectWorkflowTest, LatticeDesignWithItsOutputs) {
   const RobotModel model = Puma560PaperModel();
   SelectOptions o = GreedyOnTheLattice();

@@ -28,6 +28,7 @@
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"
+#include "restart_options.h"
 
 namespace activecal {
 namespace {
@@ -174,15 +175,17 @@ class BatchDesigner {
     }
   }
 
-  bool DOptimal(const CandidatePool& pool, int n, const DesignConstraints& c,
-                std::vector<int64_t>* out, std::string* why) const {
-    FedorovOptions f;
-    f.num_poses = n;
-    f.restarts = options_.restarts;
-    f.seed = options_.loop.seed;
-    f.num_threads = options_.loop.num_threads;
-    SelectionSummary s;
-    if (!FedorovExchange(pool, c, f, nullptr, &s)) {
+  // The options of the batch's design of n poses.
+  template <typename AlgorithmOptions>
+  AlgorithmOptions Options(int n) const {
+    return internal::RestartOptions<AlgorithmOptions>(
+        n, options_.restarts, options_.loop.seed, options_.loop.num_threads);
+  }
+
+  // The design of s into *out when `designed`; else false with *why.
+  static bool Designed(bool designed, const SelectionSummary& s,
+                       std::vector<int64_t>* out, std::string* why) {
+    if (!designed) {
       *why = s.message;
       return false;
     }
@@ -190,21 +193,21 @@ class BatchDesigner {
     return true;
   }
 
+  bool DOptimal(const CandidatePool& pool, int n, const DesignConstraints& c,
+                std::vector<int64_t>* out, std::string* why) const {
+    SelectionSummary s;
+    return Designed(
+        FedorovExchange(pool, c, Options<FedorovOptions>(n), nullptr, &s), s,
+        out, why);
+  }
+
   bool TaskOptimal(const CandidatePool& pool, const Eigen::MatrixXd& W,
                    const RowMatrixXd& prior, const DesignConstraints& c, int n,
                    std::vector<int64_t>* out, std::string* why) const {
-    TaskExchangeOptions t;
-    t.num_poses = n;
-    t.restarts = options_.restarts;
-    t.seed = options_.loop.seed;
-    t.num_threads = options_.loop.num_threads;
     SelectionSummary s;
-    if (!TaskExchange(pool, W, prior, c, t, nullptr, &s)) {
-      *why = s.message;
-      return false;
-    }
-    *out = s.design;
-    return true;
+    return Designed(TaskExchange(pool, W, prior, c,
+                                 Options<TaskExchangeOptions>(n), nullptr, &s),
+                    s, out, why);
   }
 
   // The new poses of the batch as a tour, run from the end nearer the last
@@ -388,19 +391,11 @@ bool MakeActivePool(const RobotModel& model, const Eigen::VectorXd& truth,
     pool->model.nominal =
         truth + options.nominal_error_scale * (model.nominal - truth);
   }
-  const std::string levels = "--levels=" + std::to_string(options.levels);
   JointLattice lattice;
-  std::string error;
-  if (!JointLattice::Create(
-          cell ? WithinJointMargins(*cell->checker, model) : model,
-          options.levels, &lattice, &error) ||
-      !CheckSelectionPoolSize(lattice.size(), model, MeasurementType::kPosition,
-                              &error)) {
-    pool->message = levels + ": " + error;
+  if (!MakeLatticePool(model, cell ? cell->checker.get() : nullptr,
+                       options.levels, MeasurementType::kPosition, "--",
+                       &lattice, &pool->report, &pool->message)) {
     return false;
-  }
-  for (const std::string& note : lattice.OneTurnNotes(model)) {
-    pool->report += "note: " + note + "\n";
   }
   pool->joints = lattice.AllJointValues();
   if (cell == nullptr) return true;
@@ -447,25 +442,16 @@ bool ReduceForActivePool(ParameterSet set, const CellSetup* cell,
   if (!masked && model->num_markers() > 1) {
     every_marker.assign(joints.rows(), EveryMarkerMask(*model));
   }
-  PoolReductionOptions options;
-  options.evenly_spaced = true;
   PoolReduction reduction;
-  const std::string name = ParameterSetToString(set);
-  if (!ReduceForPool(*model, set, joints,
-                     masked                 ? &pool->feasibility.targets_seen
-                     : every_marker.empty() ? nullptr
-                                            : &every_marker,
-                     options, &reduction)) {
-    pool->message = "--parameter_set=" + name + ": " + reduction.message;
+  if (!ReduceModelForPool(set, joints,
+                          masked ? &pool->feasibility.targets_seen
+                          : every_marker.empty() ? nullptr
+                                                 : &every_marker,
+                          model, &pool->report, &pool->message, &reduction)) {
     return false;
-  }
-  for (const HeldParameter& d : reduction.held) {
-    pool->report += "  --parameter_set=" + name + ": " + d.name +
-                    " held fixed: " + d.reason + "\n";
   }
   // At the exact nominal the UR10e's first batch was singular for the kept
   // parameters ("round 0: no restart produced a non-singular design").
-  *model = WithFreeSet(*model, reduction.free);
   model->nominal = reduction.point;
   return true;
 }

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/point_constraints.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/estimate_warnings.h"
@@ -22,19 +23,6 @@
 
 namespace activecal {
 namespace {
-
-constexpr CalibrationStage kStages[] = {CalibrationStage::kOptions,
-                                        CalibrationStage::kSplit,
-                                        CalibrationStage::kRegistration,
-                                        CalibrationStage::kParameterSet,
-                                        CalibrationStage::kIdentifiability,
-                                        CalibrationStage::kBaseline,
-                                        CalibrationStage::kModelSelection,
-                                        CalibrationStage::kTermSelection,
-                                        CalibrationStage::kFit,
-                                        CalibrationStage::kValidation,
-                                        CalibrationStage::kLearnedResidual,
-                                        CalibrationStage::kDone};
 
 // The held-out errors of `nominal` and `calibrated`; false with *error
 // when a measurement cannot be evaluated.
@@ -69,46 +57,19 @@ bool Validate(const RobotModel& model, const Eigen::VectorXd& nominal,
 
 }  // namespace
 
-const char* CalibrationStageToString(CalibrationStage stage) {
-  switch (stage) {
-    case CalibrationStage::kOptions:
-      return "options";
-    case CalibrationStage::kSplit:
-      return "split";
-    case CalibrationStage::kRegistration:
-      return "registration";
-    case CalibrationStage::kParameterSet:
-      return "parameter_set";
-    case CalibrationStage::kIdentifiability:
-      return "identifiability";
-    case CalibrationStage::kBaseline:
-      return "baseline";
-    case CalibrationStage::kModelSelection:
-      return "model_selection";
-    case CalibrationStage::kTermSelection:
-      return "term_selection";
-    case CalibrationStage::kFit:
-      return "fit";
-    case CalibrationStage::kValidation:
-      return "validation";
-    case CalibrationStage::kLearnedResidual:
-      return "learned_residual";
-    case CalibrationStage::kDone:
-      return "done";
-  }
-  return "unknown";
-}
-
-bool StringToCalibrationStage(const std::string& text,
-                              CalibrationStage* stage) {
-  for (CalibrationStage s : kStages) {
-    if (text == CalibrationStageToString(s)) {
-      *stage = s;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr const char* kCalibrationStageNames[] = {"options",
+                                                  "split",
+                                                  "registration",
+                                                  "parameter_set",
+                                                  "identifiability",
+                                                  "baseline",
+                                                  "model_selection",
+                                                  "term_selection",
+                                                  "fit",
+                                                  "validation",
+                                                  "learned_residual",
+                                                  "done"};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(CalibrationStage, kCalibrationStageNames)
 
 bool CalibrationOptions::map_fit() const {
   return identification.prior_std_m > 0 || identification.prior_std_rad > 0;

@@ -252,16 +252,22 @@ std::string HeldCountNote(const CalibrationSummary& s,
 
 namespace {
 
+// The table of a constraint's identified values: `first` (the value's
+// name), unit, estimate, std, std again in the unit of the "in" column.
+TextTable ConstraintTable(const std::string& first) {
+  return TextTable({{first},
+                    {"unit"},
+                    {"estimate", ColumnAlign::kRight},
+                    {"std", ColumnAlign::kRight},
+                    {"std", ColumnAlign::kRight},
+                    {"in"}});
+}
+
 // The fixed points' identified coordinates (type=point rows), a table of
 // point.<label>.<axis> rows; empty without fixed points.
 std::string FixedPointsText(const IdentificationSummary& id) {
   if (id.point_labels.empty()) return "";
-  TextTable table({{"fixed point"},
-                   {"unit"},
-                   {"estimate", ColumnAlign::kRight},
-                   {"std", ColumnAlign::kRight},
-                   {"std", ColumnAlign::kRight},
-                   {"in"}});
+  TextTable table = ConstraintTable("fixed point");
   const bool have_std =
       id.point_standard_deviations.size() == id.point_coordinates.size();
   for (size_t k = 0; k < id.point_labels.size(); ++k) {
@@ -282,12 +288,7 @@ std::string FixedPointsText(const IdentificationSummary& id) {
 // plane.<label>.d (the offset, n . x = d); empty without planes.
 std::string PlanesText(const IdentificationSummary& id) {
   if (id.plane_labels.empty()) return "";
-  TextTable table({{"plane"},
-                   {"unit"},
-                   {"estimate", ColumnAlign::kRight},
-                   {"std", ColumnAlign::kRight},
-                   {"std", ColumnAlign::kRight},
-                   {"in"}});
+  TextTable table = ConstraintTable("plane");
   const bool have_std = id.plane_standard_deviations.size() ==
                         3 * static_cast<Eigen::Index>(id.plane_labels.size());
   for (size_t k = 0; k < id.plane_labels.size(); ++k) {

@@ -116,17 +116,10 @@ bool SimulateCalibrationMeasurements(
              "entries, see docs/formats.md)";
     return false;
   }
-  const std::string levels =
-      p + "levels=" + std::to_string(options.levels) + ": ";
   JointLattice lattice;
-  if (!JointLattice::Create(model, options.levels, &lattice, error) ||
-      !CheckSelectionPoolSize(lattice.size(), model, MeasurementType::kPosition,
-                              error)) {
-    *error = levels + *error;
+  if (!MakeLatticePool(model, nullptr, options.levels,
+                       MeasurementType::kPosition, p, &lattice, notes, error)) {
     return false;
-  }
-  for (const std::string& note : lattice.OneTurnNotes(model)) {
-    *notes += "note: " + note + "\n";
   }
   if (!SimulateAtRandomLatticePoses(model, robot.true_parameters, lattice,
                                     options.num_poses, options.noise_m,

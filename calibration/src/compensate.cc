@@ -15,6 +15,7 @@
 #include "activecal/io/robot_loader.h"
 #include "activecal/io/targets_csv.h"
 #include "printf_text.h"
+#include "workflow_fail.h"
 
 namespace activecal {
 namespace {
@@ -33,10 +34,8 @@ Eigen::Vector3d RotationVector(const Eigen::Matrix3d& R) {
 using internal::Printf;
 
 bool Fail(const std::string& message, CompensateSummary* summary) {
-  summary->termination_type = TerminationType::kUserFailure;
-  summary->message = message;
   summary->outputs.clear();
-  return false;
+  return internal::Fail(message, summary, TerminationType::kUserFailure);
 }
 
 // The report's text: the compensation's, the learned correction's rounds,

@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/io/robot_loader.h"
 #include "printf_text.h"
+#include "workflow_fail.h"
 
 namespace activecal {
 namespace {
@@ -19,11 +21,9 @@ namespace {
 using internal::Printf;
 
 bool Fail(const std::string& message, EvaluateSummary* summary) {
-  summary->termination_type = TerminationType::kUserFailure;
-  summary->message = message;
   summary->report.clear();
   summary->outputs.clear();
-  return false;
+  return internal::Fail(message, summary, TerminationType::kUserFailure);
 }
 
 constexpr PostureGroup kGroups[] = {PostureGroup::kRepeated, PostureGroup::kNew,
@@ -50,33 +50,41 @@ nlohmann::json ReportJson(const EvaluationSummary& s) {
       {"distance_m", StatisticsJson(s.distance)}};
 }
 
+// One object per label: the statistics of its rows (StatisticsJson), its
+// "label", and what add(k, &object) puts in.
+template <typename Add>
+nlohmann::json LabelledJson(const std::vector<std::string>& labels,
+                            const std::vector<ErrorStatistics>& statistics,
+                            const Add& add) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t k = 0; k < labels.size(); ++k) {
+    nlohmann::json e = StatisticsJson(statistics[k]);
+    e["label"] = labels[k];
+    add(k, &e);
+    list.push_back(e);
+  }
+  return list;
+}
+
 // The fixed points (type=point rows): each one's refitted coordinates and
 // the spread of its rows about them.
 nlohmann::json PointsJson(const EvaluationSummary& s) {
-  nlohmann::json points = nlohmann::json::array();
-  for (size_t k = 0; k < s.point_labels.size(); ++k) {
-    const Eigen::Vector3d& c = s.point_coordinates[k];
-    nlohmann::json p = StatisticsJson(s.point_spread[k]);
-    p["label"] = s.point_labels[k];
-    p["coordinates_m"] = {c.x(), c.y(), c.z()};
-    points.push_back(p);
-  }
-  return points;
+  return LabelledJson(s.point_labels, s.point_spread,
+                      [&](size_t k, nlohmann::json* p) {
+                        const Eigen::Vector3d& c = s.point_coordinates[k];
+                        (*p)["coordinates_m"] = {c.x(), c.y(), c.z()};
+                      });
 }
 
 // The planes (type=plane rows): each one refitted (unit normal, offset:
 // n . x = d) and its flatness, the statistics of its rows' |distance|.
 nlohmann::json PlanesJson(const EvaluationSummary& s) {
-  nlohmann::json planes = nlohmann::json::array();
-  for (size_t k = 0; k < s.plane_labels.size(); ++k) {
-    const Eigen::Vector4d& p = s.plane_parameters[k];
-    nlohmann::json e = StatisticsJson(s.plane_flatness[k]);
-    e["label"] = s.plane_labels[k];
-    e["normal"] = {p[0], p[1], p[2]};
-    e["offset_m"] = p[3];
-    planes.push_back(e);
-  }
-  return planes;
+  return LabelledJson(s.plane_labels, s.plane_flatness,
+                      [&](size_t k, nlohmann::json* e) {
+                        const Eigen::Vector4d& p = s.plane_parameters[k];
+                        (*e)["normal"] = {p[0], p[1], p[2]};
+                        (*e)["offset_m"] = p[3];
+                      });
 }
 
 // The one-line result: the key figures of "after" with units, each the
@@ -408,42 +416,12 @@ bool Run(const RobotDescription& robot,
 
 }  // namespace
 
-const char* BeforeBaselineToString(BeforeBaseline before) {
-  switch (before) {
-    case BeforeBaseline::kAuto:
-      return "auto";
-    case BeforeBaseline::kTraining:
-      return "training";
-    case BeforeBaseline::kRefit:
-      return "refit";
-    case BeforeBaseline::kNone:
-      return "none";
-  }
-  return "unknown";
-}
+constexpr const char* kBeforeBaselineNames[] = {"auto", "training", "refit",
+                                                "none"};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(BeforeBaseline, kBeforeBaselineNames)
 
-bool StringToBeforeBaseline(const std::string& text, BeforeBaseline* before) {
-  for (BeforeBaseline b : {BeforeBaseline::kAuto, BeforeBaseline::kTraining,
-                           BeforeBaseline::kRefit, BeforeBaseline::kNone}) {
-    if (text == BeforeBaselineToString(b)) {
-      *before = b;
-      return true;
-    }
-  }
-  return false;
-}
-
-const char* Iso9283RegistrationToString(Iso9283Registration registration) {
-  return registration == Iso9283Registration::kFile ? "file" : "robot";
-}
-
-bool StringToIso9283Registration(const std::string& text,
-                                 Iso9283Registration* registration) {
-  if (text != "robot" && text != "file") return false;
-  *registration =
-      text == "file" ? Iso9283Registration::kFile : Iso9283Registration::kRobot;
-  return true;
-}
+constexpr const char* kIso9283RegistrationNames[] = {"robot", "file"};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(Iso9283Registration, kIso9283RegistrationNames)
 
 std::vector<Measurement> PostureGroupSubset(
     const std::vector<Measurement>& all,

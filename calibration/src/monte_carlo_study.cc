@@ -11,17 +11,14 @@
 #include "activecal/io/csv_files.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "printf_text.h"
+#include "workflow_fail.h"
 
 namespace activecal {
 namespace {
 
 using internal::Printf;
 
-bool Fail(const std::string& message, MonteCarloStudySummary* summary) {
-  summary->termination_type = TerminationType::kFailure;
-  summary->message = message;
-  return false;
-}
+using internal::Fail;
 
 ProgressCallback Stage(const StageProgress& progress, const char* stage) {
   return progress ? progress(stage) : ProgressCallback();
@@ -49,7 +46,7 @@ bool DesignJoints(const RobotModel& model,
         Stage(options.progress, "Jacobians of the pool poses");
     ok = MakePaperPool(model, options.num_threads, progress, &paper, error);
   }
-  for (const std::string& note : paper.notes) *report += "note: " + note + "\n";
+  *report += paper.notes;
   if (!ok) return false;
   ExchangeAddExchangeOptions eae;
   eae.seed = Random::StreamSeed(options.seed, 2);

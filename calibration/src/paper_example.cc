@@ -21,6 +21,7 @@
 #include "activecal/selection/fedorov.h"
 #include "activecal/selection/random_designs.h"
 #include "printf_text.h"
+#include "workflow_fail.h"
 
 namespace activecal {
 namespace {
@@ -117,24 +118,17 @@ nlohmann::json IndicesJson(const ObservabilityIndices& o) {
           {"o5", o.o5}, {"rank", o.rank}};
 }
 
-bool Fail(const std::string& message, PaperExampleSummary* summary) {
-  summary->termination_type = TerminationType::kFailure;
-  summary->message = message;
-  return false;
-}
+using internal::Fail;
 
 }  // namespace
 
 bool MakePaperPool(const RobotModel& model, int num_threads,
                    const ProgressCallback& progress, PaperPool* out,
                    std::string* error) {
-  if (!JointLattice::Create(model, 5, &out->lattice, error) ||
-      !CheckSelectionPoolSize(out->lattice.size(), model,
-                              MeasurementType::kPosition, error)) {
-    *error = "--levels=5: " + *error;
+  if (!MakeLatticePool(model, nullptr, 5, MeasurementType::kPosition, "--",
+                       &out->lattice, &out->notes, error)) {
     return false;
   }
-  out->notes = out->lattice.OneTurnNotes(model);
   out->joints = out->lattice.AllJointValues();
   CandidatePoolOptions options;
   options.num_threads = num_threads;
@@ -175,9 +169,7 @@ bool ReproducePaperExample(const RobotModel& model,
                          : ProgressCallback();
     pool_ok = MakePaperPool(model, threads, progress, &paper, &error);
   }
-  for (const std::string& note : paper.notes) {
-    summary->report += "note: " + note + "\n";
-  }
+  summary->report += paper.notes;
   if (!pool_ok) return Fail(error, summary);
   const JointLattice& lattice = paper.lattice;
   const CandidatePool& pool = paper.pool;

@@ -89,4 +89,32 @@ bool ReduceForPool(const RobotModel& model, ParameterSet set,
   return true;
 }
 
+std::string HeldFixedLines(ParameterSet set,
+                           const std::vector<HeldParameter>& held) {
+  std::string lines;
+  for (const HeldParameter& d : held) {
+    lines += "  --parameter_set=" + std::string(ParameterSetToString(set)) +
+             ": " + d.name + " held fixed: " + d.reason + "\n";
+  }
+  return lines;
+}
+
+bool ReduceModelForPool(ParameterSet set, const Eigen::MatrixXd& joints,
+                        const std::vector<uint32_t>* seen_masks,
+                        RobotModel* model, std::string* report,
+                        std::string* error, PoolReduction* reduction) {
+  PoolReductionOptions options;
+  options.evenly_spaced = true;
+  PoolReduction local;
+  PoolReduction& r = reduction ? *reduction : local;
+  if (!ReduceForPool(*model, set, joints, seen_masks, options, &r)) {
+    *error = "--parameter_set=" + std::string(ParameterSetToString(set)) +
+             ": " + r.message;
+    return false;
+  }
+  *report += HeldFixedLines(set, r.held);
+  *model = WithFreeSet(*model, r.free);
+  return true;
+}
+
 }  // namespace activecal

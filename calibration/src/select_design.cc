@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/selection/detmax.h"
 #include "activecal/selection/exchange_add_exchange.h"
 #include "activecal/selection/fedorov.h"
@@ -15,6 +16,7 @@
 #include "activecal/selection/random_designs.h"
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"
+#include "restart_options.h"
 
 namespace activecal {
 namespace {
@@ -32,6 +34,17 @@ bool NeedsApproximate(const SelectDesignOptions& o) {
          o.algorithm == DesignAlgorithm::kApprox;
 }
 
+// The options of a restarting algorithm designing num_poses poses, its
+// restarts reported to options.restarts_progress.
+template <typename Options>
+Options RestartOptionsFor(const SelectDesignOptions& options, int restarts,
+                          int num_poses) {
+  Options o = internal::RestartOptions<Options>(
+      num_poses, restarts, options.seed, options.num_threads);
+  o.progress = options.restarts_progress;
+  return o;
+}
+
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
       .count();
@@ -39,36 +52,9 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-const char* DesignAlgorithmToString(DesignAlgorithm algorithm) {
-  switch (algorithm) {
-    case DesignAlgorithm::kEae:
-      return "eae";
-    case DesignAlgorithm::kRandom:
-      return "random";
-    case DesignAlgorithm::kFedorov:
-      return "fedorov";
-    case DesignAlgorithm::kDetmax:
-      return "detmax";
-    case DesignAlgorithm::kGreedy:
-      return "greedy";
-    case DesignAlgorithm::kApprox:
-      return "approx";
-  }
-  return "unknown";
-}
-
-bool StringToDesignAlgorithm(std::string text, DesignAlgorithm* algorithm) {
-  for (DesignAlgorithm a :
-       {DesignAlgorithm::kEae, DesignAlgorithm::kRandom,
-        DesignAlgorithm::kFedorov, DesignAlgorithm::kDetmax,
-        DesignAlgorithm::kGreedy, DesignAlgorithm::kApprox}) {
-    if (text == DesignAlgorithmToString(a)) {
-      *algorithm = a;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr const char* kDesignAlgorithmNames[] = {"eae",    "random", "fedorov",
+                                                 "detmax", "greedy", "approx"};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(DesignAlgorithm, kDesignAlgorithmNames)
 
 bool ParseDesignAlgorithm(const std::string& text, DesignAlgorithm* algorithm,
                           std::string* error) {
@@ -82,28 +68,16 @@ bool ParseDesignAlgorithm(const std::string& text, DesignAlgorithm* algorithm,
   return false;
 }
 
+constexpr const char* kDesignCriterionNames[] = {"det", "svd", "task_rms"};
+
 const char* DesignCriterionToString(DesignCriterion criterion) {
-  switch (criterion) {
-    case DesignCriterion::kDet:
-      return "det";
-    case DesignCriterion::kSvd:
-      return "svd";
-    case DesignCriterion::kTaskRms:
-      return "task_rms";
-  }
-  return "unknown";
+  return EnumToString(kDesignCriterionNames, criterion);
 }
 
-bool StringToDesignCriterion(std::string text, DesignCriterion* criterion) {
-  if (text == "d") text = "det";
-  for (DesignCriterion c : {DesignCriterion::kDet, DesignCriterion::kSvd,
-                            DesignCriterion::kTaskRms}) {
-    if (text == DesignCriterionToString(c)) {
-      *criterion = c;
-      return true;
-    }
-  }
-  return false;
+bool StringToDesignCriterion(const std::string& text,
+                             DesignCriterion* criterion) {
+  return StringToEnum(kDesignCriterionNames, text == "d" ? "det" : text,
+                      criterion);
 }
 
 bool ParseDesignCriterion(const std::string& text, DesignCriterion* criterion,
@@ -250,12 +224,8 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
         return TaskGreedy(pool, W, prior, {}, num_poses, options.num_threads,
                           out);
       }
-      TaskExchangeOptions o;
-      o.num_poses = num_poses;
-      o.restarts = restarts;
-      o.seed = options.seed;
-      o.num_threads = options.num_threads;
-      o.progress = options.restarts_progress;
+      TaskExchangeOptions o =
+          RestartOptionsFor<TaskExchangeOptions>(options, restarts, num_poses);
       if (algorithm == DesignAlgorithm::kApprox) o.max_swaps = 0;  // rounding
       const bool ok =
           TaskExchange(pool, W, prior, {}, o,
@@ -267,13 +237,10 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
     }
     switch (algorithm) {
       case DesignAlgorithm::kEae: {
-        ExchangeAddExchangeOptions o;
-        o.num_poses = num_poses;
+        ExchangeAddExchangeOptions o =
+            RestartOptionsFor<ExchangeAddExchangeOptions>(options, restarts,
+                                                          num_poses);
         o.initial_poses = std::min(options.initial_poses, num_poses);
-        o.restarts = restarts;
-        o.seed = options.seed;
-        o.num_threads = options.num_threads;
-        o.progress = options.restarts_progress;
         o.criterion = options.criterion == DesignCriterion::kSvd
                           ? SelectionCriterion::kEigenvalueOi
                           : SelectionCriterion::kDeterminantUpdate;
@@ -290,12 +257,8 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
       case DesignAlgorithm::kFedorov:
       case DesignAlgorithm::kApprox: {
         const bool approx = algorithm == DesignAlgorithm::kApprox;
-        FedorovOptions o;
-        o.num_poses = num_poses;
-        o.restarts = restarts;
-        o.seed = options.seed;
-        o.num_threads = options.num_threads;
-        o.progress = options.restarts_progress;
+        FedorovOptions o =
+            RestartOptionsFor<FedorovOptions>(options, restarts, num_poses);
         o.polish_pool_size = options.polish_pool_size;
         if (approx) o.max_swaps = 0;  // only the rounding
         const bool ok = FedorovExchange(pool, {}, o, &s.approx, out);
@@ -303,13 +266,10 @@ bool SelectDesign(const CandidatePool& pool, const Eigen::MatrixXd& W,
         return ok;
       }
       case DesignAlgorithm::kDetmax: {
-        DetmaxOptions o;
-        o.num_poses = num_poses;
-        o.restarts = restarts;
-        o.seed = options.seed;
-        o.num_threads = options.num_threads;
-        o.progress = options.restarts_progress;
-        return Detmax(pool, {}, o, out);
+        return Detmax(
+            pool, {},
+            RestartOptionsFor<DetmaxOptions>(options, restarts, num_poses),
+            out);
       }
       case DesignAlgorithm::kGreedy:
         break;

@@ -13,7 +13,9 @@
 
 #include "activecal/calibration/cell_planning.h"
 #include "activecal/calibration/pool_builder.h"
+#include "activecal/calibration/pool_reduction.h"
 #include "activecal/cell/measurable_pool.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/joint_sampling.h"
 #include "activecal/core/lattice.h"
 #include "activecal/selection/criteria.h"
@@ -73,33 +75,22 @@ std::string Spelt(const SelectOptions& options, const std::string& flag,
 
 }  // namespace
 
+constexpr const char* kSelectPoolNames[] = {"lattice",    "sobol", "random",
+                                            "measurable", "csv",   "poses"};
+
 const char* SelectPoolToString(SelectPool pool) {
-  switch (pool) {
-    case SelectPool::kLattice:
-      return "lattice";
-    case SelectPool::kSobol:
-      return "sobol";
-    case SelectPool::kRandom:
-      return "random";
-    case SelectPool::kMeasurable:
-      return "measurable";
-    case SelectPool::kCsv:
-      return "csv";
-    case SelectPool::kPoses:
-      return "poses";
-  }
-  return "unknown";
+  return EnumToString(kSelectPoolNames, pool);
 }
 
-bool StringToSelectPool(std::string text, SelectPool* pool) {
-  for (SelectPool p : {SelectPool::kLattice, SelectPool::kSobol,
-                       SelectPool::kRandom, SelectPool::kMeasurable}) {
-    if (text == SelectPoolToString(p)) {
-      *pool = p;
-      return true;
-    }
+bool StringToSelectPool(const std::string& text, SelectPool* pool) {
+  SelectPool named;
+  // A CSV pool is named by its path, a pool in memory is given.
+  if (!StringToEnum(kSelectPoolNames, text, &named) ||
+      named == SelectPool::kCsv || named == SelectPool::kPoses) {
+    return false;
   }
-  return false;
+  *pool = named;
+  return true;
 }
 
 std::string SelectSummary::ResultLine(const std::string& program_name) const {
@@ -266,17 +257,12 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   } else if (from_lattice) {
     // With a cell the lattice spans the ranges inside the joint margins.
     std::string error;
-    if (!JointLattice::Create(
-            with_cell ? WithinJointMargins(*cell.checker, model) : model,
-            options.levels, &lattice, &error) ||
-        !CheckSelectionPoolSize(lattice.size(), model, options.type, &error)) {
-      return fail(Flag(options, "levels=") + std::to_string(options.levels) +
-                  ": " + error);
+    if (!MakeLatticePool(model, with_cell ? cell.checker.get() : nullptr,
+                         options.levels, options.type, Flag(options, ""),
+                         &lattice, &report, &error)) {
+      return fail(error);
     }
     out.lattice_notes = lattice.OneTurnNotes(model);
-    for (const std::string& note : out.lattice_notes) {
-      Append(&report, "note: %s\n", note.c_str());
-    }
     pool_joints = lattice.AllJointValues();
   } else if (sampled) {
     std::string error;
@@ -353,11 +339,7 @@ bool Select(const RobotModel& input_model, const SelectOptions& options,
   if (pool_summary.termination_type == TerminationType::kUserFailure) {
     return fail(pool_summary.message);
   }
-  for (const HeldParameter& d : pool_summary.dropped) {
-    Append(&report, "  --parameter_set=%s: %s held fixed: %s\n",
-           ParameterSetToString(pool_options.parameter_set), d.name.c_str(),
-           d.reason.c_str());
-  }
+  report += HeldFixedLines(pool_options.parameter_set, pool_summary.dropped);
   if (pool_summary.single_precision) {
     Append(&report,
            "  pool stored in single precision: %.4g MiB instead of %.4g MiB "

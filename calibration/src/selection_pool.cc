@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "activecal/calibration/pool_reduction.h"
+#include "activecal/cell/cell_setup.h"
 
 namespace activecal {
 
@@ -236,6 +237,24 @@ bool BuildTaskPool(const RobotModel& model, const Eigen::MatrixXd& pool_joints,
                           task_options, task_pool, &task_summary)) {
     if (error) *error = task_summary.message;
     return false;
+  }
+  return true;
+}
+
+bool MakeLatticePool(const RobotModel& model, const CellChecker* checker,
+                     int levels, MeasurementType type,
+                     const std::string& option_prefix, JointLattice* lattice,
+                     std::string* notes, std::string* error) {
+  std::string why;
+  if (!JointLattice::Create(
+          checker ? WithinJointMargins(*checker, model) : model, levels,
+          lattice, &why) ||
+      !CheckSelectionPoolSize(lattice->size(), model, type, &why)) {
+    *error = option_prefix + "levels=" + std::to_string(levels) + ": " + why;
+    return false;
+  }
+  for (const std::string& note : lattice->OneTurnNotes(model)) {
+    *notes += "note: " + note + "\n";
   }
   return true;
 }

@@ -11,15 +11,12 @@
 #include "activecal/calibration/pool_reduction.h"
 #include "activecal/cell/pool_filter.h"
 #include "activecal/io/csv_files.h"
+#include "workflow_fail.h"
 
 namespace activecal {
 namespace {
 
-bool Fail(const std::string& message, SimulateSummary* summary) {
-  summary->termination_type = TerminationType::kFailure;
-  summary->message = message;
-  return false;
-}
+using internal::Fail;
 
 // The ISO 9283 cycle columns of the poses CSV (activecal_select
 // --iso9283_cube writes them), one entry per data row; empty without them.
@@ -99,22 +96,12 @@ bool SimulateAtPoses(const RobotDescription& robot,
   if (perturbed) {
     if (options.reduce_parameter_set) {
       // The parameters the poses separate, each measuring what it sees.
-      const char* set = ParameterSetToString(options.parameter_set);
-      PoolReductionOptions reduction_options;
-      reduction_options.evenly_spaced = true;
-      PoolReduction reduction;
-      if (!ReduceForPool(model, options.parameter_set, joints,
-                         seen.empty() ? nullptr : &seen, reduction_options,
-                         &reduction)) {
-        return Fail(
-            "--parameter_set=" + std::string(set) + ": " + reduction.message,
-            summary);
+      std::string why;
+      if (!ReduceModelForPool(options.parameter_set, joints,
+                              seen.empty() ? nullptr : &seen, &model,
+                              &summary->report, &why)) {
+        return Fail(why, summary);
       }
-      for (const HeldParameter& d : reduction.held) {
-        summary->report += "  --parameter_set=" + std::string(set) + ": " +
-                           d.name + " held fixed: " + d.reason + "\n";
-      }
-      model = WithFreeSet(model, reduction.free);
     }
     const Eigen::VectorXd unperturbed = truth;
     if (!PerturbParameters(model, unperturbed, options.perturb_m,

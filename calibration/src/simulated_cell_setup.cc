@@ -36,24 +36,16 @@ bool SetUpSimulatedCell(const SimulatedCellSetupOptions& options,
   if (urdf || !options.parameter_set.empty()) {
     // The free set reduced over a 3-level lattice.
     JointLattice lattice;
-    if (!JointLattice::Create(model, 3, &lattice, &error) ||
-        !CheckSelectionPoolSize(lattice.size(), model,
-                                MeasurementType::kPosition, &error)) {
-      // sim_cell has no --levels: the lattice is its own.
+    // sim_cell has no --levels: the lattice is its own ("levels=3: ...").
+    if (!MakeLatticePool(model, nullptr, 3, MeasurementType::kPosition, "",
+                         &lattice, &setup->log, &error)) {
       setup->message =
-          "the 3-level joint lattice the free set is reduced over: " + error;
+          "the joint lattice the free set is reduced over: " + error;
       return false;
     }
-    for (const std::string& note : lattice.OneTurnNotes(model)) {
-      setup->log += "note: " + note + "\n";
-    }
-    ParameterSet set = urdf ? ParameterSet::kFull : ParameterSet::kFile;
-    if (!options.parameter_set.empty() &&
-        !StringToParameterSet(options.parameter_set, &set)) {
-      setup->message =
-          "--parameter_set must be registration, offsets, full or file, "
-          "got '" +
-          options.parameter_set + "'";
+    ParameterSet set;
+    if (!ParseParameterSet(options.parameter_set, urdf, &set, &error)) {
+      setup->message = "--" + error;
       return false;
     }
     const Eigen::MatrixXd joints = lattice.AllJointValues();
@@ -63,23 +55,11 @@ bool SetUpSimulatedCell(const SimulatedCellSetupOptions& options,
     if (model.num_markers() > 1) {
       every_marker.assign(joints.rows(), EveryMarkerMask(model));
     }
-    PoolReductionOptions reduce;
-    reduce.evenly_spaced = true;
-    PoolReduction reduction;
-    if (!ReduceForPool(model, set, joints,
-                       every_marker.empty() ? nullptr : &every_marker, reduce,
-                       &reduction)) {
-      setup->message =
-          "--parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
-          reduction.message;
+    if (!ReduceModelForPool(set, joints,
+                            every_marker.empty() ? nullptr : &every_marker,
+                            &model, &setup->log, &setup->message)) {
       return false;
     }
-    for (const HeldParameter& d : reduction.held) {
-      setup->log +=
-          "  --parameter_set=" + std::string(ParameterSetToString(set)) + ": " +
-          d.name + " held fixed: " + d.reason + "\n";
-    }
-    model = WithFreeSet(model, reduction.free);
   }
   if (!MakeSimulatedCellTruth(model, robot->true_parameters, options.cell,
                               &setup->truth, &error)) {

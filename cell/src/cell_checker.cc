@@ -12,7 +12,7 @@
 #include <map>
 #include <set>
 
-#include "activecal/core/enum_names.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 #include "cell_internal.h"
 
@@ -117,26 +117,14 @@ constexpr EnumName<RejectionReason> kRejectionReasonNames[] = {
     {RejectionReason::kLineOfSight, "line_of_sight"}};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(RejectionReason, kRejectionReasonNames)
 
+// The labels of the feasibility reports, in RejectionReason's order.
+constexpr const char* kRejectionReasonLabels[] = {
+    "feasible",    "joint margin",         "out of range",
+    "out of view", "target facing away",   "self-collision",
+    "obstacle",    "line of sight blocked"};
+
 const char* RejectionReasonLabel(RejectionReason reason) {
-  switch (reason) {
-    case RejectionReason::kNone:
-      return "feasible";
-    case RejectionReason::kJointMargin:
-      return "joint margin";
-    case RejectionReason::kOutOfRange:
-      return "out of range";
-    case RejectionReason::kOutOfView:
-      return "out of view";
-    case RejectionReason::kFacingAway:
-      return "target facing away";
-    case RejectionReason::kSelfCollision:
-      return "self-collision";
-    case RejectionReason::kObstacle:
-      return "obstacle";
-    case RejectionReason::kLineOfSight:
-      return "line of sight blocked";
-  }
-  return "unknown";
+  return EnumToString(kRejectionReasonLabels, reason);
 }
 
 struct CellChecker::Impl {

@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/io/csv_files.h"
 #include "cell_internal.h"
@@ -233,16 +234,22 @@ class CellParser : public internal::YamlReader {
     return true;
   }
 
+  // False (failing at b) when `map` gives both of the alternative keys a
+  // and b; prefix: the field's name before the keys ("" or "<field>.").
+  bool NotBoth(const YAML::Node& map, const std::string& prefix, const char* a,
+               const char* b) {
+    if (!map[a] || !map[b]) return true;
+    return Fail(map[b].Mark(), prefix + b,
+                std::string("give ") + a + " or " + b + ", not both");
+  }
+
   // rpy_rad or quaternion_xyzw (or neither: the identity).
   bool Orientation(const YAML::Node& map, const std::string& field,
                    Eigen::Matrix3d* rotation) {
     rotation->setIdentity();
+    if (!NotBoth(map, field + ".", "rpy_rad", "quaternion_xyzw")) return false;
     const YAML::Node rpy = map["rpy_rad"];
     const YAML::Node quaternion = map["quaternion_xyzw"];
-    if (rpy && quaternion) {
-      return Fail(quaternion.Mark(), field + ".quaternion_xyzw",
-                  "give rpy_rad or quaternion_xyzw, not both");
-    }
     if (rpy) {
       Eigen::Vector3d a;
       if (!Vector(rpy, field + ".rpy_rad", &a)) return false;
@@ -410,12 +417,9 @@ class CellParser : public internal::YamlReader {
         return false;
       }
     }
+    if (!NotBoth(node, prefix, "fov_deg", "intrinsics")) return false;
     const YAML::Node fov = node["fov_deg"];
     const YAML::Node intrinsics = node["intrinsics"];
-    if (fov && intrinsics) {
-      return Fail(intrinsics.Mark(), prefix + "intrinsics",
-                  "give fov_deg or intrinsics, not both");
-    }
     if (fov) {
       double f = 0;
       if (!Number(fov, prefix + "fov_deg", &f)) return false;
@@ -573,16 +577,10 @@ class CellParser : public internal::YamlReader {
 
 }  // namespace
 
+constexpr const char* kDeviceTypeNames[] = {"laser_tracker", "mocap", "camera"};
+
 const char* DeviceTypeName(DeviceType type) {
-  switch (type) {
-    case DeviceType::kLaserTracker:
-      return "laser_tracker";
-    case DeviceType::kMocap:
-      return "mocap";
-    case DeviceType::kCamera:
-      return "camera";
-  }
-  return "unknown";
+  return EnumToString(kDeviceTypeNames, type);
 }
 
 bool PointInsideObstacle(const Obstacle& o, const Eigen::Vector3d& point) {

@@ -11,22 +11,15 @@
 #include <assimp/Importer.hpp>
 #include <cmath>
 
+#include "activecal/core/enum_name_list.h"
+
 namespace activecal {
 
+constexpr const char* kShapeTypeNames[] = {"box", "cylinder", "capsule",
+                                           "sphere", "mesh"};
+
 const char* ShapeTypeName(ShapeType type) {
-  switch (type) {
-    case ShapeType::kBox:
-      return "box";
-    case ShapeType::kCylinder:
-      return "cylinder";
-    case ShapeType::kCapsule:
-      return "capsule";
-    case ShapeType::kSphere:
-      return "sphere";
-    case ShapeType::kMesh:
-      return "mesh";
-  }
-  return "unknown";
+  return EnumToString(kShapeTypeNames, type);
 }
 
 void CollisionShape::BoundingBall(Eigen::Vector3d* centre,

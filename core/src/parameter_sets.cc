@@ -68,4 +68,13 @@ Eigen::VectorXd GenericPoint(const RobotModel& model,
   return p;
 }
 
+bool ParseParameterSet(const std::string& text, bool urdf_robot,
+                       ParameterSet* set, std::string* error) {
+  *set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
+  if (text.empty() || StringToParameterSet(text, set)) return true;
+  *error = "parameter_set must be registration, offsets, full or file, got '" +
+           text + "'";
+  return false;
+}
+
 }  // namespace activecal

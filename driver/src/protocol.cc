@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
+
 namespace activecal {
 
 using nlohmann::json;
@@ -120,30 +122,9 @@ ordered Vector(const Eigen::VectorXd& v) {
 
 }  // namespace
 
-const char* MeasureStatusToString(MeasureStatus status) {
-  switch (status) {
-    case MeasureStatus::kOk:
-      return "ok";
-    case MeasureStatus::kNotVisible:
-      return "not_visible";
-    case MeasureStatus::kUnreachable:
-      return "unreachable";
-    case MeasureStatus::kError:
-      return "error";
-  }
-  return "unknown";
-}
-
-bool StringToMeasureStatus(const std::string& text, MeasureStatus* status) {
-  for (MeasureStatus s : {MeasureStatus::kOk, MeasureStatus::kNotVisible,
-                          MeasureStatus::kUnreachable, MeasureStatus::kError}) {
-    if (text == MeasureStatusToString(s)) {
-      *status = s;
-      return true;
-    }
-  }
-  return false;
-}
+constexpr const char* kMeasureStatusNames[] = {"ok", "not_visible",
+                                               "unreachable", "error"};
+ACTIVECAL_ENUM_STRING_FUNCTIONS(MeasureStatus, kMeasureStatusNames)
 
 std::string Excerpt(const std::string& line, size_t max_chars) {
   std::string out;

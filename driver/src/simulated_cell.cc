@@ -15,6 +15,7 @@
 #include <thread>
 #include <utility>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/random.h"
 #include "activecal/core/simulation.h"
 
@@ -37,44 +38,23 @@ uint64_t PoseHash(const Eigen::VectorXd& q) {
 
 }  // namespace
 
+constexpr const char* kDriverGarbageNames[] = {
+    "none",          "not_json",       "nan",  "wrong_id", "wrong_joints",
+    "wrong_markers", "unknown_status", "hang", "exit",     "line"};
+
 const char* DriverGarbageToString(DriverGarbage garbage) {
-  switch (garbage) {
-    case DriverGarbage::kNone:
-      return "none";
-    case DriverGarbage::kNotJson:
-      return "not_json";
-    case DriverGarbage::kNan:
-      return "nan";
-    case DriverGarbage::kWrongId:
-      return "wrong_id";
-    case DriverGarbage::kWrongJoints:
-      return "wrong_joints";
-    case DriverGarbage::kWrongMarkers:
-      return "wrong_markers";
-    case DriverGarbage::kUnknownStatus:
-      return "unknown_status";
-    case DriverGarbage::kHang:
-      return "hang";
-    case DriverGarbage::kExit:
-      return "exit";
-    case DriverGarbage::kLine:
-      return "line";
-  }
-  return "unknown";
+  return EnumToString(kDriverGarbageNames, garbage);
 }
 
 bool StringToDriverGarbage(const std::string& text, DriverGarbage* garbage) {
-  for (DriverGarbage g :
-       {DriverGarbage::kNotJson, DriverGarbage::kNan, DriverGarbage::kWrongId,
-        DriverGarbage::kWrongJoints, DriverGarbage::kWrongMarkers,
-        DriverGarbage::kUnknownStatus, DriverGarbage::kHang,
-        DriverGarbage::kExit}) {
-    if (text == DriverGarbageToString(g)) {
-      *garbage = g;
-      return true;
-    }
+  DriverGarbage named;
+  // The kinds a user asks for: not "none", nor "line" (garbage_line's).
+  if (!StringToEnum(kDriverGarbageNames, text, &named) ||
+      named == DriverGarbage::kNone || named == DriverGarbage::kLine) {
+    return false;
   }
-  return false;
+  *garbage = named;
+  return true;
 }
 
 bool SimulatedCellOptions::IsValid(std::string* error) const {

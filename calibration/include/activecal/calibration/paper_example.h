@@ -46,16 +46,17 @@
 
 namespace activecal {
 
-// The paper's pool: the 5-level lattice of `model` (JointLattice::Create,
-// CheckSelectionPoolSize for position measurements) and the candidate pool
-// of its poses at the nominal values, for the free parameters.
+// The paper's pool: the 5-level lattice of `model` (MakeLatticePool for
+// position measurements) and the candidate pool of its poses at the
+// nominal values, for the free parameters.
 struct PaperPool {
   JointLattice lattice;
   Eigen::MatrixXd joints;  // lattice.AllJointValues()
   CandidatePool pool;
   double jacobian_seconds = 0;
-  // The lattice's notes (JointLattice::OneTurnNotes), in order.
-  std::vector<std::string> notes;
+  // The lattice's notes (JointLattice::OneTurnNotes), in order, one
+  // "note: <note>\n" line each.
+  std::string notes;
 };
 
 // False with *error ("--levels=5: ..." or the pool's message) on failure;

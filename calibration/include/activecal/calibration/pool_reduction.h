@@ -67,6 +67,22 @@ bool ReduceForPool(const RobotModel& model, ParameterSet set,
                    const std::vector<uint32_t>* seen_masks,
                    const PoolReductionOptions& options, PoolReduction* result);
 
+// The lines a program prints for the parameters the reduction of `set`
+// held, one each: "  --parameter_set=<set>: <name> held fixed: <reason>\n".
+std::string HeldFixedLines(ParameterSet set,
+                           const std::vector<HeldParameter>& held);
+
+// The reduction of the programs that reduce their model themselves
+// (activecal_active, activecal_sim_cell, activecal_simulate): ReduceForPool
+// of *model on evenly spaced rows, then *model's free set the reduced one
+// and HeldFixedLines appended to *report. False with *error
+// "--parameter_set=<set>: <why>" (*model untouched). reduction (may be
+// null): the whole result.
+bool ReduceModelForPool(ParameterSet set, const Eigen::MatrixXd& joints,
+                        const std::vector<uint32_t>* seen_masks,
+                        RobotModel* model, std::string* report,
+                        std::string* error, PoolReduction* reduction = nullptr);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CALIBRATION_POOL_REDUCTION_H_

@@ -55,7 +55,8 @@ enum class DesignAlgorithm {
 // "eae", "random", "fedorov", "detmax", "greedy", "approx".
 const char* DesignAlgorithmToString(DesignAlgorithm algorithm);
 // The inverse of DesignAlgorithmToString; false on any other text.
-bool StringToDesignAlgorithm(std::string text, DesignAlgorithm* algorithm);
+bool StringToDesignAlgorithm(const std::string& text,
+                             DesignAlgorithm* algorithm);
 // StringToDesignAlgorithm, or false with *error "algorithm must be one of
 // eae, random, fedorov, detmax, greedy, approx; got '<text>'" (the program
 // prefixes "--").
@@ -70,7 +71,8 @@ enum class DesignCriterion { kDet, kSvd, kTaskRms };
 const char* DesignCriterionToString(DesignCriterion criterion);
 // The inverse of DesignCriterionToString, with "d" for kDet too; false on
 // any other text.
-bool StringToDesignCriterion(std::string text, DesignCriterion* criterion);
+bool StringToDesignCriterion(const std::string& text,
+                             DesignCriterion* criterion);
 // StringToDesignCriterion, or false with *error "criterion must be det (d),
 // svd or task_rms, got '<text>'".
 bool ParseDesignCriterion(const std::string& text, DesignCriterion* criterion,

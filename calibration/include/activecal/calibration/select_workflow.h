@@ -72,7 +72,7 @@ const char* SelectPoolToString(SelectPool pool);
 // The inverse of SelectPoolToString for the drawn pools and the lattice
 // (not "csv" nor "poses": those pools are named by their path or given);
 // false on any other text.
-bool StringToSelectPool(std::string text, SelectPool* pool);
+bool StringToSelectPool(const std::string& text, SelectPool* pool);
 
 // A stage's progress: called when a stage that reports progress starts
 // ("measurable poses", "cell checks", "Jacobians of the pool poses",

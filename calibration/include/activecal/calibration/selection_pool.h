@@ -26,7 +26,9 @@
 #include <vector>
 
 #include "activecal/calibration/pool_builder.h"
+#include "activecal/cell/cell_checker.h"
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/lattice.h"
 #include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
 #include "activecal/core/robot_model.h"
@@ -129,6 +131,18 @@ double PhysicalMemoryBytes();
 bool CheckSelectionPoolSize(int64_t pool_size, const RobotModel& model,
                             MeasurementType type, std::string* error,
                             double available_bytes = 0.0);
+
+// The lattice pool of the programs: *lattice of `levels` values a joint
+// over the joint ranges of `model` (with a cell's `checker`: within its
+// joint margins, WithinJointMargins), checked by CheckSelectionPoolSize
+// for `type` measurements before it is listed, its one-turn notes
+// (JointLattice::OneTurnNotes) appended to *notes as "note: <note>\n"
+// lines. False with *error "<option_prefix>levels=<levels>: <why>"
+// (option_prefix "--" for a program's flag).
+bool MakeLatticePool(const RobotModel& model, const CellChecker* checker,
+                     int levels, MeasurementType type,
+                     const std::string& option_prefix, JointLattice* lattice,
+                     std::string* notes, std::string* error);
 
 // Applies options.filter (if set), then applies and reduces
 // options.parameter_set on *model (its nominal becomes the analysis

@@ -56,6 +56,13 @@ FreeSet ParameterSetFreeSet(const RobotModel& model, ParameterSet set,
 Eigen::VectorXd GenericPoint(const RobotModel& model,
                              const Eigen::VectorXd& parameters);
 
+// The parameter set an option names: StringToParameterSet(text), or when
+// `text` is empty the default, kFull for a URDF robot and kFile otherwise.
+// False with *error "parameter_set must be registration, offsets, full or
+// file, got '<text>'" (a program prefixes "--").
+bool ParseParameterSet(const std::string& text, bool urdf_robot,
+                       ParameterSet* set, std::string* error);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_CORE_PARAMETER_SETS_H_
