@@ -43,11 +43,17 @@ std::vector<int64_t> Design30() {
   return Random(1).SampleWithoutReplacement(Pool(5).size(), 30);
 }
 
+// The Design of Design30()'s poses on `pool`.
+Design Design30Of(const CandidatePool& pool) {
+  Design design(pool);
+  for (int64_t i : Design30()) design.Add(i);
+  return design;
+}
+
 // One candidate by the update formula: log det(I + X V X^T).
 void BM_CandidateByDeterminantUpdate(benchmark::State& state) {
   const CandidatePool& pool = Pool(5);
-  Design design(pool);
-  for (int64_t i : Design30()) design.Add(i);
+  Design design = Design30Of(pool);
   int64_t c = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(design.information().AddGain(pool.block(c)));
@@ -79,8 +85,7 @@ BENCHMARK_TEMPLATE(BM_CandidateByEigenvalueOi,
 // Every candidate of the 15,625-pose pool by the batched update formula.
 void BM_AllCandidatesByDeterminantUpdate(benchmark::State& state) {
   const CandidatePool& pool = Pool(5);
-  Design design(pool);
-  for (int64_t i : Design30()) design.Add(i);
+  Design design = Design30Of(pool);
   Eigen::VectorXd gains;
   for (auto _ : state) {
     ComputeAddGains(pool, design.information(), state.range(0), &gains);
@@ -96,8 +101,7 @@ BENCHMARK(BM_AllCandidatesByDeterminantUpdate)
 // Adding and removing a pose (rank-3 update of V and log det).
 void BM_AddRemoveUpdate(benchmark::State& state) {
   const CandidatePool& pool = Pool(5);
-  Design design(pool);
-  for (int64_t i : Design30()) design.Add(i);
+  Design design = Design30Of(pool);
   int64_t c = 12345;
   for (auto _ : state) {
     design.Add(c);
@@ -126,10 +130,7 @@ void BM_PoolJacobians(benchmark::State& state) {
 }
 BENCHMARK(BM_PoolJacobians)
     ->ArgNames({"threads", "analytic"})
-    ->Args({1, 0})
-    ->Args({1, 1})
-    ->Args({2, 0})
-    ->Args({2, 1})
+    ->ArgsProduct({{1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 
 // One sweep of the variance function d_i = tr(X_i V X_i^T) over the
@@ -170,12 +171,7 @@ void BM_VarianceSweep(benchmark::State& state) {
 }
 BENCHMARK(BM_VarianceSweep)
     ->ArgNames({"threads", "storage"})
-    ->Args({1, 0})
-    ->Args({1, 1})
-    ->Args({1, 2})
-    ->Args({2, 0})
-    ->Args({2, 1})
-    ->Args({2, 2})
+    ->ArgsProduct({{1, 2}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -26,15 +26,12 @@ bool MeasuredJointsValid(const RobotModel& model, const Eigen::VectorXd& q,
 int MeasurementDimension(MeasurementType type) {
   switch (type) {
     case MeasurementType::kPosition:
+    case MeasurementType::kPoint:
       return 3;
     case MeasurementType::kPose:
       return 6;
     case MeasurementType::kDistance:
-      return 1;
-    case MeasurementType::kPoint:
-      return 3;
     case MeasurementType::kPointDistance:
-      return 1;
     case MeasurementType::kPlane:
       return 1;
   }

@@ -69,6 +69,12 @@ bool CheckPointLabels(const std::vector<Measurement>& measurements,
   return true;
 }
 
+int LabelIndex(const std::vector<std::string>& labels,
+               const std::string& label) {
+  return static_cast<int>(std::find(labels.begin(), labels.end(), label) -
+                          labels.begin());
+}
+
 std::vector<Eigen::Vector3d> MeanPointPositions(
     const RobotModel& model, const Eigen::VectorXd& parameters,
     const std::vector<Measurement>& measurements,
@@ -77,8 +83,7 @@ std::vector<Eigen::Vector3d> MeanPointPositions(
   std::vector<int> n(labels.size(), 0);
   for (const Measurement& m : measurements) {
     if (m.type != MeasurementType::kPoint) continue;
-    const int k = static_cast<int>(
-        std::find(labels.begin(), labels.end(), m.point) - labels.begin());
+    const int k = LabelIndex(labels, m.point);
     if (k >= static_cast<int>(labels.size())) continue;
     sum[k] += MeasuredPoint(model, parameters, m.joints, m.marker);
     ++n[k];

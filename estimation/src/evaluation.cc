@@ -50,26 +50,23 @@ void EvaluatePointRows(const RobotModel& model,
   const std::vector<std::string> labels = PointLabels(measurements);
   const std::vector<Eigen::Vector3d> centre =
       MeanPointPositions(model, parameters, measurements, labels);
-  auto index = [&](const std::string& label) {
-    return static_cast<size_t>(std::find(labels.begin(), labels.end(), label) -
-                               labels.begin());
-  };
   std::vector<std::vector<double>> spread(labels.size());
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     if (m.type == MeasurementType::kPoint) {
       const Eigen::Vector3d e =
           MeasuredPoint(model, parameters, m.joints, m.marker) -
-          centre[index(m.point)];
+          centre[LabelIndex(labels, m.point)];
       summary->position_errors[i] = e;
       positions->push_back(e.norm());
-      spread[index(m.point)].push_back(e.norm());
+      spread[LabelIndex(labels, m.point)].push_back(e.norm());
       *squares += e.cwiseAbs2();
       *sum += e;
     } else if (m.type == MeasurementType::kPointDistance) {
-      const double e =
-          (centre[index(m.point)] - centre[index(m.point2)]).norm() -
-          m.distance;
+      const double e = (centre[LabelIndex(labels, m.point)] -
+                        centre[LabelIndex(labels, m.point2)])
+                           .norm() -
+                       m.distance;
       summary->distance_errors_m[i] = e;
       distances->push_back(std::abs(e));
     }
@@ -99,8 +96,7 @@ bool EvaluatePlaneRows(const RobotModel& model,
   for (size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     if (m.type != MeasurementType::kPlane) continue;
-    const size_t k = static_cast<size_t>(
-        std::find(labels.begin(), labels.end(), m.plane) - labels.begin());
+    const size_t k = LabelIndex(labels, m.plane);
     const double e = PlaneResidual(
         summary->plane_parameters[k],
         MeasuredPoint(model, parameters, m.joints, m.marker), m.probe_radius_m);

@@ -566,14 +566,10 @@ void Identify(const RobotModel& model,
   }
   const Eigen::VectorXd start_planes = planes;
   auto plane_block = [&](const std::string& label) {
-    const auto& labels = summary->plane_labels;
-    return planes.data() + 4 * (std::find(labels.begin(), labels.end(), label) -
-                                labels.begin());
+    return planes.data() + 4 * LabelIndex(summary->plane_labels, label);
   };
   auto point_block = [&](const std::string& label) {
-    const auto& labels = summary->point_labels;
-    return points.data() + 3 * (std::find(labels.begin(), labels.end(), label) -
-                                labels.begin());
+    return points.data() + 3 * LabelIndex(summary->point_labels, label);
   };
   std::vector<ceres::CostFunction*> costs;  // unweighted; owned by problem
   std::vector<std::vector<double*>> cost_blocks;

@@ -1197,39 +1197,40 @@ bool MeasurementsReader::ReadRow(const Row& row, std::vector<Measurement>* out,
   const bool pose = m.type == MeasurementType::kPose;
   const bool distance = m.type == MeasurementType::kDistance;
   const bool point = m.type == MeasurementType::kPoint;
+  // A label column (point, plane): read into *label on a row of the type
+  // it belongs to (`wanted`), where it is required (`needs`: what the row
+  // needs), and refused on any other row.
+  auto read_label = [&](const char* column, bool wanted, const char* needs,
+                        std::string* label) {
+    const bool labelled = table_.Has(column) && !table_.Empty(row, column);
+    if (wanted && !labelled) {
+      return table_.Fail(row.line, std::string(column) + ": " + needs, error);
+    }
+    if (!wanted && labelled) {
+      return table_.Fail(row.line,
+                         std::string(column) + ": a " + type +
+                             " measurement has no such value; leave it empty",
+                         error);
+    }
+    if (wanted) *label = row.fields[table_.Column(column)];
+    return true;
+  };
   // A fixed point's row: its label, no coordinates (they are unknowns).
-  const bool labelled = table_.Has("point") && !table_.Empty(row, "point");
-  if (point && !labelled) {
-    return table_.Fail(row.line,
-                       "point: a point row needs the label of its fixed "
-                       "point (column 'point')",
-                       error);
+  if (!read_label("point", point,
+                  "a point row needs the label of its fixed point (column "
+                  "'point')",
+                  &m.point)) {
+    return false;
   }
-  if (!point && labelled) {
-    return table_.Fail(
-        row.line,
-        "point: a " + type + " measurement has no such value; leave it empty",
-        error);
-  }
-  if (point) m.point = row.fields[table_.Column("point")];
   // A touch of a plane: its label, no coordinates, optionally the probe
   // ball's radius.
   const bool plane = m.type == MeasurementType::kPlane;
-  const bool plane_labelled =
-      table_.Has("plane") && !table_.Empty(row, "plane");
-  if (plane && !plane_labelled) {
-    return table_.Fail(row.line,
-                       "plane: a plane row needs the label of the plane it "
-                       "touched (column 'plane')",
-                       error);
+  if (!read_label("plane", plane,
+                  "a plane row needs the label of the plane it touched "
+                  "(column 'plane')",
+                  &m.plane)) {
+    return false;
   }
-  if (!plane && plane_labelled) {
-    return table_.Fail(
-        row.line,
-        "plane: a " + type + " measurement has no such value; leave it empty",
-        error);
-  }
-  if (plane) m.plane = row.fields[table_.Column("plane")];
   for (const char* c : {"probe_radius_m", "probe_radius_mm"}) {
     if (!table_.Has(c) || table_.Empty(row, c)) continue;
     if (!plane) {

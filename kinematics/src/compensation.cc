@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include "activecal/core/kinematics.h"
@@ -22,6 +23,19 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
       .count();
 }
+
+// The summary's count of each status, in IkStatus order.
+constexpr int CompensationSummary::*kStatusCounts[] = {
+    &CompensationSummary::num_converged,
+    &CompensationSummary::num_singular,
+    &CompensationSummary::num_limit,
+    &CompensationSummary::num_unreachable,
+    &CompensationSummary::num_invalid,
+    &CompensationSummary::num_iteration_cap,
+    &CompensationSummary::num_collision};
+static_assert(std::size(kStatusCounts) ==
+                  static_cast<size_t>(IkStatus::kCollision) + 1,
+              "one count per IkStatus");
 
 // The cell's check of the converged results (options.check), then the
 // counts, maxima and the termination of a finished run.
@@ -39,37 +53,13 @@ void Summarize(const Eigen::MatrixXd& starts,
       }
     }
   }
-  summary->num_converged = summary->num_singular = summary->num_limit = 0;
-  summary->num_unreachable = summary->num_invalid = 0;
-  summary->num_iteration_cap = summary->num_collision = 0;
+  for (int CompensationSummary::*count : kStatusCounts) summary->*count = 0;
   double sum_change2 = 0.0;
   int first_failure = -1;
   const int n = static_cast<int>(summary->results.size());
   for (int i = 0; i < n; ++i) {
     const InverseKinematicsResult& r = summary->results[i];
-    switch (r.status) {
-      case IkStatus::kConverged:
-        ++summary->num_converged;
-        break;
-      case IkStatus::kSingular:
-        ++summary->num_singular;
-        break;
-      case IkStatus::kLimit:
-        ++summary->num_limit;
-        break;
-      case IkStatus::kUnreachable:
-        ++summary->num_unreachable;
-        break;
-      case IkStatus::kInvalid:
-        ++summary->num_invalid;
-        break;
-      case IkStatus::kIterationCap:
-        ++summary->num_iteration_cap;
-        break;
-      case IkStatus::kCollision:
-        ++summary->num_collision;
-        break;
-    }
+    ++(summary->*kStatusCounts[static_cast<int>(r.status)]);
     if (r.status != IkStatus::kConverged && first_failure < 0)
       first_failure = i;
     summary->max_position_error_m =

@@ -147,10 +147,6 @@ bool EliminatedPointJacobian(const RobotModel& model,
   const std::vector<std::string> labels = PointLabels(measurements);
   const std::vector<Eigen::Vector3d> centre =
       MeanPointPositions(model, parameters, measurements, labels);
-  auto label_index = [&](const std::string& label) {
-    return static_cast<int>(std::find(labels.begin(), labels.end(), label) -
-                            labels.begin());
-  };
   // Planes: fitted to the predicted touches; 3 columns each (a tangent
   // step of the normal, the offset), after the points'.
   const std::vector<std::string> plane_labels = PlaneLabels(measurements);
@@ -159,11 +155,6 @@ bool EliminatedPointJacobian(const RobotModel& model,
                  error)) {
     return false;
   }
-  auto plane_index = [&](const std::string& label) {
-    return static_cast<int>(
-        std::find(plane_labels.begin(), plane_labels.end(), label) -
-        plane_labels.begin());
-  };
   const int p = model.num_free();
   const int num_points_c = 3 * static_cast<int>(labels.size());
   const int num_c = num_points_c + 3 * static_cast<int>(plane_labels.size());
@@ -182,14 +173,14 @@ bool EliminatedPointJacobian(const RobotModel& model,
       // unchanged (a rotation of the base with the points, a scale) are
       // exact null directions, as they are at the solution, and the
       // reduction sees them as such.
-      ReachPoint(model, parameters, m.marker, centre[label_index(m.point)],
-                 &m.joints);
+      ReachPoint(model, parameters, m.marker,
+                 centre[LabelIndex(labels, m.point)], &m.joints);
     }
     const double* plane = nullptr;
     if (m.type == MeasurementType::kPlane) {
       // The same for a touch: the nearest joints at which the model puts
       // the probe's centre at its radius from the fitted plane.
-      const Eigen::Vector4d& pl = planes[plane_index(m.plane)];
+      const Eigen::Vector4d& pl = planes[LabelIndex(plane_labels, m.plane)];
       const Eigen::Vector3d c =
           MeasuredPoint(model, parameters, m.joints, m.marker);
       ReachPoint(model, parameters, m.marker,
@@ -209,7 +200,7 @@ bool EliminatedPointJacobian(const RobotModel& model,
       return false;
     }
     if (m.type == MeasurementType::kPoint) {
-      const int k = label_index(m.point);
+      const int k = LabelIndex(labels, m.point);
       for (int a = 0; a < 3; ++a) {
         Eigen::RowVectorXd r = Eigen::RowVectorXd::Zero(num_c);
         r[3 * k + a] = -1.0;
@@ -217,7 +208,7 @@ bool EliminatedPointJacobian(const RobotModel& model,
         point_rows.push_back(row + a);
       }
     } else if (m.type == MeasurementType::kPlane) {
-      const int k = plane_index(m.plane);
+      const int k = LabelIndex(plane_labels, m.plane);
       const Eigen::Vector4d& pl = planes[k];
       const Eigen::Matrix<double, 3, 2> basis = PlaneTangentBasis(pl.head<3>());
       const Eigen::Vector3d c =
@@ -229,7 +220,8 @@ bool EliminatedPointJacobian(const RobotModel& model,
       jc_rows.push_back(r);
       point_rows.push_back(row);
     } else if (m.type == MeasurementType::kPointDistance) {
-      const int a = label_index(m.point), b = label_index(m.point2);
+      const int a = LabelIndex(labels, m.point),
+                b = LabelIndex(labels, m.point2);
       const Eigen::Vector3d d = centre[a] - centre[b];
       if (d.norm() < 1e-12) {
         if (error) {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "activecal/selection/information_matrix.h"
+#include "selection_internal.h"
 
 namespace activecal {
 
@@ -46,15 +47,36 @@ double LogDetFromOi(double oi, int num_parameters) {
   return 2.0 * p * std::log(oi * p);
 }
 
-double LogDetFromScratch(const CandidatePool& pool,
-                         const std::vector<int64_t>& design) {
-  const int p = pool.num_parameters();
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
+namespace {
+
+// log det of the sum of X^T X over the design's blocks, X = block_of(i).
+template <typename BlockOf>
+double LogDetOfBlocks(int num_parameters, const std::vector<int64_t>& design,
+                      BlockOf block_of) {
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(num_parameters, num_parameters);
   for (int64_t i : design) {
-    const auto X = pool.block(i);
+    const auto X = block_of(i);
     M.noalias() += X.transpose() * X;
   }
   return LogDetSpd(M);
 }
+
+}  // namespace
+
+double LogDetFromScratch(const CandidatePool& pool,
+                         const std::vector<int64_t>& design) {
+  return LogDetOfBlocks(pool.num_parameters(), design,
+                        [&pool](int64_t i) { return pool.block(i); });
+}
+
+namespace internal {
+
+double LogDetOfExactBlocks(const CandidatePool& pool,
+                           const std::vector<int64_t>& design) {
+  return LogDetOfBlocks(pool.num_parameters(), design,
+                        [&pool](int64_t i) { return pool.ExactBlock(i); });
+}
+
+}  // namespace internal
 
 }  // namespace activecal

@@ -32,12 +32,7 @@ void Design::Add(int64_t pose) {
 }
 
 bool Design::Remove(int64_t pose) {
-  CHECK(pose >= 0 && pose < pool_->size() && member_[pose])
-      << "pose " << pose << " is not in the design";
-  if (!info_.Remove(pool_->block(pose))) return false;
-  member_[pose] = 0;
-  poses_.erase(std::find(poses_.begin(), poses_.end(), pose));
-  return true;
+  return internal::RemoveDesignPose(*pool_, pose, &info_, &member_, &poses_);
 }
 
 void Design::Rebuild() {
@@ -57,6 +52,29 @@ void Design::ClearRidge() {
 
 namespace internal {
 
+bool RemoveDesignPose(const CandidatePool& pool, int64_t pose,
+                      InformationMatrix* info, std::vector<char>* member,
+                      std::vector<int64_t>* poses) {
+  CHECK(pose >= 0 && pose < pool.size() && (*member)[pose])
+      << "pose " << pose << " is not in the design";
+  if (!info->Remove(pool.block(pose))) return false;
+  (*member)[pose] = 0;
+  poses->erase(std::find(poses->begin(), poses->end(), pose));
+  return true;
+}
+
+void ForEachPoseChunk(int64_t n, int num_threads,
+                      const std::function<void(int64_t, int64_t)>& fn) {
+  constexpr int64_t kChunk = 512;
+  const int64_t num_chunks = (n + kChunk - 1) / kChunk;
+  ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
+    for (int64_t c = cb; c < ce; ++c) {
+      const int64_t begin = c * kChunk;
+      fn(begin, std::min(kChunk, n - begin));
+    }
+  });
+}
+
 void ForEachQuadraticForm(
     const CandidatePool& pool, const Eigen::MatrixXd& V, int num_threads,
     const std::function<void(int64_t, const Eigen::MatrixXd&)>& fn,
@@ -64,26 +82,20 @@ void ForEachQuadraticForm(
   const int64_t n = pool.size();
   const int t = pool.block_rows();
   // Chunks of poses: W = X_chunk V in one product, then t x t blocks.
-  constexpr int64_t kChunk = 512;
-  const int64_t num_chunks = (n + kChunk - 1) / kChunk;
-  ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
+  ForEachPoseChunk(n, num_threads, [&](int64_t begin, int64_t count) {
     RowMatrixXd W, buffer;
     Eigen::MatrixXd S(t, t);
-    for (int64_t c = cb; c < ce; ++c) {
-      const int64_t begin = c * kChunk;
-      const int64_t count = std::min(kChunk, n - begin);
-      // A single-precision pool is widened to double chunk by chunk.
-      const Eigen::Map<const RowMatrixXd> X =
-          reading == PoolReading::kExact ? pool.ExactRows(begin, count, &buffer)
-                                         : pool.Rows(begin, count, &buffer);
-      W.noalias() = X * V;
-      for (int64_t k = 0; k < count; ++k) {
-        // lazyProduct: a t x p times p x t product is too small for the
-        // blocked GEMM kernel (packing dominated: 3x slower at t = 3).
-        S.noalias() = W.middleRows(k * t, t).lazyProduct(
-            X.middleRows(k * t, t).transpose());
-        fn(begin + k, S);
-      }
+    // A single-precision pool is widened to double chunk by chunk.
+    const Eigen::Map<const RowMatrixXd> X =
+        reading == PoolReading::kExact ? pool.ExactRows(begin, count, &buffer)
+                                       : pool.Rows(begin, count, &buffer);
+    W.noalias() = X * V;
+    for (int64_t k = 0; k < count; ++k) {
+      // lazyProduct: a t x p times p x t product is too small for the
+      // blocked GEMM kernel (packing dominated: 3x slower at t = 3).
+      S.noalias() = W.middleRows(k * t, t).lazyProduct(
+          X.middleRows(k * t, t).transpose());
+      fn(begin + k, S);
     }
   });
 }
@@ -127,25 +139,19 @@ void ComputeVariances(const CandidatePool& pool,
       Ls[v] = llt.matrixL();
     }
   }
-  constexpr int64_t kChunk = 512;
-  const int64_t num_chunks = (n + kChunk - 1) / kChunk;
-  ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
+  internal::ForEachPoseChunk(n, num_threads, [&](int64_t begin, int64_t count) {
     RowMatrixXd W, buffer;
-    for (int64_t c = cb; c < ce; ++c) {
-      const int64_t begin = c * kChunk;
-      const int64_t count = std::min(kChunk, n - begin);
-      // One read of the blocks (one recomputation from an exact source)
-      // for every V.
-      const Eigen::Map<const RowMatrixXd> X =
-          reading == PoolReading::kExact ? pool.ExactRows(begin, count, &buffer)
-                                         : pool.Rows(begin, count, &buffer);
-      for (size_t v = 0; v < m; ++v) {
-        if (Ls[v].size() == 0) continue;  // done by the general path
-        W.noalias() = X * Ls[v].triangularView<Eigen::Lower>();
-        Eigen::VectorXd& d = (*variances)[v];
-        for (int64_t k = 0; k < count; ++k) {
-          d[begin + k] = W.middleRows(k * t, t).squaredNorm();
-        }
+    // One read of the blocks (one recomputation from an exact source) for
+    // every V.
+    const Eigen::Map<const RowMatrixXd> X =
+        reading == PoolReading::kExact ? pool.ExactRows(begin, count, &buffer)
+                                       : pool.Rows(begin, count, &buffer);
+    for (size_t v = 0; v < m; ++v) {
+      if (Ls[v].size() == 0) continue;  // done by the general path
+      W.noalias() = X * Ls[v].triangularView<Eigen::Lower>();
+      Eigen::VectorXd& d = (*variances)[v];
+      for (int64_t k = 0; k < count; ++k) {
+        d[begin + k] = W.middleRows(k * t, t).squaredNorm();
       }
     }
   });

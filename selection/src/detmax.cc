@@ -21,8 +21,7 @@ namespace activecal {
 
 bool DetmaxOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (internal::PositiveCounts(
-          {{"num_poses", num_poses}, {"restarts", restarts}}, &msg)) {
+  if (internal::PositivePosesAndRestarts(*this, &msg)) {
     if (max_excursion <= 0)
       msg << "max_excursion must be > 0";
     else if (max_iterations < 0)
@@ -83,49 +82,39 @@ bool TryExcursion(const CandidatePool& pool, const std::vector<char>& eligible,
 
 bool Detmax(const CandidatePool& pool, const DesignConstraints& constraints,
             const DetmaxOptions& options, SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
+  internal::SelectionStart start;
   if (!internal::PrepareSelection(pool, constraints, options, "detmax", summary,
-                                  &eligible, &is_fixed)) {
+                                  &start)) {
     return false;
   }
-  std::vector<std::string> notes(options.restarts);
-  const internal::RestartResult best = internal::BestOfRestarts(
-      options.restarts, options.num_threads,
-      [&](int r, int threads) {
-        internal::RestartResult result;
-        std::vector<int64_t> poses = internal::InitialDesign(
-            pool, constraints, eligible, options.num_poses,
-            Random::StreamSeed(options.seed, r), nullptr, false, threads,
-            &notes[r]);
-        if (poses.empty()) return result;
+  return internal::RunRestartsFromInitialDesigns(
+      pool, constraints, options, start, options.num_poses,
+      [&](const internal::WorkingSet& work, int threads, std::string*,
+          internal::RestartResult* result) {
+        std::vector<int64_t>& poses = result->design;
         {
           internal::DeterminantScorer start_scorer(pool, threads);
           for (int64_t i : poses) start_scorer.Add(i);
-          result.history.push_back(
+          result->history.push_back(
               {SelectionStep::kInitial, -1, -1, start_scorer.Value()});
         }
         for (int it = 0;; ++it) {
           if (it >= options.max_iterations) {
-            result.hit_bound = true;
+            result->hit_bound = true;
             break;
           }
           SelectionStep step;
           if (!internal::TryExcursion(
-                  pool, eligible, is_fixed, 1, options.max_excursion,
+                  pool, work.eligible, work.is_fixed, 1, options.max_excursion,
                   options.min_improvement, threads, &poses, &step)) {
             break;
           }
           step.log_det = LogDetFromScratch(pool, poses);
-          result.history.push_back(step);
+          result->history.push_back(step);
         }
-        internal::FinishRestart(pool, poses, &result);
-        return result;
+        return true;
       },
-      options.progress);
-  internal::FinishSummary(best, options.restarts, start,
-                          internal::NoteOf(notes, best.restart), summary);
-  return summary->IsSolutionUsable();
+      summary);
 }
 
 }  // namespace activecal

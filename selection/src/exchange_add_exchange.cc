@@ -37,6 +37,33 @@ bool ExchangeAddExchangeOptions::IsValid(std::string* error) const {
 }
 
 namespace internal {
+namespace {
+
+// The BestRemoval of both scorers: among the design's `poses` that are not
+// fixed, the one of largest value_of(pose) (the first in design order on
+// ties) into *pose and that value into *best_value; false when there is
+// none or its value is not finite.
+template <typename ValueOf>
+bool BestNonFixed(const std::vector<int64_t>& poses,
+                  const std::vector<char>& is_fixed, ValueOf value_of,
+                  int64_t* pose, double* best_value) {
+  int64_t best = -1;
+  double best_v = -std::numeric_limits<double>::infinity();
+  for (int64_t i : poses) {
+    if (is_fixed[i]) continue;
+    const double v = value_of(i);
+    if (best < 0 || v > best_v) {
+      best = i;
+      best_v = v;
+    }
+  }
+  if (best < 0 || !std::isfinite(best_v)) return false;
+  *pose = best;
+  *best_value = best_v;
+  return true;
+}
+
+}  // namespace
 
 // ---------------------------------------------------------------------------
 // Determinant-update scorer.
@@ -63,20 +90,16 @@ bool DeterminantScorer::BestAddition(const std::vector<char>& eligible,
 
 bool DeterminantScorer::BestRemoval(const std::vector<char>& is_fixed,
                                     int64_t* pose, double* value) {
-  int64_t best = -1;
-  double best_loss = -std::numeric_limits<double>::infinity();
-  for (int64_t i : design_.poses()) {
-    if (is_fixed[i]) continue;
-    const double loss =
-        design_.information().RemoveLoss(design_.pool().block(i));
-    if (best < 0 || loss > best_loss) {
-      best = i;
-      best_loss = loss;
-    }
+  double loss;
+  if (!BestNonFixed(
+          design_.poses(), is_fixed,
+          [this](int64_t i) {
+            return design_.information().RemoveLoss(design_.pool().block(i));
+          },
+          pose, &loss)) {
+    return false;
   }
-  if (best < 0 || !std::isfinite(best_loss)) return false;
-  *pose = best;
-  *value = design_.log_det() + best_loss;
+  *value = design_.log_det() + loss;
   return true;
 }
 
@@ -146,22 +169,14 @@ bool EigenvalueScorer::BestAddition(const std::vector<char>& eligible,
 
 bool EigenvalueScorer::BestRemoval(const std::vector<char>& is_fixed,
                                    int64_t* pose, double* value) {
-  int64_t best = -1;
-  double best_value = -std::numeric_limits<double>::infinity();
-  for (int64_t i : poses_) {
-    if (is_fixed[i]) continue;
-    std::vector<int64_t> rest = poses_;
-    rest.erase(std::find(rest.begin(), rest.end(), i));
-    const double v = LogDetBySvd(pool_->Stack(rest));
-    if (best < 0 || v > best_value) {
-      best = i;
-      best_value = v;
-    }
-  }
-  if (best < 0 || !std::isfinite(best_value)) return false;
-  *pose = best;
-  *value = best_value;
-  return true;
+  return BestNonFixed(
+      poses_, is_fixed,
+      [this](int64_t i) {
+        std::vector<int64_t> rest = poses_;
+        rest.erase(std::find(rest.begin(), rest.end(), i));
+        return LogDetBySvd(pool_->Stack(rest));
+      },
+      pose, value);
 }
 
 // ---------------------------------------------------------------------------
@@ -223,14 +238,13 @@ bool ExchangeAddExchange(const CandidatePool& pool,
                          const DesignConstraints& constraints,
                          const ExchangeAddExchangeOptions& options,
                          SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
+  internal::SelectionStart start;
   const char* algorithm =
       options.criterion == SelectionCriterion::kDeterminantUpdate
           ? "exchange-add-exchange (determinant update)"
           : "exchange-add-exchange (eigenvalue OI)";
-  std::vector<char> eligible, is_fixed;
   if (!internal::PrepareSelection(pool, constraints, options, algorithm,
-                                  summary, &eligible, &is_fixed)) {
+                                  summary, &start)) {
     return false;
   }
   const int num_fixed = static_cast<int>(constraints.fixed.size());
@@ -242,25 +256,20 @@ bool ExchangeAddExchange(const CandidatePool& pool,
     return false;
   }
 
-  std::vector<std::string> notes(options.restarts);
-  const internal::RestartResult best = internal::BestOfRestarts(
-      options.restarts, options.num_threads,
-      [&](int r, int threads) {
-        internal::RestartResult result;
-        // A singular start is completed greedily and trimmed back to
-        // initial_poses (or as close as non-singularity allows).
-        const std::vector<int64_t> initial = internal::InitialDesign(
-            pool, constraints, eligible, options.initial_poses,
-            Random::StreamSeed(options.seed, r), nullptr, false, threads,
-            &notes[r]);
-        if (initial.empty()) return result;
+  // A singular start is completed greedily and trimmed back to
+  // initial_poses (or as close as non-singularity allows).
+  return internal::RunRestartsFromInitialDesigns(
+      pool, constraints, options, start, options.initial_poses,
+      [&](const internal::WorkingSet& work, int threads, std::string* note,
+          internal::RestartResult* result) {
+        const std::vector<int64_t>& initial = result->design;
         if (static_cast<int>(initial.size()) > options.num_poses) {
-          notes[r] = "no non-singular design of " +
-                     std::to_string(options.num_poses) +
-                     " poses was found from a singular start (the smallest "
-                     "has " +
-                     std::to_string(initial.size()) + " poses)";
-          return result;
+          *note = "no non-singular design of " +
+                  std::to_string(options.num_poses) +
+                  " poses was found from a singular start (the smallest "
+                  "has " +
+                  std::to_string(initial.size()) + " poses)";
+          return false;
         }
         std::unique_ptr<internal::Scorer> scorer;
         if (options.criterion == SelectionCriterion::kDeterminantUpdate) {
@@ -269,35 +278,32 @@ bool ExchangeAddExchange(const CandidatePool& pool,
           scorer = std::make_unique<internal::EigenvalueScorer>(pool, threads);
         }
         for (int64_t i : initial) scorer->Add(i);
-        result.history.push_back(
+        result->history.push_back(
             {SelectionStep::kInitial, -1, -1, scorer->Value()});
-        result.hit_bound |= internal::ExchangeStep(
-            scorer.get(), eligible, is_fixed, options.max_exchanges,
-            options.min_improvement, &result.history);
+        result->hit_bound |= internal::ExchangeStep(
+            scorer.get(), work.eligible, work.is_fixed, options.max_exchanges,
+            options.min_improvement, &result->history);
         while (scorer->size() < options.num_poses &&
                scorer->Value() < options.target_log_det) {
           int64_t in;
           double after;
-          if (!scorer->BestAddition(eligible, &in, &after) ||
+          if (!scorer->BestAddition(work.eligible, &in, &after) ||
               !(after > scorer->Value() +
                             internal::ImprovementThreshold(
                                 scorer->Value(), options.min_improvement))) {
             break;
           }
           scorer->Add(in);
-          result.history.push_back(
+          result->history.push_back(
               {SelectionStep::kAdd, in, -1, scorer->Value()});
         }
-        result.hit_bound |= internal::ExchangeStep(
-            scorer.get(), eligible, is_fixed, options.max_exchanges,
-            options.min_improvement, &result.history);
-        internal::FinishRestart(pool, scorer->poses(), &result);
-        return result;
+        result->hit_bound |= internal::ExchangeStep(
+            scorer.get(), work.eligible, work.is_fixed, options.max_exchanges,
+            options.min_improvement, &result->history);
+        result->design = scorer->poses();
+        return true;
       },
-      options.progress);
-  internal::FinishSummary(best, options.restarts, start,
-                          internal::NoteOf(notes, best.restart), summary);
-  return summary->IsSolutionUsable();
+      summary);
 }
 
 }  // namespace activecal

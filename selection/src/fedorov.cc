@@ -27,8 +27,7 @@ namespace activecal {
 
 bool FedorovOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (internal::PositiveCounts(
-          {{"num_poses", num_poses}, {"restarts", restarts}}, &msg)) {
+  if (internal::PositivePosesAndRestarts(*this, &msg)) {
     if (max_swaps < 0)
       msg << "max_swaps must be >= 0";
     else if (refresh_interval <= 0)
@@ -450,23 +449,17 @@ RestartResult FedorovRestart(const CandidatePool& pool,
       Eigen::MatrixXd Wb(p, 2 * t);
       Wb.leftCols(t) = Wa;
       Wb.rightCols(t) = Wr;
-      constexpr int64_t kChunk = 512;
-      const int64_t chunks = (m + kChunk - 1) / kChunk;
-      ParallelFor(chunks, threads, [&](int64_t cb, int64_t ce, int) {
+      internal::ForEachPoseChunk(m, threads, [&](int64_t begin, int64_t n) {
+        Eigen::Map<const RowMatrixXd> Xc(pool.stacked().data() + begin * t * p,
+                                         n * t, p);
         RowMatrixXd P;
-        for (int64_t c = cb; c < ce; ++c) {
-          const int64_t begin = c * kChunk;
-          const int64_t n = std::min(kChunk, m - begin);
-          Eigen::Map<const RowMatrixXd> Xc(
-              pool.stacked().data() + begin * t * p, n * t, p);
-          P.noalias() = Xc * Wb;
-          for (int64_t k = 0; k < n; ++k) {
-            Eigen::Map<Eigen::MatrixXd> Dj(D.data() + (begin + k) * tt, t, t);
-            const auto Pa = P.block(k * t, 0, t, t);
-            const auto Pr = P.block(k * t, t, t, t);
-            Dj.noalias() -= Pa * Sa_inv * Pa.transpose();
-            Dj.noalias() += Pr * Sr_inv * Pr.transpose();
-          }
+        P.noalias() = Xc * Wb;
+        for (int64_t k = 0; k < n; ++k) {
+          Eigen::Map<Eigen::MatrixXd> Dj(D.data() + (begin + k) * tt, t, t);
+          const auto Pa = P.block(k * t, 0, t, t);
+          const auto Pr = P.block(k * t, t, t, t);
+          Dj.noalias() -= Pa * Sa_inv * Pa.transpose();
+          Dj.noalias() += Pr * Sr_inv * Pr.transpose();
         }
       });
     }
@@ -495,18 +488,6 @@ RestartResult FedorovRestart(const CandidatePool& pool,
   }
   internal::FinishRestart(pool, design.poses(), &result);
   return result;
-}
-
-// log det of a design from pool.ExactBlock (double).
-double LogDetOfExactBlocks(const CandidatePool& pool,
-                           const std::vector<int64_t>& design) {
-  const int p = pool.num_parameters();
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
-  for (int64_t i : design) {
-    const RowMatrixXd X = pool.ExactBlock(i);
-    M.noalias() += X.transpose() * X;
-  }
-  return LogDetSpd(M);
 }
 
 // Swaps over the polish_pool_size poses of largest variance under the
@@ -571,12 +552,13 @@ bool FedorovExchange(const CandidatePool& pool,
                      const FedorovOptions& options,
                      const ApproximateDesignSummary* approximate,
                      SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
+  internal::SelectionStart start;
   if (!internal::PrepareSelection(pool, constraints, options, "fedorov",
-                                  summary, &eligible, &is_fixed)) {
+                                  summary, &start)) {
     return false;
   }
+  const std::vector<char>& eligible = start.eligible;
+  const std::vector<char>& is_fixed = start.is_fixed;
   // With an approximate design and a large pool, the restarts swap within
   // a reduced pool first: the approximate design's support and the poses of
   // largest variance under it, where good exact designs live. The best
@@ -637,9 +619,8 @@ bool FedorovExchange(const CandidatePool& pool,
       options.restarts, options.num_threads,
       [&](int r, int threads) {
         const std::vector<int64_t> initial = internal::InitialDesign(
-            work.pool, work.constraints, work.eligible, options.num_poses,
-            Random::StreamSeed(options.seed, r), work_approximate, r > 0,
-            threads, &notes[r]);
+            work, options.num_poses, Random::StreamSeed(options.seed, r),
+            work_approximate, r > 0, threads, &notes[r]);
         if (initial.empty()) return RestartResult();
         return FedorovRestart(work.pool, work.eligible, work.is_fixed, initial,
                               options, threads);
@@ -685,7 +666,7 @@ bool FedorovExchange(const CandidatePool& pool,
     std::ostringstream msg;
     msg.precision(3);
     msg << "restarts on a reduced pool of " << reduced->size() << " poses "
-        << std::chrono::duration<double>(restarts_done - start).count()
+        << std::chrono::duration<double>(restarts_done - start.time).count()
         << " s, then " << best.history.size() - reduced_steps
         << (whole_pool ? " swaps over the whole pool "
                        : " swaps in rounds over the " +
@@ -702,12 +683,12 @@ bool FedorovExchange(const CandidatePool& pool,
   if (best.ok) {
     // In double from the exact blocks (the stored ones of a double pool
     // without an exact source), whatever pool the swaps ran on.
-    best.log_det = LogDetOfExactBlocks(pool, best.design);
+    best.log_det = internal::LogDetOfExactBlocks(pool, best.design);
     best.ok = std::isfinite(best.log_det);
   }
   std::string note = internal::NoteOf(notes, best.restart);
   if (!timing.empty()) note = note.empty() ? timing : note + "; " + timing;
-  internal::FinishSummary(best, options.restarts, start, note, summary);
+  internal::FinishSummary(best, options.restarts, start.time, note, summary);
   return summary->IsSolutionUsable();
 }
 

@@ -23,10 +23,9 @@ bool GreedyOptions::IsValid(std::string* error) const {
 bool GreedyDesign(const CandidatePool& pool,
                   const DesignConstraints& constraints,
                   const GreedyOptions& options, SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
+  internal::SelectionStart start;
   if (!internal::PrepareSelection(pool, constraints, options, "greedy", summary,
-                                  &eligible, &is_fixed)) {
+                                  &start)) {
     return false;
   }
   const double eps = internal::RegularisingRidge(pool);
@@ -36,14 +35,14 @@ bool GreedyDesign(const CandidatePool& pool,
   while (design.size() < options.num_poses) {
     int64_t best;
     double value;
-    if (!design.BestAddition(eligible, &best, &value)) break;
+    if (!design.BestAddition(start.eligible, &best, &value)) break;
     design.Add(best);
     result.history.push_back({SelectionStep::kAdd, best, -1,
                               LogDetFromScratch(pool, design.poses())});
   }
   internal::FinishRestart(pool, design.poses(), &result);
   internal::FinishSummary(
-      result, 1, start,
+      result, 1, start.time,
       "ridge " + std::to_string(eps) + " while the design was singular",
       summary);
   return summary->IsSolutionUsable();

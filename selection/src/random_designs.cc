@@ -27,15 +27,14 @@ bool SelectRandomDesigns(const CandidatePool& pool,
                          const RandomDesignOptions& options,
                          SelectionSummary* summary,
                          std::vector<double>* log_dets) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
+  internal::SelectionStart start;
   if (!internal::PrepareSelection(pool, constraints, options, "random", summary,
-                                  &eligible, &is_fixed)) {
+                                  &start)) {
     return false;
   }
   std::vector<int64_t> candidates;
   for (int64_t i = 0; i < pool.size(); ++i) {
-    if (eligible[i]) candidates.push_back(i);
+    if (start.eligible[i]) candidates.push_back(i);
   }
   const int free_count =
       options.num_poses - static_cast<int>(constraints.fixed.size());
@@ -69,9 +68,9 @@ bool SelectRandomDesigns(const CandidatePool& pool,
   summary->restarts = options.num_designs;
   summary->best_restart = best;
   if (log_dets) *log_dets = values;
-  summary->seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-          .count();
+  summary->seconds = std::chrono::duration<double>(
+                         std::chrono::steady_clock::now() - start.time)
+                         .count();
   if (!std::isfinite(summary->log_det)) {
     summary->message = "all " + std::to_string(options.num_designs) +
                        " random designs are singular";

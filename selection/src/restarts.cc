@@ -48,15 +48,15 @@ RestartResult BestOfRestarts(
   return results[best];
 }
 
-std::vector<int64_t> InitialDesign(const CandidatePool& pool,
-                                   const DesignConstraints& constraints,
-                                   const std::vector<char>& eligible,
-                                   int num_poses, uint64_t seed,
+std::vector<int64_t> InitialDesign(const WorkingSet& work, int num_poses,
+                                   uint64_t seed,
                                    const ApproximateDesignSummary* approximate,
                                    bool randomized, int num_threads,
                                    std::string* note) {
-  std::vector<int64_t> design = constraints.fixed;
-  const int want = num_poses - static_cast<int>(constraints.fixed.size());
+  const CandidatePool& pool = work.pool;
+  const std::vector<char>& eligible = work.eligible;
+  std::vector<int64_t> design = work.constraints.fixed;
+  const int want = num_poses - static_cast<int>(design.size());
   if (approximate) {
     // Round the approximate design: restart 0 (randomized == false) takes
     // its heaviest poses; later restarts draw poses without replacement
@@ -114,12 +114,12 @@ std::vector<int64_t> InitialDesign(const CandidatePool& pool,
     // Back to num_poses: drop the non-fixed poses that cost least.
     DeterminantScorer d(pool, num_threads);
     for (int64_t i : design) d.Add(i);
-    std::vector<char> is_fixed(pool.size(), 0);
-    for (int64_t f : constraints.fixed) is_fixed[f] = 1;
     while (d.size() > num_poses) {
       int64_t worst;
       double value;
-      if (!d.BestRemoval(is_fixed, &worst, &value) || !d.Remove(worst)) break;
+      if (!d.BestRemoval(work.is_fixed, &worst, &value) || !d.Remove(worst)) {
+        break;
+      }
     }
     design = d.poses();
     if (note) {

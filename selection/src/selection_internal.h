@@ -20,12 +20,27 @@
 #include <vector>
 
 #include "activecal/core/candidate_pool.h"
+#include "activecal/core/random.h"
 #include "activecal/selection/approximate_design.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/design.h"
+#include "sub_pool.h"
 
 namespace activecal {
 namespace internal {
+
+// The Remove of Design and TaskDesign: CHECK-fails for a pose not in the
+// design; false (nothing changed) when `info` cannot remove its block; else
+// the pose leaves info, member and poses.
+bool RemoveDesignPose(const CandidatePool& pool, int64_t pose,
+                      InformationMatrix* info, std::vector<char>* member,
+                      std::vector<int64_t>* poses);
+
+// Calls fn(begin, count) for the chunks of 512 poses (the last one
+// shorter) covering poses [0, n), the chunks split over num_threads threads
+// by ParallelFor: the sweeps over the pool take one product per chunk.
+void ForEachPoseChunk(int64_t n, int num_threads,
+                      const std::function<void(int64_t, int64_t)>& fn);
 
 // Calls fn(i, X_i V X_i^T) for every pool pose, in parallel chunks (fn must
 // only write per-pose results), reading the stored or the exact blocks.
@@ -120,6 +135,11 @@ inline double ImprovementThreshold(double log_det, double rel) {
   return rel * std::max(1.0, std::abs(log_det));
 }
 
+// log det of a design from the pool's exact blocks (CandidatePool::
+// ExactBlock: the exact source if any, else the stored blocks), in double.
+double LogDetOfExactBlocks(const CandidatePool& pool,
+                           const std::vector<int64_t>& design);
+
 // One restart's outcome.
 struct RestartResult {
   bool ok = false;
@@ -148,15 +168,13 @@ RestartResult BestOfRestarts(
     const std::function<RestartResult(int restart, int inner_threads)>& run,
     const ProgressCallback& progress = ProgressCallback());
 
-// A starting design of num_poses poses: the fixed poses, then (if given)
-// poses of an approximate design (its heaviest, or if `randomized` a draw
-// proportional to the weights), then random eligible poses drawn with
-// `seed`. A singular start is completed greedily and trimmed back.
-// Empty if the pool cannot give a non-singular design.
-std::vector<int64_t> InitialDesign(const CandidatePool& pool,
-                                   const DesignConstraints& constraints,
-                                   const std::vector<char>& eligible,
-                                   int num_poses, uint64_t seed,
+// A starting design of num_poses poses on work.pool: the fixed poses, then
+// (if given) poses of an approximate design (its heaviest, or if
+// `randomized` a draw proportional to the weights), then random eligible
+// poses drawn with `seed`. A singular start is completed greedily and
+// trimmed back. Empty if the pool cannot give a non-singular design.
+std::vector<int64_t> InitialDesign(const WorkingSet& work, int num_poses,
+                                   uint64_t seed,
                                    const ApproximateDesignSummary* approximate,
                                    bool randomized, int num_threads,
                                    std::string* note);
@@ -176,14 +194,30 @@ inline bool PositiveCounts(
   return true;
 }
 
+// What a selection starts from once PrepareSelection has checked it: when
+// it started (the summary's seconds) and the eligible and the fixed poses
+// of the pool (1 each).
+struct SelectionStart {
+  std::chrono::steady_clock::time_point time = std::chrono::steady_clock::now();
+  std::vector<char> eligible;
+  std::vector<char> is_fixed;
+};
+
+// PositiveCounts of the options' num_poses and restarts, the checks the
+// restarted designs' options start with.
+template <typename Options>
+bool PositivePosesAndRestarts(const Options& options, std::ostream* msg) {
+  return PositiveCounts(
+      {{"num_poses", options.num_poses}, {"restarts", options.restarts}}, msg);
+}
+
 // Resets the summary, checks the options and the constraints, and marks the
-// eligible and the fixed poses.
+// eligible and the fixed poses in *start.
 template <typename Options>
 bool PrepareSelection(const CandidatePool& pool,
                       const DesignConstraints& constraints,
                       const Options& options, const char* algorithm,
-                      SelectionSummary* summary, std::vector<char>* eligible,
-                      std::vector<char>* is_fixed,
+                      SelectionSummary* summary, SelectionStart* start,
                       int64_t prior_equations = 0) {
   *summary = SelectionSummary();
   summary->algorithm = algorithm;
@@ -191,13 +225,13 @@ bool PrepareSelection(const CandidatePool& pool,
   summary->pool_size = pool.size();
   std::string error;
   if (!options.IsValid(&error) ||
-      !PrepareCandidates(pool, options.num_poses, constraints, eligible, &error,
-                         prior_equations)) {
+      !PrepareCandidates(pool, options.num_poses, constraints, &start->eligible,
+                         &error, prior_equations)) {
     summary->message = error;
     return false;
   }
-  is_fixed->assign(pool.size(), 0);
-  for (int64_t f : constraints.fixed) (*is_fixed)[f] = 1;
+  start->is_fixed.assign(pool.size(), 0);
+  for (int64_t f : constraints.fixed) start->is_fixed[f] = 1;
   return true;
 }
 
@@ -212,6 +246,45 @@ inline std::string NoteOf(const std::vector<std::string>& notes, int restart) {
 void FinishSummary(const RestartResult& best, int restarts,
                    std::chrono::steady_clock::time_point start,
                    const std::string& note, SelectionSummary* summary);
+
+// The restarts of DETMAX and exchange-add-exchange, on the whole pool
+// (options.restarts of them on options.num_threads, reporting to
+// options.progress, as BestOfRestarts runs them). Restart r starts from
+// InitialDesign(work, start_poses, stream r of options.seed) (no design,
+// with its note, when that fails); then run(work, inner_threads, &note,
+// &result) improves result.design (the start on entry), leaving its steps
+// in result.history and setting result.hit_bound, or returns false for a
+// restart that gives no design; the restart ends on result.design
+// (FinishRestart). The summary is filled from the best restart, with its
+// note (FinishSummary). Returns summary->IsSolutionUsable().
+template <typename Options>
+bool RunRestartsFromInitialDesigns(
+    const CandidatePool& pool, const DesignConstraints& constraints,
+    const Options& options, const SelectionStart& start, int start_poses,
+    const std::function<bool(const WorkingSet&, int, std::string*,
+                             RestartResult*)>& run,
+    SelectionSummary* summary) {
+  const WorkingSet work(pool, nullptr, constraints, start.eligible,
+                        start.is_fixed);
+  std::vector<std::string> notes(options.restarts);
+  const RestartResult best = BestOfRestarts(
+      options.restarts, options.num_threads,
+      [&](int r, int threads) {
+        RestartResult result;
+        result.design = InitialDesign(work, start_poses,
+                                      Random::StreamSeed(options.seed, r),
+                                      nullptr, false, threads, &notes[r]);
+        if (result.design.empty() || !run(work, threads, &notes[r], &result)) {
+          return RestartResult();
+        }
+        FinishRestart(pool, std::move(result.design), &result);
+        return result;
+      },
+      options.progress);
+  FinishSummary(best, options.restarts, start.time, NoteOf(notes, best.restart),
+                summary);
+  return summary->IsSolutionUsable();
+}
 
 // Tries DETMAX excursions of size min_size..max_excursion on `poses` (add k
 // best then remove k, or remove k then add k). Returns true and updates

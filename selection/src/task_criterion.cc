@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "activecal/core/parallel.h"
+#include "selection_internal.h"
 
 namespace activecal {
 namespace {
@@ -121,11 +121,9 @@ void TaskDesign::Add(int64_t pose) {
 }
 
 bool TaskDesign::Remove(int64_t pose) {
-  CHECK(pose >= 0 && pose < pool_->size() && member_[pose])
-      << "pose " << pose << " is not in the design";
-  if (!info_.Remove(pool_->block(pose))) return false;
-  member_[pose] = 0;
-  poses_.erase(std::find(poses_.begin(), poses_.end(), pose));
+  if (!internal::RemoveDesignPose(*pool_, pose, &info_, &member_, &poses_)) {
+    return false;
+  }
   Update();
   return true;
 }
@@ -169,23 +167,17 @@ void TaskDesign::AllQuadraticForms(int num_threads, std::vector<double>* a,
   b->resize(n * tt);
   Eigen::MatrixXd VV(p, 2 * p);
   VV << info_.inverse(), vwv_;
-  constexpr int64_t kChunk = 512;
-  const int64_t num_chunks = (n + kChunk - 1) / kChunk;
-  ParallelFor(num_chunks, num_threads, [&](int64_t cb, int64_t ce, int) {
+  internal::ForEachPoseChunk(n, num_threads, [&](int64_t begin, int64_t count) {
+    Eigen::Map<const RowMatrixXd> X(pool_->stacked().data() + begin * t * p,
+                                    count * t, p);
     RowMatrixXd G;
-    for (int64_t c = cb; c < ce; ++c) {
-      const int64_t begin = c * kChunk;
-      const int64_t count = std::min(kChunk, n - begin);
-      Eigen::Map<const RowMatrixXd> X(pool_->stacked().data() + begin * t * p,
-                                      count * t, p);
-      G.noalias() = X * VV;
-      for (int64_t k = 0; k < count; ++k) {
-        const auto Xk = X.middleRows(k * t, t);
-        Eigen::Map<Eigen::MatrixXd>(a->data() + (begin + k) * tt, t, t)
-            .noalias() = G.block(k * t, 0, t, p).lazyProduct(Xk.transpose());
-        Eigen::Map<Eigen::MatrixXd>(b->data() + (begin + k) * tt, t, t)
-            .noalias() = G.block(k * t, p, t, p).lazyProduct(Xk.transpose());
-      }
+    G.noalias() = X * VV;
+    for (int64_t k = 0; k < count; ++k) {
+      const auto Xk = X.middleRows(k * t, t);
+      Eigen::Map<Eigen::MatrixXd>(a->data() + (begin + k) * tt, t, t)
+          .noalias() = G.block(k * t, 0, t, p).lazyProduct(Xk.transpose());
+      Eigen::Map<Eigen::MatrixXd>(b->data() + (begin + k) * tt, t, t)
+          .noalias() = G.block(k * t, p, t, p).lazyProduct(Xk.transpose());
     }
   });
 }

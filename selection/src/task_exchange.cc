@@ -29,8 +29,7 @@ namespace activecal {
 
 bool TaskExchangeOptions::IsValid(std::string* error) const {
   std::ostringstream msg;
-  if (internal::PositiveCounts(
-          {{"num_poses", num_poses}, {"restarts", restarts}}, &msg)) {
+  if (internal::PositivePosesAndRestarts(*this, &msg)) {
     if (max_swaps < 0)
       msg << "max_swaps must be >= 0, got " << max_swaps;
     else if (!(min_improvement >= 0))
@@ -275,13 +274,13 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
                   const TaskExchangeOptions& options,
                   const TaskApproximateSummary* approximate,
                   SelectionSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<char> eligible, is_fixed;
+  internal::SelectionStart start;
   if (!internal::PrepareSelection(pool, constraints, options, "task_fedorov",
-                                  summary, &eligible, &is_fixed,
-                                  prior_rows.rows())) {
+                                  summary, &start, prior_rows.rows())) {
     return false;
   }
+  const std::vector<char>& eligible = start.eligible;
+  const std::vector<char>& is_fixed = start.is_fixed;
   CHECK_EQ(W.rows(), pool.num_parameters());
   ApproximateDesignSummary rounding;
   if (approximate) {
@@ -346,8 +345,7 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
           }
         } else {
           initial = internal::InitialDesign(
-              work.pool, work.constraints, work.eligible, options.num_poses,
-              Random::StreamSeed(options.seed, r),
+              work, options.num_poses, Random::StreamSeed(options.seed, r),
               has_approximate ? &work_rounding : nullptr, r > 0, threads,
               &notes[r]);
         }
@@ -379,7 +377,7 @@ bool TaskExchange(const CandidatePool& pool, const Eigen::MatrixXd& W,
         " swaps over the whole pool";
     note = note.empty() ? polish : note + "; " + polish;
   }
-  internal::FinishSummary(best, options.restarts, start, note, summary);
+  internal::FinishSummary(best, options.restarts, start.time, note, summary);
   FinishTaskSummary(pool, W, prior_rows, summary);
   return summary->IsSolutionUsable();
 }
@@ -389,13 +387,11 @@ bool TaskGreedy(const CandidatePool& pool, const Eigen::MatrixXd& W,
                 const DesignConstraints& constraints, int num_poses,
                 int num_threads, SelectionSummary* summary,
                 std::vector<double>* criterion_by_size) {
-  const auto start = std::chrono::steady_clock::now();
+  internal::SelectionStart start;
   GreedyOptions options;
   options.num_poses = num_poses;
-  std::vector<char> eligible, is_fixed;
   if (!internal::PrepareSelection(pool, constraints, options, "task_greedy",
-                                  summary, &eligible, &is_fixed,
-                                  prior_rows.rows())) {
+                                  summary, &start, prior_rows.rows())) {
     return false;
   }
   CHECK_EQ(W.rows(), pool.num_parameters());
@@ -432,7 +428,7 @@ bool TaskGreedy(const CandidatePool& pool, const Eigen::MatrixXd& W,
     int64_t best = -1;
     double best_change = kInf;
     for (int64_t x = 0; x < pool.size(); ++x) {
-      if (!eligible[x] || design->Contains(x)) continue;
+      if (!start.eligible[x] || design->Contains(x)) continue;
       const double c =
           t == 3 ? AddChangeOf<3>(a.data() + x * tt, b.data() + x * tt, t)
                  : AddChangeOf<Eigen::Dynamic>(a.data() + x * tt,
@@ -452,7 +448,7 @@ bool TaskGreedy(const CandidatePool& pool, const Eigen::MatrixXd& W,
       TaskCriterionFromScratch(pool, W, prior_rows, result.design);
   result.ok = std::isfinite(phi);
   result.log_det = -phi;
-  internal::FinishSummary(result, 1, start, "", summary);
+  internal::FinishSummary(result, 1, start.time, "", summary);
   FinishTaskSummary(pool, W, prior_rows, summary);
   return summary->IsSolutionUsable();
 }

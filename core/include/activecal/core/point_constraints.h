@@ -30,6 +30,11 @@ namespace activecal {
 std::vector<std::string> PointLabels(
     const std::vector<Measurement>& measurements);
 
+// The position of `label` in `labels` (a point's in PointLabels order, a
+// plane's in PlaneLabels order); labels.size() when it is not there.
+int LabelIndex(const std::vector<std::string>& labels,
+               const std::string& label);
+
 // True when some measurement involves a fixed point.
 bool HasPointRows(const std::vector<Measurement>& measurements);
 
