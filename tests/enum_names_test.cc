@@ -22,13 +22,19 @@
 #include "activecal/cell/shape.h"
 #include "activecal/core/enum_name_list.h"
 #include "activecal/core/free_set.h"
+#include "activecal/core/joint_errors.h"
+#include "activecal/core/measurement.h"
 #include "activecal/core/parameter_sets.h"
+#include "activecal/core/robot_model.h"
+#include "activecal/core/types.h"
 #include "activecal/driver/protocol.h"
 #include "activecal/driver/simulated_cell.h"
+#include "activecal/estimation/evaluation.h"
 #include "activecal/estimation/identification.h"
 #include "activecal/estimation/learned_residual.h"
 #include "activecal/estimation/model_selection.h"
 #include "activecal/io/controller_programs.h"
+#include "activecal/kinematics/inverse_kinematics.h"
 
 namespace activecal {
 namespace {
@@ -120,6 +126,61 @@ TEST(EnumNamesTest, TheLayersEnumsKeepTheirNames) {
   ExpectNames(RobustLossToString, StringToRobustLoss,
               {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy},
               {"none", "huber", "cauchy"});
+}
+
+// Names without a reading back (the lists of core, estimation and
+// kinematics), each value spelled out: a list out of the enum's order fails.
+template <typename Enum>
+void ExpectSpelling(const char* (*to_string)(Enum),
+                    std::initializer_list<Enum> values,
+                    std::initializer_list<const char*> names) {
+  ASSERT_EQ(values.size(), names.size());
+  auto name = names.begin();
+  for (Enum value : values) EXPECT_STREQ(to_string(value), *name++);
+}
+
+TEST(EnumNamesTest, TheLowerLayersNamesKeepTheirSpelling) {
+  ExpectSpelling(LinkConventionName,
+                 {LinkConvention::kStandardDH, LinkConvention::kModifiedDH,
+                  LinkConvention::kHayati, LinkConvention::kUrdf,
+                  LinkConvention::kFrame},
+                 {"standard_dh", "modified_dh", "hayati", "urdf", "frame"});
+  ExpectSpelling(JointTypeName,
+                 {JointType::kRevolute, JointType::kPrismatic,
+                  JointType::kFixed},
+                 {"revolute", "prismatic", "fixed"});
+  ExpectSpelling(ParameterKindUnit,
+                 {ParameterKind::kLength, ParameterKind::kAngle,
+                  ParameterKind::kGain},
+                 {"m", "rad", "1"});
+  ExpectSpelling(JointTermKindToString,
+                 {JointTermKind::kCompliance, JointTermKind::kSine,
+                  JointTermKind::kCosine},
+                 {"compliance", "sin", "cos"});
+  ExpectSpelling(TerminationTypeToString,
+                 {TerminationType::kConvergence,
+                  TerminationType::kNoConvergence, TerminationType::kFailure,
+                  TerminationType::kUserFailure},
+                 {"CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE"});
+  EXPECT_STREQ(TerminationTypeToString(static_cast<TerminationType>(9)),
+               "UNKNOWN");
+  ExpectSpelling(PostureGroupName,
+                 {PostureGroup::kRepeated, PostureGroup::kNew,
+                  PostureGroup::kOutOfRange},
+                 {"repeated", "new", "out_of_range"});
+  ExpectSpelling(IkStatusName,
+                 {IkStatus::kConverged, IkStatus::kSingular, IkStatus::kLimit,
+                  IkStatus::kUnreachable, IkStatus::kInvalid,
+                  IkStatus::kIterationCap, IkStatus::kCollision},
+                 {"converged", "singular", "limit", "unreachable", "invalid",
+                  "iteration_cap", "collision"});
+  // MeasurementType's names are read back too.
+  ExpectNames(MeasurementTypeName, ParseMeasurementType,
+              {MeasurementType::kPosition, MeasurementType::kPose,
+               MeasurementType::kDistance, MeasurementType::kPoint,
+               MeasurementType::kPointDistance, MeasurementType::kPlane},
+              {"position", "pose", "distance", "point", "point_distance",
+               "plane"});
 }
 
 constexpr const char* kColourList[] = {"red", "green"};

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 
 namespace activecal {
@@ -93,15 +94,8 @@ Eigen::VectorXd GravityTorques(const RobotModel& model,
 }
 
 const char* JointTermKindToString(JointTermKind kind) {
-  switch (kind) {
-    case JointTermKind::kCompliance:
-      return "compliance";
-    case JointTermKind::kSine:
-      return "sin";
-    case JointTermKind::kCosine:
-      return "cos";
-  }
-  return "unknown";
+  constexpr const char* kNames[] = {"compliance", "sin", "cos"};
+  return EnumToString(kNames, kind);
 }
 
 bool JointErrorModel::has_compliance() const {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/validation.h"
 
@@ -38,35 +39,15 @@ int MeasurementDimension(MeasurementType type) {
   return 0;
 }
 
+constexpr const char* kMeasurementTypeNames[] = {
+    "position", "pose", "distance", "point", "point_distance", "plane"};
+
 const char* MeasurementTypeName(MeasurementType type) {
-  switch (type) {
-    case MeasurementType::kPosition:
-      return "position";
-    case MeasurementType::kPose:
-      return "pose";
-    case MeasurementType::kDistance:
-      return "distance";
-    case MeasurementType::kPoint:
-      return "point";
-    case MeasurementType::kPointDistance:
-      return "point_distance";
-    case MeasurementType::kPlane:
-      return "plane";
-  }
-  return "unknown";
+  return EnumToString(kMeasurementTypeNames, type);
 }
 
 bool ParseMeasurementType(const std::string& name, MeasurementType* type) {
-  for (MeasurementType t :
-       {MeasurementType::kPosition, MeasurementType::kPose,
-        MeasurementType::kDistance, MeasurementType::kPoint,
-        MeasurementType::kPointDistance, MeasurementType::kPlane}) {
-    if (name == MeasurementTypeName(t)) {
-      *type = t;
-      return true;
-    }
-  }
-  return false;
+  return StringToEnum(kMeasurementTypeNames, name, type);
 }
 
 bool CheckMeasurement(const RobotModel& model, const Measurement& m,

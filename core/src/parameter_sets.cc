@@ -3,16 +3,13 @@
 
 #include "activecal/core/parameter_sets.h"
 
-#include "activecal/core/enum_names.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/random.h"
 
 namespace activecal {
 
-constexpr EnumName<ParameterSet> kParameterSetNames[] = {
-    {ParameterSet::kRegistration, "registration"},
-    {ParameterSet::kOffsets, "offsets"},
-    {ParameterSet::kFull, "full"},
-    {ParameterSet::kFile, "file"}};
+constexpr const char* kParameterSetNames[] = {"registration", "offsets", "full",
+                                              "file"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(ParameterSet, kParameterSetNames)
 
 FreeSet ParameterSetFreeSet(const RobotModel& model, ParameterSet set,

@@ -12,6 +12,7 @@
 #include <limits>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/validation.h"
 
@@ -87,43 +88,19 @@ const char* MarkerParameterName(int index) {
 }
 
 const char* ParameterKindUnit(ParameterKind kind) {
-  switch (kind) {
-    case ParameterKind::kLength:
-      return "m";
-    case ParameterKind::kAngle:
-      return "rad";
-    case ParameterKind::kGain:
-      return "1";
-  }
-  return "?";
+  constexpr const char* kNames[] = {"m", "rad", "1"};
+  return EnumToString(kNames, kind, "?");
 }
 
 const char* LinkConventionName(LinkConvention convention) {
-  switch (convention) {
-    case LinkConvention::kStandardDH:
-      return "standard_dh";
-    case LinkConvention::kModifiedDH:
-      return "modified_dh";
-    case LinkConvention::kHayati:
-      return "hayati";
-    case LinkConvention::kUrdf:
-      return "urdf";
-    case LinkConvention::kFrame:
-      return "frame";
-  }
-  return "unknown";
+  constexpr const char* kNames[] = {"standard_dh", "modified_dh", "hayati",
+                                    "urdf", "frame"};
+  return EnumToString(kNames, convention);
 }
 
 const char* JointTypeName(JointType type) {
-  switch (type) {
-    case JointType::kRevolute:
-      return "revolute";
-    case JointType::kPrismatic:
-      return "prismatic";
-    case JointType::kFixed:
-      return "fixed";
-  }
-  return "unknown";
+  constexpr const char* kNames[] = {"revolute", "prismatic", "fixed"};
+  return EnumToString(kNames, type);
 }
 
 int RobotModel::num_parameters() const { return block_offset(num_blocks()); }

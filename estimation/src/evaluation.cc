@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
@@ -197,15 +198,8 @@ bool EvaluateCorrectedModel(const RobotModel& model,
 }
 
 const char* PostureGroupName(PostureGroup group) {
-  switch (group) {
-    case PostureGroup::kRepeated:
-      return "repeated";
-    case PostureGroup::kNew:
-      return "new";
-    case PostureGroup::kOutOfRange:
-      return "out_of_range";
-  }
-  return "unknown";
+  constexpr const char* kNames[] = {"repeated", "new", "out_of_range"};
+  return EnumToString(kNames, group);
 }
 
 std::vector<PostureGroup> ClassifyPostures(

@@ -19,7 +19,7 @@
 #include <memory>
 #include <sstream>
 
-#include "activecal/core/enum_names.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/plane_constraints.h"
 #include "activecal/core/point_constraints.h"
 #include "activecal/core/validation.h"
@@ -37,10 +37,7 @@ constexpr double kNoEffectTolerance = kNoEffectRelativeNorm;
 constexpr double kChiSquareTail = 0.0005;
 }  // namespace
 
-constexpr EnumName<RobustLoss> kRobustLossNames[] = {
-    {RobustLoss::kNone, "none"},
-    {RobustLoss::kHuber, "huber"},
-    {RobustLoss::kCauchy, "cauchy"}};
+constexpr const char* kRobustLossNames[] = {"none", "huber", "cauchy"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(RobustLoss, kRobustLossNames)
 
 bool IdentificationOptions::IsValid(std::string* error) const {

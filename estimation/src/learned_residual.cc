@@ -12,7 +12,7 @@
 #include <map>
 #include <sstream>
 
-#include "activecal/core/enum_names.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/model_selection.h"
@@ -166,10 +166,7 @@ void FitAll(const Rows& rows, const Eigen::MatrixXd& omega,
 
 }  // namespace
 
-constexpr EnumName<LearnedResidualMode> kLearnedResidualModeNames[] = {
-    {LearnedResidualMode::kOff, "off"},
-    {LearnedResidualMode::kOn, "on"},
-    {LearnedResidualMode::kAuto, "auto"}};
+constexpr const char* kLearnedResidualModeNames[] = {"off", "on", "auto"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(LearnedResidualMode, kLearnedResidualModeNames)
 
 bool LearnedResidualOptions::IsValid(std::string* error) const {

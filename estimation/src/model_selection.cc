@@ -15,7 +15,7 @@
 #include <mutex>
 #include <sstream>
 
-#include "activecal/core/enum_names.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/parallel.h"
 #include "activecal/core/random.h"
 #include "activecal/estimation/registration_fit.h"
@@ -23,24 +23,16 @@
 
 namespace activecal {
 
-constexpr EnumName<ModelSelectionMethod> kModelSelectionMethodNames[] = {
-    {ModelSelectionMethod::kNone, "none"},
-    {ModelSelectionMethod::kValidation, "validation"},
-    {ModelSelectionMethod::kCrossValidation, "cv"},
-    {ModelSelectionMethod::kAuto, "auto"}};
+constexpr const char* kModelSelectionMethodNames[] = {"none", "validation",
+                                                      "cv", "auto"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(ModelSelectionMethod,
                                 kModelSelectionMethodNames)
 
-constexpr EnumName<ParameterRanking> kParameterRankingNames[] = {
-    {ParameterRanking::kSignificance, "significance"},
-    {ParameterRanking::kJacobian, "jacobian"}};
+constexpr const char* kParameterRankingNames[] = {"significance", "jacobian"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(ParameterRanking, kParameterRankingNames)
 
-constexpr EnumName<SelectionRule> kSelectionRuleNames[] = {
-    {SelectionRule::kMinimum, "min"},
-    {SelectionRule::kFewestWithinOneSe, "1se"},
-    {SelectionRule::kMostWithinOneSe, "1se_most"},
-    {SelectionRule::kFTest, "ftest"}};
+constexpr const char* kSelectionRuleNames[] = {"min", "1se", "1se_most",
+                                               "ftest"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(SelectionRule, kSelectionRuleNames)
 
 bool ModelSelectionOptions::IsValid(std::string* error) const {

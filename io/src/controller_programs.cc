@@ -12,7 +12,7 @@
 #include <sstream>
 #include <utility>
 
-#include "activecal/core/enum_names.h"
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/validation.h"
 #include "number_text.h"
 #include "yaml_reader.h"
@@ -158,10 +158,7 @@ bool ValidName(const std::string& name) {
 
 }  // namespace
 
-constexpr EnumName<ProgramLanguage> kProgramLanguageNames[] = {
-    {ProgramLanguage::kUrScript, "urscript"},
-    {ProgramLanguage::kKrl, "krl"},
-    {ProgramLanguage::kRapid, "rapid"}};
+constexpr const char* kProgramLanguageNames[] = {"urscript", "krl", "rapid"};
 ACTIVECAL_ENUM_STRING_FUNCTIONS(ProgramLanguage, kProgramLanguageNames)
 
 ControllerConvention IdentityConvention(const RobotModel& model) {

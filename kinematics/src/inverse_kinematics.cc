@@ -15,6 +15,7 @@
 #include <memory>
 #include <sstream>
 
+#include "activecal/core/enum_name_list.h"
 #include "activecal/core/kinematics.h"
 #include "activecal/core/parallel.h"
 #include "activecal/core/text_table.h"
@@ -956,23 +957,10 @@ bool ParseIkMatch(const std::string& text, IkMatch* match) {
 }
 
 const char* IkStatusName(IkStatus status) {
-  switch (status) {
-    case IkStatus::kConverged:
-      return "converged";
-    case IkStatus::kSingular:
-      return "singular";
-    case IkStatus::kLimit:
-      return "limit";
-    case IkStatus::kUnreachable:
-      return "unreachable";
-    case IkStatus::kInvalid:
-      return "invalid";
-    case IkStatus::kIterationCap:
-      return "iteration_cap";
-    case IkStatus::kCollision:
-      return "collision";
-  }
-  return "unknown";
+  constexpr const char* kNames[] = {"converged",   "singular", "limit",
+                                    "unreachable", "invalid",  "iteration_cap",
+                                    "collision"};
+  return EnumToString(kNames, status);
 }
 
 bool InverseKinematicsOptions::IsValid(std::string* error) const {

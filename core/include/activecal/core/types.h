@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "activecal/core/enum_name_list.h"
+
 namespace activecal {
 
 // Row-major dynamic matrix: stacked Jacobian blocks are contiguous per pose.
@@ -43,17 +45,9 @@ enum class TerminationType {
 
 // "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE".
 inline const char* TerminationTypeToString(TerminationType type) {
-  switch (type) {
-    case TerminationType::kConvergence:
-      return "CONVERGENCE";
-    case TerminationType::kNoConvergence:
-      return "NO_CONVERGENCE";
-    case TerminationType::kFailure:
-      return "FAILURE";
-    case TerminationType::kUserFailure:
-      return "USER_FAILURE";
-  }
-  return "UNKNOWN";
+  constexpr const char* kNames[] = {"CONVERGENCE", "NO_CONVERGENCE", "FAILURE",
+                                    "USER_FAILURE"};
+  return EnumToString(kNames, type, "UNKNOWN");
 }
 
 }  // namespace activecal
