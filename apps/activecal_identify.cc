@@ -287,7 +287,7 @@ int Main() {
   std::printf("%s", run.printed.c_str());
   if (!run.failure.empty()) app::Fail(run.failure);
   // One set with --selection_plot's figure: all written, or none.
-  app::WriteFilesOrDie(run.files);
+  app::WriteFilesOrDie(run.files, {{FLAGS_selection_plot, "--selection_plot"}});
   app::CommitOutputsOrDie();
   std::printf("%s", run.notes_after.c_str());
   app::PrintResult(app::ProgramName() + ": " + CalibrationResultLine(summary));

@@ -182,8 +182,14 @@ void WriteTextOrDie(const std::string& path, const std::string& text) {
   if (!AddOutput(path, text, &error)) Fail(error);
 }
 
-void WriteFilesOrDie(const std::vector<OutputFile>& files) {
-  for (const OutputFile& file : files) WriteTextOrDie(file.path, file.text);
+void WriteFilesOrDie(const std::vector<OutputFile>& files,
+                     const std::map<std::string, std::string>& options) {
+  for (const OutputFile& file : files) {
+    std::string error;
+    if (AddOutput(file.path, file.text, &error)) continue;
+    const auto option = options.find(file.path);
+    Fail(option == options.end() ? error : option->second + ": " + error);
+  }
 }
 
 bool AddOutput(const std::string& path, const std::string& text,

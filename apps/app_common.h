@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -173,8 +174,10 @@ void CheckWritableOrDie(const std::string& path, const std::string& flag);
 // named as the user wrote it).
 void CheckTourFlagsOrDie(const std::string& order, double resolution_deg);
 void WriteTextOrDie(const std::string& path, const std::string& text);
-// WriteTextOrDie of each file.
-void WriteFilesOrDie(const std::vector<OutputFile>& files);
+// WriteTextOrDie of each file; one whose path `options` names fails as
+// "<option>: <error>" (a figure: "--selection_plot: cannot write ...").
+void WriteFilesOrDie(const std::vector<OutputFile>& files,
+                     const std::map<std::string, std::string>& options = {});
 // WriteTextOrDie's pending write, false with *error instead of dying.
 bool AddOutput(const std::string& path, const std::string& text,
                std::string* error);

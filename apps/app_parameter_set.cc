@@ -27,11 +27,10 @@ namespace activecal {
 namespace app {
 
 ParameterSet ParameterSetOrDie(bool urdf_robot) {
-  ParameterSet set = urdf_robot ? ParameterSet::kFull : ParameterSet::kFile;
-  if (!FLAGS_parameter_set.empty() &&
-      !StringToParameterSet(FLAGS_parameter_set, &set)) {
-    Fail("--parameter_set must be registration, offsets, full or file, got '" +
-         FLAGS_parameter_set + "'");
+  ParameterSet set;
+  std::string error;
+  if (!ParseParameterSet(FLAGS_parameter_set, urdf_robot, &set, &error)) {
+    Fail("--" + error);
   }
   return set;
 }

@@ -20,7 +20,9 @@ void PlotOrNote(const std::string& script, const std::string& png_path,
   }
   // The figure joins the program's outputs (app_common.h): renamed over
   // png_path with the others at the end, removed if the program fails.
-  if (!png.path.empty()) WriteTextOrDie(png.path, png.text);
+  if (!png.path.empty() && !AddOutput(png.path, png.text, &error)) {
+    Fail("--" + flag + ": " + error);
+  }
   std::printf("%s", note.c_str());
 }
 

@@ -182,6 +182,14 @@ std::shared_ptr<DesignResult> SelectPy(
     if (!pool_indices.is_none()) {
       options.pool_poses.pose_indices =
           IntegerVector(pool_indices, "pool_indices");
+      // The library takes no labels as none given: an empty list is a
+      // list of the wrong length here.
+      if (options.pool_poses.pose_indices.empty() &&
+          options.pool_poses.joints.rows() > 0) {
+        Fail("pool_indices: expected " +
+             std::to_string(options.pool_poses.joints.rows()) +
+             " values (one per pool pose), got 0");
+      }
     }
   } else {
     const std::string kind =

@@ -58,7 +58,7 @@ class SigpipeBlockTest : public ::testing::Test {
 
 TEST_F(SigpipeBlockTest, AWriteToAGonePipeIsEpipeNotASignal) {
   int fds[2];
-  BrokenPipe(fds);
+  ASSERT_NO_FATAL_FAILURE(BrokenPipe(fds));
   const char byte = 'x';
   {
     const SigpipeBlock block;
@@ -86,7 +86,7 @@ TEST_F(SigpipeBlockTest, ASigpipePendingBeforeIsLeftPending) {
   pthread_kill(pthread_self(), SIGPIPE);
   ASSERT_TRUE(SigpipePendingHere());
   int fds[2];
-  BrokenPipe(fds);
+  ASSERT_NO_FATAL_FAILURE(BrokenPipe(fds));
   const char byte = 'x';
   {
     const SigpipeBlock block;

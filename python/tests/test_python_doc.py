@@ -117,6 +117,13 @@ def test_integer_arguments_given_non_integers_raise_value_error(puma,
                        r"= 0, the same label as pose_indices\[0\]"):
         activecal.select(puma, pool=pool, num_poses=20,
                          pool_indices=list(range(24)) + [0])
+    # An empty list labels no pose: one per pool pose or none at all.
+    for labels in ([], list(range(24))):
+        with pytest.raises(ValueError, match=r"pool_indices: expected 25 "
+                           r"values \(one per pool pose\), got %d"
+                           % len(labels)):
+            activecal.select(puma, pool=pool, num_poses=20,
+                             pool_indices=labels)
     with pytest.raises(ValueError, match=r"pose_indices\[0\] = -5: a pose "
                        "label"):
         activecal.compensate(puma, targets=np.array([[0.5, 0.2, 0.3]]),
