@@ -527,8 +527,8 @@ TEST(ActiveSessionTest, ASessionIsContinuedOnlyAsItWasMade) {
             std::string::npos)
       << error;
   session.reset();
-  EXPECT_FALSE(
-      ActiveSession::Open(dir, false, p.model, kPumaIdentity, &session, &error));
+  EXPECT_FALSE(ActiveSession::Open(dir, false, p.model, kPumaIdentity, &session,
+                                   &error));
   EXPECT_NE(error.find("holds a session already"), std::string::npos) << error;
   const SessionIdentity other = {{"seed", "2"}, {"robot", "puma"}};
   EXPECT_FALSE(
@@ -537,8 +537,8 @@ TEST(ActiveSessionTest, ASessionIsContinuedOnlyAsItWasMade) {
             std::string::npos)
       << error;
   const std::string empty = TempDir("empty");
-  EXPECT_FALSE(
-      ActiveSession::Open(empty, true, p.model, kPumaIdentity, &session, &error));
+  EXPECT_FALSE(ActiveSession::Open(empty, true, p.model, kPumaIdentity,
+                                   &session, &error));
   EXPECT_NE(error.find("holds no session"), std::string::npos) << error;
 }
 

@@ -142,7 +142,8 @@ TEST_F(ApproximateDesignScaleTest, AboveSubsampleSizeCertifiesTheWholePool) {
 RowMatrixXd UniformRows(int64_t rows, int cols, double scale, Random* random) {
   RowMatrixXd m(rows, cols);
   for (int64_t r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) m(r, c) = scale * (2 * random->Uniform() - 1);
+    for (int c = 0; c < cols; ++c)
+      m(r, c) = scale * (2 * random->Uniform() - 1);
   }
   return m;
 }

@@ -12,7 +12,6 @@
 
 #include <Eigen/Core>
 #include <memory>
-
 #include <set>
 #include <string>
 #include <vector>
@@ -58,8 +57,8 @@ inline std::vector<HeldParameter> HeldOfFullSet(
 // The residual of the measurement m on (a copy of) the model.
 inline std::unique_ptr<ceres::CostFunction> ResidualOf(const RobotModel& model,
                                                        const Measurement& m) {
-  return std::unique_ptr<ceres::CostFunction>(
-      MeasurementResidual::Create(std::make_shared<const RobotModel>(model), m));
+  return std::unique_ptr<ceres::CostFunction>(MeasurementResidual::Create(
+      std::make_shared<const RobotModel>(model), m));
 }
 
 // A residual's parameter blocks: the model's blocks in *x, then `extra`

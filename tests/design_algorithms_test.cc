@@ -304,15 +304,15 @@ TEST(CertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
     std::vector<int64_t> d = random.SampleWithoutReplacement(pool.size(), 3);
     if (std::isfinite(LogDetFromScratch(pool, d))) designs.push_back(d);
   }
-  testing::CheckEachDesign(designs, approx,
-                           [&](const ApproximateDesignSummary* a,
-                               SelectionSummary* summary) {
-    ASSERT_TRUE(CertifyDesign(pool, {}, a, 1, summary));
-    const double log_det = LogDetFromScratch(pool, summary->design);
-    const double true_efficiency = std::exp((log_det - optimum) / p);
-    EXPECT_LE(summary->efficiency_lower_bound, true_efficiency + 1e-12);
-    EXPECT_GE(summary->log_det_upper_bound, optimum - 1e-9);
-  });
+  testing::CheckEachDesign(
+      designs, approx,
+      [&](const ApproximateDesignSummary* a, SelectionSummary* summary) {
+        ASSERT_TRUE(CertifyDesign(pool, {}, a, 1, summary));
+        const double log_det = LogDetFromScratch(pool, summary->design);
+        const double true_efficiency = std::exp((log_det - optimum) / p);
+        EXPECT_LE(summary->efficiency_lower_bound, true_efficiency + 1e-12);
+        EXPECT_GE(summary->log_det_upper_bound, optimum - 1e-9);
+      });
 }
 
 }  // namespace

@@ -140,34 +140,34 @@ void ExpectSpelling(const char* (*to_string)(Enum),
 }
 
 TEST(EnumNamesTest, TheLowerLayersNamesKeepTheirSpelling) {
-  ExpectSpelling(LinkConventionName,
-                 {LinkConvention::kStandardDH, LinkConvention::kModifiedDH,
-                  LinkConvention::kHayati, LinkConvention::kUrdf,
-                  LinkConvention::kFrame},
-                 {"standard_dh", "modified_dh", "hayati", "urdf", "frame"});
-  ExpectSpelling(JointTypeName,
-                 {JointType::kRevolute, JointType::kPrismatic,
-                  JointType::kFixed},
-                 {"revolute", "prismatic", "fixed"});
-  ExpectSpelling(ParameterKindUnit,
-                 {ParameterKind::kLength, ParameterKind::kAngle,
-                  ParameterKind::kGain},
-                 {"m", "rad", "1"});
+  ExpectSpelling(
+      LinkConventionName,
+      {LinkConvention::kStandardDH, LinkConvention::kModifiedDH,
+       LinkConvention::kHayati, LinkConvention::kUrdf, LinkConvention::kFrame},
+      {"standard_dh", "modified_dh", "hayati", "urdf", "frame"});
+  ExpectSpelling(
+      JointTypeName,
+      {JointType::kRevolute, JointType::kPrismatic, JointType::kFixed},
+      {"revolute", "prismatic", "fixed"});
+  ExpectSpelling(
+      ParameterKindUnit,
+      {ParameterKind::kLength, ParameterKind::kAngle, ParameterKind::kGain},
+      {"m", "rad", "1"});
   ExpectSpelling(JointTermKindToString,
                  {JointTermKind::kCompliance, JointTermKind::kSine,
                   JointTermKind::kCosine},
                  {"compliance", "sin", "cos"});
-  ExpectSpelling(TerminationTypeToString,
-                 {TerminationType::kConvergence,
-                  TerminationType::kNoConvergence, TerminationType::kFailure,
-                  TerminationType::kUserFailure},
-                 {"CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE"});
+  ExpectSpelling(
+      TerminationTypeToString,
+      {TerminationType::kConvergence, TerminationType::kNoConvergence,
+       TerminationType::kFailure, TerminationType::kUserFailure},
+      {"CONVERGENCE", "NO_CONVERGENCE", "FAILURE", "USER_FAILURE"});
   EXPECT_STREQ(TerminationTypeToString(static_cast<TerminationType>(9)),
                "UNKNOWN");
-  ExpectSpelling(PostureGroupName,
-                 {PostureGroup::kRepeated, PostureGroup::kNew,
-                  PostureGroup::kOutOfRange},
-                 {"repeated", "new", "out_of_range"});
+  ExpectSpelling(
+      PostureGroupName,
+      {PostureGroup::kRepeated, PostureGroup::kNew, PostureGroup::kOutOfRange},
+      {"repeated", "new", "out_of_range"});
   ExpectSpelling(IkStatusName,
                  {IkStatus::kConverged, IkStatus::kSingular, IkStatus::kLimit,
                   IkStatus::kUnreachable, IkStatus::kInvalid,
@@ -175,12 +175,12 @@ TEST(EnumNamesTest, TheLowerLayersNamesKeepTheirSpelling) {
                  {"converged", "singular", "limit", "unreachable", "invalid",
                   "iteration_cap", "collision"});
   // MeasurementType's names are read back too.
-  ExpectNames(MeasurementTypeName, ParseMeasurementType,
-              {MeasurementType::kPosition, MeasurementType::kPose,
-               MeasurementType::kDistance, MeasurementType::kPoint,
-               MeasurementType::kPointDistance, MeasurementType::kPlane},
-              {"position", "pose", "distance", "point", "point_distance",
-               "plane"});
+  ExpectNames(
+      MeasurementTypeName, ParseMeasurementType,
+      {MeasurementType::kPosition, MeasurementType::kPose,
+       MeasurementType::kDistance, MeasurementType::kPoint,
+       MeasurementType::kPointDistance, MeasurementType::kPlane},
+      {"position", "pose", "distance", "point", "point_distance", "plane"});
 }
 
 constexpr const char* kColourList[] = {"red", "green"};
@@ -255,8 +255,8 @@ TEST(EnumNamesTest, TheUpperLayersEnumsKeepTheirNames) {
 // The pools and the garbage kinds a user names are fewer than those named.
 TEST(EnumNamesTest, SomeNamedValuesAreNotReadBack) {
   // A CSV pool is named by its path, a pool in memory is given.
-  const char* const pools[] = {"lattice", "sobol", "random",
-                               "measurable", "csv", "poses"};
+  const char* const pools[] = {"lattice",    "sobol", "random",
+                               "measurable", "csv",   "poses"};
   for (int i = 0; i < 6; ++i) {
     const auto pool = static_cast<SelectPool>(i);
     EXPECT_STREQ(SelectPoolToString(pool), pools[i]);

@@ -321,10 +321,9 @@ TEST(LearnedResidualFile, RoundTripPredictsTheSame) {
   Random random(5);
   for (int i = 0; i < 50; ++i) {
     const Eigen::VectorXd q = RandomJoints(model, &random);
-    EXPECT_LE((c.Correction(q, 0) - fitted.Correction(q, 0))
-                  .cwiseAbs()
-                  .maxCoeff(),
-              1e-12);
+    EXPECT_LE(
+        (c.Correction(q, 0) - fitted.Correction(q, 0)).cwiseAbs().maxCoeff(),
+        1e-12);
   }
   // Written again, the same text.
   file.learned_correction = &c;

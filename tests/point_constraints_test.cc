@@ -63,7 +63,8 @@ TEST(PointConstraintsTest, ResidualJacobianMatchesCentralDifferences) {
   Eigen::Vector3d c(0.3, -0.2, 0.5);
   std::vector<double*> blocks = BlocksWith(model, &x, {c.data()});
   std::vector<double*> jac_ptrs;
-  const std::vector<std::vector<double>> jac = JacobianStorage(*cost, &jac_ptrs);
+  const std::vector<std::vector<double>> jac =
+      JacobianStorage(*cost, &jac_ptrs);
   double r[3];
   ASSERT_TRUE(cost->Evaluate(blocks.data(), r, jac_ptrs.data()));
   // The residual: predicted point - c.
@@ -107,7 +108,8 @@ TEST(PointConstraintsTest, KnownDistanceResidualAndJacobian) {
   const std::unique_ptr<ceres::CostFunction> cost = ResidualOf(model, m);
   Eigen::VectorXd x = model.nominal;
   Eigen::Vector3d a(0.1, 0.2, 0.3), b(0.13, 0.24, 0.3);
-  const std::vector<double*> blocks = BlocksWith(model, &x, {a.data(), b.data()});
+  const std::vector<double*> blocks =
+      BlocksWith(model, &x, {a.data(), b.data()});
   std::vector<double*> jac(blocks.size(), nullptr);
   double ja[3], jb[3];
   jac[model.num_blocks()] = ja;

@@ -237,8 +237,7 @@ TEST(PointJacobianTest, FreeColumnsOnly) {
 TEST(PointJacobianTest, PoolJacobiansAnalyticEqualsAutoDiff) {
   const RobotModel m = testing::MixedModel();
   Random random(7);
-  const Eigen::MatrixXd joints =
-      testing::RandomJointRows(m, 500, &random);
+  const Eigen::MatrixXd joints = testing::RandomJointRows(m, 500, &random);
   PoolJacobianOptions options;
   options.num_threads = 1;
   RowMatrixXd analytic, analytic2, autodiff;
@@ -337,8 +336,7 @@ TEST(PointJacobianTest, PoolJacobiansOfTheSecondMarker) {
   const RobotModel m = testing::UrdfStyleModel();
   ASSERT_GE(m.num_markers(), 2);
   Random random(13);
-  const Eigen::MatrixXd joints =
-      testing::RandomJointRows(m, 40, &random);
+  const Eigen::MatrixXd joints = testing::RandomJointRows(m, 40, &random);
   PoolJacobianOptions options;
   options.num_threads = 1;
   options.marker = 1;

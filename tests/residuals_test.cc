@@ -293,8 +293,8 @@ TEST(StackedJacobianTest, DistanceBetweenCoincidingPointsIsRefused) {
   CandidatePoolOptions options;
   options.check_identifiability = true;
   options.max_analysis_rows = max_analysis_rows;
-  if (!BuildCandidatePool(m, m.nominal, lattice.AllJointValues(), options,
-                          pool, summary)) {
+  if (!BuildCandidatePool(m, m.nominal, lattice.AllJointValues(), options, pool,
+                          summary)) {
     return ::testing::AssertionFailure() << summary->message;
   }
   return ::testing::AssertionSuccess();

@@ -331,8 +331,8 @@ TEST(RosFramesTest, ScriptErrors) {
       {cmd + "--x 1 \\\n",
        "f.sh:1: the file ends in a line continuation ('\\')"},
   };
-  ExpectRefused(cases, [](const std::string& text,
-                          std::vector<RosTransform>* t, std::string* error) {
+  ExpectRefused(cases, [](const std::string& text, std::vector<RosTransform>* t,
+                          std::string* error) {
     return ParseStaticTransformPublisherScript(text, "f.sh", t, error);
   });
 }
@@ -387,8 +387,8 @@ TEST(RosFramesTest, YamlErrors) {
       {"transforms:\n  - {header: {frame_id: ''}, child_frame_id: b}\n",
        "tf.yaml:2:5: transforms[0]: empty frame id"},
   };
-  ExpectRefused(cases, [](const std::string& text,
-                          std::vector<RosTransform>* t, std::string* error) {
+  ExpectRefused(cases, [](const std::string& text, std::vector<RosTransform>* t,
+                          std::string* error) {
     return ParseTf2StaticTransformsYaml(text, "tf.yaml", t, error);
   });
 }

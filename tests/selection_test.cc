@@ -25,7 +25,6 @@ namespace {
 
 class SelectionTest : public testing::PumaPoolSuite {};
 
-
 TEST_F(SelectionTest, IncrementalLogDetMatchesScratchOver10000Updates) {
   const CandidatePool& pool = *puma_;
   Design design(pool);

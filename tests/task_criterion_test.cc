@@ -315,18 +315,18 @@ TEST(TaskCertificateTest, NeverAboveTheTrueEfficiencyFoundByExhaustiveSearch) {
     }
   }
   int tight = 0;
-  testing::CheckEachDesign(designs, approx,
-                           [&](const TaskApproximateSummary* a,
-                               SelectionSummary* summary) {
-    ASSERT_TRUE(CertifyTaskDesign(pool, W, {}, a, 1, summary));
-    const double phi =
-        TaskCriterionFromScratch(pool, W, none, summary->design);
-    const double true_efficiency = optimum / phi;
-    EXPECT_LE(summary->efficiency_lower_bound, true_efficiency + 1e-12);
-    EXPECT_LE(summary->task_criterion_lower_bound, optimum * (1 + 1e-12));
-    EXPECT_GT(summary->efficiency_lower_bound, 0.0);
-    if (summary->efficiency_lower_bound > 0.5 * true_efficiency) ++tight;
-  });
+  testing::CheckEachDesign(
+      designs, approx,
+      [&](const TaskApproximateSummary* a, SelectionSummary* summary) {
+        ASSERT_TRUE(CertifyTaskDesign(pool, W, {}, a, 1, summary));
+        const double phi =
+            TaskCriterionFromScratch(pool, W, none, summary->design);
+        const double true_efficiency = optimum / phi;
+        EXPECT_LE(summary->efficiency_lower_bound, true_efficiency + 1e-12);
+        EXPECT_LE(summary->task_criterion_lower_bound, optimum * (1 + 1e-12));
+        EXPECT_GT(summary->efficiency_lower_bound, 0.0);
+        if (summary->efficiency_lower_bound > 0.5 * true_efficiency) ++tight;
+      });
   EXPECT_GT(tight, 0);
 }
 

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Core>
 #include <Eigen/Cholesky>
+#include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
 #include <fstream>
@@ -182,7 +182,8 @@ inline Eigen::MatrixXd RandomJointRows(const RobotModel& model, int num_rows,
 // The true PUMA (Puma560TrueParameters) measured at num_poses random
 // configurations (RandomJointRows of the paper model from joint_seed), rows
 // of that type with that noise, the noise drawn from noise_seed.
-inline std::vector<Measurement> SimulatedPuma(int num_poses, uint64_t joint_seed,
+inline std::vector<Measurement> SimulatedPuma(int num_poses,
+                                              uint64_t joint_seed,
                                               MeasurementType type,
                                               const SimulationNoise& noise,
                                               uint64_t noise_seed) {

@@ -39,7 +39,6 @@ Eigen::MatrixXd Information(const RowMatrixXd& X, int t,
   return M;
 }
 
-
 // G of the pair (a gains, b loses) under V.
 Eigen::MatrixXd PairG(const RowMatrixXd& X, int t, int a, int b,
                       const Eigen::MatrixXd& V) {
@@ -72,7 +71,10 @@ TEST(WeightExchangeTest, StepMaximisesLogDetAlongTheExchange) {
       int a = static_cast<int>(seed % m), b = static_cast<int>((seed + 1) % m);
       Eigen::MatrixXd G, B;
       OrderPair(X, t, V, &a, &b, &G, &B);
-      auto f = [&](double alpha) { return testing::CholeskyLogDet(M + alpha * B) - testing::CholeskyLogDet(M); };
+      auto f = [&](double alpha) {
+        return testing::CholeskyLogDet(M + alpha * B) -
+               testing::CholeskyLogDet(M);
+      };
       double ratio = 0;
       const double alpha = internal::ExchangeStep(G, t, w[b], &ratio);
       ASSERT_GE(alpha, 0.0);
