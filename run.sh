@@ -6,11 +6,12 @@
 #   ./run.sh paper [flags]   install what is missing, build, run activecal_puma_paper
 #   ./run.sh test            install what is missing, then everything CI checks:
 #                            the test suite (Release, the Python module's
-#                            pytest suite included), the same suite built
-#                            with AddressSanitizer + UBSan, and the fuzzers
+#                            pytest suite included), the GoogleTest suite
+#                            built with AddressSanitizer + UBSan, and the fuzzers
 #   ./run.sh unit            the Release test suite only (quick)
-#   ./run.sh sanitize        the ASan + UBSan test suite only (build-asan/)
-#   ./run.sh fuzz [seconds]  the libFuzzer targets (build-fuzz/, clang)
+#   ./run.sh sanitize        the ASan + UBSan GoogleTest suite only
+#                            (build-sanitize/, clang)
+#   ./run.sh fuzz [seconds]  the libFuzzer targets (build-sanitize/, clang)
 #   ./run.sh plots [flags]   run activecal_puma_paper into paper_out/, then draw
 #                            its figures with gnuplot into paper_out/plots/
 #   ./run.sh build           install what is missing and build only
@@ -66,44 +67,46 @@ build() {
     { grep -vE '^\[ *[0-9]+%\] Built target |^gmake(\[[0-9]+\])?: (Entering|Leaving) directory' || true; } >&2
 }
 
-# The test suite built with AddressSanitizer + UndefinedBehaviorSanitizer
-# (the install and plot checks are left to the Release build).
-sanitize() {
+# The sanitizer tree (build-sanitize/): clang, AddressSanitizer +
+# UndefinedBehaviorSanitizer on every library, the GoogleTest suite and the
+# libFuzzer targets, so one instrumented build serves both. The programs,
+# their command-line tests, the Python module, the benchmarks and the install
+# check are left to the Release build: they are thin over the libraries the
+# gtests run here, and the file parsers they read through are fuzzed here.
+# -O1 -g1: quick to compile, stacks still readable; assertions (Eigen's
+# bounds checks included) stay on.
+sanitize_dir="${SANITIZE_BUILD_DIR:-build-sanitize}"
+configure_sanitize() {
   install_missing
-  local dir="${SANITIZE_BUILD_DIR:-build-asan}"
-  # -O1 -g1: quick to compile, stacks still readable; assertions (Eigen's
-  # bounds checks included) stay on.
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" \
-    -DACTIVECAL_SANITIZE=ON \
+  CC=clang CXX=clang++ cmake -S . -B "$sanitize_dir" -DCMAKE_BUILD_TYPE=None \
+    -DCMAKE_CXX_FLAGS="-O1 -g1" -DACTIVECAL_SANITIZE=ON \
+    -DACTIVECAL_BUILD_FUZZERS=ON -DACTIVECAL_BUILD_APPS=OFF \
     -DACTIVECAL_BUILD_BENCHMARKS=OFF -DACTIVECAL_INSTALL=OFF >/dev/null
-  cmake --build "$dir" -j "$jobs" >&2
-  # Left to the Release run: the plot check, and the tests that repeat one
-  # numeric path hundreds of times (cross-validation curves, Monte Carlo
-  # sweeps, rounding sweeps, a 90-pose compensation loop, simulate's long
-  # session, the learned residual's five-case keep/drop sweep: 13.6 s in
-  # Release, the suite's slowest gtest; output_cli_test's two single-thread
-  # 117,649-pose selections and two model-selection fits, 236 s under ASan,
-  # a test of what is printed). Under ASan they took 36% of the suite's time (measured at
-  # 4bc84cc, -j2: 1,940 s of 5,349 s) while lighter tests run the same code
-  # under the sanitizers: ModelSelectionTest.EachRuleChoosesByItsThreshold,
-  # the other SelectDesignPool and Compensation tests, cli_test (simulate,
-  # monte_carlo), compensate_cli_test, the other LearnedResidual tests and
-  # quiet_cli_test (identify's printing with and without --quiet).
-  local heavy=(plots_test
-    ModelSelectionTest.CrossValidationKeepsTheMinimumOfItsCurve
+}
+
+sanitize() {
+  configure_sanitize
+  cmake --build "$sanitize_dir" -j "$jobs" 2>&1 |
+    { grep -vE '^\[ *[0-9]+%\] Built target |^gmake(\[[0-9]+\])?: (Entering|Leaving) directory' || true; } >&2
+  # Left to the Release run: the gtests that repeat one numeric path hundreds
+  # of times (cross-validation curves, Monte Carlo sweeps, rounding sweeps, a
+  # 90-pose compensation loop, the learned residual's five-case keep/drop
+  # sweep: 13.6 s in Release, the suite's slowest gtest) while lighter tests
+  # run the same code under the sanitizers:
+  # ModelSelectionTest.EachRuleChoosesByItsThreshold, the other
+  # SelectDesignPool, Compensation, MonteCarlo and LearnedResidual tests.
+  local heavy=(ModelSelectionTest.CrossValidationKeepsTheMinimumOfItsCurve
     IdentifiabilityTest.RoundedRobotFilesKeepTheSameParametersAndConverge
     SelectDesignPoolTest.TaskCriterionDispatchesToTaskExchange
     SelectDesignPoolTest.TargetAndFailures
     MonteCarloTest.EmpiricalCovarianceMatchesPrediction
     MonteCarloTest.SameResultForAnyThreadCount
     CompensationTest.PumaLoopReachesThePredictedAccuracy
-    LearnedResidual.KeptExactlyWhenASmoothNonGeometricErrorIsThere
-    simulate_cli_test
-    output_cli_test)
+    LearnedResidual.KeptExactlyWhenASmoothNonGeometricErrorIsThere)
   local skip
   skip="^($(IFS='|'; echo "${heavy[*]}"))\$"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir "$dir" --output-on-failure -j "$jobs" -E "$skip"
+    ctest --test-dir "$sanitize_dir" --output-on-failure -j "$jobs" -E "$skip"
 }
 
 usage() {
@@ -127,13 +130,13 @@ case "$cmd" in
   sanitize)
     sanitize ;;
   fuzz)
-    install_missing
-    tests/fuzz/run.sh "${1:-30}" ;;
+    configure_sanitize
+    FUZZ_BUILD_DIR="$sanitize_dir" tests/fuzz/run.sh "${1:-30}" ;;
   test)
     build
     ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@"
     sanitize
-    tests/fuzz/run.sh "${FUZZ_SECONDS:-15}" ;;
+    FUZZ_BUILD_DIR="$sanitize_dir" tests/fuzz/run.sh "${FUZZ_SECONDS:-15}" ;;
   paper)
     build
     exec "$build_dir/apps/activecal_puma_paper" "$@" ;;

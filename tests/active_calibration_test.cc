@@ -19,7 +19,7 @@
 namespace activecal {
 namespace {
 
-std::string TempDir(const std::string& name) {
+std::string ActiveTempDir(const std::string& name) {
   std::string tmpl = ::testing::TempDir() + "/activecal_" + name + "_XXXXXX";
   EXPECT_NE(mkdtemp(tmpl.data()), nullptr);
   return tmpl;
@@ -105,7 +105,7 @@ TEST(ActiveCalibrationTest, ASessionResumedGivesTheSameResult) {
   EXPECT_EQ(whole.report["order"], "shortest");
 
   // Two rounds kept in a session, then continued to the end.
-  options.session_dir = TempDir("active_calibration");
+  options.session_dir = ActiveTempDir("active_calibration");
   options.loop.max_rounds = 2;
   ActiveCalibrationSummary first;
   ASSERT_TRUE(RunActiveCalibration(model, truth, joints, nullptr, nullptr,

@@ -69,8 +69,9 @@ Eigen::Matrix3d HandRotation(const std::string& axes, bool intrinsic,
   return R;
 }
 
-const char* const kAllAxes[12] = {"XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX",
-                                  "XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"};
+const char* const kAllAxesNames[12] = {"XYZ", "XZY", "YXZ", "YZX",
+                                       "ZXY", "ZYX", "XYX", "XZX",
+                                       "YXY", "YZY", "ZXZ", "ZYZ"};
 
 TEST(ColumnMapTest, EveryConventionMatchesTheHandConversion) {
   // Generic angles, the singular middle angle (+-90 deg Tait-Bryan, 0 and
@@ -79,7 +80,7 @@ TEST(ColumnMapTest, EveryConventionMatchesTheHandConversion) {
       {30, -50, 120},     {-170, 80, 45},  {10, 90, 20},
       {10, -90, 20},      {40, 0, -30},    {40, 180, -30},
       {25, 89.999999, 5}, {180, 30, -180}, {-60, 1e-7, 35}};
-  for (const char* axes : kAllAxes) {
+  for (const char* axes : kAllAxesNames) {
     for (bool intrinsic : {true, false}) {
       for (bool degrees : {true, false}) {
         const ColumnMap map = MapOf(

@@ -27,8 +27,8 @@
 namespace activecal {
 namespace {
 
-std::vector<Measurement> PumaMeasurements(int num_poses, double noise,
-                                          uint64_t seed) {
+std::vector<Measurement> IdentifiedPumaMeasurements(int num_poses, double noise,
+                                                    uint64_t seed) {
   const RobotModel m = Puma560PaperModel();
   const Eigen::MatrixXd joints = testing::PumaLatticeSample(num_poses, seed);
   std::string error;
@@ -61,8 +61,8 @@ TEST(IdentificationTest, NoiseFreeRecoversTrueValues) {
   const RobotModel m = Puma560PaperModel();
   const Eigen::VectorXd truth = Puma560TrueParameters();
   IdentificationSummary summary;
-  Identify(m, PumaMeasurements(30, 0.0, 3), m.nominal, IdentificationOptions(),
-           &summary);
+  Identify(m, IdentifiedPumaMeasurements(30, 0.0, 3), m.nominal,
+           IdentificationOptions(), &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
   EXPECT_EQ(summary.termination_type, TerminationType::kConvergence);
@@ -76,7 +76,7 @@ TEST(IdentificationTest, NoisyEstimatesWithinFourStd) {
   const Eigen::VectorXd truth = ExtractFree(m, Puma560TrueParameters());
   for (uint64_t seed : {1, 2, 3, 4}) {
     IdentificationSummary summary;
-    Identify(m, PumaMeasurements(30, 0.01, seed), m.nominal,
+    Identify(m, IdentifiedPumaMeasurements(30, 0.01, seed), m.nominal,
              IdentificationOptions(), &summary);
     ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
         << summary.message;
@@ -95,7 +95,7 @@ TEST(IdentificationTest, NoisyEstimatesWithinFourStd) {
 TEST(IdentificationTest, TooFewPosesIsReported) {
   const RobotModel m = Puma560PaperModel();
   const IdentificationSummary summary =
-      Identified(m, PumaMeasurements(8, 0.01, 1), m.nominal);
+      Identified(m, IdentifiedPumaMeasurements(8, 0.01, 1), m.nominal);
   ExpectRefused(summary, "too few equations: 24");
   EXPECT_EQ(summary.termination_type, TerminationType::kFailure);
   EXPECT_EQ(summary.estimates.size(), 0);
@@ -106,7 +106,7 @@ TEST(IdentificationTest, ZeroDegreesOfFreedomIsRefused) {
   // exactly and nothing is left to estimate the noise; never std 0.
   const RobotModel m = Puma560PaperModel();
   const IdentificationSummary summary =
-      Identified(m, PumaMeasurements(9, 0.01, 1), m.nominal);
+      Identified(m, IdentifiedPumaMeasurements(9, 0.01, 1), m.nominal);
   ExpectRefused(summary, "0 degrees of freedom");
   EXPECT_EQ(summary.standard_deviations.size(), 0);
 }
@@ -119,7 +119,8 @@ TEST(IdentificationTest, ExactDataFlagsNoOutliers) {
   IdentificationOptions options;
   options.robust_loss = RobustLoss::kHuber;
   options.robust_scale_m = 0.001;
-  Identify(m, PumaMeasurements(30, 0.0, 3), m.nominal, options, &summary);
+  Identify(m, IdentifiedPumaMeasurements(30, 0.0, 3), m.nominal, options,
+           &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
   EXPECT_TRUE(summary.outliers.empty()) << summary.outliers.size();
@@ -128,7 +129,7 @@ TEST(IdentificationTest, ExactDataFlagsNoOutliers) {
 TEST(IdentificationTest, StartingAtTheSolutionCountsZeroIterations) {
   const RobotModel m = Puma560PaperModel();
   IdentificationSummary summary;
-  Identify(m, PumaMeasurements(30, 0.0, 3), Puma560TrueParameters(),
+  Identify(m, IdentifiedPumaMeasurements(30, 0.0, 3), Puma560TrueParameters(),
            IdentificationOptions(), &summary);
   ASSERT_EQ(summary.termination_type, TerminationType::kConvergence)
       << summary.message;
@@ -141,7 +142,7 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
   RobotModel m = Puma560PaperModel();
   m.markers[0].free[2] = true;
   const IdentificationSummary summary =
-      Identified(m, PumaMeasurements(30, 0.01, 1), m.nominal);
+      Identified(m, IdentifiedPumaMeasurements(30, 0.01, 1), m.nominal);
   ExpectRefused(summary, "rank 27 < 28");
   EXPECT_NE(summary.message.find("L6.d"), std::string::npos);
   EXPECT_NE(summary.message.find("tool.z"), std::string::npos);
@@ -149,22 +150,22 @@ TEST(IdentificationTest, UnidentifiableParametersAreNamed) {
 
 TEST(IdentificationTest, BadInputIsReportedNotCrashed) {
   const RobotModel m = Puma560PaperModel();
-  std::vector<Measurement> data = PumaMeasurements(30, 0.01, 1);
+  std::vector<Measurement> data = IdentifiedPumaMeasurements(30, 0.01, 1);
   data[4].position[1] = std::nan("");
   const IdentificationSummary summary = Identified(m, data, m.nominal);
   EXPECT_EQ(summary.termination_type, TerminationType::kUserFailure);
   EXPECT_NE(summary.message.find("measurement 4"), std::string::npos)
       << summary.message;
-  data = PumaMeasurements(30, 0.01, 1);
+  data = IdentifiedPumaMeasurements(30, 0.01, 1);
   data[7].joints.resize(5);
   ExpectRefused(Identified(m, data, m.nominal),
                 "measurement 7: joints: expected 6 joint values");
-  data = PumaMeasurements(30, 0.01, 1);
+  data = IdentifiedPumaMeasurements(30, 0.01, 1);
   data[2].joints[0] = std::nan("");
   ExpectRefused(Identified(m, data, m.nominal), "measurement 2");
   Eigen::VectorXd initial = m.nominal;
   initial[5] = std::numeric_limits<double>::infinity();
-  ExpectRefused(Identified(m, PumaMeasurements(30, 0.01, 1), initial),
+  ExpectRefused(Identified(m, IdentifiedPumaMeasurements(30, 0.01, 1), initial),
                 "initial values");
   ExpectRefused(Identified(m, std::vector<Measurement>{}, m.nominal),
                 "too few equations: 0");

@@ -37,16 +37,14 @@
 namespace activecal {
 namespace {
 
+using testing::DataFile;
+
 using testing::MixedModel;
 using testing::UrdfStyleModel;
 
 std::string TestFile(const std::string& name) {
   return std::string(ACTIVECAL_TEST_DATA_DIR) + "/" + name;
 }
-std::string DataFile(const std::string& name) {
-  return std::string(ACTIVECAL_DATA_DIR) + "/" + name;
-}
-
 RobotModel LoadUrdf(const std::string& path, const std::string& tip) {
   RobotLoadOptions options;
   options.chain.tip_link = tip;

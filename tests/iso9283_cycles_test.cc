@@ -26,7 +26,7 @@
 namespace activecal {
 namespace {
 
-Eigen::Matrix3d Exp(const Eigen::Vector3d& d) {
+Eigen::Matrix3d RotationExp(const Eigen::Vector3d& d) {
   const double a = d.norm();
   return a == 0 ? Eigen::Matrix3d::Identity()
                 : Eigen::AngleAxisd(a, d / a).toRotationMatrix();
@@ -98,7 +98,7 @@ Simulation Simulate(uint64_t seed) {
       const Eigen::Vector3d dr(random.Gaussian(), random.Gaussian(),
                                random.Gaussian());
       const Eigen::Vector3d xa = xt + kSigmaM * dx;
-      const Eigen::Matrix3d ra = Exp(kSigmaRad * dr) * rt;
+      const Eigen::Matrix3d ra = RotationExp(kSigmaRad * dr) * rt;
       Measurement m;
       m.type = MeasurementType::kPose;
       m.joints = q;
@@ -151,8 +151,8 @@ TEST(Iso9283CyclesTest, WithoutIsTheSimulatedErrorWithTheTrueModelIsNoise) {
     }
     // The joints of the cycles of a pose are the same: the model moves
     // them all alike, the scatter is the same (the orientation's to second
-    // order: log(Exp(n) Exp(e)) turns the scatter n by the Jacobian of
-    // the log at the error e, by about |e| relative).
+    // order: log(RotationExp(n) RotationExp(e)) turns the scatter n by the
+    // Jacobian of the log at the error e, by about |e| relative).
     EXPECT_NEAR(p.with.rp_l_m, p.without.rp_l_m, 1e-12);
     EXPECT_NEAR((p.with.rp_rad - p.without.rp_rad).norm(), 0.0,
                 s.error_rad[k].norm() * 2 * p.without.rp_rad.norm());

@@ -46,7 +46,7 @@ Ur10 LoadUr10() {
   return out;
 }
 
-Eigen::VectorXd RandomJoints(const RobotModel& m, Random* random) {
+Eigen::VectorXd SymmetricRandomJoints(const RobotModel& m, Random* random) {
   Eigen::VectorXd q(m.num_joints());
   for (int j = 0; j < m.num_joints(); ++j)
     q[j] = -2.5 + 5.0 * random->Uniform();
@@ -105,7 +105,7 @@ TEST(GravityTorques, AreTheDerivativesOfGravitysWork) {
   Random random(3);
   for (int trial = 0; trial < 6; ++trial) {
     if (trial == 3) ur.gravity.gravity = Eigen::Vector3d(1.0, -2.0, -9.5);
-    const Eigen::VectorXd q = RandomJoints(m, &random);
+    const Eigen::VectorXd q = SymmetricRandomJoints(m, &random);
     const Eigen::VectorXd tau = GravityTorques(m, m.nominal, ur.gravity, q);
     for (int i = 0; i < m.num_joints(); ++i) {
       const int k = m.block_offset(i + 1) + MotionOffsetEntry(m.links[i]);
@@ -140,7 +140,7 @@ TEST(JointErrorResidual, JacobianMatchesCentralDifferences) {
   for (int k = 0; k < p.size(); ++k) p[k] += 1e-3 * (random.Uniform() - 0.5);
   Measurement meas;
   meas.type = MeasurementType::kPose;
-  meas.joints = RandomJoints(m, &random);
+  meas.joints = SymmetricRandomJoints(m, &random);
   meas.position = Eigen::Vector3d(0.3, 0.2, 0.9);
   meas.rotation = Eigen::Vector3d(0.1, -0.4, 0.2);
   const std::vector<Eigen::VectorXd> features =
@@ -187,7 +187,7 @@ TEST(JointErrorResidual, JacobianMatchesCentralDifferences) {
 std::vector<Measurement> Plan(const RobotModel& m, int n, uint64_t seed) {
   Random random(seed);
   Eigen::MatrixXd joints(n, m.num_joints());
-  for (int i = 0; i < n; ++i) joints.row(i) = RandomJoints(m, &random);
+  for (int i = 0; i < n; ++i) joints.row(i) = SymmetricRandomJoints(m, &random);
   return MeasurementPlan(joints, MeasurementType::kPosition);
 }
 

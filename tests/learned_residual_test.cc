@@ -30,7 +30,7 @@ namespace activecal {
 namespace {
 
 // Uniform in the joint ranges, cut to [-2.5, 2.5] rad.
-Eigen::VectorXd RandomJoints(const RobotModel& m, Random* random) {
+Eigen::VectorXd ClampedRandomJoints(const RobotModel& m, Random* random) {
   Eigen::VectorXd q(m.num_joints());
   for (int j = 0; j < m.num_joints(); ++j) {
     const double lo = std::max(m.links[j].joint_min, -2.5);
@@ -56,7 +56,7 @@ std::vector<Measurement> Data(const RobotModel& model, int n, double scale,
   std::vector<Measurement> out;
   for (int i = 0; i < n; ++i) {
     Measurement m;
-    m.joints = RandomJoints(model, &random);
+    m.joints = ClampedRandomJoints(model, &random);
     m.position = MeasuredPoint(model, model.nominal, m.joints) +
                  rb * (scale * Smooth(m.joints));
     for (int k = 0; k < 3; ++k) m.position[k] += noise * random.Gaussian();
@@ -72,7 +72,7 @@ double PredictionError(const RobotModel& model, const LearnedCorrection& c,
   double e = 0, t = 0;
   const int n = 300;
   for (int i = 0; i < n; ++i) {
-    const Eigen::VectorXd q = RandomJoints(model, &random);
+    const Eigen::VectorXd q = ClampedRandomJoints(model, &random);
     e += (c.Correction(q, 0) - scale * Smooth(q)).squaredNorm();
     t += (scale * Smooth(q)).squaredNorm();
   }
@@ -261,7 +261,7 @@ TEST(LearnedResidual, KeptExactlyWhenASmoothNonGeometricErrorIsThere) {
     Random random(100 + c.seed);
     Eigen::MatrixXd joints(c.poses, 6);
     for (int i = 0; i < joints.rows(); ++i) {
-      joints.row(i) = RandomJoints(m, &random);
+      joints.row(i) = ClampedRandomJoints(m, &random);
     }
     std::vector<Measurement> data;
     ASSERT_TRUE(SimulateWithJointErrors(
@@ -320,7 +320,7 @@ TEST(LearnedResidualFile, RoundTripPredictsTheSame) {
   EXPECT_EQ(c.held_out_rms_hybrid_m, fitted.held_out_rms_hybrid_m);
   Random random(5);
   for (int i = 0; i < 50; ++i) {
-    const Eigen::VectorXd q = RandomJoints(model, &random);
+    const Eigen::VectorXd q = ClampedRandomJoints(model, &random);
     EXPECT_LE(
         (c.Correction(q, 0) - fitted.Correction(q, 0)).cwiseAbs().maxCoeff(),
         1e-12);
@@ -392,7 +392,7 @@ TEST(LearnedResidualUse, EvaluationAndCompensationApplyTheCorrection) {
   std::vector<IkTarget> targets;
   Eigen::MatrixXd starts(20, model.num_joints());
   for (int i = 0; i < 20; ++i) {
-    const Eigen::VectorXd q = RandomJoints(model, &random) * 0.8;
+    const Eigen::VectorXd q = ClampedRandomJoints(model, &random) * 0.8;
     IkTarget t;
     t.point = MeasuredPoint(model, model.nominal, q) + rb * c.Correction(q, 0);
     targets.push_back(t);

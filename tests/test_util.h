@@ -292,6 +292,11 @@ inline std::string TestDataText(const std::string& name) {
 #endif
 
 #ifdef ACTIVECAL_DATA_DIR
+// The path of data/<name>.
+inline std::string DataFile(const std::string& name) {
+  return std::string(ACTIVECAL_DATA_DIR) + "/" + name;
+}
+
 // data/<file>, the URDF chain from its base link to tool0 (the URs').
 inline bool LoadShippedUr(const std::string& file, RobotDescription* robot,
                           std::string* error) {

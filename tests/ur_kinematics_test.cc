@@ -15,13 +15,12 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/io/urdf_robot.h"
+#include "test_util.h"
 
 namespace activecal {
 namespace {
 
-std::string DataFile(const std::string& name) {
-  return std::string(ACTIVECAL_DATA_DIR) + "/" + name;
-}
+using testing::DataFile;
 
 RobotModel Ur10e() {
   RobotDescription robot;

@@ -31,9 +31,7 @@
 namespace activecal {
 namespace {
 
-std::string DataFile(const std::string& name) {
-  return std::string(ACTIVECAL_DATA_DIR) + "/" + name;
-}
+using testing::DataFile;
 
 std::string TestFile(const std::string& name) {
   return std::string(ACTIVECAL_TEST_DATA_DIR) + "/" + name;

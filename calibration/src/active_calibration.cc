@@ -29,6 +29,7 @@
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"
 #include "restart_options.h"
+#include "seconds_since.h"
 
 namespace activecal {
 namespace {
@@ -82,10 +83,7 @@ void Print(FILE* out, const char* format, ...) {
   va_end(args);
 }
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
+using internal::SecondsSince;
 
 // The measurer of a robot cell behind the driver protocol. Answers whose
 // joint readings the model refuses are a failure (not recorded).

@@ -140,7 +140,7 @@ bool ReadWholeLines(const std::string& path, std::string* text, bool* cut,
   return true;
 }
 
-json Number(double v) {
+json JsonNumber(double v) {
   if (std::isfinite(v)) return v;
   if (std::isnan(v)) return "nan";
   return v > 0 ? "inf" : "-inf";
@@ -235,7 +235,7 @@ std::string ActiveLoopStateJson(const ActiveLoopState& state) {
   j["seed"] = state.seed;
   j["estimate"] = json::array();
   for (Eigen::Index i = 0; i < state.estimate.size(); ++i) {
-    j["estimate"].push_back(Number(state.estimate[i]));
+    j["estimate"].push_back(JsonNumber(state.estimate[i]));
   }
   j["measured"] = state.measured;
   j["excluded"] = json::array();
@@ -248,11 +248,12 @@ std::string ActiveLoopStateJson(const ActiveLoopState& state) {
         {{"num_poses", r.num_poses},
          {"batch", r.batch},
          {"excluded", r.excluded},
-         {"predicted_task_rms_m", Number(r.predicted_task_rms_m)},
-         {"true_task_rms_m", Number(r.true_task_rms_m)},
-         {"parameter_change_task_rms_m", Number(r.parameter_change_task_rms_m)},
-         {"parameter_change_max_abs", Number(r.parameter_change_max_abs)},
-         {"residual_sigma_m", Number(r.residual_sigma_m)},
+         {"predicted_task_rms_m", JsonNumber(r.predicted_task_rms_m)},
+         {"true_task_rms_m", JsonNumber(r.true_task_rms_m)},
+         {"parameter_change_task_rms_m",
+          JsonNumber(r.parameter_change_task_rms_m)},
+         {"parameter_change_max_abs", JsonNumber(r.parameter_change_max_abs)},
+         {"residual_sigma_m", JsonNumber(r.residual_sigma_m)},
          {"residuals_exceed_noise", r.residuals_exceed_noise}});
   }
   return j.dump(1) + "\n";

@@ -17,6 +17,7 @@
 #include "activecal/selection/task_criterion.h"
 #include "activecal/selection/task_exchange.h"
 #include "restart_options.h"
+#include "seconds_since.h"
 
 namespace activecal {
 namespace {
@@ -45,10 +46,7 @@ Options RestartOptionsFor(const SelectDesignOptions& options, int restarts,
   return o;
 }
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
+using internal::SecondsSince;
 
 }  // namespace
 

@@ -20,6 +20,7 @@
 #include "activecal/core/lattice.h"
 #include "activecal/selection/criteria.h"
 #include "activecal/selection/task_criterion.h"
+#include "seconds_since.h"
 
 namespace activecal {
 namespace {
@@ -47,10 +48,7 @@ std::string Number(double x, int digits) {
   return buffer;
 }
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
+using internal::SecondsSince;
 
 // The progress callback of one stage (none without options.progress).
 ProgressCallback Stage(const SelectOptions& options, const std::string& name) {

@@ -24,17 +24,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = 180.0 / kPi;
 
-std::string Full(double v) { return FormatNumber("%.17g", v); }
-
-// A table cell: `shown` printed with 3 decimals (a value that rounds to
-// zero without its sign), the SI value in data-value.
-std::string Cell(const std::string& key, double si, double shown) {
-  std::string text = std::isfinite(shown) ? FormatNumber("%.3f", shown) : "-";
-  if (text == "-0.000") text = "0.000";
-  return "<td class=\"num\" data-key=\"" + HtmlEscape(key) +
-         "\" data-value=\"" + Full(si) + "\">" + text + "</td>";
-}
-
 Eigen::Matrix3d Rotation(const Eigen::Vector3d& v) {
   const double angle = v.norm();
   if (angle == 0) return Eigen::Matrix3d::Identity();
@@ -59,10 +48,10 @@ std::string StatisticsRow(const std::string& key, const std::string& what,
   const double mean = is_axis ? Mean(signed_values) : s.mean;
   return "<tr><th>" + HtmlEscape(what) + "</th><td class=\"num\">" +
          std::to_string(s.count) + "</td>" +
-         Cell(key + ".rms", s.rms, scale * s.rms) +
-         Cell(key + ".mean", mean, scale * mean) +
-         Cell(key + ".p95", s.p95, scale * s.p95) +
-         Cell(key + ".max", s.max, scale * s.max) + "</tr>\n";
+         HtmlNumberCell(key + ".rms", s.rms, scale * s.rms) +
+         HtmlNumberCell(key + ".mean", mean, scale * mean) +
+         HtmlNumberCell(key + ".p95", s.p95, scale * s.p95) +
+         HtmlNumberCell(key + ".max", s.max, scale * s.max) + "</tr>\n";
 }
 
 std::string ErrorsTable(const ReportErrors& e) {
@@ -422,15 +411,17 @@ std::string RenderHtml(const HtmlReport& r) {
   }
   for (const ReportParameter& p : r.parameters) {
     const double scale = 1e3;
-    h +=
-        "<tr><th>" + HtmlEscape(p.name) + "</th><td>" +
-        ParameterUnitLabel(p.unit) + "</td>" +
-        Cell("parameter." + p.name + ".nominal", p.nominal, scale * p.nominal) +
-        Cell("parameter." + p.name + ".estimate", p.estimate,
-             scale * p.estimate) +
-        Cell("parameter." + p.name + ".correction", p.estimate - p.nominal,
-             scale * (p.estimate - p.nominal)) +
-        Cell("parameter." + p.name + ".std", p.std, scale * p.std) + "</tr>\n";
+    h += "<tr><th>" + HtmlEscape(p.name) + "</th><td>" +
+         ParameterUnitLabel(p.unit) + "</td>" +
+         HtmlNumberCell("parameter." + p.name + ".nominal", p.nominal,
+                        scale * p.nominal) +
+         HtmlNumberCell("parameter." + p.name + ".estimate", p.estimate,
+                        scale * p.estimate) +
+         HtmlNumberCell("parameter." + p.name + ".correction",
+                        p.estimate - p.nominal,
+                        scale * (p.estimate - p.nominal)) +
+         HtmlNumberCell("parameter." + p.name + ".std", p.std, scale * p.std) +
+         "</tr>\n";
   }
   if (!r.parameters.empty()) h += "</table>\n";
   if (r.correlation.rows() > 1 &&
@@ -474,12 +465,12 @@ std::string RenderHtml(const HtmlReport& r) {
            "><td class=\"num\">" + std::to_string(pt.num_kept) +
            (pt.num_kept == r.selection.best_num_kept ? " (kept)" : "") +
            "</td><td>" + HtmlEscape(pt.added) + "</td>" +
-           Cell(key + ".training_rms", pt.training_rms_m,
-                1e3 * pt.training_rms_m) +
-           (pt.ok ? Cell(key + ".held_out_rms", pt.held_out_rms_m,
-                         1e3 * pt.held_out_rms_m) +
-                        Cell(key + ".held_out_se", pt.held_out_se_m,
-                             1e3 * pt.held_out_se_m)
+           HtmlNumberCell(key + ".training_rms", pt.training_rms_m,
+                          1e3 * pt.training_rms_m) +
+           (pt.ok ? HtmlNumberCell(key + ".held_out_rms", pt.held_out_rms_m,
+                                   1e3 * pt.held_out_rms_m) +
+                        HtmlNumberCell(key + ".held_out_se", pt.held_out_se_m,
+                                       1e3 * pt.held_out_se_m)
                   : std::string("<td>failed</td><td></td>")) +
            "</tr>\n";
     }

@@ -11,15 +11,6 @@
 namespace activecal {
 namespace {
 
-// A cell: `shown` with 3 decimals, the SI value in data-value.
-std::string Cell(const std::string& key, double si, double shown) {
-  std::string text = FormatNumber("%.3f", shown);
-  if (text == "-0.000") text = "0.000";
-  return "<td class=\"num\" data-key=\"" + HtmlEscape(key) +
-         "\" data-value=\"" + FormatNumber("%.17g", si) + "\">" + text +
-         "</td>";
-}
-
 std::string Table(const Iso9283CyclesSummary& s, bool with) {
   const std::string which = with ? "with" : "without";
   std::string h = "<table class=\"iso9283\" data-key=\"iso9283." + which +
@@ -38,22 +29,23 @@ std::string Table(const Iso9283CyclesSummary& s, bool with) {
     const std::string k = "iso9283." + p.pose + "." + which + ".";
     h += "<tr><th>" + HtmlEscape(p.pose) + "</th><td class=\"num\">" +
          std::to_string(r.num_cycles) + "</td>" +
-         Cell(k + "ap_p", r.ap_p_m, r.ap_p_m * 1e3);
+         HtmlNumberCell(k + "ap_p", r.ap_p_m, r.ap_p_m * 1e3);
     static const char* kAxis[] = {"x", "y", "z"};
     static const char* kAngle[] = {"a", "b", "c"};
     for (int i = 0; i < 3; ++i) {
-      h += Cell(k + "ap_" + kAxis[i], r.ap_xyz_m[i], r.ap_xyz_m[i] * 1e3);
+      h += HtmlNumberCell(k + "ap_" + kAxis[i], r.ap_xyz_m[i],
+                          r.ap_xyz_m[i] * 1e3);
     }
-    h += Cell(k + "rp_l", r.rp_l_m, r.rp_l_m * 1e3);
+    h += HtmlNumberCell(k + "rp_l", r.rp_l_m, r.rp_l_m * 1e3);
     for (int i = 0; i < 3; ++i) {
-      h += p.has_orientation
-               ? Cell(k + "ap_" + kAngle[i], r.ap_rad[i], r.ap_rad[i] * 1e3)
-               : std::string("<td>-</td>");
+      h += p.has_orientation ? HtmlNumberCell(k + "ap_" + kAngle[i],
+                                              r.ap_rad[i], r.ap_rad[i] * 1e3)
+                             : std::string("<td>-</td>");
     }
     for (int i = 0; i < 3; ++i) {
-      h += p.has_orientation
-               ? Cell(k + "rp_" + kAngle[i], r.rp_rad[i], r.rp_rad[i] * 1e3)
-               : std::string("<td>-</td>");
+      h += p.has_orientation ? HtmlNumberCell(k + "rp_" + kAngle[i],
+                                              r.rp_rad[i], r.rp_rad[i] * 1e3)
+                             : std::string("<td>-</td>");
     }
     h += "</tr>\n";
   }

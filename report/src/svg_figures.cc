@@ -87,6 +87,14 @@ std::string HtmlEscape(const std::string& text) {
   return EscapeXmlText(text, XmlApostrophe::kNumeric);
 }
 
+std::string HtmlNumberCell(const std::string& key, double si, double shown) {
+  std::string text = std::isfinite(shown) ? FormatNumber("%.3f", shown) : "-";
+  if (text == "-0.000") text = "0.000";
+  return "<td class=\"num\" data-key=\"" + HtmlEscape(key) +
+         "\" data-value=\"" + FormatNumber("%.17g", si) + "\">" + text +
+         "</td>";
+}
+
 std::vector<double> LogBinEdges(const std::vector<std::vector<double>>& values,
                                 int num_bins) {
   CHECK_GT(num_bins, 0);

@@ -29,6 +29,9 @@
 namespace activecal {
 namespace internal {
 
+// The value of a criterion that cannot be evaluated (a singular matrix).
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 // The Remove of Design and TaskDesign: CHECK-fails for a pose not in the
 // design; false (nothing changed) when `info` cannot remove its block; else
 // the pose leaves info, member and poses.

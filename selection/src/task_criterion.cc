@@ -14,7 +14,7 @@
 namespace activecal {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using internal::kInf;
 
 // tr(S^-1 B) for a symmetric positive definite S; +infinity otherwise.
 double TraceSolve(const Eigen::MatrixXd& S, const Eigen::MatrixXd& B) {

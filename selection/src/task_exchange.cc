@@ -40,7 +40,7 @@ bool TaskExchangeOptions::IsValid(std::string* error) const {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using internal::kInf;
 using internal::RestartResult;
 
 struct Entry {

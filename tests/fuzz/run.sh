@@ -6,18 +6,29 @@
 # fuzzes each parser for a fixed time from its seed corpus.
 #
 #   tests/fuzz/run.sh [seconds per target, default 30]
+#
+# FUZZ_BUILD_DIR: a tree already configured with ACTIVECAL_BUILD_FUZZERS=ON
+# (./run.sh fuzz and ./run.sh test give build-sanitize/, where the gtests
+# run under the same sanitizers); without it, build-fuzz/ is configured here.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 seconds="${1:-30}"
-build="${FUZZ_BUILD_DIR:-$root/build-fuzz}"
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DACTIVECAL_BUILD_FUZZERS=ON -DACTIVECAL_BUILD_APPS=OFF \
-  -DACTIVECAL_BUILD_TESTS=OFF -DACTIVECAL_BUILD_BENCHMARKS=OFF \
-  -DACTIVECAL_INSTALL=OFF >/dev/null
+if [ -n "${FUZZ_BUILD_DIR:-}" ]; then
+  build="$FUZZ_BUILD_DIR"
+  grep -q '^ACTIVECAL_BUILD_FUZZERS:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null ||
+    { echo "fuzz: $build is not configured with ACTIVECAL_BUILD_FUZZERS=ON" >&2; exit 1; }
+else
+  build="$root/build-fuzz"
+  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DACTIVECAL_BUILD_FUZZERS=ON -DACTIVECAL_BUILD_APPS=OFF \
+    -DACTIVECAL_BUILD_TESTS=OFF -DACTIVECAL_BUILD_BENCHMARKS=OFF \
+    -DACTIVECAL_INSTALL=OFF >/dev/null
+fi
 targets=(robot_yaml poses_csv measurements_csv urdf frames_yaml targets_csv)
 # Only the fuzzers and what they link (core, io): the other libraries are
-# checked by the sanitizer suite (./run.sh sanitize).
+# checked by the sanitizer suite (./run.sh sanitize). In build-sanitize/
+# they are already built.
 cmake --build "$build" -j "${JOBS:-$(nproc)}" \
   --target "${targets[@]/#/fuzz_}" >/dev/null
 # Leaks inside urdfdom itself are suppressed (lsan.supp says which).

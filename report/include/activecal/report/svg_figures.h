@@ -65,6 +65,12 @@ std::string SvgHeatmap(const Eigen::MatrixXd& matrix,
 // Text safe inside HTML and SVG elements and attributes (& < > " ').
 std::string HtmlEscape(const std::string& text);
 
+// A table cell of a number: `shown` (e.g. millimetres) with 3 decimals, a
+// value that rounds to zero without its sign and "-" for one that is not
+// finite; the SI value `si` in full in data-value, named by data-key:
+// <td class="num" data-key="key" data-value="si">shown</td>.
+std::string HtmlNumberCell(const std::string& key, double si, double shown);
+
 }  // namespace activecal
 
 #endif  // ACTIVECAL_REPORT_SVG_FIGURES_H_
