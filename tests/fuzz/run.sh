@@ -15,7 +15,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 seconds="${1:-30}"
 if [ -n "${FUZZ_BUILD_DIR:-}" ]; then
-  build="$FUZZ_BUILD_DIR"
+  build="$(cd "$FUZZ_BUILD_DIR" && pwd)"
   grep -q '^ACTIVECAL_BUILD_FUZZERS:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null ||
     { echo "fuzz: $build is not configured with ACTIVECAL_BUILD_FUZZERS=ON" >&2; exit 1; }
 else
