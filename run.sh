@@ -61,10 +61,14 @@ configure() {
 
 # The build's output without the lines of targets already up to date: a run
 # with nothing to rebuild prints nothing about the build.
+build_quietly() {
+  cmake --build "$1" -j "$jobs" 2>&1 |
+    { grep -vE '^\[ *[0-9]+%\] Built target |^gmake(\[[0-9]+\])?: (Entering|Leaving) directory' || true; } >&2
+}
+
 build() {
   configure
-  cmake --build "$build_dir" -j "$jobs" 2>&1 |
-    { grep -vE '^\[ *[0-9]+%\] Built target |^gmake(\[[0-9]+\])?: (Entering|Leaving) directory' || true; } >&2
+  build_quietly "$build_dir"
 }
 
 # The sanitizer tree (build-sanitize/): clang, AddressSanitizer +
@@ -86,8 +90,7 @@ configure_sanitize() {
 
 sanitize() {
   configure_sanitize
-  cmake --build "$sanitize_dir" -j "$jobs" 2>&1 |
-    { grep -vE '^\[ *[0-9]+%\] Built target |^gmake(\[[0-9]+\])?: (Entering|Leaving) directory' || true; } >&2
+  build_quietly "$sanitize_dir"
   # Left to the Release run: the gtests that repeat one numeric path many
   # times (cross-validation curves, Monte Carlo sweeps, rounding sweeps, a
   # 90-pose compensation loop, keep/drop sweeps of the learned residual and

@@ -22,6 +22,7 @@
 #include "activecal/core/puma560.h"
 #include "activecal/core/random.h"
 #include "activecal/io/csv_files.h"
+#include "activecal/report/svg_figures.h"
 
 namespace activecal {
 namespace {
@@ -396,6 +397,24 @@ TEST(Iso9283CyclesTest, MeasurementsReaderKnowsTheColumns) {
       << error;
   EXPECT_TRUE(report.notes.empty());
   EXPECT_EQ(report.lines, std::vector<int>({2}));
+}
+
+// The cell of the report's and the ISO 9283 section's tables: millimetres
+// with 3 decimals, the SI value in full, no "-0.000", "-" where the value is
+// not finite, the key escaped.
+TEST(HtmlNumberCell, ShowsThreeDecimalsAndKeepsTheSiValue) {
+  EXPECT_EQ(HtmlNumberCell("iso.ap_p", 0.0012345, 1.2345),
+            "<td class=\"num\" data-key=\"iso.ap_p\" "
+            "data-value=\"0.0012344999999999999\">1.234</td>");
+  EXPECT_NE(HtmlNumberCell("k", -4e-7, -4e-4).find(">0.000</td>"),
+            std::string::npos);
+  EXPECT_NE(HtmlNumberCell("k", -6e-7, -6e-4).find(">-0.001</td>"),
+            std::string::npos);
+  EXPECT_NE(HtmlNumberCell("k", NAN, NAN).find(">-</td>"), std::string::npos);
+  EXPECT_NE(HtmlNumberCell("k", INFINITY, INFINITY).find(">-</td>"),
+            std::string::npos);
+  EXPECT_NE(HtmlNumberCell("a<b", 1, 1).find("data-key=\"a&lt;b\""),
+            std::string::npos);
 }
 
 }  // namespace
